@@ -1,0 +1,528 @@
+"""Load, merge, override and validate case files.
+
+A case file is TOML. ``extends = "base.toml"`` (a path relative to the file, or a list of them) merges the named
+files first and the file's own tables on top, so shared parts are written once. Overrides (``--set key=value`` on
+the command line, ``overrides={...}`` in Python, the varied keys of a study) are dotted keys applied after that:
+
+* ``bodies.vehicle.mass=800``; a body or system name may stand for its table (``vehicle.mass=800``,
+  ``main.lines.riser.stiffness=6e4``);
+* ``*`` matches every entry of a table (``main.lines.*.damping=0``);
+* ``[i]`` indexes an array (``vehicle.inertia[0]=250``).
+
+Everything is validated once, here; an error names the file (or override) the value came from, the dotted field,
+the bad value and what is allowed. See ``docs/case-format.md`` for every key and its unit.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import math
+import re
+import sys
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+from ..errors import CaseError
+from ..physics.aerodynamics import CoefficientTable
+from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere
+from ..physics.planet import Planet, StartFrame
+from .model import (INTEGRATORS, METHODS, Aerodynamics, Body, Case, Confluence, InitialState, Line,
+                    ParachuteSystem, SimulationSettings)
+
+_REQUIRED = object()
+_NO_VALUE = CaseError._NO_VALUE
+_TOP_KEYS = ("extends", "case", "planet", "start", "atmosphere", "bodies", "systems", "simulation")
+_KEY_PART = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# reading and merging files
+
+
+def read_toml(path: Path) -> dict:
+    """Parse one TOML file; a missing file or a syntax error becomes a CaseError naming the file."""
+    if not path.is_file():
+        raise CaseError(str(path), "", "case file not found" if not path.exists() else "not a file")
+    try:
+        with path.open("rb") as handle:
+            return tomllib.load(handle)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(str(path), "", f"malformed TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise CaseError(str(path), "", "malformed TOML: the file is not UTF-8 text") from None
+
+
+def _record(origins: dict, path: tuple, value: Any, source: str) -> None:
+    origins[path] = source
+    if isinstance(value, dict):
+        for key, sub in value.items():
+            _record(origins, path + (key,), sub, source)
+
+
+def _merge(target: dict, data: Mapping, origins: dict, source: str, prefix: tuple = ()) -> None:
+    """Deep-merge ``data`` into ``target``: tables merge key by key, every other value replaces."""
+    for key, value in data.items():
+        path = prefix + (key,)
+        if isinstance(value, dict) and isinstance(target.get(key), dict):
+            origins[path] = source
+            _merge(target[key], value, origins, source, path)
+        else:
+            target[key] = copy.deepcopy(value)
+            _record(origins, path, value, source)
+
+
+def _load_merged(path: Path, origins: dict, chain: tuple = ()) -> dict:
+    path = path.resolve() if path.exists() else path
+    if path in chain:
+        raise CaseError(str(path), "extends", "circular 'extends' chain: " + " -> ".join(str(p) for p in chain + (path,)))
+    data = read_toml(path)
+    label = _display(path)
+    merged: dict = {}
+    extends = data.pop("extends", [])
+    if isinstance(extends, str):
+        extends = [extends]
+    if not isinstance(extends, list) or not all(isinstance(e, str) for e in extends):
+        raise CaseError(label, "extends", "must be a file path or a list of file paths", value=extends)
+    for base in extends:
+        base_path = (path.parent / base)
+        if not base_path.is_file():
+            raise CaseError(label, "extends", f"base case file not found: {base_path}", value=base)
+        _merge(merged, _load_merged(base_path, origins, chain + (path,)), origins, _display(base_path))
+    _merge(merged, data, origins, label)
+    _resolve_file_keys(merged, path.parent)
+    return merged
+
+
+def _resolve_file_keys(data: dict, directory: Path) -> None:
+    """Make file paths inside the data absolute, relative to the file that named them."""
+    atmosphere = data.get("atmosphere")
+    if isinstance(atmosphere, dict) and isinstance(atmosphere.get("file"), str):
+        file = Path(atmosphere["file"])
+        if not file.is_absolute():
+            atmosphere["file"] = str((directory / file).resolve())
+
+
+def _display(path: Path) -> str:
+    try:
+        return str(path.resolve().relative_to(Path.cwd()))
+    except ValueError:
+        return str(path)
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# overrides
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """Split ``key=value``; the value is read as TOML (``800``, ``true``, ``[1, 2]``, ``"x"``) or else as a string."""
+    if "=" not in text:
+        raise CaseError(f"--set {text}", "", "an override must look like key=value, e.g. vehicle.mass=800")
+    key, raw = text.split("=", 1)
+    key, raw = key.strip(), raw.strip()
+    if not key:
+        raise CaseError(f"--set {text}", "", "the key before '=' is empty")
+    try:
+        value = tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return key, value
+
+
+def _split_key(key: str, source: str) -> list:
+    parts: list = []
+    for piece in key.split("."):
+        match = _KEY_PART.match(piece)
+        if not match:
+            raise CaseError(source, key, "malformed key: use dotted names with optional [index], "
+                                         "e.g. bodies.vehicle.inertia[0]")
+        parts.append(match.group(1))
+        parts.extend(int(i) for i in re.findall(r"\[(\d+)\]", match.group(2)))
+    return parts
+
+
+def _expand(data: Any, parts: list, done: tuple, source: str, key: str) -> list:
+    """Concrete paths of ``parts`` in ``data``, with ``*`` expanded over existing table entries."""
+    if not parts:
+        return [done]
+    head, rest = parts[0], parts[1:]
+    if head == "*":
+        if not isinstance(data, dict) or not data:
+            raise CaseError(source, ".".join(map(str, done)) or key, "'*' needs an existing table to match in")
+        return [p for name in data for p in _expand(data[name], rest, done + (name,), source, key)]
+    child = data.get(head) if isinstance(data, dict) else None
+    if isinstance(head, int):
+        child = data[head] if isinstance(data, list) and head < len(data) else None
+    return _expand(child, rest, done + (head,), source, key)
+
+
+def apply_override(data: dict, origins: dict, key: str, value: Any, source: str | None = None) -> None:
+    """Set the dotted ``key`` to ``value`` in merged case ``data`` (see the module docstring for the key syntax)."""
+    source = source or f"--set {key}={value}"
+    parts = _split_key(key, source)
+    if parts[0] not in _TOP_KEYS:
+        for section in ("bodies", "systems"):
+            if isinstance(data.get(section), dict) and parts[0] in data[section]:
+                parts = [section] + parts
+                break
+    for path in _expand(data, parts, (), source, key):
+        node = data
+        for i, part in enumerate(path[:-1]):
+            if isinstance(part, int):
+                if not isinstance(node, list) or part >= len(node):
+                    raise CaseError(source, _dotted(path[:i + 1]), "index out of range or not an array")
+                node = node[part]
+                continue
+            if not isinstance(node, dict):
+                raise CaseError(source, _dotted(path[:i]), "is not a table, so it has no key "
+                                                          f"'{part}'")
+            if part not in node:  # a table the override creates belongs to the override
+                node[part] = {}
+                origins[tuple(p for p in path[:i + 1] if not isinstance(p, int))] = source
+            node = node[part]
+        last = path[-1]
+        if isinstance(last, int):
+            if not isinstance(node, list) or last >= len(node):
+                raise CaseError(source, _dotted(path), "index out of range or not an array")
+            node[last] = value
+        elif isinstance(node, dict):
+            node[last] = copy.deepcopy(value)
+        else:
+            raise CaseError(source, _dotted(path[:-1]), f"is not a table, so it has no key '{last}'")
+        _record(origins, tuple(p for p in path if not isinstance(p, int)), value, source)
+
+
+def _dotted(path: Iterable) -> str:
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# validation
+
+
+class _Context:
+    def __init__(self, top_source: str, origins: dict):
+        self.top_source = top_source
+        self.origins = origins
+
+    def source(self, path: tuple) -> str:
+        for n in range(len(path), 0, -1):
+            if path[:n] in self.origins:
+                return self.origins[path[:n]]
+        return self.top_source
+
+    def error(self, path: tuple, message: str, value: Any = _NO_VALUE) -> CaseError:
+        return CaseError(self.source(path), _dotted(path), message, value)
+
+
+class _Table:
+    """Typed, validating access to one table of the case; ``finish()`` rejects keys nobody asked for."""
+
+    def __init__(self, data: Any, path: tuple, ctx: _Context):
+        if not isinstance(data, dict):
+            raise ctx.error(path, "must be a table", data)
+        self.data, self.path, self.ctx = data, path, ctx
+        self.allowed: list[str] = []
+
+    def _get(self, key: str, default: Any, unit: str):
+        self.allowed.append(key)
+        if key in self.data:
+            return self.data[key]
+        if default is _REQUIRED:
+            raise self.ctx.error(self.path + (key,), f"required{f' ({unit})' if unit else ''} but missing")
+        return default
+
+    def error(self, key: str | None, message: str, value: Any = _NO_VALUE) -> CaseError:
+        return self.ctx.error(self.path + ((key,) if key else ()), message, value)
+
+    def number(self, key: str, unit: str, default: Any = _REQUIRED, *, minimum: float | None = None,
+               above: float | None = None, maximum: float | None = None) -> float:
+        value = self._get(key, default, unit)
+        if value is default and default is not _REQUIRED:
+            return value
+        return _check_number(value, unit, minimum, above, maximum, lambda m: self.error(key, m, value))
+
+    def string(self, key: str, default: Any = _REQUIRED, choices: Iterable[str] | None = None) -> str:
+        value = self._get(key, default, "")
+        if value is default and default is not _REQUIRED:
+            return value
+        if not isinstance(value, str):
+            raise self.error(key, "must be a string", value)
+        if choices is not None and value not in choices:
+            raise self.error(key, f"must be one of: {', '.join(choices)}", value)
+        return value
+
+    def boolean(self, key: str, default: Any = _REQUIRED) -> bool:
+        value = self._get(key, default, "")
+        if not isinstance(value, bool):
+            raise self.error(key, "must be true or false", value)
+        return value
+
+    def vector(self, key: str, unit: str, length: int = 3, default: Any = _REQUIRED) -> tuple:
+        value = self._get(key, default, unit)
+        if value is default and default is not _REQUIRED:
+            return value
+        return _check_vector(value, unit, length, lambda m: self.error(key, m, value))
+
+    def sequence(self, key: str, unit: str, min_length: int = 1) -> tuple:
+        value = self._get(key, _REQUIRED, unit)
+        if not isinstance(value, list) or len(value) < min_length:
+            raise self.error(key, f"must be a list of at least {min_length} numbers{f' ({unit})' if unit else ''}",
+                             value)
+        return _check_vector(value, unit, len(value), lambda m: self.error(key, m, value))
+
+    def table(self, key: str, default: Any = _REQUIRED) -> "_Table | None":
+        value = self._get(key, default, "table")
+        if value is None:
+            return None
+        return _Table(value, self.path + (key,), self.ctx)
+
+    def named_tables(self, key: str, default: Any = _REQUIRED) -> dict:
+        outer = self.table(key, default)
+        if outer is None:
+            return {}
+        outer.allowed = list(outer.data)
+        return {name: _Table(sub, outer.path + (name,), self.ctx) for name, sub in outer.data.items()}
+
+    def finish(self) -> None:
+        for key in self.data:
+            if key not in self.allowed:
+                hint = difflib.get_close_matches(key, self.allowed, n=1)
+                raise self.ctx.error(self.path + (key,), "unknown key; allowed here: " + ", ".join(self.allowed)
+                                     + (f" (did you mean '{hint[0]}'?)" if hint else ""))
+
+
+def _check_number(value, unit, minimum, above, maximum, error) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise error(f"must be a number{f' ({unit})' if unit else ''}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise error("must be a finite number")
+    if above is not None and not value > above:
+        raise error(f"must be > {above:g}{f' ({unit})' if unit else ''}")
+    if minimum is not None and not value >= minimum:
+        raise error(f"must be >= {minimum:g}{f' ({unit})' if unit else ''}")
+    if maximum is not None and not value <= maximum:
+        raise error(f"must be <= {maximum:g}{f' ({unit})' if unit else ''}")
+    return value
+
+
+def _check_vector(value, unit, length, error) -> tuple:
+    if not isinstance(value, list) or len(value) != length:
+        raise error(f"must be a list of {length} numbers{f' ({unit})' if unit else ''}")
+    return tuple(_check_number(v, unit, None, None, None, error) for v in value)
+
+
+def _read_initial(t: _Table, *, attitude: bool) -> InitialState:
+    values = {"altitude": t.number("altitude", "m")}
+    for key in ("east", "north"):
+        values[key] = t.number(key, "m", 0.0)
+    for key in ("velocity_north", "velocity_east", "velocity_down"):
+        values[key] = t.number(key, "m/s", 0.0)
+    if attitude:
+        values["yaw_deg"] = t.number("yaw_deg", "deg", 0.0, minimum=-180.0, maximum=180.0)
+        values["pitch_deg"] = t.number("pitch_deg", "deg", 0.0, minimum=-90.0, maximum=90.0)
+        values["roll_deg"] = t.number("roll_deg", "deg", 0.0, minimum=-180.0, maximum=180.0)
+        for key in ("rate_x", "rate_y", "rate_z"):
+            values[key] = t.number(key, "rad/s", 0.0)
+    t.finish()
+    return InitialState(**values)
+
+
+def _read_inertia(t: _Table) -> np.ndarray:
+    value = t._get("inertia", _REQUIRED, "kg m^2")
+    error = lambda m: t.error("inertia", m, value)  # noqa: E731
+    if isinstance(value, list) and len(value) == 3 and all(isinstance(v, list) for v in value):
+        matrix = np.array([_check_vector(row, "kg m^2", 3, error) for row in value])
+        if not np.allclose(matrix, matrix.T, rtol=1e-9, atol=1e-9 * np.abs(matrix).max()):
+            raise error("an inertia matrix must be symmetric")
+    elif isinstance(value, list) and len(value) == 3:
+        matrix = np.diag(_check_vector(value, "kg m^2", 3, error))
+    else:
+        raise error("must be [Ixx, Iyy, Izz] (principal moments, kg m^2) or a symmetric 3x3 matrix")
+    moments = np.linalg.eigvalsh(matrix)
+    if moments[0] <= 0.0:
+        raise error("must be positive definite (all principal moments > 0 kg m^2)")
+    if moments[0] + moments[1] < moments[2] * (1.0 - 1e-9):
+        raise error(f"is not a rigid body's: principal moments {moments.round(6).tolist()} break I1 + I2 >= I3")
+    return matrix
+
+
+def _read_aerodynamics(t: _Table) -> Aerodynamics:
+    area = t.number("reference_area", "m^2", above=0.0)
+    axial = t.number("axial_coefficient", "-", minimum=0.0)
+    center = t.vector("center", "m")
+    enabled = t.boolean("enabled", True)
+    table = t.table("normal_coefficient")
+    angles = table.sequence("alpha_deg", "deg", min_length=2)
+    values = table.vector("value", "-", length=len(angles))
+    table.finish()
+    if len(angles) < 2 or angles[0] != 0.0 or angles[-1] != 90.0 or any(b <= a for a, b in zip(angles, angles[1:])):
+        raise table.error("alpha_deg", "must increase strictly from 0 to 90 deg (alpha' is folded into [0, 90])",
+                          list(angles))
+    t.finish()
+    return Aerodynamics(area, axial, CoefficientTable(angles, values), center, enabled)
+
+
+def _read_body(name: str, t: _Table) -> Body:
+    mass = t.number("mass", "kg", above=0.0)
+    inertia = _read_inertia(t)
+    points = {}
+    table = t.table("points", None)
+    if table is not None:
+        for point in list(table.data):
+            points[point] = table.vector(point, "m")
+        table.finish()
+    initial = _read_initial(t.table("initial"), attitude=True)
+    aero_table = t.table("aerodynamics", None)
+    aero = _read_aerodynamics(aero_table) if aero_table is not None else None
+    t.finish()
+    return Body(name, mass, inertia, points, initial, aero)
+
+
+def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
+    c = t.table("confluence")
+    confluence = Confluence(c.number("mass", "kg", above=0.0), _read_initial(c.table("initial"), attitude=False))
+    c.finish()
+    lines = []
+    line_tables = t.named_tables("lines")
+    if not line_tables:
+        raise t.error("lines", "a system needs at least one line")
+    for line_name, lt in line_tables.items():
+        attach = lt.string("attach")
+        body, _, point = attach.partition(".")
+        if body not in bodies:
+            raise lt.error("attach", f"unknown body '{body}'; bodies are: {', '.join(bodies)}", attach)
+        if point not in bodies[body].points:
+            known = ", ".join(bodies[body].points) or "none"
+            raise lt.error("attach", f"body '{body}' has no point '{point}'; its points are: {known} "
+                                     "(write attach = \"<body>.<point>\")", attach)
+        lines.append(Line(line_name, body, point,
+                          free_length=lt.number("free_length", "m", above=0.0),
+                          stiffness=lt.number("stiffness", "N/m", minimum=0.0),
+                          damping=lt.number("damping", "N s/m", minimum=0.0)))
+        lt.finish()
+    t.finish()
+    return ParachuteSystem(name, confluence, tuple(lines))
+
+
+def _read_simulation(t: _Table) -> SimulationSettings:
+    duration = t.number("duration", "s", above=0.0)
+    output_step = t.number("output_step", "s", 0.01, above=0.0, maximum=duration)
+    method = t.string("method", "full", METHODS)
+    integrator = t.string("integrator", "rk4", INTEGRATORS)
+    spectral_radius = t.number("spectral_radius", "-", 0.9, minimum=0.0, maximum=1.0)
+    steps = {}
+    step_table = t.table("steps", None)
+    if step_table is not None:
+        allowed = [m if i == "rk4" else f"{m}_{i}" for m in METHODS for i in INTEGRATORS]
+        for key in allowed:
+            if key in step_table.data:
+                steps[key] = step_table.number(key, "s", above=0.0, maximum=duration)
+            else:
+                step_table.allowed.append(key)
+        step_table.finish()
+    t.finish()
+    return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius)
+
+
+def _read_atmosphere(t: _Table):
+    model = t.string("model", choices=("mars_grc", "table"))
+    if model == "table":
+        file = t.string("file")
+        atmosphere = TabulatedAtmosphere.from_csv(file)
+    else:
+        atmosphere = MarsGRC()
+    t.finish()
+    return atmosphere
+
+
+def build_case(data: dict, origins: dict, source: str) -> Case:
+    """Validate merged case ``data`` and build the Case (``origins`` maps key paths to the file they came from)."""
+    ctx = _Context(source, origins)
+    top = _Table(data, (), ctx)
+    info = top.table("case", {})
+    name = info.string("name", Path(source.split(" ")[0]).stem)
+    description = info.string("description", "")
+    vehicle = info.string("vehicle", "vehicle")
+    info.finish()
+
+    p = top.table("planet")
+    planet = Planet(
+        gravitational_parameter=p.number("gravitational_parameter", "m^3/s^2", above=0.0),
+        equatorial_radius=p.number("equatorial_radius", "m", above=0.0),
+        polar_radius=p.number("polar_radius", "m", above=0.0),
+        rotation_rate=p.number("rotation_rate", "rad/s", 0.0),
+        name=p.string("name", "planet"))
+    if planet.polar_radius > planet.equatorial_radius:
+        raise p.error("polar_radius", f"must be <= equatorial_radius ({planet.equatorial_radius:g} m)",
+                      planet.polar_radius)
+    p.finish()
+    s = top.table("start", {})
+    start = StartFrame(planet, s.number("latitude_deg", "deg", 0.0, minimum=-90.0, maximum=90.0),
+                       s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
+    s.finish()
+    atmosphere = _read_atmosphere(top.table("atmosphere"))
+
+    body_tables = top.named_tables("bodies")
+    if not body_tables:
+        raise top.error("bodies", "a case needs at least one body")
+    bodies = {body_name: _read_body(body_name, bt) for body_name, bt in body_tables.items()}
+    if vehicle not in bodies:
+        raise info.error("vehicle", f"must name a body; bodies are: {', '.join(bodies)}", vehicle)
+    systems = {sys_name: _read_system(sys_name, st, bodies)
+               for sys_name, st in top.named_tables("systems", {}).items()}
+    simulation = _read_simulation(top.table("simulation"))
+    top.allowed.append("extends")
+    top.finish()
+    return Case(name=name, description=description, source=source, planet=planet, start=start,
+                atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
+                data=copy.deepcopy(data))
+
+
+def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:
+    """Load and validate a case file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The case TOML file.
+    overrides : mapping of dotted key to value, or iterable of ``"key=value"`` strings
+        Applied after the file (and its ``extends`` chain) is merged; see the module docstring for the key syntax.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    CaseError
+        With the file (or override), the field, the bad value and what is allowed.
+    """
+    path = Path(path)
+    origins: dict = {}
+    data = _load_merged(path, origins)
+    items = overrides.items() if isinstance(overrides, Mapping) else (parse_override(o) for o in overrides)
+    applied = []
+    for key, value in items:
+        apply_override(data, origins, key, value, f"--set {key}={value}")
+        applied.append(f"{key}={value}")
+    source = _display(path) + (f" with {', '.join(applied)}" if applied else "")
+    origins_top = _display(path)
+    case = build_case(data, origins, origins_top)
+    return _with_source(case, source)
+
+
+def _with_source(case: Case, source: str) -> Case:
+    from dataclasses import replace
+    return replace(case, source=source)

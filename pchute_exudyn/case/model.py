@@ -1,0 +1,245 @@
+"""The case: everything about a run, as frozen data (built and validated by :mod:`pchute_exudyn.case.loader`).
+
+Units are SI; angles are in degrees only where a name ends in ``_deg``. Body points are in body axes, relative to
+the body's centre of mass. Attitude angles follow :mod:`pchute_exudyn.physics.rotations`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..physics.aerodynamics import CoefficientTable
+from ..physics.atmosphere import Atmosphere
+from ..physics.planet import Planet, StartFrame
+
+METHODS = ("full",)
+"""Confluence methods: ``full`` = the confluence as a 3-DoF point mass (thesis Eqs. 1.1-1.7)."""
+
+INTEGRATORS = ("rk4", "implicit")
+"""``rk4``: explicit Runge-Kutta 4 with a fixed step; ``implicit``: Exudyn's generalized-alpha."""
+
+
+@dataclass(frozen=True)
+class InitialState:
+    """Initial state of a body or confluence.
+
+    Attributes
+    ----------
+    altitude : float
+        Geodetic altitude of the centre of mass (m).
+    east, north : float
+        Displacement from the start point along its local east and north axes (m).
+    velocity_north, velocity_east, velocity_down : float
+        Velocity relative to the planet surface in the start point's north/east/down axes (m/s).
+    yaw_deg, pitch_deg, roll_deg : float
+        Attitude angles (deg) relative to the descent frame (see ``physics.rotations``); bodies only.
+    rate_x, rate_y, rate_z : float
+        Angular velocity in body axes (rad/s); bodies only.
+    """
+
+    altitude: float
+    east: float = 0.0
+    north: float = 0.0
+    velocity_north: float = 0.0
+    velocity_east: float = 0.0
+    velocity_down: float = 0.0
+    yaw_deg: float = 0.0
+    pitch_deg: float = 0.0
+    roll_deg: float = 0.0
+    rate_x: float = 0.0
+    rate_y: float = 0.0
+    rate_z: float = 0.0
+
+    @property
+    def velocity_enu(self) -> np.ndarray:
+        """Velocity relative to the surface in east/north/up components (m/s)."""
+        return np.array([self.velocity_east, self.velocity_north, -self.velocity_down])
+
+    @property
+    def angular_velocity(self) -> np.ndarray:
+        """Body-axis angular velocity (rad/s)."""
+        return np.array([self.rate_x, self.rate_y, self.rate_z])
+
+
+@dataclass(frozen=True)
+class Aerodynamics:
+    """Aerodynamic model of a body (force form of ``physics.aerodynamics``).
+
+    Attributes
+    ----------
+    reference_area : float
+        S (m^2).
+    axial_coefficient : float
+        C_A (-).
+    normal_coefficient : CoefficientTable
+        C_N against alpha' (deg).
+    center : tuple of 3 float
+        Aerodynamic centre in body axes relative to the centre of mass (m).
+    enabled : bool
+        False switches the loads off (the body falls in vacuum).
+    """
+
+    reference_area: float
+    axial_coefficient: float
+    normal_coefficient: CoefficientTable
+    center: tuple
+    enabled: bool = True
+
+
+@dataclass(frozen=True)
+class Body:
+    """A 6-DoF rigid body.
+
+    Attributes
+    ----------
+    name : str
+    mass : float
+        Mass (kg).
+    inertia : ndarray (3, 3)
+        Inertia tensor about the centre of mass in body axes (kg m^2).
+    points : dict of str to tuple
+        Named points in body axes relative to the centre of mass (m): line attach points.
+    initial : InitialState
+    aerodynamics : Aerodynamics or None
+    """
+
+    name: str
+    mass: float
+    inertia: np.ndarray
+    points: dict
+    initial: InitialState
+    aerodynamics: Aerodynamics | None = None
+
+
+@dataclass(frozen=True)
+class Line:
+    """An elastic, tension-only line from a body's attach point to its system's confluence.
+
+    Attributes
+    ----------
+    name : str
+    body : str
+        Body holding the attach point.
+    point : str
+        Name of the attach point on that body.
+    free_length : float
+        Unstretched length L0 (m).
+    stiffness : float
+        K (N/m).
+    damping : float
+        C (N s/m).
+    """
+
+    name: str
+    body: str
+    point: str
+    free_length: float
+    stiffness: float
+    damping: float
+
+
+@dataclass(frozen=True)
+class Confluence:
+    """The point where a system's lines meet.
+
+    Attributes
+    ----------
+    mass : float
+        Point mass m_c (kg) used by the full-mass method.
+    initial : InitialState
+        Position and velocity (attitude fields unused).
+    """
+
+    mass: float
+    initial: InitialState
+
+
+@dataclass(frozen=True)
+class ParachuteSystem:
+    """A parachute system: a confluence and the lines meeting there (bridles from the vehicle, riser(s) from
+    the canopy)."""
+
+    name: str
+    confluence: Confluence
+    lines: tuple
+
+
+@dataclass(frozen=True)
+class SimulationSettings:
+    """Run settings.
+
+    Attributes
+    ----------
+    duration : float
+        Simulated time (s).
+    output_step : float
+        Sampling interval of the stored time histories (s).
+    method : str
+        Default confluence method (one of METHODS).
+    integrator : str
+        Default integrator (one of INTEGRATORS).
+    steps : dict of str to float
+        Default integration step (s) per method, keyed ``<method>`` for rk4 and ``<method>_implicit``.
+    spectral_radius : float
+        Numerical damping of the generalized-alpha integrator (spectral radius at infinity, 0..1).
+    """
+
+    duration: float
+    output_step: float
+    method: str = "full"
+    integrator: str = "rk4"
+    steps: dict = field(default_factory=dict)
+    spectral_radius: float = 0.9
+
+    def default_step(self, method: str, integrator: str) -> float | None:
+        """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
+        return self.steps.get(method if integrator == "rk4" else f"{method}_{integrator}")
+
+
+@dataclass(frozen=True)
+class Case:
+    """Everything about a run.
+
+    Attributes
+    ----------
+    name, description : str
+    source : str
+        Path of the case file (and the overrides applied), for provenance.
+    planet : Planet
+    start : StartFrame
+        Local east/north/up frame of the start point.
+    atmosphere : Atmosphere
+    bodies : dict of str to Body
+    systems : dict of str to ParachuteSystem
+    simulation : SimulationSettings
+    vehicle : str
+        Name of the body the summary reports (final altitude and position).
+    data : dict
+        The merged, validated case data (written beside results for provenance).
+    """
+
+    name: str
+    description: str
+    source: str
+    planet: Planet
+    start: StartFrame
+    atmosphere: Atmosphere
+    bodies: dict
+    systems: dict
+    simulation: SimulationSettings
+    vehicle: str
+    data: dict = field(default_factory=dict, repr=False)
+
+    def lines(self):
+        """Every (system, line) pair in case order."""
+        return [(system, line) for system in self.systems.values() for line in system.lines]
+
+    def line_label(self, system: ParachuteSystem, line: Line) -> str:
+        """Output label of a line: ``<line>`` with one system, ``<system>_<line>`` with several."""
+        return line.name if len(self.systems) == 1 else f"{system.name}_{line.name}"
+
+    def confluence_label(self, system: ParachuteSystem) -> str:
+        """Output prefix of a confluence: ``confluence`` with one system, ``<system>_confluence`` with several."""
+        return "confluence" if len(self.systems) == 1 else f"{system.name}_confluence"

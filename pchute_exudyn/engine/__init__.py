@@ -1,0 +1,1 @@
+"""The Exudyn layer: builds engine models from a Case and runs Exudyn's solvers. The only package importing exudyn."""

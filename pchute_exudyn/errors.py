@@ -1,0 +1,60 @@
+"""User-facing errors.
+
+Every mistake a user can make (a bad case file, an unknown method, a step that makes the solver diverge) raises a
+subclass of :class:`PchuteError` whose message is one line that names what is wrong and what is allowed. The command
+line prints that line and exits non-zero; it never shows a traceback for these.
+"""
+
+from __future__ import annotations
+
+
+class PchuteError(Exception):
+    """Base class of every error this package raises on purpose."""
+
+
+class CaseError(PchuteError):
+    """A case (or study) file, or an override of one, is invalid.
+
+    Parameters
+    ----------
+    source : str
+        Where the bad value came from: a file path, or ``--set key=value``.
+    field : str
+        The dotted key of the field, e.g. ``bodies.vehicle.mass``; empty for file-level problems.
+    message : str
+        What is wrong and what is allowed.
+    value : object, optional
+        The offending value, shown with ``repr`` when given.
+    """
+
+    _NO_VALUE = object()
+
+    def __init__(self, source: str, field: str, message: str, value: object = _NO_VALUE):
+        self.source = source
+        self.field = field
+        self.value = value
+        self.detail = message
+        where = source if not field else f"{source}: {field}"
+        if value is not CaseError._NO_VALUE:
+            where = f"{where} = {value!r}"
+        super().__init__(f"{where}: {message}")
+
+
+class InputError(PchuteError):
+    """A bad argument to the API or the command line (unknown method, step <= 0, unwritable folder, ...)."""
+
+
+class SimulationError(PchuteError):
+    """The integration failed: the state became NaN or infinite, a line tore, or the engine stopped.
+
+    Parameters
+    ----------
+    message : str
+        What happened and what to try.
+    time : float or None
+        Simulation time (s) at which the failure was detected.
+    """
+
+    def __init__(self, message: str, time: float | None = None):
+        self.time = time
+        super().__init__(message)

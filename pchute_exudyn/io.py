@@ -1,0 +1,48 @@
+"""File output that never leaves a half-written file: write beside the target, flush to disk, then rename."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+from .errors import InputError
+
+
+@contextmanager
+def atomic_writer(path, mode: str = "w", **kwargs):
+    """Open a temporary file beside ``path``; on success it replaces ``path`` in one rename, on error it vanishes."""
+    path = Path(path)
+    fd, temp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, mode, **kwargs) as handle:
+            yield handle
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(temp, path)
+    except BaseException:
+        try:
+            os.unlink(temp)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def atomic_write_text(path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (UTF-8)."""
+    with atomic_writer(path, "w", encoding="utf-8", newline="") as handle:
+        handle.write(text)
+
+
+def ensure_writable_dir(path) -> Path:
+    """Create folder ``path`` if needed and check a file can be written there; InputError otherwise."""
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path, prefix=".pchute-write-test-"):
+            pass
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InputError(f"output folder {str(path)!r} cannot be written: {reason}") from None
+    return path

@@ -1,0 +1,1 @@
+"""Pure physics kernels: no Exudyn import, so they can be tested alone and reused by every method."""

@@ -1,0 +1,113 @@
+"""Linearised confluence dynamics (thesis Eq. 2.6, Appendix A) and what they say about integration steps.
+
+About a confluence position r_c with the attach points held, the line forces linearise to
+m_c dr'' + C_bar dr' + K_bar dr = 0 with, summed over taut lines (n = unit vector confluence -> attach point)::
+
+    C_bar = sum C n n^T
+    K_bar = sum K [ (1 - L0/L) I + (L0/L) n n^T ]
+
+(the general 3x3 form of Appendix A; its printed off-diagonal stiffness K L0/L (dx dy) lacks a 1/L^2: with
+dx = L n_x the term is K (L0/L) n_x n_y, as a finite difference of the line forces confirms in the tests).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def linearize(attach_position, confluence_position, free_length, stiffness, damping, taut=None):
+    """Equivalent damping and stiffness matrices C_bar (N s/m) and K_bar (N/m) of the confluence (Eq. 2.6).
+
+    Parameters
+    ----------
+    attach_position : array_like, shape (n_lines, 3)
+        Attach point positions (m).
+    confluence_position : array_like, shape (3,)
+        Confluence position (m) to linearise about.
+    free_length, stiffness, damping : array_like, shape (n_lines,)
+        L0 (m), K (N/m), C (N s/m).
+    taut : array_like of bool, optional
+        Lines to include; default: those with L > L0. Pass all True for the stiffest (all-taut) bound.
+    """
+    rel = np.asarray(attach_position, float) - np.asarray(confluence_position, float)
+    length = np.linalg.norm(rel, axis=-1)
+    n = rel / length[:, None]
+    free_length = np.asarray(free_length, float)
+    if taut is None:
+        taut = length > free_length
+    w = np.asarray(taut, bool)
+    outer = np.einsum("li,lj->lij", n, n)
+    c_bar = np.einsum("l,lij->ij", np.asarray(damping, float) * w, outer)
+    k = np.asarray(stiffness, float) * w
+    ratio = free_length / length
+    k_bar = np.einsum("l,lij->ij", k * (1.0 - ratio), np.broadcast_to(np.eye(3), outer.shape)) \
+        + np.einsum("l,lij->ij", k * ratio, outer)
+    return c_bar, k_bar
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Modes of m dr'' + C dr' + K dr = 0 (thesis Table 2.2's quantities).
+
+    Attributes
+    ----------
+    eigenvalues : ndarray (6,) complex
+        Roots lambda of det(m lambda^2 I + lambda C + K) = 0 (1/s), sorted by |lambda|.
+    vectors : ndarray (3, 6) complex
+        Mode directions (position part of each eigenvector, unit norm).
+    natural_frequencies : ndarray (6,)
+        |lambda| (rad/s); for a complex pair, omega_n of that mode.
+    damping_ratios : ndarray (6,)
+        -Re(lambda) / |lambda| (-).
+    periods : ndarray (6,)
+        2 pi / Im(lambda) (s); inf for real (overdamped) roots.
+    """
+
+    eigenvalues: np.ndarray
+    vectors: np.ndarray
+    natural_frequencies: np.ndarray
+    damping_ratios: np.ndarray
+    periods: np.ndarray
+
+
+def modes(mass: float, damping_matrix, stiffness_matrix) -> Modes:
+    """Solve the quadratic eigenvalue problem m lambda^2 I + lambda C + K = 0 via its first-order companion form."""
+    c = np.asarray(damping_matrix, float)
+    k = np.asarray(stiffness_matrix, float)
+    companion = np.block([[np.zeros((3, 3)), np.eye(3)], [-k / mass, -c / mass]])
+    values, vectors = np.linalg.eig(companion)
+    order = np.lexsort((values.imag, np.abs(values)))
+    values, vectors = values[order], vectors[:3, order]
+    vectors = vectors / np.linalg.norm(vectors, axis=0)
+    magnitude = np.abs(values)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(magnitude > 0, -values.real / magnitude, 1.0)
+        period = np.where(np.abs(values.imag) > 1e-12 * np.maximum(magnitude, 1.0),
+                          2.0 * np.pi / np.abs(values.imag), np.inf)
+    return Modes(values, vectors, magnitude, ratio, period)
+
+
+def max_stable_step_rk4(eigenvalues) -> float:
+    """Largest step h (s) for which classical RK4 is stable for every eigenvalue: |R(h lambda)| <= 1.
+
+    R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24; the step is found along each eigenvalue's ray by bisection (the RK4
+    region is star-shaped about 0; on the negative real axis it ends at z = -2.785, on the imaginary axis at
+    2.828). Eigenvalues with a non-negative real part impose no limit (unstable physics, not numerics); returns inf
+    when none limits.
+    """
+    limit = float("inf")
+    for lam in np.atleast_1d(np.asarray(eigenvalues, dtype=complex)).tolist():
+        if lam.real >= 0.0 or lam.imag < 0.0:  # conjugates share the limit of their partner
+            continue
+        lo, hi = 0.0, 3.0 / abs(lam)
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            z = mid * lam
+            if abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))) <= 1.0:
+                lo = mid
+            else:
+                hi = mid
+        limit = min(limit, lo)
+    return limit

@@ -1,0 +1,110 @@
+"""Tension-only elastic lines (thesis Eqs. 1.6-1.7; ``shared/models/mer.md``, "Lines").
+
+Sign convention (the only place it is defined)::
+
+    attach point r_i (on a body)                               confluence r_c
+          o <-------------------------------------------------------- o
+          |  body is pulled by  -T n            confluence is pulled by +T n
+          |                                                           |
+          n = (r_i - r_c) / L    points from the confluence to the attach point
+          L = |r_i - r_c|,   L_dot = (v_i - v_c) . n   (positive while the line lengthens)
+
+    taut  when L > L0:  T = max(0, K (L - L0) + C L_dot)      (tension positive, a line never pushes)
+    slack when L <= L0: T = 0
+
+Everything here is pure numpy and broadcasts over any leading axes, so one call handles all lines of a
+system (shape ``(n_lines, 3)``) or all output samples at once (shape ``(n_samples, n_lines, 3)``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class LineState:
+    """Geometry and tension of a set of lines.
+
+    Attributes
+    ----------
+    length : ndarray
+        Current length L (m).
+    direction : ndarray
+        Unit vector n from the confluence to the attach point (shape ``(..., 3)``).
+    length_rate : ndarray
+        dL/dt (m/s), positive while the line lengthens.
+    tension : ndarray
+        Tension magnitude T (N), >= 0.
+    taut : ndarray of bool
+        True where L > L0.
+    """
+
+    length: np.ndarray
+    direction: np.ndarray
+    length_rate: np.ndarray
+    tension: np.ndarray
+    taut: np.ndarray
+
+    def force_on_confluence(self) -> np.ndarray:
+        """Force of each line on the confluence, +T n (N)."""
+        return self.tension[..., None] * self.direction
+
+    def force_on_body(self) -> np.ndarray:
+        """Force of each line on the body at its attach point, -T n (N)."""
+        return -self.force_on_confluence()
+
+
+def tension_magnitude(length, length_rate, free_length, stiffness, damping):
+    """Tension-only line law (Eq. 1.6 with the clip of ``mer.md``).
+
+    Parameters
+    ----------
+    length : array_like
+        Line length L (m).
+    length_rate : array_like
+        dL/dt (m/s).
+    free_length : array_like
+        Unstretched length L0 (m).
+    stiffness : array_like
+        Spring constant K (N/m).
+    damping : array_like
+        Damping constant C (N s/m).
+
+    Returns
+    -------
+    ndarray
+        T = max(0, K (L - L0) + C dL/dt) where L > L0, and 0 where the line is slack (N).
+    """
+    length = np.asarray(length, dtype=float)
+    linear = stiffness * (length - free_length) + damping * np.asarray(length_rate, dtype=float)
+    return np.where(length > free_length, np.maximum(linear, 0.0), 0.0)
+
+
+def line_states(attach_position, attach_velocity, confluence_position, confluence_velocity,
+                free_length, stiffness, damping) -> LineState:
+    """Evaluate lines from their attach points to a confluence (Eqs. 1.6-1.7).
+
+    Parameters
+    ----------
+    attach_position, attach_velocity : array_like, shape (..., n_lines, 3)
+        Inertial position (m) and velocity (m/s) of each line's attach point.
+    confluence_position, confluence_velocity : array_like, shape (..., 3)
+        Inertial position (m) and velocity (m/s) of the confluence; broadcast against the lines.
+    free_length, stiffness, damping : array_like, shape (n_lines,)
+        L0 (m), K (N/m) and C (N s/m) of each line.
+
+    Returns
+    -------
+    LineState
+    """
+    rel = np.asarray(attach_position, float) - np.asarray(confluence_position, float)[..., None, :]
+    rel_v = np.asarray(attach_velocity, float) - np.asarray(confluence_velocity, float)[..., None, :]
+    length = np.linalg.norm(rel, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        direction = np.where(length[..., None] > 0.0, rel / length[..., None], 0.0)
+    length_rate = np.einsum("...i,...i->...", rel_v, direction)
+    tension = tension_magnitude(length, length_rate, free_length, stiffness, damping)
+    return LineState(length=length, direction=direction, length_rate=length_rate, tension=tension,
+                     taut=length > np.asarray(free_length))

@@ -1,0 +1,203 @@
+"""Planet: an ellipsoid of revolution with spherical (point-mass) gravity, and the start-point frame.
+
+Frames (``shared/models/mer.md``, "Frames"):
+
+* planet-centred inertial frame: X through latitude 0 / longitude 0, Z through the north pole, Y completes it.
+  With a rotating planet (Omega != 0) this frame coincides with the planet-fixed one at t = 0.
+* start frame: the local east/north/up (ENU) axes of the start point, with its origin on the ellipsoid at the start
+  latitude and longitude (altitude 0). It is fixed in inertial space and is the frame of the Exudyn model, so
+  coordinates stay small (metres to kilometres) and keep full double precision.
+
+Altitude is always geodetic: the height above the ellipsoid along its normal.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+
+import numpy as np
+
+_MATH = SimpleNamespace(sin=math.sin, cos=math.cos, atan2=math.atan2, hypot=math.hypot, sqrt=math.sqrt)
+_NUMPY = SimpleNamespace(sin=np.sin, cos=np.cos, atan2=np.arctan2, hypot=np.hypot, sqrt=np.sqrt)
+
+
+def _geodetic(x, y, z, a, b, m, iterations=3):
+    """Geodetic latitude (rad) and height (m) of planet-centred points, by Bowring's iteration.
+
+    Written once for both scalars (``m`` = math) and arrays (``m`` = numpy). One iteration is exact to 2e-9 m for
+    Mars heights from -1 to 50 km (measured on 10 000 random points); three reach machine precision far above.
+    """
+    e2 = 1.0 - (b * b) / (a * a)
+    ep2 = (a * a) / (b * b) - 1.0
+    p = m.hypot(x, y)
+    beta = m.atan2(a * z, b * p)  # reduced latitude, first guess
+    for _ in range(iterations):
+        sb = m.sin(beta)
+        cb = m.cos(beta)
+        lat = m.atan2(z + ep2 * b * sb * sb * sb, p - e2 * a * cb * cb * cb)
+        beta = m.atan2(b * m.sin(lat), a * m.cos(lat))
+    sl = m.sin(lat)
+    height = p * m.cos(lat) + z * sl - a * m.sqrt(1.0 - e2 * sl * sl)
+    return lat, height
+
+
+@dataclass(frozen=True)
+class Planet:
+    """An ellipsoidal planet with spherical gravity.
+
+    Parameters
+    ----------
+    gravitational_parameter : float
+        mu = G M (m^3/s^2).
+    equatorial_radius : float
+        Semi-major axis Re (m).
+    polar_radius : float
+        Semi-minor axis Rp (m), 0 < Rp <= Re.
+    rotation_rate : float
+        Omega (rad/s) about the +Z (north polar) axis; 0 for a non-rotating planet.
+    name : str
+        Label for output files.
+    """
+
+    gravitational_parameter: float
+    equatorial_radius: float
+    polar_radius: float
+    rotation_rate: float = 0.0
+    name: str = "planet"
+
+    @property
+    def eccentricity_squared(self) -> float:
+        """First eccentricity squared of the ellipsoid (-)."""
+        return 1.0 - (self.polar_radius / self.equatorial_radius) ** 2
+
+    def gravity(self, position) -> np.ndarray:
+        """Gravitational acceleration -mu r / |r|^3 (m/s^2) at planet-centred positions (m), shape (..., 3)."""
+        r = np.asarray(position, dtype=float)
+        norm = np.linalg.norm(r, axis=-1, keepdims=True)
+        return -self.gravitational_parameter * r / norm**3
+
+    def cartesian(self, latitude_deg, longitude_deg, altitude=0.0) -> np.ndarray:
+        """Planet-centred position (m) of a geodetic latitude/longitude (deg) and altitude (m)."""
+        lat = np.radians(latitude_deg)
+        lon = np.radians(longitude_deg)
+        a = self.equatorial_radius
+        e2 = self.eccentricity_squared
+        n = a / np.sqrt(1.0 - e2 * np.sin(lat) ** 2)
+        return np.stack([(n + altitude) * np.cos(lat) * np.cos(lon),
+                         (n + altitude) * np.cos(lat) * np.sin(lon),
+                         (n * (1.0 - e2) + altitude) * np.sin(lat)], axis=-1)
+
+    def geodetic(self, position):
+        """Geodetic latitude (deg), longitude (deg) and altitude (m) of planet-centred positions (m), shape (..., 3)."""
+        r = np.asarray(position, dtype=float)
+        lat, height = _geodetic(r[..., 0], r[..., 1], r[..., 2], self.equatorial_radius, self.polar_radius, _NUMPY)
+        return np.degrees(lat), np.degrees(np.arctan2(r[..., 1], r[..., 0])), height
+
+    def altitude(self, position) -> np.ndarray:
+        """Geodetic altitude (m) of planet-centred positions (m), shape (..., 3)."""
+        return self.geodetic(position)[2]
+
+    def altitude_scalar(self, x: float, y: float, z: float) -> float:
+        """Geodetic altitude (m) of one planet-centred point (m); plain floats, for per-stage user functions.
+
+        One Bowring iteration: exact to 1e-8 m within 50 km of the surface (see ``_geodetic``)."""
+        return _geodetic(x, y, z, self.equatorial_radius, self.polar_radius, _MATH, iterations=1)[1]
+
+    @staticmethod
+    def enu_axes(latitude_deg: float, longitude_deg: float) -> np.ndarray:
+        """Local east, north and up unit vectors (planet-centred components) as the columns of a 3x3 matrix."""
+        lat, lon = math.radians(latitude_deg), math.radians(longitude_deg)
+        east = [-math.sin(lon), math.cos(lon), 0.0]
+        north = [-math.sin(lat) * math.cos(lon), -math.sin(lat) * math.sin(lon), math.cos(lat)]
+        up = [math.cos(lat) * math.cos(lon), math.cos(lat) * math.sin(lon), math.sin(lat)]
+        return np.column_stack([east, north, up])
+
+
+MARS = Planet(4.282828685e13, 3_393_940.0, 3_376_780.0, 0.0, "Mars")
+"""Mars of thesis Table 3.3: non-rotating ellipsoid, spherical gravity, J2.. = 0."""
+
+EARTH_WGS84 = Planet(3.986004418e14, 6_378_137.0, 6_356_752.314245, 0.0, "Earth")
+"""Earth, WGS-84 ellipsoid with spherical gravity; set ``rotation_rate`` to 7.292115e-5 rad/s for a rotating Earth."""
+
+
+@dataclass(frozen=True)
+class StartFrame:
+    """Local east/north/up frame at the start point: the coordinate frame of every simulation.
+
+    Parameters
+    ----------
+    planet : Planet
+    latitude_deg, longitude_deg : float
+        Geodetic latitude and longitude of the start point (deg).
+    """
+
+    planet: Planet
+    latitude_deg: float
+    longitude_deg: float
+    origin: np.ndarray = field(init=False, repr=False)
+    axes: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "origin", self.planet.cartesian(self.latitude_deg, self.longitude_deg, 0.0))
+        object.__setattr__(self, "axes", Planet.enu_axes(self.latitude_deg, self.longitude_deg))
+
+    @property
+    def planet_center(self) -> np.ndarray:
+        """Position of the planet centre in start-frame coordinates (m)."""
+        return -(self.axes.T @ self.origin)
+
+    @property
+    def rotation_vector(self) -> np.ndarray:
+        """Planet angular velocity in start-frame components (rad/s)."""
+        return self.planet.rotation_rate * self.axes.T @ np.array([0.0, 0.0, 1.0])
+
+    def local_position(self, altitude: float, east: float, north: float) -> np.ndarray:
+        """Start-frame position (m) of the point ``east``/``north`` (m) along the start point's axes whose geodetic
+        altitude is ``altitude`` (m): the inverse of how results report east, north and altitude."""
+        up = float(altitude)
+        for _ in range(6):  # d(altitude)/d(up) = 1 - O(east/R): converges to machine precision in 2-3 passes
+            up += altitude - float(self.altitude(np.array([east, north, up])))
+        return np.array([east, north, up], dtype=float)
+
+    def to_planet(self, local) -> np.ndarray:
+        """Planet-centred inertial positions (m) of start-frame positions (m), shape (..., 3)."""
+        return self.origin + np.asarray(local, dtype=float) @ self.axes.T
+
+    def to_planet_fixed(self, local, time) -> np.ndarray:
+        """Start-frame coordinates (m) of inertial start-frame positions ``local`` carried back by the planet's
+        rotation over ``time`` (s): the position relative to the ground (identity for a non-rotating planet)."""
+        local = np.asarray(local, dtype=float)
+        if self.planet.rotation_rate == 0.0:
+            return local
+        return self.planet_center + _rotate(local - self.planet_center, self.rotation_vector,
+                                            -np.asarray(time, dtype=float))
+
+    def velocity_to_planet_fixed(self, local, velocity, time) -> np.ndarray:
+        """Velocity relative to the ground (m/s) in start-frame axes, from inertial position and velocity."""
+        velocity = np.asarray(velocity, dtype=float)
+        if self.planet.rotation_rate == 0.0:
+            return velocity
+        relative = velocity - np.cross(self.rotation_vector, np.asarray(local, float) - self.planet_center)
+        return _rotate(relative, self.rotation_vector, -np.asarray(time, dtype=float))
+
+    def inertial_velocity(self, local, ground_velocity) -> np.ndarray:
+        """Inertial velocity (m/s) at t = 0 of a point moving at ``ground_velocity`` (m/s) relative to the planet."""
+        return np.asarray(ground_velocity, float) + np.cross(self.rotation_vector,
+                                                             np.asarray(local, float) - self.planet_center)
+
+    def altitude(self, local) -> np.ndarray:
+        """Geodetic altitude (m) of start-frame positions (m), shape (..., 3)."""
+        return self.planet.altitude(self.to_planet(local))
+
+
+def _rotate(vectors, axis_rate, time):
+    """Rotate ``vectors`` (..., 3) about the axis of ``axis_rate`` by the angle |axis_rate| * time (Rodrigues)."""
+    rate = np.linalg.norm(axis_rate)
+    k = axis_rate / rate
+    angle = rate * np.asarray(time)[..., None]
+    c, s = np.cos(angle), np.sin(angle)
+    kv = np.cross(k, vectors)
+    kdot = (vectors @ k)[..., None]
+    return vectors * c + kv * s + kdot * k * (1.0 - c)

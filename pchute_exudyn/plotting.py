@@ -1,0 +1,45 @@
+"""Figures of results. Object-oriented matplotlib (no pyplot state, no display needed); functions return figures."""
+
+from __future__ import annotations
+
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from .io import atomic_writer
+
+
+def new_figure(rows: int = 1, cols: int = 1, size=(9.0, 6.0), **kwargs):
+    """A figure with an Agg canvas and its axes."""
+    figure = Figure(figsize=size, layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(rows, cols, squeeze=False, **kwargs)
+    return figure, axes
+
+
+def plot_overview(result, title: str | None = None) -> Figure:
+    """Line tensions (top) and vehicle altitude (bottom) against time."""
+    figure, axes = new_figure(2, 1, sharex=True)
+    top, bottom = axes[0, 0], axes[1, 0]
+    time = result.time
+    for name in result.tension_names():
+        top.plot(time, result[name], label=name.removeprefix("tension_"), linewidth=0.9)
+    top.set_ylabel("line tension (N)")
+    if result.tension_names():
+        top.legend(loc="best", fontsize="small")
+    top.grid(True, alpha=0.3)
+    vehicle = result.summary.get("vehicle", "vehicle")
+    if f"{vehicle}_altitude" in result:
+        bottom.plot(time, result[f"{vehicle}_altitude"], color="k")
+    bottom.set_ylabel(f"{vehicle} altitude (m)")
+    bottom.set_xlabel("time (s)")
+    bottom.grid(True, alpha=0.3)
+    s = result.summary
+    figure.suptitle(title or f"{s.get('case', '')}: {s.get('method', '')} / {s.get('integrator', '')}, "
+                             f"step {s.get('step', '')} s")
+    return figure
+
+
+def save_figure(figure: Figure, path, dpi: int = 120) -> None:
+    """Save ``figure`` as a PNG atomically."""
+    with atomic_writer(path, "wb") as handle:
+        figure.savefig(handle, format="png", dpi=dpi)

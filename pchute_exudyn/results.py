@@ -1,0 +1,137 @@
+"""The result of a run: named time histories with units, a summary, and the files they are saved to.
+
+Files written by :meth:`Result.save` (each atomically):
+
+* ``timeseries.csv``: a header row of column names, first column ``time`` (s), then one row per sample;
+* ``result.npz``: the same arrays plus ``units`` and ``summary`` (JSON strings);
+* ``summary.json``: case, method, integrator, step, duration, steps, wall time, final vehicle state, peak tensions,
+  column units and the versions of this package, Exudyn, numpy and Python;
+* ``overview.png``: line tensions and vehicle altitude against time.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+from .io import atomic_write_text, atomic_writer, ensure_writable_dir
+
+CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
+
+
+class Result:
+    """Named time histories of a run.
+
+    Parameters
+    ----------
+    columns : dict of str to ndarray
+        Time histories, ``time`` (s) first; see ``pchute_exudyn.outputs`` for the names.
+    units : dict of str to str
+        Unit of each column.
+    summary : dict
+        Run metadata (see the module docstring).
+    """
+
+    def __init__(self, columns: dict, units: dict | None = None, summary: dict | None = None):
+        if "time" not in columns:
+            raise InputError("a result needs a 'time' column")
+        self.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
+        self.units = dict(units or {})
+        self.summary = dict(summary or {})
+
+    @property
+    def time(self) -> np.ndarray:
+        """Sample times (s)."""
+        return self.columns["time"]
+
+    @property
+    def names(self) -> list:
+        """Column names, ``time`` first."""
+        return list(self.columns)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.columns[name]
+        except KeyError:
+            raise KeyError(f"no column {name!r}; columns are: {', '.join(self.columns)}") from None
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.columns
+
+    def final(self, name: str) -> float:
+        """Last sample of column ``name``."""
+        return float(self[name][-1])
+
+    def tension_names(self) -> list:
+        """Names of the line tension columns."""
+        return [n for n in self.columns if n.startswith("tension_")]
+
+    def to_pandas(self):
+        """The time histories as a pandas DataFrame indexed by time (pandas is imported only here)."""
+        import pandas as pd
+        return pd.DataFrame(self.columns).set_index("time")
+
+    def plot(self, **kwargs):
+        """Overview figure (line tensions and vehicle altitude); see ``plotting.plot_overview``."""
+        from .plotting import plot_overview
+        return plot_overview(self, **kwargs)
+
+    # -- files ---------------------------------------------------------------------------------------------------
+
+    def save(self, folder, plot: bool = True) -> dict:
+        """Write the result files into ``folder`` (created if needed); returns their paths."""
+        folder = ensure_writable_dir(folder)
+        paths = {"csv": folder / CSV_NAME, "npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
+        names = self.names
+        table = np.column_stack([self.columns[n] for n in names])
+        buffer = io.StringIO()
+        buffer.write(",".join(names) + "\n")
+        np.savetxt(buffer, table, delimiter=",", fmt="%.12g")
+        atomic_write_text(paths["csv"], buffer.getvalue())
+        with atomic_writer(paths["npz"], "wb") as handle:
+            np.savez_compressed(handle, **self.columns, units=json.dumps(self.units),
+                                summary=json.dumps(self.summary))
+        atomic_write_text(paths["summary"], json.dumps(self.summary, indent=2) + "\n")
+        if plot:
+            from .plotting import save_figure
+            paths["plot"] = folder / PLOT_NAME
+            save_figure(self.plot(), paths["plot"])
+        return paths
+
+    @classmethod
+    def load(cls, path) -> "Result":
+        """Read a result folder (its ``timeseries.csv`` and ``summary.json``) or any CSV with a ``time`` column."""
+        path = Path(path)
+        summary: dict = {}
+        if path.is_dir():
+            if (path / SUMMARY_NAME).is_file():
+                summary = json.loads((path / SUMMARY_NAME).read_text())
+            path = path / CSV_NAME
+        if not path.is_file():
+            raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")
+        columns = read_csv_columns(path)
+        if "time" not in columns:
+            raise InputError(f"{path}: no 'time' column; columns are: {', '.join(columns)}")
+        return cls(columns, summary.get("units", {}), summary)
+
+
+def read_csv_columns(path) -> dict:
+    """Columns of a CSV file with one header row (numbers only; a row that is not numeric is an error)."""
+    path = Path(path)
+    with path.open(newline="") as handle:
+        rows = [row for row in csv.reader(handle) if row and not row[0].lstrip().startswith("#")]
+    if len(rows) < 2:
+        raise InputError(f"{path}: needs a header row and at least one data row")
+    header = [h.strip() for h in rows[0]]
+    try:
+        data = np.array([[float(v) for v in row] for row in rows[1:]])
+    except ValueError as exc:
+        raise InputError(f"{path}: non-numeric data ({exc})") from None
+    if data.shape[1] != len(header):
+        raise InputError(f"{path}: {data.shape[1]} values per row but {len(header)} column names")
+    return {name: data[:, i] for i, name in enumerate(header)}

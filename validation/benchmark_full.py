@@ -1,0 +1,67 @@
+"""Benchmark of the full-mass model: MER case 1 (60 s) with RK4 and the implicit integrator, side by side.
+
+Run:  python validation/benchmark_full.py [--duration 60]
+
+Prints (and writes to validation/output/benchmark_full.md) the wall time, steps per second and the differences from
+RK4 at the thesis step 1e-4 s, for RK4 at 1e-4/2e-4/3e-4 s, the implicit generalized-alpha at 1e-3/1e-2 s, and RK4 at
+1e-4 s with the line law as a Python user function instead of the symbolic one (why the symbolic one is used).
+All runs happen in one process, one after the other, so the ratios compare like with like on a noisy machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+from pathlib import Path
+
+import numpy as np
+
+import pchute_exudyn as pc
+from pchute_exudyn.io import atomic_write_text
+
+HERE = Path(__file__).resolve().parent
+RUNS = [("rk4", 1e-4, "symbolic"), ("rk4", 2e-4, "symbolic"), ("rk4", 3e-4, "symbolic"),
+        ("implicit", 1e-3, "symbolic"), ("implicit", 1e-2, "symbolic"), ("rk4", 1e-4, "python")]
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=60.0, help="simulated time in s (default 60)")
+    parser.add_argument("--out", default=str(HERE / "output" / "benchmark_full.md"), help="table file")
+    args = parser.parse_args(argv)
+    case = pc.load_case(HERE.parent / "cases" / "mer" / "case1.toml")
+    results = []
+    for integrator, step, law in RUNS:
+        result = pc.simulate(case, "full", integrator, step, args.duration, line_law=law)
+        results.append((integrator, step, law, result))
+        print(f"  {integrator:8s} {step:7.0e} {law:8s} {result.summary['wall_time']:8.2f} s", flush=True)
+    reference = results[0][3]
+    rows = ["| integrator | step (s) | line law | wall time (s) | steps | steps/s | time vs RK4 1e-4 | "
+            "final altitude - ref (m) | max tension diff (N) |", "|---|---|---|---|---|---|---|---|---|"]
+    for integrator, step, law, result in results:
+        s = result.summary
+        tension = max(np.abs(np.interp(reference.time, result.time, result[n]) - reference[n]).max()
+                      for n in reference.tension_names())
+        rows.append(f"| {integrator} | {step:g} | {law} | {s['wall_time']:.2f} | {s['steps']} | "
+                    f"{s['steps'] / s['wall_time']:,.0f} | {s['wall_time'] / reference.summary['wall_time']:.3f} | "
+                    f"{result.final('vehicle_altitude') - reference.final('vehicle_altitude'):+.2e} | {tension:.3g} |")
+    versions = reference.summary["versions"]
+    text = "\n".join([
+        f"# Full-mass model benchmark: MER case 1, {args.duration:g} s",
+        "",
+        f"Reference: RK4 at 1e-4 s, final vehicle altitude {reference.final('vehicle_altitude'):.3f} m. "
+        f"Machine: {platform.processor() or platform.machine()}, Python {versions['python']}, "
+        f"Exudyn {versions['exudyn']}, pchute-exudyn {versions['pchute_exudyn']}.",
+        "",
+        *rows,
+        "",
+        "Command: `python validation/benchmark_full.py`",
+        ""])
+    print(text)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out, text)
+
+
+if __name__ == "__main__":
+    main()
