@@ -9,6 +9,9 @@ from pathlib import Path
 
 from .errors import InputError
 
+_UMASK = os.umask(0)
+os.umask(_UMASK)  # read once: mkstemp creates 0600 files, results should get the user's usual permissions
+
 
 @contextmanager
 def atomic_writer(path, mode: str = "w", **kwargs):
@@ -16,6 +19,7 @@ def atomic_writer(path, mode: str = "w", **kwargs):
     path = Path(path)
     fd, temp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
+        os.chmod(temp, 0o666 & ~_UMASK)
         with os.fdopen(fd, mode, **kwargs) as handle:
             yield handle
             handle.flush()

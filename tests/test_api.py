@@ -1,0 +1,110 @@
+"""Python API: input errors, several parachute systems in one case, result files round trip."""
+
+import os
+import stat
+
+import numpy as np
+import pytest
+
+import pchute_exudyn as pc
+from pchute_exudyn.cli import main
+
+from .conftest import MER
+
+TWIN = """
+[bodies.canopy2]
+mass = 16.0
+inertia = [253.7, 1126.5, 1126.5]
+points.riser = [31.321, 0.0, 0.0]
+initial.altitude = 8414.6
+[bodies.canopy2.aerodynamics]
+reference_area = 178.47
+axial_coefficient = 0.46
+center = [-1.57, 0.0, 0.0]
+normal_coefficient = { alpha_deg = [0.0, 90.0], value = [0.0, 0.0] }
+
+[bodies.parachute.aerodynamics.normal_coefficient]
+alpha_deg = [0.0, 90.0]
+value = [0.0, 0.0]
+
+[systems.second.confluence]
+mass = 0.1539
+initial.altitude = 8381.447
+[systems.second.lines.bridle1]
+attach = "vehicle.bridle1"
+free_length = 0.7152
+stiffness = 47000.0
+damping = 470.0
+[systems.second.lines.bridle2]
+attach = "vehicle.bridle2"
+free_length = 0.7152
+stiffness = 47000.0
+damping = 470.0
+[systems.second.lines.bridle3]
+attach = "vehicle.bridle3"
+free_length = 0.7152
+stiffness = 47000.0
+damping = 470.0
+[systems.second.lines.riser]
+attach = "canopy2.riser"
+free_length = 1.832
+stiffness = 60000.0
+damping = 600.0
+"""
+
+
+def test_two_identical_systems_share_the_load_and_name_their_columns(tmp_path):
+    path = tmp_path / "twin.toml"
+    path.write_text(f'extends = "{(MER / "base.toml").as_posix()}"\n' + TWIN)
+    case = pc.load_case(path)
+    result = pc.simulate(case, "full", "implicit", 1e-3, 3.0)
+    for system in ("main", "second"):
+        for line in ("bridle1", "bridle2", "bridle3", "riser"):
+            assert f"tension_{system}_{line}" in result
+        assert f"{system}_confluence_altitude" in result
+    assert "tension_riser" not in result and "confluence_altitude" not in result
+    # the two systems are mirror images: equal tensions, and together they carry what one system does alone
+    np.testing.assert_allclose(result["tension_main_riser"], result["tension_second_riser"], rtol=1e-6, atol=1e-6)
+    # one parachute of twice the mass and area, same lines: the vehicle falls the same way (line stretch aside)
+    doubled = pc.load_case(MER / "case1.toml", ["parachute.aerodynamics.reference_area=356.94",
+                                                "parachute.aerodynamics.normal_coefficient.alpha_deg=[0.0, 90.0]",
+                                                "parachute.aerodynamics.normal_coefficient.value=[0.0, 0.0]",
+                                                "parachute.mass=32.0"])
+    single = pc.simulate(doubled, "full", "implicit", 1e-3, 3.0)
+    np.testing.assert_allclose(result.final("vehicle_altitude"), single.final("vehicle_altitude"), atol=2e-3)
+
+
+def test_api_input_errors(mer_case1):
+    with pytest.raises(pc.InputError, match="unknown method 'sp'; methods are: full"):
+        pc.simulate(mer_case1, method="sp")
+    with pytest.raises(pc.InputError, match="unknown integrator 'euler'"):
+        pc.simulate(mer_case1, integrator="euler")
+    with pytest.raises(pc.InputError, match="must be a number > 0"):
+        pc.simulate(mer_case1, step=float("nan"))
+    with pytest.raises(pc.InputError, match="duration"):
+        pc.simulate(mer_case1, duration=-1.0)
+    with pytest.raises(pc.InputError, match="no step given"):
+        pc.simulate(pc.load_case(MER / "case1.toml", {"simulation.steps": {}}), integrator="implicit")
+
+
+def test_failed_run_writes_no_result(capsys, tmp_path):
+    out = tmp_path / "failed"
+    code = main(["run", str(MER / "case1.toml"), "--dt", "1e-3", "--out", str(out)])
+    assert code == 1 and "stability limit" in capsys.readouterr().err
+    assert not (out / "timeseries.csv").exists() and not (out / "summary.json").exists()
+
+
+def test_result_round_trip_and_permissions(tmp_path):
+    result = pc.simulate(pc.load_case(MER / "case2.toml"), "full", "implicit", 1e-3, 1.0)
+    paths = result.save(tmp_path / "r")
+    loaded = pc.Result.load(tmp_path / "r")
+    assert loaded.names == result.names
+    for name in result.names:
+        np.testing.assert_allclose(loaded[name], result[name], rtol=1e-11, atol=1e-12)
+    assert loaded.summary["method"] == "full" and loaded.units["tension_riser"] == "N"
+    umask = os.umask(0)
+    os.umask(umask)
+    for path in paths.values():
+        assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask
+    with pytest.raises(KeyError, match="no column 'tension_x'"):
+        result["tension_x"]
