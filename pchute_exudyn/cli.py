@@ -8,7 +8,7 @@ from pathlib import Path
 
 from . import __version__
 from .case.model import INTEGRATORS, METHODS
-from .errors import PchuteError
+from .errors import InputError, PchuteError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -28,8 +28,9 @@ def _add_run(subparsers) -> None:
                     "into the output folder. Prints a one-line summary.")
     run.add_argument("case", help="case file (TOML), e.g. cases/mer/case1.toml")
     run.add_argument("--method", choices=METHODS, default=None,
-                     help="confluence method: full = the confluence as a point mass (thesis Eqs. 1.1-1.7); "
-                          "default: the case's simulation.method")
+                     help="confluence method: full = the confluence as a point mass (thesis Eqs. 1.1-1.7); sp = "
+                          "singular perturbation, the confluence velocity from the line-force balance (thesis ch. 3, "
+                          "rk4 only); default: the case's simulation.method")
     run.add_argument("--integrator", choices=INTEGRATORS, default=None,
                      help="rk4 = explicit Runge-Kutta 4, fixed step (the thesis's); implicit = Exudyn's "
                           "generalized-alpha; default: the case's simulation.integrator")
@@ -43,6 +44,12 @@ def _add_run(subparsers) -> None:
                      help="override a case field, validated like the file; repeatable. Keys are dotted "
                           "(bodies.vehicle.mass=800); a body or system name may lead (vehicle.mass=800); '*' "
                           "matches every entry (main.lines.*.damping=0); [i] indexes arrays (vehicle.inertia[0]=250)")
+    run.add_argument("--slack-rule", choices=("stretch", "force"), default=None,
+                     help="sp: when a line counts as slack: stretch = L <= L0 (the thesis), force = its tension "
+                          "would push (active set); default: the case's simulation.sp.slack_rule (stretch)")
+    run.add_argument("--kappa-max", type=float, default=None, metavar="K",
+                     help="sp: largest condition number of alpha (thesis Eq. 3.13) while a line is slack, > 3; "
+                          "default: the case's simulation.sp.kappa_max (5)")
     run.add_argument("--no-plot", action="store_true", help="do not write overview.png")
     run.set_defaults(func=_run)
 
@@ -56,12 +63,60 @@ def _run(args) -> int:
     method, integrator, step, duration = resolve_run(case, args.method, args.integrator, args.dt, args.t_end)
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     ensure_writable_dir(out)  # fail before a long run, not after it
-    result = simulate(case, method, integrator, step, duration)
+    result = simulate(case, method, integrator, step, duration, kappa_max=args.kappa_max, slack_rule=args.slack_rule)
     result.save(out, plot=not args.no_plot)
     s, f = result.summary, result.summary["final"]
     print(f"{s['case']}: {method}/{integrator} step {step:g} s, {duration:g} s simulated in {s['wall_time']:.2f} s "
           f"({s['steps']} steps); final {s['vehicle']} altitude {f['vehicle_altitude']:.2f} m, "
           f"east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}")
+    return 0
+
+
+def _add_compare(subparsers) -> None:
+    compare = subparsers.add_parser(
+        "compare", help="compare two results (folders or CSV files, another tool's included)",
+        description="Align result B with result A in time and report B - A: final vehicle altitude and lateral "
+                    "position, per line the maximum and RMS tension difference (overall and after a settling "
+                    "time), and the confluence lateral velocity. Prints the table; with --out also writes "
+                    "comparison.md, comparison.json and overlay plots.")
+    compare.add_argument("a", help="reference result: a result folder or a CSV file with a 'time' column (s)")
+    compare.add_argument("b", help="result to check: a result folder or a CSV file with a 'time' column (s)")
+    compare.add_argument("--out", default=None, metavar="DIR", help="folder for the table and the overlay plots")
+    compare.add_argument("--settle", type=float, default=2.0, metavar="S",
+                         help="settling time in s after which tension differences are also reported (default 2)")
+    compare.add_argument("--map", action="append", default=[], metavar="THEIRS=OURS[*FACTOR]", dest="column_map",
+                         help="rename (and scale) a column of B to this package's name, e.g. "
+                              "--map alt_ft=vehicle_altitude*0.3048 --map T_riser_lbf=tension_riser*4.44822; "
+                              "repeatable")
+    compare.add_argument("--map-a", action="append", default=[], metavar="THEIRS=OURS[*FACTOR]",
+                         help="the same for A")
+    compare.set_defaults(func=_compare)
+
+
+def _compare(args) -> int:
+    import json
+
+    from .compare import compare_results
+    from .io import atomic_write_text, ensure_writable_dir
+    from .plotting import plot_confluence_velocity_overlay, plot_tension_overlay, save_figure
+    from .results import Result, parse_column_map
+
+    if not (args.settle >= 0.0):
+        raise InputError(f"--settle = {args.settle!r}: must be >= 0 (s)")
+    out = ensure_writable_dir(args.out) if args.out else None
+    a = Result.load(args.a, parse_column_map(args.map_a))
+    b = Result.load(args.b, parse_column_map(args.column_map))
+    vehicle = a.summary.get("vehicle", "vehicle")
+    comparison = compare_results(a, b, args.a, args.b, args.settle, vehicle=vehicle)
+    print(comparison.table(), end="")
+    if out is not None:
+        atomic_write_text(out / "comparison.md", comparison.table())
+        atomic_write_text(out / "comparison.json", json.dumps(comparison.to_dict(), indent=2) + "\n")
+        labelled = {f"A: {args.a}": a, f"B: {args.b}": b}
+        if comparison.lines:
+            save_figure(plot_tension_overlay(labelled, list(comparison.lines)), out / "tensions.png")
+        if comparison.confluence_velocity:
+            save_figure(plot_confluence_velocity_overlay(labelled), out / "confluence_velocity.png")
     return 0
 
 
@@ -72,6 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     subparsers.required = True
     _add_run(subparsers)
+    _add_compare(subparsers)
     return parser
 
 

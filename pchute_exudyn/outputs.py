@@ -38,6 +38,7 @@ class RawHistory:
     confluences: dict = field(default_factory=dict)   # system -> {position, velocity}
     tensions: dict = field(default_factory=dict)      # (system, line) -> tension (N)
     extra: dict = field(default_factory=dict)         # column name -> method-specific history
+    units: dict = field(default_factory=dict)         # column name -> unit of the extra columns
     steps: int = 0
     wall_time: float = 0.0
 
@@ -127,7 +128,7 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             units[key] = "N"
     for key, value in raw.extra.items():
         columns[key] = value
-        units.setdefault(key, "")
+        units[key] = raw.units.get(key, "")
     return columns, units
 
 

@@ -43,3 +43,39 @@ def save_figure(figure: Figure, path, dpi: int = 120) -> None:
     """Save ``figure`` as a PNG atomically."""
     with atomic_writer(path, "wb") as handle:
         figure.savefig(handle, format="png", dpi=dpi)
+
+
+def plot_tension_overlay(results: dict, lines=None, title: str = "", t_max: float | None = None) -> Figure:
+    """One panel per line, the tension of each labelled result overlaid (``results``: label -> Result)."""
+    first = next(iter(results.values()))
+    lines = lines or [n.removeprefix("tension_") for n in first.tension_names()]
+    figure, axes = new_figure(len(lines), 1, size=(9.0, 2.2 * len(lines) + 0.8), sharex=True)
+    for ax, line in zip(axes[:, 0], lines):
+        for label, result in results.items():
+            if f"tension_{line}" in result:
+                mask = result.time <= (t_max if t_max is not None else result.time[-1])
+                ax.plot(result.time[mask], result[f"tension_{line}"][mask], label=label, linewidth=0.8)
+        ax.set_ylabel(f"{line} (N)")
+        ax.grid(True, alpha=0.3)
+    axes[0, 0].legend(loc="best", fontsize="small")
+    axes[-1, 0].set_xlabel("time (s)")
+    figure.suptitle(title or "line tensions")
+    return figure
+
+
+def plot_confluence_velocity_overlay(results: dict, prefix: str = "confluence", title: str = "",
+                                     t_max: float | None = None) -> Figure:
+    """Confluence east and north (lateral) velocity of each labelled result overlaid."""
+    figure, axes = new_figure(2, 1, size=(9.0, 5.5), sharex=True)
+    for ax, component in zip(axes[:, 0], ("east", "north")):
+        for label, result in results.items():
+            name = f"{prefix}_velocity_{component}"
+            if name in result:
+                mask = result.time <= (t_max if t_max is not None else result.time[-1])
+                ax.plot(result.time[mask], result[name][mask], label=label, linewidth=0.8)
+        ax.set_ylabel(f"{component} velocity (m/s)")
+        ax.grid(True, alpha=0.3)
+    axes[0, 0].legend(loc="best", fontsize="small")
+    axes[-1, 0].set_xlabel("time (s)")
+    figure.suptitle(title or "confluence lateral velocity")
+    return figure

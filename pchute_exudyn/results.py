@@ -104,8 +104,12 @@ class Result:
         return paths
 
     @classmethod
-    def load(cls, path) -> "Result":
-        """Read a result folder (its ``timeseries.csv`` and ``summary.json``) or any CSV with a ``time`` column."""
+    def load(cls, path, column_map: dict | None = None) -> "Result":
+        """Read a result folder (its ``timeseries.csv`` and ``summary.json``) or any CSV file.
+
+        ``column_map`` (see ``parse_column_map``) renames and scales another tool's columns to this package's names
+        before the ``time`` column (s) is required.
+        """
         path = Path(path)
         summary: dict = {}
         if path.is_dir():
@@ -114,10 +118,41 @@ class Result:
             path = path / CSV_NAME
         if not path.is_file():
             raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")
-        columns = read_csv_columns(path)
+        columns = map_columns(read_csv_columns(path), column_map or {}, path)
         if "time" not in columns:
-            raise InputError(f"{path}: no 'time' column; columns are: {', '.join(columns)}")
+            raise InputError(f"{path}: no 'time' column (name it with a column map, e.g. --map t=time); columns "
+                             f"are: {', '.join(columns)}")
         return cls(columns, summary.get("units", {}), summary)
+
+
+def parse_column_map(entries) -> dict:
+    """Parse ``THEIRS=OURS`` or ``THEIRS=OURS*FACTOR`` entries into ``{theirs: (ours, factor)}``."""
+    mapping = {}
+    for entry in entries:
+        theirs, sep, target = entry.partition("=")
+        ours, star, factor = target.partition("*")
+        if not sep or not theirs.strip() or not ours.strip():
+            raise InputError(f"column map entry {entry!r}: write THEIRS=OURS or THEIRS=OURS*FACTOR, "
+                             "e.g. alt_ft=vehicle_altitude*0.3048")
+        try:
+            scale = float(factor) if star else 1.0
+        except ValueError:
+            raise InputError(f"column map entry {entry!r}: the factor {factor!r} is not a number") from None
+        mapping[theirs.strip()] = (ours.strip(), scale)
+    return mapping
+
+
+def map_columns(columns: dict, mapping: dict, source="") -> dict:
+    """Columns renamed and scaled by ``mapping`` ``{theirs: (ours, factor)}``; the others kept as they are."""
+    missing = [name for name in mapping if name not in columns]
+    if missing:
+        raise InputError(f"{source}: column map names column(s) {', '.join(missing)} that the file does not have; "
+                         f"it has: {', '.join(columns)}")
+    mapped = {}
+    for name, values in columns.items():
+        ours, scale = mapping.get(name, (name, 1.0))
+        mapped[ours] = values * scale
+    return mapped
 
 
 def read_csv_columns(path) -> dict:
@@ -128,10 +163,16 @@ def read_csv_columns(path) -> dict:
     if len(rows) < 2:
         raise InputError(f"{path}: needs a header row and at least one data row")
     header = [h.strip() for h in rows[0]]
-    try:
-        data = np.array([[float(v) for v in row] for row in rows[1:]])
-    except ValueError as exc:
-        raise InputError(f"{path}: non-numeric data ({exc})") from None
+    data = []
+    for number, row in enumerate(rows[1:], start=2):
+        try:
+            data.append([float(v) for v in row])
+        except ValueError:
+            raise InputError(f"{path}: row {number} is not numeric ({','.join(row)[:60]!r}); expected a CSV file "
+                             "with one header row and numeric rows") from None
+    data = np.array(data) if len({len(r) for r in data}) == 1 else None
+    if data is None:
+        raise InputError(f"{path}: rows have different numbers of values")
     if data.shape[1] != len(header):
         raise InputError(f"{path}: {data.shape[1]} values per row but {len(header)} column names")
     return {name: data[:, i] for i, name in enumerate(header)}

@@ -9,7 +9,7 @@ from datetime import datetime, timezone
 
 import numpy as np
 
-from .case.model import INTEGRATORS, METHODS, Case
+from .case.model import IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Case
 from .errors import InputError
 from .outputs import check_history, derive_columns
 from .results import Result
@@ -24,6 +24,10 @@ def resolve_run(case: Case, method: str | None, integrator: str | None, step: fl
         raise InputError(f"unknown method {method!r}; methods are: {', '.join(METHODS)}")
     if integrator not in INTEGRATORS:
         raise InputError(f"unknown integrator {integrator!r}; integrators are: {', '.join(INTEGRATORS)}")
+    if integrator != "rk4" and method not in IMPLICIT_METHODS:
+        raise InputError(f"the {method} method runs with --integrator rk4 only: its confluence is first-order (ODE1) "
+                         "states coupled to the bodies, and Exudyn's implicit solvers drop the ODE1/ODE2 coupling "
+                         "from their Jacobian (first-order accurate, slow); use rk4, or --method full with implicit")
     duration = case.simulation.duration if duration is None else float(duration)
     if not (math.isfinite(duration) and duration > 0.0):
         raise InputError(f"duration (--t-end) = {duration!r}: must be a number > 0 (s)")
@@ -49,22 +53,42 @@ def versions() -> dict:
             "python": sys.version.split()[0], "platform": platform.platform()}
 
 
+def check_sp_settings(case: Case, kappa_max: float, slack_rule: str) -> None:
+    """Refuse SP settings and cases the method cannot solve (InputError)."""
+    if not (isinstance(kappa_max, (int, float)) and math.isfinite(kappa_max) and kappa_max > 3.0):
+        raise InputError(f"kappa_max (--kappa-max) = {kappa_max!r}: must be > 3 (the Frobenius condition number "
+                         "of Eq. 3.13 is at least 3 for any 3x3 matrix; the thesis used 5)")
+    if slack_rule not in SLACK_RULES:
+        raise InputError(f"unknown slack rule {slack_rule!r}; slack rules are: {', '.join(SLACK_RULES)}")
+    undamped = [f"{case.line_label(system, line)}" for system, line in case.lines() if line.damping <= 0.0]
+    if undamped:
+        every = "every line" if len(undamped) == len(case.lines()) else f"line(s) {', '.join(undamped)}"
+        raise InputError(f"the sp method needs damping on every line, but {every} has zero damping: alpha of "
+                         "Eq. 3.6 is built from the line damping and is singular whenever only undamped lines are "
+                         "taut; use --method full (or the equilibrium method, which ignores damping)")
+
+
 def simulate(case: Case, method: str | None = None, integrator: str | None = None, step: float | None = None,
-             duration: float | None = None, *, line_law: str = "symbolic") -> Result:
+             duration: float | None = None, *, kappa_max: float | None = None, slack_rule: str | None = None,
+             line_law: str = "symbolic") -> Result:
     """Simulate ``case``.
 
     Parameters
     ----------
     case : Case
         From :func:`pchute_exudyn.load_case`.
-    method : str, optional
-        Confluence method (``full``); default from the case.
+    method : {"full", "sp"}, optional
+        Confluence method; default from the case.
     integrator : {"rk4", "implicit"}, optional
-        Default from the case.
+        Default from the case; ``sp`` runs with ``rk4`` only.
     step : float, optional
         Integration step (s); default from the case's ``simulation.steps``.
     duration : float, optional
         Simulated time (s); default from the case.
+    kappa_max : float, optional
+        SP: largest condition number while a line is slack (> 3); default from the case (5).
+    slack_rule : {"stretch", "force"}, optional
+        SP slack rule; default from the case (``stretch``, the thesis's).
     line_law : {"symbolic", "python"}
         How the full model's tension-only law runs in the engine (symbolic is faster; python exists to measure).
 
@@ -80,9 +104,18 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
     from .engine.full import add_rk4_step_monitor, build_full_model
     from .engine.solver import integrate
 
-    items = build_full_model(case, line_law=line_law)
+    settings = {}
+    if method == "sp":
+        from .engine.sp import build_sp_model
+        kappa_max = case.simulation.kappa_max if kappa_max is None else kappa_max
+        slack_rule = case.simulation.slack_rule if slack_rule is None else slack_rule
+        check_sp_settings(case, kappa_max, slack_rule)
+        items = build_sp_model(case, kappa_max, slack_rule)
+        settings = {"kappa_max": kappa_max, "slack_rule": slack_rule}
+    else:
+        items = build_full_model(case, line_law=line_law)
     if integrator == "rk4":
-        add_rk4_step_monitor(items, case, step)
+        add_rk4_step_monitor(items, case, step, method)
     output_step = min(case.simulation.output_step, duration)
     raw = integrate(items, integrator, step, duration, output_step, case.simulation.spectral_radius)
     check_history(case, raw, step)
@@ -98,6 +131,7 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
         "step": step,
         "duration": duration,
         "output_step": output_step,
+        **settings,
         "steps": raw.steps,
         "wall_time": raw.wall_time,
         "steps_per_second": raw.steps / raw.wall_time if raw.wall_time > 0 else None,

@@ -58,16 +58,31 @@ def confluence_rk4_limit(system: ParachuteSystem, attach_position, confluence_po
     return StepLimit(system.name, float(steps[worst]), complex(found.eigenvalues[worst]))
 
 
+def sp_rk4_limit(system: ParachuteSystem, attach_position, confluence_position) -> StepLimit:
+    """RK4 stability limit of an SP confluence at the given geometry with every line taut.
+
+    SP makes the confluence first order: dr/dt = v(r) with Jacobian -alpha^-1 K_bar (alpha = C_bar with every line
+    taut, Eq. 3.11 with C_c = 0), whose eigenvalues are real and negative (about -K/C: -100 1/s for MER, a limit
+    near 2.8e-2 s). Slack lines raise alpha through C_c, which only slows this mode.
+    """
+    lines = system.lines
+    c_bar, k_bar = linearize(attach_position, confluence_position, [l.free_length for l in lines],
+                             [l.stiffness for l in lines], [l.damping for l in lines], taut=np.ones(len(lines), bool))
+    eigenvalues = np.linalg.eigvals(-np.linalg.solve(c_bar, k_bar))
+    fastest = eigenvalues[np.argmax(np.abs(eigenvalues))]
+    return StepLimit(system.name, max_stable_step_rk4(eigenvalues), complex(fastest))
+
+
 def full_mass_rk4_limit(case: Case, system: ParachuteSystem) -> StepLimit:
     """RK4 stability limit of a full-mass confluence at the case's initial state (see confluence_rk4_limit)."""
     attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
     return confluence_rk4_limit(system, attach, initial_confluence(case, system))
 
 
-def unstable_step_message(step: float, limit: StepLimit, time: float) -> str:
+def unstable_step_message(step: float, limit: StepLimit, time: float, method: str = "full") -> str:
     """The error text for an RK4 step beyond a confluence's stability limit."""
     suggestion = float(f"{0.9 * limit.step:.2g}")  # below the limit even after rounding
-    return (f"the RK4 step {step:g} s exceeds the stability limit of the {limit.system} confluence at "
-            f"t = {time:.3f} s ({limit.step:.3g} s, set by its fastest mode {limit.eigenvalue.real:.0f} 1/s with "
-            f"every line taut): the results would be wrong. Use --dt {suggestion:g} or smaller, or --integrator "
-            f"implicit")
+    alternative = ", or --integrator implicit" if method == "full" else ""
+    return (f"the RK4 step {step:g} s exceeds the stability limit of the {limit.system} confluence ({method} method) "
+            f"at t = {time:.3f} s ({limit.step:.3g} s, set by its fastest mode {limit.eigenvalue.real:.0f} 1/s with "
+            f"every line taut): the results would be wrong. Use --dt {suggestion:g} or smaller{alternative}")

@@ -75,8 +75,8 @@ def test_two_identical_systems_share_the_load_and_name_their_columns(tmp_path):
 
 
 def test_api_input_errors(mer_case1):
-    with pytest.raises(pc.InputError, match="unknown method 'sp'; methods are: full"):
-        pc.simulate(mer_case1, method="sp")
+    with pytest.raises(pc.InputError, match="unknown method 'magic'; methods are: full, sp"):
+        pc.simulate(mer_case1, method="magic")
     with pytest.raises(pc.InputError, match="unknown integrator 'euler'"):
         pc.simulate(mer_case1, integrator="euler")
     with pytest.raises(pc.InputError, match="must be a number > 0"):

@@ -34,8 +34,8 @@ from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere
 from ..physics.planet import Planet, StartFrame
-from .model import (INTEGRATORS, METHODS, Aerodynamics, Body, Case, Confluence, InitialState, Line,
-                    ParachuteSystem, SimulationSettings)
+from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Aerodynamics, Body, Case, Confluence,
+                    InitialState, Line, ParachuteSystem, SimulationSettings)
 
 _REQUIRED = object()
 _NO_VALUE = CaseError._NO_VALUE
@@ -360,12 +360,12 @@ def _read_inertia(t: _Table) -> np.ndarray:
 
 def _read_aerodynamics(t: _Table) -> Aerodynamics:
     area = t.number("reference_area", "m^2", above=0.0)
-    axial = t.number("axial_coefficient", "-", minimum=0.0)
+    axial = t.number("axial_coefficient", "", minimum=0.0)
     center = t.vector("center", "m")
     enabled = t.boolean("enabled", True)
     table = t.table("normal_coefficient")
     angles = table.sequence("alpha_deg", "deg", min_length=2)
-    values = table.vector("value", "-", length=len(angles))
+    values = table.vector("value", "", length=len(angles))
     table.finish()
     if len(angles) < 2 or angles[0] != 0.0 or angles[-1] != 90.0 or any(b <= a for a, b in zip(angles, angles[1:])):
         raise table.error("alpha_deg", "must increase strictly from 0 to 90 deg (alpha' is folded into [0, 90])",
@@ -421,11 +421,17 @@ def _read_simulation(t: _Table) -> SimulationSettings:
     output_step = t.number("output_step", "s", 0.01, above=0.0, maximum=duration)
     method = t.string("method", "full", METHODS)
     integrator = t.string("integrator", "rk4", INTEGRATORS)
-    spectral_radius = t.number("spectral_radius", "-", 0.9, minimum=0.0, maximum=1.0)
+    spectral_radius = t.number("spectral_radius", "", 0.9, minimum=0.0, maximum=1.0)
+    kappa_max, slack_rule = 5.0, "stretch"
+    sp_table = t.table("sp", None)
+    if sp_table is not None:
+        kappa_max = sp_table.number("kappa_max", "", 5.0, above=3.0)
+        slack_rule = sp_table.string("slack_rule", "stretch", SLACK_RULES)
+        sp_table.finish()
     steps = {}
     step_table = t.table("steps", None)
     if step_table is not None:
-        allowed = [m if i == "rk4" else f"{m}_{i}" for m in METHODS for i in INTEGRATORS]
+        allowed = list(METHODS) + [f"{m}_implicit" for m in IMPLICIT_METHODS]
         for key in allowed:
             if key in step_table.data:
                 steps[key] = step_table.number(key, "s", above=0.0, maximum=duration)
@@ -433,7 +439,8 @@ def _read_simulation(t: _Table) -> SimulationSettings:
                 step_table.allowed.append(key)
         step_table.finish()
     t.finish()
-    return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius)
+    return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, kappa_max,
+                              slack_rule)
 
 
 def _read_atmosphere(t: _Table):

@@ -13,12 +13,19 @@ import numpy as np
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import Atmosphere
 from ..physics.planet import Planet, StartFrame
+from ..physics.singular_perturbation import SLACK_RULES  # noqa: F401  (re-exported for the loader and CLI)
 
-METHODS = ("full",)
-"""Confluence methods: ``full`` = the confluence as a 3-DoF point mass (thesis Eqs. 1.1-1.7)."""
+METHODS = ("full", "sp")
+"""Confluence methods: ``full`` = the confluence as a 3-DoF point mass (thesis Eqs. 1.1-1.7); ``sp`` = singular
+perturbation, the confluence velocity from the line-force balance (thesis chapter 3)."""
 
 INTEGRATORS = ("rk4", "implicit")
 """``rk4``: explicit Runge-Kutta 4 with a fixed step; ``implicit``: Exudyn's generalized-alpha."""
+
+IMPLICIT_METHODS = ("full",)
+"""Methods the implicit integrator can run (Exudyn's implicit solvers drop the ODE1/ODE2 coupling SP needs)."""
+
+# SP slack rules: "stretch" (thesis: taut means L > L0) or "force" (active set: taut lines must pull)
 
 
 @dataclass(frozen=True)
@@ -184,6 +191,10 @@ class SimulationSettings:
         Default integration step (s) per method, keyed ``<method>`` for rk4 and ``<method>_implicit``.
     spectral_radius : float
         Numerical damping of the generalized-alpha integrator (spectral radius at infinity, 0..1).
+    kappa_max : float
+        SP: largest condition number (Eq. 3.13) accepted while a line is slack (> 3).
+    slack_rule : str
+        SP: one of SLACK_RULES.
     """
 
     duration: float
@@ -192,6 +203,8 @@ class SimulationSettings:
     integrator: str = "rk4"
     steps: dict = field(default_factory=dict)
     spectral_radius: float = 0.9
+    kappa_max: float = 5.0
+    slack_rule: str = "stretch"
 
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""

@@ -14,11 +14,12 @@ from exudyn.utilities import CreateSymbolicUserFunction
 
 from ..case.model import Case
 from ..errors import SimulationError
-from ..stability import confluence_rk4_limit, unstable_step_message
+from ..stability import confluence_rk4_limit, sp_rk4_limit, unstable_step_message
 from .items import CURRENT, OV, ModelItems, add_aerodynamics, add_body, add_point_mass, new_system
 
-MONITOR_INTERVAL = 0.02
-"""Simulated time (s) between checks of the RK4 step against the confluences' current stability limit."""
+MONITOR_INTERVAL = 0.1
+"""Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
+moves with the line loads, over seconds; a check costs about 0.25 ms)."""
 
 esym = exu.symbolic
 LINE_LAWS = ("symbolic", "python")
@@ -76,28 +77,37 @@ def build_full_model(case: Case, line_law: str = "symbolic") -> ModelItems:
     return items
 
 
-def add_rk4_step_monitor(items: ModelItems, case: Case, step: float, interval: float = MONITOR_INTERVAL) -> None:
+def add_rk4_step_monitor(items: ModelItems, case: Case, step: float, method: str = "full",
+                         interval: float = MONITOR_INTERVAL) -> None:
     """Stop an RK4 run as soon as ``step`` (s) exceeds a confluence's current stability limit.
 
     Checked before the first step and then every ``interval`` s of simulated time (about 0.25 ms per check), on
-    the current geometry: lines stretch under load and the limit falls with them.
+    the current geometry: lines stretch under load and the limit falls with them. ``method`` picks the limit:
+    the full-mass confluence's second-order modes or the SP confluence's first-order one.
     """
     mbs = items.mbs
-    get_marker = mbs.GetMarkerOutput
+    get_marker, get_node = mbs.GetMarkerOutput, mbs.GetNodeOutput
+    limit_of = confluence_rk4_limit if method == "full" else sp_rk4_limit
     watched = []
     for system in case.systems.values():
         markers = [items.bodies[line.body].point_markers[line.point] for line in system.lines]
-        watched.append((system, markers, items.confluences[system.name].marker))
+        if method == "full":
+            marker = items.confluences[system.name].marker
+            where = (lambda marker=marker: get_marker(marker, OV.Position, CURRENT))
+        else:
+            node = items.sp[system.name].node
+            where = (lambda node=node: get_node(node, OV.Coordinates, CURRENT))
+        watched.append((system, markers, where))
     next_check = [0.0]
 
     def monitor(mbs_, t):
         if t < next_check[0]:
             return
         next_check[0] = t + interval
-        for system, markers, confluence in watched:
+        for system, markers, where in watched:
             attach = np.array([get_marker(m, OV.Position, CURRENT) for m in markers])
-            limit = confluence_rk4_limit(system, attach, get_marker(confluence, OV.Position, CURRENT))
+            limit = limit_of(system, attach, where())
             if step > limit.step:
-                raise SimulationError(unstable_step_message(step, limit, t - step), t - step)
+                raise SimulationError(unstable_step_message(step, limit, t - step, method), t - step)
 
     items.pre_step_hooks.append(monitor)

@@ -46,7 +46,7 @@ class ModelItems:
     ``channels`` maps output keys to readers (no-argument callables returning floats) that the solver samples on
     the output grid: ``("body", name, quantity)`` with quantity position, velocity, rotation (9 values, row-major)
     or angular_velocity (body axes); ``("confluence", system, quantity)`` with position or velocity;
-    ``("tension", system, line)``; ``("extra", column)`` for method-specific columns.
+    ``("tension", system, line)``; ``("extra", column, unit)`` for method-specific columns.
     """
 
     system_container: object
@@ -56,8 +56,10 @@ class ModelItems:
     channels: dict = field(default_factory=dict)
     planet_marker: int = -1
     pre_step_hooks: list = field(default_factory=list)  # callables (mbs, t) run before every step
+    post_step_hooks: list = field(default_factory=list)  # callables (mbs, t) run after every step (and at t = 0)
     keep_alive: list = field(default_factory=list)      # symbolic user functions must outlive the solve
     failure: Exception | None = None                    # first error raised inside a user function
+    sp: dict = field(default_factory=dict)              # system -> SP confluence state (engine.sp)
 
 
 def new_system(case: Case) -> ModelItems:

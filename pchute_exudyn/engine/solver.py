@@ -4,8 +4,10 @@
 * ``implicit``: Exudyn's generalized-alpha (Lie group, Newton per step), fixed nominal step; Exudyn halves a step
   whose Newton iteration fails and the summary counts the steps actually taken.
 
-A pre-step hook counts steps, runs the method's own per-step work, and checks the state for NaN/inf so a diverging
-run stops early with the time; Exudyn itself reports success in some diverged runs, so results are checked too.
+A pre-step hook counts steps, runs the method's own pre-step work (the RK4 step monitor) and checks the state for
+NaN/inf so a diverging run stops early with the time (Exudyn itself reports success in some diverged runs, so results
+are checked too); a post-step hook runs the method's post-step work (SP's v0 update) and samples the outputs. Exudyn
+calls the post-step hook once before the first step too, at t = 0.
 """
 
 from __future__ import annotations
@@ -62,6 +64,7 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
     progress = {"steps": 0, "time": 0.0, "bad": None}
     hooks = list(items.pre_step_hooks)
     get_coordinates = mbs.systemData.GetODE2Coordinates
+    get_first_order = mbs.systemData.GetODE1Coordinates
 
     def pre_step(mbs_, t):
         progress["steps"] += 1
@@ -72,7 +75,8 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
         except Exception as exc:  # stop cleanly and raise it after the solver has returned
             items.failure = items.failure or exc
             return False
-        if progress["steps"] % CHECK_EVERY == 0 and not math.isfinite(float(get_coordinates().sum())):
+        if progress["steps"] % CHECK_EVERY == 0 and not (math.isfinite(float(get_coordinates().sum()))
+                                                         and math.isfinite(float(get_first_order().sum()))):
             progress["bad"] = t
             return False
         return True
@@ -84,9 +88,17 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
     times: list = []
     next_sample = [0.0]
 
+    post_hooks = list(items.post_step_hooks)
+
     def post_step(mbs_, t):
         if times and t <= times[-1] + 0.5 * step:  # Exudyn calls this once more after the last step
             return True
+        try:
+            for hook in post_hooks:
+                hook(mbs_, t)
+        except Exception as exc:
+            items.failure = items.failure or exc
+            return False
         if t >= next_sample[0] - 0.5 * step or t >= duration - 0.5 * step:
             times.append(t)
             for key, read in readers:
@@ -104,6 +116,9 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
         if isinstance(items.failure, PchuteError):
             raise items.failure from None
+        if items.failure is not None:
+            raise SimulationError(f"a user function failed at t = {progress['time']:.4f} s: {items.failure!r}",
+                                  progress["time"]) from items.failure
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise SimulationError(
             f"the {integrator} integration stopped at t = {progress['time']:.4f} s ({detail}); the state most "
@@ -135,4 +150,5 @@ def _collect(times: np.ndarray, samples: dict, steps: int, wall: float) -> RawHi
             raw.tensions[(key[1], key[2])] = array.reshape(-1)
         else:
             raw.extra[key[1]] = array.reshape(-1)
+            raw.units[key[1]] = key[2]
     return raw

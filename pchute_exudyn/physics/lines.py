@@ -56,6 +56,17 @@ class LineState:
         return -self.force_on_confluence()
 
 
+def tension(stretch: float, length_rate: float, stiffness: float, damping: float) -> float:
+    """The line law for one line in plain floats (per-stage user functions); same law as ``tension_magnitude``.
+
+    Parameters are the stretch L - L0 (m), dL/dt (m/s), K (N/m) and C (N s/m); returns T (N) >= 0.
+    """
+    if stretch <= 0.0:
+        return 0.0
+    value = stiffness * stretch + damping * length_rate
+    return value if value > 0.0 else 0.0
+
+
 def tension_magnitude(length, length_rate, free_length, stiffness, damping):
     """Tension-only line law (Eq. 1.6 with the clip of ``mer.md``).
 

@@ -1,0 +1,247 @@
+"""Singular-perturbation (SP) confluence velocity (thesis chapter 3, Eqs. 3.1-3.13; ``mer.md`` "Singular-perturbation
+details").
+
+As the confluence mass goes to zero its equation of motion becomes a balance of the line forces (Eq. 3.1). Solving the
+balance for the confluence velocity v (Eqs. 3.4-3.11), with a confluence damping force -C_c (v - v0) (Eq. 3.7) that
+keeps the solve well-posed while a line is slack::
+
+    alpha v = sum_taut [K (L - L0) + C v_i . n] n + C_c v0,     alpha = sum_taut C n n^T + C_c I      (3.10, 3.11)
+
+n is the unit vector from the confluence to the attach point i, v0 the confluence velocity at the end of the
+previous step. C_c = 0 while every line is taut; while any line is slack (or alpha is singular, e.g. with two taut
+lines along one direction), C_c is the smallest value >= 0 for which the condition number
+kappa = sqrt(trace(alpha^2) trace(alpha^-2)) (Eq. 3.13) is at most kappa_max. kappa falls monotonically with C_c:
+with x_k = mu_k + C_c (mu_k the eigenvalues of sum C n n^T),
+d/dC_c [sum x^2 sum x^-2] = 2 (sum x sum x^-2 - sum x^2 sum x^-3) <= 0, so the smallest C_c is found by a bracketed
+Newton iteration on kappa^2 = kappa_max^2 (bracket [0, 3 mu_max / (kappa_max - 3)], from kappa <= 3 (1 + mu_max/C_c)).
+The Frobenius condition number of a 3x3 matrix is at least 3, so kappa_max must exceed 3.
+
+Slack rules: ``stretch`` (the thesis): taut means L > L0. ``force`` (active set): a line counts as taut when it is
+stretched and its linear-law tension K (L - L0) + C (v_i - v) . n at the solved v is >= 0. Starting from the stretched
+lines, each pass drops every taut line that pushes or, when none does, takes back every stretched line left out that
+would pull, and solves again, until the set is consistent both ways (a set seen before ends the search). All
+lines slack: the confluence keeps its previous velocity (reported C_c = 0, kappa = 0).
+
+Plain floats throughout (about 10 us a call): it runs at every solver stage.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .lines import tension
+
+SLACK_RULES = ("stretch", "force")
+SINGULAR = 1e-12
+"""Relative singularity test: alpha counts as singular when its condition number exceeds 1/SINGULAR (its smallest
+eigenvalue is below about SINGULAR times its largest) or its determinant is not positive."""
+
+
+@dataclass(frozen=True)
+class SPSolution:
+    """Result of one SP solve.
+
+    Attributes
+    ----------
+    velocity : tuple of 3 float
+        Confluence velocity v (m/s).
+    damping : float
+        Confluence damping C_c used (N s/m).
+    condition_number : float
+        kappa of the alpha that was solved (Eq. 3.13); 0 when every line is slack (no alpha).
+    taut : tuple of bool
+        Lines counted taut in the final solve.
+    tensions : tuple of float
+        Line tensions T >= 0 (N) from the line law with velocity v: the forces on the bodies are -T n.
+    directions : tuple of tuple
+        Unit vectors n from the confluence to each attach point.
+    """
+
+    velocity: tuple
+    damping: float
+    condition_number: float
+    taut: tuple
+    tensions: tuple
+    directions: tuple
+
+
+def symmetric_eigenvalues(a00, a01, a02, a11, a12, a22):
+    """Eigenvalues (ascending) of a symmetric 3x3 matrix in closed form (trigonometric method)."""
+    p1 = a01 * a01 + a02 * a02 + a12 * a12
+    if p1 == 0.0:
+        return tuple(sorted((a00, a11, a22)))
+    q = (a00 + a11 + a22) / 3.0
+    b00, b11, b22 = a00 - q, a11 - q, a22 - q
+    p = math.sqrt((b00 * b00 + b11 * b11 + b22 * b22 + 2.0 * p1) / 6.0)
+    det = (b00 * (b11 * b22 - a12 * a12) - a01 * (a01 * b22 - a12 * a02) + a02 * (a01 * a12 - b11 * a02))
+    r = max(-1.0, min(1.0, det / (2.0 * p * p * p)))
+    phi = math.acos(r) / 3.0
+    largest = q + 2.0 * p * math.cos(phi)
+    smallest = q + 2.0 * p * math.cos(phi + 2.0 * math.pi / 3.0)
+    return smallest, 3.0 * q - largest - smallest, largest
+
+
+def condition_number(eigenvalues, damping: float = 0.0) -> float:
+    """kappa = sqrt(sum x^2 sum x^-2) (Eq. 3.13) for alpha with eigenvalues ``eigenvalues`` + ``damping``."""
+    xs = [mu + damping for mu in eigenvalues]
+    if min(xs) <= 0.0:
+        return math.inf
+    return math.sqrt(sum(x * x for x in xs) * sum(1.0 / (x * x) for x in xs))
+
+
+def minimum_damping(eigenvalues, kappa_max: float) -> float:
+    """Smallest C_c >= 0 with condition_number(eigenvalues, C_c) <= kappa_max (N s/m); eigenvalues >= 0.
+
+    Exact for the given eigenvalues; with eigenvalues from ``symmetric_eigenvalues`` of a (near-)singular alpha,
+    kappa recomputed from alpha itself can exceed kappa_max by a few parts in 1e9 (eigenvalue round-off).
+    """
+    mus = [max(mu, 0.0) for mu in eigenvalues]
+    mu_max = max(mus)
+    if mu_max <= 0.0:
+        raise ValueError("alpha is zero: no taut line has damping")
+    if min(mus) > SINGULAR * mu_max and condition_number(mus) <= kappa_max:
+        return 0.0
+    target = kappa_max * kappa_max
+    lo, hi = 0.0, 3.0 * mu_max / (kappa_max - 3.0)
+    c = hi
+    for _ in range(100):
+        xs = [mu + c for mu in mus]
+        s1 = sum(xs)
+        s2 = sum(x * x for x in xs)
+        sm2 = sum(1.0 / (x * x) for x in xs)
+        sm3 = sum(1.0 / (x * x * x) for x in xs)
+        f = s2 * sm2 - target
+        if f > 0.0:
+            lo = c
+        else:
+            hi = c
+        slope = 2.0 * (s1 * sm2 - s2 * sm3)
+        newton = c - f / slope if slope < 0.0 else 0.5 * (lo + hi)
+        # kappa^2 is convex and falling in C_c: Newton from the upper bound walks down to the root from the
+        # feasible side (f <= 0), so a negligible step there is convergence
+        if f <= 0.0 and abs(newton - c) <= 1e-13 * c or hi - lo <= 1e-13 * hi:
+            break
+        c = newton if lo < newton < hi else 0.5 * (lo + hi)
+    return hi  # the bracket's upper end: kappa(hi) <= kappa_max holds exactly
+
+
+def _solve(a00, a01, a02, a11, a12, a22, bx, by, bz):
+    """Solve the symmetric 3x3 system alpha v = b by cofactors; returns (v, kappa) or None if det(alpha) <= 0.
+
+    kappa = ||alpha||_F ||alpha^-1||_F (Eq. 3.12 with Frobenius norms, = Eq. 3.13) comes from the cofactors at no
+    extra cost; a kappa above 1/SINGULAR marks alpha as numerically singular.
+    """
+    m00 = a11 * a22 - a12 * a12
+    m01 = a02 * a12 - a01 * a22
+    m02 = a01 * a12 - a02 * a11
+    det = a00 * m00 + a01 * m01 + a02 * m02
+    if not det > 0.0:
+        return None
+    m11 = a00 * a22 - a02 * a02
+    m12 = a01 * a02 - a00 * a12
+    m22 = a00 * a11 - a01 * a01
+    norm_a = a00 * a00 + a11 * a11 + a22 * a22 + 2.0 * (a01 * a01 + a02 * a02 + a12 * a12)
+    norm_m = m00 * m00 + m11 * m11 + m22 * m22 + 2.0 * (m01 * m01 + m02 * m02 + m12 * m12)
+    velocity = ((m00 * bx + m01 * by + m02 * bz) / det,
+                (m01 * bx + m11 * by + m12 * bz) / det,
+                (m02 * bx + m12 * by + m22 * bz) / det)
+    return velocity, math.sqrt(norm_a * norm_m) / det
+
+
+def _next_active_set(lines, active, velocity, visited) -> bool:
+    """Force rule: update ``active`` in place toward consistency; False when it is consistent (or would cycle).
+
+    Every taut line that pushes is dropped at once (mer.md: "any taut line whose ... tension comes out negative");
+    when none does, every stretched line left out that would pull is taken back. Changing lines together keeps
+    symmetric configurations symmetric (one-at-a-time picks one of equal bridles by index and starts a swing).
+    """
+    wx, wy, wz = velocity
+    drop, take = [], []
+    for i, ((nx, ny, nz, stretch, vn, k, c), on) in enumerate(zip(lines, active)):
+        if stretch <= 0.0:
+            continue
+        linear = k * stretch + c * (vn - wx * nx - wy * ny - wz * nz)
+        if on and linear < 0.0:
+            drop.append(i)
+        elif not on and linear > 0.0:
+            take.append(i)
+    change = drop or take
+    if not change:
+        return False
+    candidate = list(active)
+    for i in change:
+        candidate[i] = not candidate[i]
+    if tuple(candidate) in visited:
+        return False
+    visited.add(tuple(candidate))
+    active[:] = candidate
+    return True
+
+
+def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity,
+                        free_length, stiffness, damping, kappa_max: float = 5.0,
+                        slack_rule: str = "stretch") -> SPSolution:
+    """SP confluence velocity (Eq. 3.10) with the minimal confluence damping of Eq. 3.13.
+
+    Parameters
+    ----------
+    attach_position, attach_velocity : sequence of (x, y, z)
+        Position (m) and velocity (m/s) of each line's attach point.
+    confluence_position : (x, y, z)
+        Confluence position (m).
+    previous_velocity : (x, y, z)
+        Confluence velocity at the end of the previous step, v0 (m/s).
+    free_length, stiffness, damping : sequence of float
+        L0 (m), K (N/m), C (N s/m) per line; every C must be > 0.
+    kappa_max : float
+        Largest condition number accepted while a line is slack (> 3).
+    slack_rule : {"stretch", "force"}
+
+    Returns
+    -------
+    SPSolution
+    """
+    cx, cy, cz = confluence_position
+    lines = []  # (nx, ny, nz, stretch, attach velocity along n, K, C)
+    for (px, py, pz), (vx, vy, vz), l0, k, c in zip(attach_position, attach_velocity, free_length, stiffness, damping):
+        dx, dy, dz = px - cx, py - cy, pz - cz
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        nx, ny, nz = dx / length, dy / length, dz / length
+        lines.append((nx, ny, nz, length - l0, vx * nx + vy * ny + vz * nz, k, c))
+    active = [line[3] > 0.0 for line in lines]
+    v0x, v0y, v0z = previous_velocity
+    visited = {tuple(active)}
+    while True:
+        if not any(active):
+            velocity, c_c, kappa = (v0x, v0y, v0z), 0.0, 0.0
+            if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
+                break
+            continue
+        a00 = a01 = a02 = a11 = a12 = a22 = bx = by = bz = 0.0
+        for (nx, ny, nz, stretch, vn, k, c), on in zip(lines, active):
+            if on:
+                a00 += c * nx * nx
+                a01 += c * nx * ny
+                a02 += c * nx * nz
+                a11 += c * ny * ny
+                a12 += c * ny * nz
+                a22 += c * nz * nz
+                f = k * stretch + c * vn
+                bx += f * nx
+                by += f * ny
+                bz += f * nz
+        solved = _solve(a00, a01, a02, a11, a12, a22, bx, by, bz) if all(active) else None
+        if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
+            c_c = 0.0
+            velocity, kappa = solved
+        else:  # a slack line, or alpha (near-)singular: the smallest C_c that conditions it (Eq. 3.13)
+            c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
+            velocity, kappa = _solve(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
+                                     bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
+        if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
+            break
+    wx, wy, wz = velocity
+    tensions = tuple(tension(stretch, vn - wx * nx - wy * ny - wz * nz, k, c)
+                     for nx, ny, nz, stretch, vn, k, c in lines)
+    return SPSolution(velocity, c_c, kappa, tuple(active), tensions, tuple(line[:3] for line in lines))

@@ -1,0 +1,80 @@
+"""The compare command and module on CSV files with known differences."""
+
+import numpy as np
+import pytest
+
+from pchute_exudyn.cli import main
+from pchute_exudyn.compare import compare_results
+from pchute_exudyn.errors import InputError
+from pchute_exudyn.results import Result, parse_column_map
+
+
+def write_csv(path, columns):
+    names = list(columns)
+    np.savetxt(path, np.column_stack([columns[n] for n in names]), delimiter=",", header=",".join(names),
+               comments="")
+    return str(path)
+
+
+@pytest.fixture
+def pair(tmp_path):
+    t = np.linspace(0.0, 10.0, 1001)
+    a = {"time": t, "vehicle_altitude": 1000.0 - 5.0 * t, "vehicle_east": 0.1 * t, "vehicle_north": 0 * t,
+         "tension_riser": 100.0 + t, "confluence_velocity_east": np.sin(t), "confluence_velocity_north": 0 * t}
+    # B: another tool, half the sample rate, feet and pounds-force, riser 2 N high after 3 s, confluence 0.3 m/s off
+    tb = np.linspace(1.0, 12.0, 221)
+    b = {"t": tb, "alt_ft": (1000.0 - 5.0 * tb + 0.5) / 0.3048, "east_m": 0.1 * tb + 3.0, "north_m": 4.0 + 0 * tb,
+         "riser_lbf": (100.0 + tb + 2.0 * (tb > 3.0)) / 4.4482216152605,
+         "vc_e": np.sin(tb) + 0.3, "vc_n": 0 * tb}
+    return write_csv(tmp_path / "a.csv", a), write_csv(tmp_path / "b.csv", b)
+
+
+MAP = ["t=time", "alt_ft=vehicle_altitude*0.3048", "east_m=vehicle_east", "north_m=vehicle_north",
+       "riser_lbf=tension_riser*4.4482216152605", "vc_e=confluence_velocity_east",
+       "vc_n=confluence_velocity_north"]
+
+
+def test_known_differences(pair):
+    a = Result.load(pair[0])
+    b = Result.load(pair[1], parse_column_map(MAP))
+    c = compare_results(a, b, settle_time=5.0)
+    assert c.time[0] == pytest.approx(1.0) and c.time[-1] == pytest.approx(10.0)    # the common span
+    assert c.final["vehicle altitude"] == pytest.approx(0.5, abs=1e-9)
+    assert c.final["vehicle lateral position"] == pytest.approx(5.0, abs=1e-9)       # 3-4-5
+    riser = c.lines["riser"]
+    assert riser["max"] == pytest.approx(2.0, abs=1e-9)
+    assert riser["max_settled"] == pytest.approx(2.0, abs=1e-9) and riser["rms_settled"] == pytest.approx(2.0)
+    fraction = np.mean(c.time > 3.0 + 0.02)                                           # B jumps within its 0.05 s grid
+    assert riser["rms"] == pytest.approx(2.0 * np.sqrt(fraction), rel=0.02)
+    assert c.confluence_velocity["max"] == pytest.approx(0.3, abs=2e-3)               # linear interpolation of sin
+
+
+def test_compare_cli_writes_table_and_plots(pair, tmp_path, capsys):
+    args = ["compare", pair[0], pair[1], "--out", str(tmp_path / "cmp"), "--settle", "5"]
+    for entry in MAP:
+        args += ["--map", entry]
+    assert main(args) == 0
+    printed = capsys.readouterr().out
+    assert "| final vehicle altitude | +0.5 m |" in printed
+    for name in ("comparison.md", "comparison.json", "tensions.png", "confluence_velocity.png"):
+        assert (tmp_path / "cmp" / name).is_file()
+
+
+def test_compare_errors(pair, tmp_path, capsys):
+    t = np.linspace(20.0, 30.0, 11)
+    late = write_csv(tmp_path / "late.csv", {"time": t, "tension_riser": t})
+    with pytest.raises(InputError, match="share no time span"):
+        compare_results(Result.load(pair[0]), Result.load(late))
+    other = write_csv(tmp_path / "other.csv", {"time": np.linspace(0, 5, 6), "foo": np.zeros(6)})
+    with pytest.raises(InputError, match="share no column besides 'time'"):
+        compare_results(Result.load(pair[0]), Result.load(other))
+    for args, expected in ((["compare", pair[0], pair[1]], "no 'time' column (name it with a column map"),
+                           (["compare", pair[0], pair[1], "--map", "t=time"], "share no column besides 'time'"),
+                           (["compare", pair[0], pair[1], "--map", "nothere=tension_riser"], "does not have"),
+                           (["compare", pair[0], pair[1], "--map", "riser_lbf"], "THEIRS=OURS"),
+                           (["compare", pair[0], pair[1], "--map", "riser_lbf=tension_riser*x"], "not a number"),
+                           (["compare", pair[0], str(tmp_path / "missing")], "result not found"),
+                           (["compare", pair[0], late], "share no time span")):
+        assert main(args) == 1
+        err = capsys.readouterr().err
+        assert expected in err and len(err.strip().splitlines()) == 1, err
