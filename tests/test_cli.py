@@ -92,6 +92,10 @@ def _bad_case(tmp_path, text):
     (lambda tmp: ["run", CASE1, "--set", "vehicle.mass"], "key=value"),
     (lambda tmp: ["run", CASE1, "--out", str(_write(tmp, "file.txt", "x")) + "/out"], "cannot be written"),
     (lambda tmp: ["run", CASE1, "--dt", "1e-3", "--t-end", "2", "--out", str(tmp / "o")], "exceeds the stability"),
+    (lambda tmp: ["run", CASE1, "--method", "sp", "--kappa-max", "1"], "must be > 3"),
+    (lambda tmp: ["run", CASE1, "--method", "sp", "--integrator", "implicit"], "rk4 only"),
+    (lambda tmp: ["run", CASE1, "--method", "sp", "--set", "main.lines.*.damping=0"], "every line has zero damping"),
+    (lambda tmp: ["run", CASE1, "--method", "sp", "--slack-rule", "loose"], "invalid choice: 'loose'"),
 ])
 def test_user_mistakes_give_one_line_and_nonzero_exit(capsys, tmp_path, make_args, expected):
     args = make_args(tmp_path)
