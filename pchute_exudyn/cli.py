@@ -30,7 +30,8 @@ def _add_run(subparsers) -> None:
     run.add_argument("--method", choices=METHODS, default=None,
                      help="confluence method: full = the confluence as a point mass (thesis Eqs. 1.1-1.7); sp = "
                           "singular perturbation, the confluence velocity from the line-force balance (thesis ch. 3, "
-                          "rk4 only); default: the case's simulation.method")
+                          "rk4 only); equilibrium = the confluence at the balance of the line stiffness forces "
+                          "(Raiszadeh, thesis Eq. 2.9, rk4 only); default: the case's simulation.method")
     run.add_argument("--integrator", choices=INTEGRATORS, default=None,
                      help="rk4 = explicit Runge-Kutta 4, fixed step (the thesis's); implicit = Exudyn's "
                           "generalized-alpha; default: the case's simulation.integrator")
@@ -120,6 +121,33 @@ def _compare(args) -> int:
     return 0
 
 
+def _add_linearize(subparsers) -> None:
+    lin = subparsers.add_parser(
+        "linearize", help="equilibrium point, linearised confluence modes and stable step sizes",
+        description="Solve the confluence equilibrium point (thesis Eq. 2.9), linearise the confluence about it "
+                    "(Eq. 2.6: C_bar, K_bar), solve its modes and report the largest stable RK4 step of the full-mass "
+                    "and singular-perturbation models. Fixed attach points are used as they are; for a flight case "
+                    "the bodies' state at --time comes from a full-mass (implicit) run.")
+    lin.add_argument("case", help="case file (TOML)")
+    lin.add_argument("--time", type=float, default=0.0, metavar="T", help="time in s of the state (default 0)")
+    lin.add_argument("--system", default=None, help="parachute system (default: the first)")
+    lin.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    lin.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                     help="override a case field (as for pchute run); repeatable")
+    lin.set_defaults(func=_linearize)
+
+
+def _linearize(args) -> int:
+    import json
+
+    from .case import load_case
+    from .linear_report import format_report, linearization_report
+
+    report = linearization_report(load_case(args.case, args.overrides), args.system, args.time)
+    print(json.dumps(report) if args.json else format_report(report))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``pchute`` argument parser."""
     parser = _Parser(prog="pchute", description="Multibody parachute descent simulation on the Exudyn engine.")
@@ -128,6 +156,7 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers.required = True
     _add_run(subparsers)
     _add_compare(subparsers)
+    _add_linearize(subparsers)
     return parser
 
 

@@ -25,9 +25,10 @@ def resolve_run(case: Case, method: str | None, integrator: str | None, step: fl
     if integrator not in INTEGRATORS:
         raise InputError(f"unknown integrator {integrator!r}; integrators are: {', '.join(INTEGRATORS)}")
     if integrator != "rk4" and method not in IMPLICIT_METHODS:
-        raise InputError(f"the {method} method runs with --integrator rk4 only: its confluence is first-order (ODE1) "
-                         "states coupled to the bodies, and Exudyn's implicit solvers drop the ODE1/ODE2 coupling "
-                         "from their Jacobian (first-order accurate, slow); use rk4, or --method full with implicit")
+        raise InputError(f"the {method} method runs with --integrator rk4 only: it couples first-order (ODE1) "
+                         "user-function states to the bodies, and Exudyn's implicit solvers drop the ODE1/ODE2 "
+                         "coupling from their Jacobian (first-order accurate, slow); use rk4, or --method full with "
+                         "implicit")
     duration = case.simulation.duration if duration is None else float(duration)
     if not (math.isfinite(duration) and duration > 0.0):
         raise InputError(f"duration (--t-end) = {duration!r}: must be a number > 0 (s)")
@@ -68,6 +69,39 @@ def check_sp_settings(case: Case, kappa_max: float, slack_rule: str) -> None:
                          "taut; use --method full (or the equilibrium method, which ignores damping)")
 
 
+def run(case: Case, method: str, integrator: str, step: float, duration: float, *, kappa_max: float | None = None,
+        slack_rule: str | None = None, line_law: str = "symbolic"):
+    """Build and integrate the engine model of ``case`` (arguments already resolved by ``resolve_run``).
+
+    Returns the checked engine history, the method's settings and facts for the summary.
+    """
+    from .engine.full import add_rk4_step_monitor, build_full_model
+    from .engine.solver import integrate
+
+    settings = {}
+    if method == "sp":
+        from .engine.sp import build_sp_model
+        kappa_max = case.simulation.kappa_max if kappa_max is None else kappa_max
+        slack_rule = case.simulation.slack_rule if slack_rule is None else slack_rule
+        check_sp_settings(case, kappa_max, slack_rule)
+        items = build_sp_model(case, kappa_max, slack_rule)
+        settings = {"kappa_max": kappa_max, "slack_rule": slack_rule}
+    elif method == "equilibrium":
+        from .engine.equilibrium import build_equilibrium_model
+        items = build_equilibrium_model(case)
+    else:
+        items = build_full_model(case, line_law=line_law)
+    if integrator == "rk4" and method in ("full", "sp"):   # the equilibrium method has no confluence dynamics
+        add_rk4_step_monitor(items, case, step, method)
+    output_step = min(case.simulation.output_step, duration)
+    raw = integrate(items, integrator, step, duration, output_step, case.simulation.spectral_radius)
+    check_history(case, raw, step)
+    for summarize in items.summaries:
+        settings.update(summarize())
+    settings["output_step"] = output_step
+    return raw, settings
+
+
 def simulate(case: Case, method: str | None = None, integrator: str | None = None, step: float | None = None,
              duration: float | None = None, *, kappa_max: float | None = None, slack_rule: str | None = None,
              line_law: str = "symbolic") -> Result:
@@ -77,10 +111,10 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
     ----------
     case : Case
         From :func:`pchute_exudyn.load_case`.
-    method : {"full", "sp"}, optional
+    method : {"full", "sp", "equilibrium"}, optional
         Confluence method; default from the case.
     integrator : {"rk4", "implicit"}, optional
-        Default from the case; ``sp`` runs with ``rk4`` only.
+        Default from the case; ``sp`` and ``equilibrium`` run with ``rk4`` only.
     step : float, optional
         Integration step (s); default from the case's ``simulation.steps``.
     duration : float, optional
@@ -101,24 +135,8 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
     InputError, SimulationError
     """
     method, integrator, step, duration = resolve_run(case, method, integrator, step, duration)
-    from .engine.full import add_rk4_step_monitor, build_full_model
-    from .engine.solver import integrate
-
-    settings = {}
-    if method == "sp":
-        from .engine.sp import build_sp_model
-        kappa_max = case.simulation.kappa_max if kappa_max is None else kappa_max
-        slack_rule = case.simulation.slack_rule if slack_rule is None else slack_rule
-        check_sp_settings(case, kappa_max, slack_rule)
-        items = build_sp_model(case, kappa_max, slack_rule)
-        settings = {"kappa_max": kappa_max, "slack_rule": slack_rule}
-    else:
-        items = build_full_model(case, line_law=line_law)
-    if integrator == "rk4":
-        add_rk4_step_monitor(items, case, step, method)
-    output_step = min(case.simulation.output_step, duration)
-    raw = integrate(items, integrator, step, duration, output_step, case.simulation.spectral_radius)
-    check_history(case, raw, step)
+    raw, settings = run(case, method, integrator, step, duration, kappa_max=kappa_max, slack_rule=slack_rule,
+                        line_law=line_law)
     columns, units = derive_columns(case, raw)
     vehicle = case.vehicle
     summary = {
@@ -130,7 +148,6 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
         "integrator": integrator,
         "step": step,
         "duration": duration,
-        "output_step": output_step,
         **settings,
         "steps": raw.steps,
         "wall_time": raw.wall_time,
@@ -138,7 +155,10 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
         "final": {"time": float(columns["time"][-1]),
                   "vehicle_altitude": float(columns[f"{vehicle}_altitude"][-1]),
                   "vehicle_east": float(columns[f"{vehicle}_east"][-1]),
-                  "vehicle_north": float(columns[f"{vehicle}_north"][-1])},
+                  "vehicle_north": float(columns[f"{vehicle}_north"][-1]),
+                  **{f"{label}_{key}": float(columns[f"{label}_{key}"][-1])
+                     for label in (case.confluence_label(system) for system in case.systems.values())
+                     for key in ("altitude", "east", "north") if f"{label}_{key}" in columns}},
         "peak_tension": {k.removeprefix("tension_"): float(np.max(v)) for k, v in columns.items()
                          if k.startswith("tension_")},
         "units": units,

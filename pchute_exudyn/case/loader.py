@@ -33,7 +33,7 @@ else:  # pragma: no cover
 from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere
-from ..physics.planet import Planet, StartFrame
+from ..physics.planet import FlatPlanet, Planet, StartFrame
 from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Aerodynamics, Body, Case, Confluence,
                     InitialState, Line, ParachuteSystem, SimulationSettings)
 
@@ -375,19 +375,33 @@ def _read_aerodynamics(t: _Table) -> Aerodynamics:
 
 
 def _read_body(name: str, t: _Table) -> Body:
-    mass = t.number("mass", "kg", above=0.0)
-    inertia = _read_inertia(t)
+    fixed = t.boolean("fixed", False)
+    if fixed:
+        for key in ("mass", "inertia", "aerodynamics"):
+            t.allowed.append(key)
+            if key in t.data:
+                raise t.error(key, "a fixed body (fixed = true) has no mass, inertia or aerodynamics")
+        mass, inertia = None, None
+    else:
+        mass = t.number("mass", "kg", above=0.0)
+        inertia = _read_inertia(t)
     points = {}
     table = t.table("points", None)
     if table is not None:
         for point in list(table.data):
             points[point] = table.vector(point, "m")
         table.finish()
-    initial = _read_initial(t.table("initial"), attitude=True)
-    aero_table = t.table("aerodynamics", None)
+    initial_table = t.table("initial")
+    initial = _read_initial(initial_table, attitude=True)
+    moving = [key for key in ("velocity_north", "velocity_east", "velocity_down", "rate_x", "rate_y", "rate_z")
+              if getattr(initial, key) != 0.0]
+    if fixed and moving:
+        raise initial_table.error(moving[0], "a fixed body cannot move: its velocities and rates must be 0",
+                                  getattr(initial, moving[0]))
+    aero_table = None if fixed else t.table("aerodynamics", None)
     aero = _read_aerodynamics(aero_table) if aero_table is not None else None
     t.finish()
-    return Body(name, mass, inertia, points, initial, aero)
+    return Body(name, mass, inertia, points, initial, aero, fixed)
 
 
 def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
@@ -465,26 +479,33 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     info.finish()
 
     p = top.table("planet")
-    planet = Planet(
-        gravitational_parameter=p.number("gravitational_parameter", "m^3/s^2", above=0.0),
-        equatorial_radius=p.number("equatorial_radius", "m", above=0.0),
-        polar_radius=p.number("polar_radius", "m", above=0.0),
-        rotation_rate=p.number("rotation_rate", "rad/s", 0.0),
-        name=p.string("name", "planet"))
-    if planet.polar_radius > planet.equatorial_radius:
-        raise p.error("polar_radius", f"must be <= equatorial_radius ({planet.equatorial_radius:g} m)",
-                      planet.polar_radius)
+    if p.string("model", "ellipsoid", ("ellipsoid", "flat")) == "flat":
+        planet = FlatPlanet(p.number("gravity", "m/s^2", minimum=0.0), p.string("name", "flat"))
+    else:
+        planet = Planet(
+            gravitational_parameter=p.number("gravitational_parameter", "m^3/s^2", above=0.0),
+            equatorial_radius=p.number("equatorial_radius", "m", above=0.0),
+            polar_radius=p.number("polar_radius", "m", above=0.0),
+            rotation_rate=p.number("rotation_rate", "rad/s", 0.0),
+            name=p.string("name", "planet"))
+        if planet.polar_radius > planet.equatorial_radius:
+            raise p.error("polar_radius", f"must be <= equatorial_radius ({planet.equatorial_radius:g} m)",
+                          planet.polar_radius)
     p.finish()
     s = top.table("start", {})
     start = StartFrame(planet, s.number("latitude_deg", "deg", 0.0, minimum=-90.0, maximum=90.0),
                        s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
     s.finish()
-    atmosphere = _read_atmosphere(top.table("atmosphere"))
+    atmosphere_table = top.table("atmosphere", None)
+    atmosphere = _read_atmosphere(atmosphere_table) if atmosphere_table is not None else None
 
     body_tables = top.named_tables("bodies")
     if not body_tables:
         raise top.error("bodies", "a case needs at least one body")
     bodies = {body_name: _read_body(body_name, bt) for body_name, bt in body_tables.items()}
+    aerodynamic = [name for name, body in bodies.items() if body.aerodynamics is not None]
+    if atmosphere is None and aerodynamic:
+        raise top.error("atmosphere", f"required because body '{aerodynamic[0]}' has aerodynamics")
     if vehicle not in bodies:
         raise info.error("vehicle", f"must name a body; bodies are: {', '.join(bodies)}", vehicle)
     systems = {sys_name: _read_system(sys_name, st, bodies)

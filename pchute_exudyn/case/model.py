@@ -12,12 +12,13 @@ import numpy as np
 
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import Atmosphere
-from ..physics.planet import Planet, StartFrame
+from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.singular_perturbation import SLACK_RULES  # noqa: F401  (re-exported for the loader and CLI)
 
-METHODS = ("full", "sp")
+METHODS = ("full", "sp", "equilibrium")
 """Confluence methods: ``full`` = the confluence as a 3-DoF point mass (thesis Eqs. 1.1-1.7); ``sp`` = singular
-perturbation, the confluence velocity from the line-force balance (thesis chapter 3)."""
+perturbation, the confluence velocity from the line-force balance (thesis chapter 3); ``equilibrium`` = the
+confluence placed where the line stiffness forces balance (Raiszadeh, thesis ref. 7, Eq. 2.9)."""
 
 INTEGRATORS = ("rk4", "implicit")
 """``rk4``: explicit Runge-Kutta 4 with a fixed step; ``implicit``: Exudyn's generalized-alpha."""
@@ -102,22 +103,25 @@ class Body:
     Attributes
     ----------
     name : str
-    mass : float
-        Mass (kg).
-    inertia : ndarray (3, 3)
-        Inertia tensor about the centre of mass in body axes (kg m^2).
+    mass : float or None
+        Mass (kg); None for a fixed body.
+    inertia : ndarray (3, 3) or None
+        Inertia tensor about the centre of mass in body axes (kg m^2); None for a fixed body.
     points : dict of str to tuple
         Named points in body axes relative to the centre of mass (m): line attach points.
     initial : InitialState
     aerodynamics : Aerodynamics or None
+    fixed : bool
+        True for a body fixed to the ground (its points are anchors; thesis chapter 2's attach points).
     """
 
     name: str
-    mass: float
-    inertia: np.ndarray
+    mass: float | None
+    inertia: np.ndarray | None
     points: dict
     initial: InitialState
     aerodynamics: Aerodynamics | None = None
+    fixed: bool = False
 
 
 @dataclass(frozen=True)
@@ -220,10 +224,11 @@ class Case:
     name, description : str
     source : str
         Path of the case file (and the overrides applied), for provenance.
-    planet : Planet
+    planet : Planet or FlatPlanet
     start : StartFrame
         Local east/north/up frame of the start point.
-    atmosphere : Atmosphere
+    atmosphere : Atmosphere or None
+        None when no body has aerodynamics.
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -236,14 +241,18 @@ class Case:
     name: str
     description: str
     source: str
-    planet: Planet
+    planet: "Planet | FlatPlanet"
     start: StartFrame
-    atmosphere: Atmosphere
+    atmosphere: "Atmosphere | None"
     bodies: dict
     systems: dict
     simulation: SimulationSettings
     vehicle: str
     data: dict = field(default_factory=dict, repr=False)
+
+    def free_bodies(self):
+        """The bodies that move (not fixed), in case order."""
+        return [body for body in self.bodies.values() if not body.fixed]
 
     def lines(self):
         """Every (system, line) pair in case order."""

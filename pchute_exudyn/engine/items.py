@@ -14,6 +14,7 @@ import numpy as np
 
 from ..case.model import Body, Case
 from ..physics.aerodynamics import aerodynamic_force
+from ..physics.planet import FlatPlanet
 from ..physics.rotations import attitude_matrix, rotation_vector
 
 OV = exu.OutputVariableType
@@ -54,27 +55,41 @@ class ModelItems:
     bodies: dict = field(default_factory=dict)
     confluences: dict = field(default_factory=dict)
     channels: dict = field(default_factory=dict)
+    ground: int = -1
     planet_marker: int = -1
     pre_step_hooks: list = field(default_factory=list)  # callables (mbs, t) run before every step
     post_step_hooks: list = field(default_factory=list)  # callables (mbs, t) run after every step (and at t = 0)
     keep_alive: list = field(default_factory=list)      # symbolic user functions must outlive the solve
     failure: Exception | None = None                    # first error raised inside a user function
-    sp: dict = field(default_factory=dict)              # system -> SP confluence state (engine.sp)
+    sp: dict = field(default_factory=dict)              # system -> massless confluence (engine.reduced)
+    summaries: list = field(default_factory=list)       # callables returning method facts for summary.json
 
 
 def new_system(case: Case) -> ModelItems:
-    """An empty Exudyn system with a ground marker at the planet centre (for the gravity connectors)."""
+    """An empty Exudyn system with a ground object and a marker at the planet centre (for the gravity connectors)."""
     system_container = exu.SystemContainer()
     mbs = system_container.AddSystem()
     ground = mbs.AddObject(eii.ObjectGround(visualization=eii.VObjectGround(show=False)))
     center = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=ground,
                                                   localPosition=case.start.planet_center.tolist()))
-    return ModelItems(system_container, mbs, planet_marker=center)
+    return ModelItems(system_container, mbs, ground=ground, planet_marker=center)
 
 
-def add_gravity(items: ModelItems, case: Case, marker: int, mass: float) -> int:
-    """Spherical gravity -mu m r/|r|^3 on the item at ``marker`` (native Exudyn connector, exact at every stage)."""
-    return items.mbs.AddObject(eii.ObjectConnectorGravity(
+def add_gravity(items: ModelItems, case: Case, body: int, marker: int, mass: float) -> None:
+    """Gravity on the body or point mass ``body`` whose centre of mass is at ``marker``.
+
+    Spherical gravity -mu m r/|r|^3 by Exudyn's native gravity connector to the planet centre (exact at every
+    stage); on a flat planet a uniform mass-proportional load (none when g = 0).
+    """
+    mbs = items.mbs
+    if isinstance(case.planet, FlatPlanet):
+        if case.planet.gravity_acceleration != 0.0:
+            mass_marker = mbs.AddMarker(eii.MarkerBodyMass(bodyNumber=body))
+            mbs.AddLoad(eii.LoadMassProportional(markerNumber=mass_marker,
+                                                 loadVector=[0.0, 0.0, -case.planet.gravity_acceleration],
+                                                 visualization=eii.VLoadMassProportional(show=False)))
+        return
+    mbs.AddObject(eii.ObjectConnectorGravity(
         markerNumbers=[items.planet_marker, marker], gravitationalConstant=case.planet.gravitational_parameter,
         mass0=1.0, mass1=mass, visualization=eii.VObjectConnectorGravity(show=False)))
 
@@ -85,11 +100,22 @@ def _inertia6(inertia: np.ndarray) -> list:
 
 
 def add_body(items: ModelItems, case: Case, body: Body) -> BodyItems:
-    """A 6-DoF rigid body (rotation-vector node with Lie-group integration), its point markers and gravity."""
+    """A 6-DoF rigid body (rotation-vector node with Lie-group integration), its point markers and gravity;
+    a fixed body becomes markers on the ground."""
     mbs = items.mbs
     init = body.initial
     position = case.start.local_position(init.altitude, init.east, init.north)
     attitude = attitude_matrix(init.yaw_deg, init.pitch_deg, init.roll_deg)
+    if body.fixed:
+        points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=items.ground,
+                                                             localPosition=(position + attitude @ p).tolist()))
+                  for name, p in body.points.items()}
+        for name, value in (("position", position), ("velocity", np.zeros(3)), ("rotation", attitude.ravel()),
+                            ("angular_velocity", np.zeros(3))):
+            items.channels[("body", body.name, name)] = (lambda value=value.tolist(): value)
+        result = BodyItems(-1, items.ground, -1, points)
+        items.bodies[body.name] = result
+        return result
     velocity = case.start.inertial_velocity(position, init.velocity_enu)
     node = mbs.AddNode(eii.NodeRigidBodyRotVecLG(
         referenceCoordinates=position.tolist() + rotation_vector(attitude).tolist(),
@@ -100,7 +126,7 @@ def add_body(items: ModelItems, case: Case, body: Body) -> BodyItems:
     center = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=[0.0, 0.0, 0.0]))
     points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=list(p)))
               for name, p in body.points.items()}
-    add_gravity(items, case, center, body.mass)
+    add_gravity(items, case, obj, center, body.mass)
     result = BodyItems(node, obj, center, points)
     for name, kind in (("position", OV.Position), ("velocity", OV.Velocity), ("rotation", OV.RotationMatrix),
                        ("angular_velocity", OV.AngularVelocityLocal)):
@@ -125,7 +151,7 @@ def add_point_mass(items: ModelItems, case: Case, key: str, mass: float, initial
     obj = mbs.AddObject(eii.ObjectMassPoint(nodeNumber=node, mass=mass,
                                             visualization=eii.VObjectMassPoint(show=False)))
     marker = mbs.AddMarker(eii.MarkerNodePosition(nodeNumber=node))
-    add_gravity(items, case, marker, mass)
+    add_gravity(items, case, obj, marker, mass)
     result = PointItems(node, obj, marker)
     for name, kind in (("position", OV.Position), ("velocity", OV.Velocity)):
         items.channels[("confluence", key, name)] = node_reader(mbs, node, kind)

@@ -96,14 +96,15 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
         try:
             for hook in post_hooks:
                 hook(mbs_, t)
-        except Exception as exc:
+            if t >= next_sample[0] - 0.5 * step or t >= duration - 0.5 * step:
+                values = [read() for _, read in readers]
+                times.append(t)
+                for (key, _), value in zip(readers, values):
+                    samples[key].append(value)
+                next_sample[0] = (round(t / output_step) + 1) * output_step
+        except Exception as exc:  # stop cleanly and raise it after the solver has returned
             items.failure = items.failure or exc
             return False
-        if t >= next_sample[0] - 0.5 * step or t >= duration - 0.5 * step:
-            times.append(t)
-            for key, read in readers:
-                samples[key].append(read())
-            next_sample[0] = (round(t / output_step) + 1) * output_step
         return True
 
     mbs.SetPreStepUserFunction(pre_step)

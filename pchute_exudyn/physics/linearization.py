@@ -17,6 +17,18 @@ from dataclasses import dataclass
 import numpy as np
 
 
+def line_stiffness(stiffness, free_length, length, direction):
+    """Tangent stiffness of each line, K [(1 - L0/L) I + (L0/L) n n^T] (N/m), shape (n_lines, 3, 3).
+
+    Pass zero stiffness for slack lines. dF/dr_i of the line force on the confluence is this matrix, and
+    dF/dr_c is minus it (Appendix A/B).
+    """
+    k = np.asarray(stiffness, float)
+    ratio = np.asarray(free_length, float) / np.asarray(length, float)
+    n = np.asarray(direction, float)
+    return (k * (1.0 - ratio))[:, None, None] * np.eye(3) + (k * ratio)[:, None, None] * np.einsum("li,lj->lij", n, n)
+
+
 def linearize(attach_position, confluence_position, free_length, stiffness, damping, taut=None):
     """Equivalent damping and stiffness matrices C_bar (N s/m) and K_bar (N/m) of the confluence (Eq. 2.6).
 
@@ -34,16 +46,11 @@ def linearize(attach_position, confluence_position, free_length, stiffness, damp
     rel = np.asarray(attach_position, float) - np.asarray(confluence_position, float)
     length = np.linalg.norm(rel, axis=-1)
     n = rel / length[:, None]
-    free_length = np.asarray(free_length, float)
     if taut is None:
-        taut = length > free_length
+        taut = length > np.asarray(free_length, float)
     w = np.asarray(taut, bool)
-    outer = np.einsum("li,lj->lij", n, n)
-    c_bar = np.einsum("l,lij->ij", np.asarray(damping, float) * w, outer)
-    k = np.asarray(stiffness, float) * w
-    ratio = free_length / length
-    k_bar = np.einsum("l,lij->ij", k * (1.0 - ratio), np.broadcast_to(np.eye(3), outer.shape)) \
-        + np.einsum("l,lij->ij", k * ratio, outer)
+    c_bar = np.einsum("l,li,lj->ij", np.asarray(damping, float) * w, n, n)
+    k_bar = line_stiffness(np.asarray(stiffness, float) * w, free_length, length, n).sum(axis=0)
     return c_bar, k_bar
 
 
@@ -62,7 +69,9 @@ class Modes:
     damping_ratios : ndarray (6,)
         -Re(lambda) / |lambda| (-).
     periods : ndarray (6,)
-        2 pi / Im(lambda) (s); inf for real (overdamped) roots.
+        Damped period 2 pi / |Im(lambda)| (s); inf for real (overdamped) roots.
+    natural_periods : ndarray (6,)
+        2 pi / omega_n (s): the "T" of thesis Table 2.2.
     """
 
     eigenvalues: np.ndarray
@@ -70,6 +79,7 @@ class Modes:
     natural_frequencies: np.ndarray
     damping_ratios: np.ndarray
     periods: np.ndarray
+    natural_periods: np.ndarray
 
 
 def modes(mass: float, damping_matrix, stiffness_matrix) -> Modes:
@@ -86,7 +96,9 @@ def modes(mass: float, damping_matrix, stiffness_matrix) -> Modes:
         ratio = np.where(magnitude > 0, -values.real / magnitude, 1.0)
         period = np.where(np.abs(values.imag) > 1e-12 * np.maximum(magnitude, 1.0),
                           2.0 * np.pi / np.abs(values.imag), np.inf)
-    return Modes(values, vectors, magnitude, ratio, period)
+    with np.errstate(divide="ignore"):
+        natural_period = np.where(magnitude > 0, 2.0 * np.pi / magnitude, np.inf)
+    return Modes(values, vectors, magnitude, ratio, period, natural_period)
 
 
 def max_stable_step_rk4(eigenvalues) -> float:

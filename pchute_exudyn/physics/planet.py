@@ -115,6 +115,44 @@ class Planet:
         return np.column_stack([east, north, up])
 
 
+@dataclass(frozen=True)
+class FlatPlanet:
+    """A flat, non-rotating ground with uniform gravity (test systems such as the thesis's chapter 2 model).
+
+    Coordinates are east, north, up directly; altitude is the up coordinate.
+
+    Parameters
+    ----------
+    gravity_acceleration : float
+        g (m/s^2), pointing down; 0 for none.
+    """
+
+    gravity_acceleration: float
+    name: str = "flat"
+    rotation_rate: float = 0.0
+
+    def gravity(self, position) -> np.ndarray:
+        """Uniform gravity (m/s^2) at positions (..., 3)."""
+        return np.broadcast_to(np.array([0.0, 0.0, -self.gravity_acceleration]), np.shape(position)).copy()
+
+    def cartesian(self, latitude_deg, longitude_deg, altitude=0.0) -> np.ndarray:
+        return np.array([0.0, 0.0, float(altitude)])
+
+    def geodetic(self, position):
+        r = np.asarray(position, dtype=float)
+        return np.zeros(r.shape[:-1]), np.zeros(r.shape[:-1]), r[..., 2]
+
+    def altitude(self, position) -> np.ndarray:
+        return np.asarray(position, dtype=float)[..., 2]
+
+    def altitude_scalar(self, x: float, y: float, z: float) -> float:
+        return z
+
+    @staticmethod
+    def enu_axes(latitude_deg: float, longitude_deg: float) -> np.ndarray:
+        return np.eye(3)
+
+
 MARS = Planet(4.282828685e13, 3_393_940.0, 3_376_780.0, 0.0, "Mars")
 """Mars of thesis Table 3.3: non-rotating ellipsoid, spherical gravity, J2.. = 0."""
 
@@ -133,7 +171,7 @@ class StartFrame:
         Geodetic latitude and longitude of the start point (deg).
     """
 
-    planet: Planet
+    planet: "Planet | FlatPlanet"
     latitude_deg: float
     longitude_deg: float
     origin: np.ndarray = field(init=False, repr=False)
@@ -141,7 +179,7 @@ class StartFrame:
 
     def __post_init__(self):
         object.__setattr__(self, "origin", self.planet.cartesian(self.latitude_deg, self.longitude_deg, 0.0))
-        object.__setattr__(self, "axes", Planet.enu_axes(self.latitude_deg, self.longitude_deg))
+        object.__setattr__(self, "axes", self.planet.enu_axes(self.latitude_deg, self.longitude_deg))
 
     @property
     def planet_center(self) -> np.ndarray:

@@ -31,6 +31,7 @@ import math
 from dataclasses import dataclass
 
 from .lines import tension
+from .small_linalg import solve_symmetric, symmetric_eigenvalues  # noqa: F401  (re-exported)
 
 SLACK_RULES = ("stretch", "force")
 SINGULAR = 1e-12
@@ -64,22 +65,6 @@ class SPSolution:
     taut: tuple
     tensions: tuple
     directions: tuple
-
-
-def symmetric_eigenvalues(a00, a01, a02, a11, a12, a22):
-    """Eigenvalues (ascending) of a symmetric 3x3 matrix in closed form (trigonometric method)."""
-    p1 = a01 * a01 + a02 * a02 + a12 * a12
-    if p1 == 0.0:
-        return tuple(sorted((a00, a11, a22)))
-    q = (a00 + a11 + a22) / 3.0
-    b00, b11, b22 = a00 - q, a11 - q, a22 - q
-    p = math.sqrt((b00 * b00 + b11 * b11 + b22 * b22 + 2.0 * p1) / 6.0)
-    det = (b00 * (b11 * b22 - a12 * a12) - a01 * (a01 * b22 - a12 * a02) + a02 * (a01 * a12 - b11 * a02))
-    r = max(-1.0, min(1.0, det / (2.0 * p * p * p)))
-    phi = math.acos(r) / 3.0
-    largest = q + 2.0 * p * math.cos(phi)
-    smallest = q + 2.0 * p * math.cos(phi + 2.0 * math.pi / 3.0)
-    return smallest, 3.0 * q - largest - smallest, largest
 
 
 def condition_number(eigenvalues, damping: float = 0.0) -> float:
@@ -124,29 +109,6 @@ def minimum_damping(eigenvalues, kappa_max: float) -> float:
             break
         c = newton if lo < newton < hi else 0.5 * (lo + hi)
     return hi  # the bracket's upper end: kappa(hi) <= kappa_max holds exactly
-
-
-def _solve(a00, a01, a02, a11, a12, a22, bx, by, bz):
-    """Solve the symmetric 3x3 system alpha v = b by cofactors; returns (v, kappa) or None if det(alpha) <= 0.
-
-    kappa = ||alpha||_F ||alpha^-1||_F (Eq. 3.12 with Frobenius norms, = Eq. 3.13) comes from the cofactors at no
-    extra cost; a kappa above 1/SINGULAR marks alpha as numerically singular.
-    """
-    m00 = a11 * a22 - a12 * a12
-    m01 = a02 * a12 - a01 * a22
-    m02 = a01 * a12 - a02 * a11
-    det = a00 * m00 + a01 * m01 + a02 * m02
-    if not det > 0.0:
-        return None
-    m11 = a00 * a22 - a02 * a02
-    m12 = a01 * a02 - a00 * a12
-    m22 = a00 * a11 - a01 * a01
-    norm_a = a00 * a00 + a11 * a11 + a22 * a22 + 2.0 * (a01 * a01 + a02 * a02 + a12 * a12)
-    norm_m = m00 * m00 + m11 * m11 + m22 * m22 + 2.0 * (m01 * m01 + m02 * m02 + m12 * m12)
-    velocity = ((m00 * bx + m01 * by + m02 * bz) / det,
-                (m01 * bx + m11 * by + m12 * bz) / det,
-                (m02 * bx + m12 * by + m22 * bz) / det)
-    return velocity, math.sqrt(norm_a * norm_m) / det
 
 
 def _next_active_set(lines, active, velocity, visited) -> bool:
@@ -231,13 +193,13 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
                 bx += f * nx
                 by += f * ny
                 bz += f * nz
-        solved = _solve(a00, a01, a02, a11, a12, a22, bx, by, bz) if all(active) else None
+        solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if all(active) else None
         if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
             c_c = 0.0
             velocity, kappa = solved
         else:  # a slack line, or alpha (near-)singular: the smallest C_c that conditions it (Eq. 3.13)
             c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
-            velocity, kappa = _solve(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
+            velocity, kappa = solve_symmetric(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
                                      bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
         if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
             break

@@ -1,0 +1,95 @@
+"""Linearisation report of a confluence: equilibrium point, C_bar and K_bar, modes and the step limits they set.
+
+For a case whose lines end on fixed bodies the attach points are used as they are; for a flight case the bodies'
+state at time T comes from a full-mass run (implicit integrator) to T. The equilibrium point is solved from there
+(thesis Eq. 2.9), the confluence dynamics linearised about it (Eq. 2.6, Appendix A) and the quadratic eigenproblem
+m_c lambda^2 + C_bar lambda + K_bar solved (Table 2.2's quantities). The largest stable RK4 steps are those of the
+full-mass confluence (the roots above) and of the SP confluence (dr/dt = v(r): roots of -C_bar^-1 K_bar).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .case.model import Case
+from .errors import InputError
+from .outputs import attach_points
+from .physics.equilibrium import equilibrium_point
+from .physics.linearization import linearize, max_stable_step_rk4, modes
+from .stability import initial_confluence, initial_point
+
+
+def attach_state(case: Case, system, time: float):
+    """Attach-point positions (n_lines, 3) and a confluence position guess at ``time`` (s), start-frame coordinates."""
+    moving = {line.body for line in system.lines if not case.bodies[line.body].fixed}
+    if not moving or time == 0.0:
+        attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
+        return attach, initial_confluence(case, system), 0.0
+    from .simulation import resolve_run, run
+    step = case.simulation.default_step("full", "implicit") or 1e-3
+    method, integrator, step, duration = resolve_run(case, "full", "implicit", min(step, time), time)
+    raw, _ = run(case, method, integrator, step, duration)
+    positions, _ = attach_points(case, raw, system)
+    return positions[-1], raw.confluences[system.name]["position"][-1], float(raw.time[-1])
+
+
+def linearization_report(case: Case, system_name: str | None = None, time: float = 0.0) -> dict:
+    """The report as plain data (see the module docstring); lengths m, damping N s/m, stiffness N/m, times s."""
+    if not case.systems:
+        raise InputError("the case has no parachute system to linearise")
+    if system_name is None:
+        system_name = next(iter(case.systems))
+    if system_name not in case.systems:
+        raise InputError(f"unknown system {system_name!r}; systems are: {', '.join(case.systems)}")
+    if not (time >= 0.0):
+        raise InputError(f"--time = {time!r}: must be >= 0 (s)")
+    system = case.systems[system_name]
+    attach, guess, at_time = attach_state(case, system, time)
+    lines = system.lines
+    free_length = [l.free_length for l in lines]
+    stiffness = [l.stiffness for l in lines]
+    damping = [l.damping for l in lines]
+    eq = equilibrium_point(attach, free_length, stiffness, guess=guess, require_unique=True)
+    c_bar, k_bar = linearize(attach, eq.position, free_length, stiffness, damping)
+    found = modes(system.confluence.mass, c_bar, k_bar)
+    sp_roots = np.linalg.eigvals(-np.linalg.solve(c_bar, k_bar)) if np.linalg.matrix_rank(c_bar) == 3 else []
+    return {
+        "case": case.name,
+        "system": system_name,
+        "time": at_time,
+        "equilibrium_point": eq.position.tolist(),
+        "equilibrium_iterations": eq.iterations,
+        "taut_lines": [line.name for line, taut in zip(lines, eq.taut) if taut],
+        "confluence_mass": system.confluence.mass,
+        "C_bar": c_bar.tolist(),
+        "K_bar": k_bar.tolist(),
+        "eigenvalues": [[float(v.real), float(v.imag)] for v in found.eigenvalues],
+        "natural_frequencies": found.natural_frequencies.tolist(),
+        "damping_ratios": found.damping_ratios.tolist(),
+        "natural_periods": found.natural_periods.tolist(),
+        "damped_periods": [float(p) if np.isfinite(p) else None for p in found.periods],
+        "mode_directions": [[float(x) for x in np.real(v / v[np.argmax(np.abs(v))])] for v in found.vectors.T],
+        "max_stable_step_full": max_stable_step_rk4(found.eigenvalues),
+        "max_stable_step_sp": max_stable_step_rk4(sp_roots) if len(sp_roots) else None,
+    }
+
+
+def format_report(report: dict) -> str:
+    """The report as text for the terminal."""
+    def matrix(rows):
+        return "\n".join("    " + "  ".join(f"{v:12.5g}" for v in row) for row in rows)
+
+    lines = [f"{report['case']}: {report['system']} confluence at t = {report['time']:g} s",
+             "  equilibrium point (east, north, up of the start frame; m): "
+             + ", ".join(f"{x:.6g}" for x in report["equilibrium_point"])
+             + f"  [{report['equilibrium_iterations']} Newton iterations; taut: {', '.join(report['taut_lines'])}]",
+             "  C_bar (N s/m):", matrix(report["C_bar"]), "  K_bar (N/m):", matrix(report["K_bar"]),
+             f"  modes of m_c = {report['confluence_mass']:g} kg:",
+             "    eigenvalue (1/s)                omega_n (rad/s)   T = 2 pi/omega_n (s)   damping ratio"]
+    for (re, im), wn, tn, zeta in zip(report["eigenvalues"], report["natural_frequencies"],
+                                      report["natural_periods"], report["damping_ratios"]):
+        lines.append(f"    {re:12.5g} {im:+12.5g}i   {wn:14.6g}   {tn:20.4g}   {zeta:13.4g}")
+    sp = report["max_stable_step_sp"]
+    lines.append(f"  largest stable RK4 step: full mass {report['max_stable_step_full']:.3g} s, "
+                 + (f"singular perturbation {sp:.3g} s" if sp is not None else "singular perturbation: n/a"))
+    return "\n".join(lines)

@@ -1,0 +1,218 @@
+"""The confluence equilibrium point (thesis Eq. 2.9; Raiszadeh's method, the thesis's ref. 7) and its velocity
+(thesis Appendix B).
+
+The equilibrium point is where the line stiffness forces balance: F(r) = sum K (L - L0)+ n = 0 (n from the confluence
+to each attach point, tension-only). F is minus the gradient of U(r) = sum 1/2 K (L - L0)+^2, a convex potential
+(each term is a convex non-decreasing function of the convex |r_i - r|) that grows without bound, so a balance always
+exists; it is unique and isolated where the taut lines make K_bar = dF/dr... positive definite (linearization.py).
+The thesis's complaint, Newton diverging when a step slackens a line, comes from taking full Newton steps on F. Here
+each step minimises U: a Newton step on the regularised Hessian K_bar + mu I (Levenberg-Marquardt; mu grows when a
+step does not decrease U, so slack lines with their zero stiffness cannot derail it), accepted by an Armijo line
+search. It converges from any starting point; a warm start from the previous solution makes it a few iterations.
+Plain floats (about 20 us a solve): the equilibrium-point method solves at every solver stage.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import PchuteError
+from .small_linalg import solve_symmetric, symmetric_eigenvalues
+
+
+class NoEquilibriumError(PchuteError):
+    """The lines have no unique (isolated) equilibrium point."""
+
+
+@dataclass(frozen=True)
+class Equilibrium:
+    """Result of an equilibrium-point solve.
+
+    Attributes
+    ----------
+    position : ndarray (3,)
+        The equilibrium point (m).
+    converged : bool
+        |F| fell below the tolerance.
+    iterations : int
+        Newton iterations taken.
+    residual : float
+        |F| at the returned point (N).
+    taut : ndarray of bool
+        Lines with L > L0 at the point.
+    unique : bool
+        K_bar is positive definite there: an isolated equilibrium (False when all lines are slack, or the taut lines
+        cannot pull against each other in three dimensions).
+    """
+
+    position: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    taut: np.ndarray
+    unique: bool
+
+
+def stiffness_forces(attach_position, position, free_length, stiffness):
+    """Force sum F (N), potential U (J), tangent stiffness K_bar = -dF/dr (N/m, six entries a00, a01, a02, a11,
+    a12, a22; ``linearization.line_stiffness`` summed) and taut flags at ``position``. Plain floats."""
+    cx, cy, cz = position
+    fx = fy = fz = potential = 0.0
+    a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
+    taut = []
+    for (px, py, pz), l0, k in zip(attach_position, free_length, stiffness):
+        dx, dy, dz = px - cx, py - cy, pz - cz
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        stretch = length - l0
+        if stretch <= 0.0 or k == 0.0:
+            taut.append(stretch > 0.0)
+            continue
+        taut.append(True)
+        nx, ny, nz = dx / length, dy / length, dz / length
+        f = k * stretch
+        fx += f * nx
+        fy += f * ny
+        fz += f * nz
+        potential += 0.5 * f * stretch
+        ratio = l0 / length
+        iso += k * (1.0 - ratio)
+        kr = k * ratio
+        a00 += kr * nx * nx
+        a01 += kr * nx * ny
+        a02 += kr * nx * nz
+        a11 += kr * ny * ny
+        a12 += kr * ny * nz
+        a22 += kr * nz * nz
+    return (fx, fy, fz), potential, (a00 + iso, a01, a02, a11 + iso, a12, a22 + iso), taut
+
+
+def _is_regular(k_bar) -> bool:
+    eigenvalues = symmetric_eigenvalues(*k_bar)
+    return eigenvalues[0] > 1e-9 * max(eigenvalues[2], 1e-300)
+
+
+def equilibrium_point(attach_position, free_length, stiffness, guess=None, tolerance: float = 1e-9,
+                      max_iterations: int = 100, require_unique: bool = False) -> Equilibrium:
+    """Solve Eq. 2.9 for the confluence position by damped Newton on the convex potential U.
+
+    Parameters
+    ----------
+    attach_position : sequence of (x, y, z)
+        Attach points (m).
+    free_length, stiffness : sequence of float
+        L0 (m) and K (N/m) per line.
+    guess : (x, y, z), optional
+        Starting point (m), e.g. the previous solution; default: the stiffness-weighted mean of the attach points.
+    tolerance : float
+        Convergence when |F| <= tolerance * sum(K * L0) (relative to the lines' force scale).
+    max_iterations : int
+    require_unique : bool
+        Raise NoEquilibriumError when the balance is not isolated (K_bar singular there).
+
+    Returns
+    -------
+    Equilibrium
+    """
+    attach = [tuple(float(c) for c in p) for p in np.asarray(attach_position, float).tolist()]
+    free_length = [float(v) for v in np.ravel(free_length)]
+    stiffness = [float(v) for v in np.ravel(stiffness)]
+    total = sum(stiffness)
+    if not total > 0.0:
+        raise NoEquilibriumError("no equilibrium point: no line has stiffness")
+    if guess is None:
+        r = tuple(sum(k * p[i] for k, p in zip(stiffness, attach)) / total for i in range(3))
+    else:
+        r = tuple(float(c) for c in guess)
+    scale = sum(k * l0 for k, l0 in zip(stiffness, free_length))
+    force, potential, k_bar, taut = stiffness_forces(attach, r, free_length, stiffness)
+    mu = 1e-9 * scale / max(sum(free_length) / len(free_length), 1e-12)
+    iterations = 0
+    while math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2) > tolerance * scale \
+            and iterations < max_iterations:
+        iterations += 1
+        for _ in range(60):
+            solved = solve_symmetric(k_bar[0] + mu, k_bar[1], k_bar[2], k_bar[3] + mu, k_bar[4], k_bar[5] + mu,
+                                     *force)   # Newton on U: -grad U = F, Hessian K_bar (+ mu I)
+            if solved is None:
+                mu *= 10.0
+                continue
+            step = solved[0]
+            slope = force[0] * step[0] + force[1] * step[1] + force[2] * step[2]   # -(dU/dt) at t = 0
+            # U carries round-off of ~1e-10 of itself (lengths from coordinates kilometres from the origin): once
+            # the decrease a step promises is below that, judge the step by the force residual instead
+            resolved = slope > 1e-9 * potential
+            residual = force[0] ** 2 + force[1] ** 2 + force[2] ** 2
+            t, accepted = 1.0, False
+            while t > 1e-10:
+                trial = (r[0] + t * step[0], r[1] + t * step[1], r[2] + t * step[2])
+                trial_state = stiffness_forces(attach, trial, free_length, stiffness)
+                if resolved:
+                    accepted = trial_state[1] <= potential - 1e-4 * t * slope
+                else:
+                    f = trial_state[0]
+                    accepted = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] < residual
+                if accepted:
+                    break
+                t *= 0.5
+            if accepted:
+                r = trial
+                force, potential, k_bar, taut = trial_state
+                mu = max(mu * (0.3 if t == 1.0 else 1.0), 1e-12 * scale)
+                break
+            mu *= 10.0
+        else:
+            break
+    residual = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
+    unique = _is_regular(k_bar)
+    if require_unique and not unique:
+        raise NoEquilibriumError(
+            f"no unique equilibrium point: at the force balance {sum(taut)} of {len(taut)} lines are taut and "
+            "they do not pull against each other in three dimensions (the stiffness matrix is singular); the "
+            "confluence can sit anywhere in a line or region")
+    return Equilibrium(np.array(r), residual <= tolerance * scale, iterations, residual, np.array(taut), unique)
+
+
+def equilibrium_velocity(attach_position, attach_velocity, position, free_length, stiffness):
+    """Velocity of the equilibrium point (thesis Appendix B): K_bar v_eq = sum K_i_bar v_i.
+
+    Differentiating F(r_eq, r_i) = 0 in time gives K_bar v_eq = sum_i K_i_bar v_i, with K_i_bar = K_i [(1 - L0/L) I +
+    (L0/L) n n^T] the stiffness of taut line i. Where K_bar is singular (a slack system) the minimum-norm solution is
+    returned, so slack directions take no velocity.
+
+    Returns
+    -------
+    velocity : tuple of 3 float (m/s)
+    regular : bool
+        False where K_bar was singular.
+    """
+    cx, cy, cz = position
+    bx = by = bz = 0.0
+    a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
+    for (px, py, pz), (vx, vy, vz), l0, k in zip(attach_position, attach_velocity, free_length, stiffness):
+        dx, dy, dz = px - cx, py - cy, pz - cz
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if length <= l0 or k == 0.0:
+            continue
+        nx, ny, nz = dx / length, dy / length, dz / length
+        ratio = l0 / length
+        kr, ki = k * ratio, k * (1.0 - ratio)
+        along = kr * (vx * nx + vy * ny + vz * nz)
+        bx += ki * vx + along * nx
+        by += ki * vy + along * ny
+        bz += ki * vz + along * nz
+        iso += ki
+        a00 += kr * nx * nx
+        a01 += kr * nx * ny
+        a02 += kr * nx * nz
+        a11 += kr * ny * ny
+        a12 += kr * ny * nz
+        a22 += kr * nz * nz
+    k_bar = (a00 + iso, a01, a02, a11 + iso, a12, a22 + iso)
+    if _is_regular(k_bar):
+        return solve_symmetric(*k_bar, bx, by, bz)[0], True
+    matrix = np.array([[k_bar[0], k_bar[1], k_bar[2]], [k_bar[1], k_bar[3], k_bar[4]],
+                       [k_bar[2], k_bar[4], k_bar[5]]])
+    return tuple(np.linalg.lstsq(matrix, [bx, by, bz], rcond=1e-9)[0].tolist()), False
