@@ -67,8 +67,9 @@ def _run(args) -> int:
     result = simulate(case, method, integrator, step, duration, kappa_max=args.kappa_max, slack_rule=args.slack_rule)
     result.save(out, plot=not args.no_plot)
     s, f = result.summary, result.summary["final"]
-    print(f"{s['case']}: {method}/{integrator} step {step:g} s, {duration:g} s simulated in {s['wall_time']:.2f} s "
-          f"({s['steps']} steps); final {s['vehicle']} altitude {f['vehicle_altitude']:.2f} m, "
+    ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"
+    print(f"{s['case']}: {method}/{integrator} step {step:g} s, {ending} {f['time']:.2f} s in {s['wall_time']:.2f} s "
+          f"of wall time ({s['steps']} steps); final {s['vehicle']} altitude {f['vehicle_altitude']:.2f} m, "
           f"east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}")
     return 0
 

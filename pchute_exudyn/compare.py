@@ -59,12 +59,28 @@ class Comparison:
 
 
 def _rms(values) -> float:
+    values = np.asarray(values)[np.isfinite(values)]
     return float(np.sqrt(np.mean(np.square(values)))) if len(values) else math.nan
 
 
+def _max(values) -> float:
+    values = np.asarray(values)[np.isfinite(values)]
+    return float(values.max()) if len(values) else math.nan
+
+
 def aligned(a: Result, b: Result, name: str, time: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Column ``name`` of A and of B (interpolated) on ``time``."""
-    return np.interp(time, a.time, a[name]), np.interp(time, b.time, b[name])
+    """Column ``name`` of A and of B (interpolated) on ``time``; NaN where a result has no value (a system not yet
+    deployed or cut away), including across such gaps."""
+    def on(result):
+        values = result[name]
+        finite = np.isfinite(values)
+        if finite.all():
+            return np.interp(time, result.time, values)
+        out = np.interp(time, result.time, np.where(finite, values, 0.0))
+        nearest = np.clip(np.searchsorted(result.time, time), 1, len(result.time) - 1)
+        out[~(finite[nearest] & finite[nearest - 1])] = np.nan
+        return out
+    return on(a), on(b)
 
 
 def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B", settle_time: float = 2.0,
@@ -91,7 +107,7 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     for suffix in ("altitude", "east", "north"):
         name = f"{vehicle}_{suffix}"
         if name in common:
-            va, vb = aligned(a, b, name, time[-1:])
+            va, vb = aligned(a, b, name, time[-1:])   # at the end of the common span
             comparison.final[f"{vehicle} {suffix}"] = float(vb[0] - va[0])
     if f"{vehicle} east" in comparison.final and f"{vehicle} north" in comparison.final:
         comparison.final[f"{vehicle} lateral position"] = math.hypot(comparison.final[f"{vehicle} east"],
@@ -100,15 +116,14 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     for name in common:
         if name.startswith("tension_"):
             va, vb = aligned(a, b, name, time)
-            diff = np.abs(vb - va)
+            diff = np.abs(vb - va)   # NaN where either run lacks the line (a system not deployed): left out
             comparison.lines[name.removeprefix("tension_")] = {
-                "max": float(diff.max()), "rms": _rms(diff),
-                "max_settled": float(diff[settled].max()) if settled.any() else math.nan,
+                "max": _max(diff), "rms": _rms(diff), "max_settled": _max(diff[settled]),
                 "rms_settled": _rms(diff[settled])}
     east, north = f"{confluence}_velocity_east", f"{confluence}_velocity_north"
     if east in common and north in common:
         ea, eb = aligned(a, b, east, time)
         na, nb = aligned(a, b, north, time)
         horizontal = np.hypot(eb - ea, nb - na)
-        comparison.confluence_velocity = {"max": float(horizontal.max()), "rms": _rms(horizontal)}
+        comparison.confluence_velocity = {"max": _max(horizontal), "rms": _rms(horizontal)}
     return comparison

@@ -28,7 +28,7 @@ def attach_state(case: Case, system, time: float):
     from .simulation import resolve_run, run
     step = case.simulation.default_step("full", "implicit") or 1e-3
     method, integrator, step, duration = resolve_run(case, "full", "implicit", min(step, time), time)
-    raw, _ = run(case, method, integrator, step, duration)
+    raw, _, _ = run(case, method, integrator, step, duration)
     positions, _ = attach_points(case, raw, system)
     return positions[-1], raw.confluences[system.name]["position"][-1], float(raw.time[-1])
 

@@ -5,11 +5,15 @@ Column names (units in ``units``):
 * per body ``<b>``: ``<b>_altitude``, ``<b>_east``, ``<b>_north`` (m; east/north along the start point's axes,
   relative to the ground); ``<b>_velocity_north|east|down`` (m/s, relative to the ground, start-point axes);
   ``<b>_yaw_deg|pitch_deg|roll_deg`` (attitude angles, ``physics.rotations``), ``<b>_tilt_deg`` (body +x from
-  nadir); ``<b>_rate_x|y|z`` (rad/s, body axes); for aerodynamic bodies ``<b>_angle_of_attack_deg`` and
-  ``<b>_dynamic_pressure`` (Pa).
-* per confluence (``confluence``, or ``<system>_confluence`` with several systems): altitude, east, north and the
-  three velocities as above.
+  nadir); ``<b>_rate_x|y|z`` (rad/s, body axes); for aerodynamic bodies ``<b>_angle_of_attack_deg`` (total),
+  ``<b>_alpha_deg`` and ``<b>_beta_deg`` (atan2(w, u) and asin(v/|V|) of the air-relative velocity (u, v, w) in body
+  axes) and ``<b>_dynamic_pressure`` (Pa); for bodies other than the vehicle ``<b>_relative_position_x|y|z`` (m) and
+  ``<b>_relative_velocity_x|y|z`` (m/s) relative to the vehicle in vehicle body axes.
+* per confluence (``confluence``, or ``<system>_confluence`` with several systems): altitude, east, north, the
+  three velocities and the relative position and velocity as above.
 * per line: ``tension_<line>`` (or ``tension_<system>_<line>``), N.
+
+A body or system absent from part of a run (not yet deployed, or cut away) has NaN there.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import numpy as np
 from .case.model import Case
 from .errors import SimulationError
 from .physics.aerodynamics import angle_of_attack_deg
+from .physics.air import AirMotion
 from .physics.lines import line_states
 from .physics.rotations import attitude_angles_deg, tilt_deg
 
@@ -41,6 +46,43 @@ class RawHistory:
     units: dict = field(default_factory=dict)         # column name -> unit of the extra columns
     steps: int = 0
     wall_time: float = 0.0
+    stopped_at: float | None = None                   # time a stop condition (touchdown) ended the run
+
+
+def concatenate(case: Case, histories: list) -> RawHistory:
+    """One history from the phases of a run. A quantity absent from a phase (a system not deployed yet, or cut
+    away) is NaN there; at a phase boundary the later phase's first sample replaces the earlier one's last."""
+    keep = []
+    for i, raw in enumerate(histories):
+        rows = np.ones(len(raw.time), dtype=bool)
+        if i + 1 < len(histories) and len(raw.time) and len(histories[i + 1].time) \
+                and abs(histories[i + 1].time[0] - raw.time[-1]) < 1e-9:
+            rows[-1] = False
+        keep.append(rows)
+    time = np.concatenate([raw.time[rows] for raw, rows in zip(histories, keep)])
+    out = RawHistory(time=time, steps=sum(r.steps for r in histories), wall_time=sum(r.wall_time for r in histories),
+                     stopped_at=histories[-1].stopped_at)
+
+    def gather(get, shape):
+        parts = []
+        for raw, rows in zip(histories, keep):
+            value = get(raw)
+            parts.append(value[rows] if value is not None else np.full((int(rows.sum()),) + shape, np.nan))
+        return np.concatenate(parts)
+
+    shapes = {"position": (3,), "velocity": (3,), "rotation": (3, 3), "angular_velocity": (3,)}
+    for name in case.bodies:   # every body and system gets columns, NaN where absent (e.g. never deployed)
+        out.bodies[name] = {key: gather(lambda r, k=key: r.bodies.get(name, {}).get(k), shape)
+                            for key, shape in shapes.items()}
+    for name, system in case.systems.items():
+        out.confluences[name] = {key: gather(lambda r, k=key: r.confluences.get(name, {}).get(k), (3,))
+                                 for key in ("position", "velocity")}
+        for line in system.lines:
+            out.tensions[(name, line.name)] = gather(lambda r, k=(name, line.name): r.tensions.get(k), ())
+    for key in dict.fromkeys(k for r in histories for k in r.extra):   # ordered union
+        out.extra[key] = gather(lambda r: r.extra.get(key), ())
+        out.units[key] = next(r.units[key] for r in histories if key in r.units)
+    return out
 
 
 def attach_points(case: Case, raw: RawHistory, system) -> tuple[np.ndarray, np.ndarray]:
@@ -113,14 +155,20 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             units[f"{name}_rate_{axis}"] = "rad/s"
         aero = case.bodies[name].aerodynamics
         if aero is not None and aero.enabled:
-            alpha, pressure = _aero_columns(case, body, aero.center, raw.time)
-            columns[f"{name}_angle_of_attack_deg"], units[f"{name}_angle_of_attack_deg"] = alpha, "deg"
-            columns[f"{name}_dynamic_pressure"], units[f"{name}_dynamic_pressure"] = pressure, "Pa"
+            total, alpha, beta, pressure = _aero_columns(case, body, aero.center, raw.time)
+            for key, value, unit in (("angle_of_attack_deg", total, "deg"), ("alpha_deg", alpha, "deg"),
+                                     ("beta_deg", beta, "deg"), ("dynamic_pressure", pressure, "Pa")):
+                columns[f"{name}_{key}"], units[f"{name}_{key}"] = value, unit
+        if name != case.vehicle and not case.bodies[name].fixed and not case.bodies[case.vehicle].fixed:
+            _relative_columns(name, raw.bodies[case.vehicle], body["position"], body["velocity"], columns, units)
     for system in case.systems.values():
         if system.name in raw.confluences:
             point = raw.confluences[system.name]
-            _point_columns(case, case.confluence_label(system), raw.time, point["position"], point["velocity"],
-                           columns, units)
+            label = case.confluence_label(system)
+            _point_columns(case, label, raw.time, point["position"], point["velocity"], columns, units)
+            if not case.bodies[case.vehicle].fixed:
+                _relative_columns(label, raw.bodies[case.vehicle], point["position"], point["velocity"], columns,
+                                  units)
     for system in case.systems.values():
         for line in system.lines:
             key = f"tension_{case.line_label(system, line)}"
@@ -133,15 +181,44 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
 
 
 def _aero_columns(case: Case, body: dict, center, time):
+    """Total angle of attack, aerodynamic angles alpha and beta (deg) and dynamic pressure (Pa) from the velocity of
+    the aerodynamic centre relative to the air (planet rotation and wind); NaN where the body is absent."""
     rotation = body["rotation"]
     arm = rotation @ np.asarray(center)
     omega = np.einsum("nij,nj->ni", rotation, body["angular_velocity"])
     position = body["position"] + arm
-    velocity = body["velocity"] + np.cross(omega, arm) - np.cross(case.start.rotation_vector,
-                                                                  position - case.start.planet_center)
-    alpha = np.array([angle_of_attack_deg(v, r[:, 0]) for v, r in zip(velocity, rotation)])
-    density = case.atmosphere.density_profile(case.start.altitude(position))
-    return alpha, 0.5 * density * np.einsum("ni,ni->n", velocity, velocity)
+    velocity = body["velocity"] + np.cross(omega, arm)
+    air = AirMotion(case.start, case.wind)
+    n = len(time)
+    alpha, beta, total, pressure = (np.full(n, np.nan) for _ in range(4))
+    present = np.flatnonzero(np.isfinite(position).all(axis=1))
+    altitudes = np.full(n, np.nan)
+    altitudes[present] = case.start.altitude(position[present])   # vectorised geodetic
+    for i in present:
+        altitude = float(altitudes[i])
+        relative = velocity[i] - np.array(air(*position[i].tolist(), altitude, float(time[i])))
+        total[i] = angle_of_attack_deg(relative, rotation[i][:, 0])
+        u, v, w = rotation[i].T @ relative                    # body axes
+        speed = float(np.linalg.norm(relative))
+        alpha[i] = np.degrees(np.arctan2(w, u))
+        beta[i] = np.degrees(np.arcsin(np.clip(v / speed, -1.0, 1.0))) if speed > 0 else 0.0
+        pressure[i] = 0.5 * case.atmosphere.density(altitude) * speed * speed
+    return total, alpha, beta, pressure
+
+
+def _relative_columns(prefix: str, vehicle: dict, position, velocity, columns: dict, units: dict) -> None:
+    """Position and velocity of a point relative to the vehicle, in vehicle body axes (m, m/s): the velocity as
+    seen from the vehicle, its rotation included."""
+    rotation = vehicle["rotation"]
+    arm = position - vehicle["position"]
+    omega = np.einsum("nij,nj->ni", rotation, vehicle["angular_velocity"])
+    relative_velocity = velocity - vehicle["velocity"] - np.cross(omega, arm)
+    body_arm = np.einsum("nji,nj->ni", rotation, arm)
+    body_velocity = np.einsum("nji,nj->ni", rotation, relative_velocity)
+    for i, axis in enumerate("xyz"):
+        columns[f"{prefix}_relative_position_{axis}"], units[f"{prefix}_relative_position_{axis}"] = body_arm[:, i], "m"
+        columns[f"{prefix}_relative_velocity_{axis}"] = body_velocity[:, i]
+        units[f"{prefix}_relative_velocity_{axis}"] = "m/s"
 
 
 def line_tensions_from_states(case: Case, raw: RawHistory, system) -> np.ndarray:

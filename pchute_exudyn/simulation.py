@@ -69,37 +69,107 @@ def check_sp_settings(case: Case, kappa_max: float, slack_rule: str) -> None:
                          "taut; use --method full (or the equilibrium method, which ignores damping)")
 
 
+def _build(case: Case, phase, method: str, kappa_max, slack_rule, line_law: str):
+    if method == "sp":
+        from .engine.sp import build_sp_model
+        return build_sp_model(case, phase, kappa_max, slack_rule)
+    if method == "equilibrium":
+        from .engine.equilibrium import build_equilibrium_model
+        return build_equilibrium_model(case, phase)
+    from .engine.full import build_full_model
+    return build_full_model(case, phase, line_law=line_law)
+
+
+def _end_state(items, phase) -> tuple[dict, dict]:
+    """Body and confluence states at the end of a phase, read through the model's output channels."""
+    from .phases import BodyState, ConfluenceState
+    read = items.channels
+    bodies = {name: BodyState(np.asarray(read[("body", name, "position")](), float),
+                              np.asarray(read[("body", name, "rotation")](), float).reshape(3, 3),
+                              np.asarray(read[("body", name, "velocity")](), float),
+                              np.asarray(read[("body", name, "angular_velocity")](), float))
+              for name in phase.bodies}
+    confluences = {name: ConfluenceState(np.asarray(read[("confluence", name, "position")](), float)[:3],
+                                         np.asarray(read[("confluence", name, "velocity")](), float))
+                   for name in phase.systems}
+    return bodies, confluences
+
+
+def _merge_facts(settings: dict, facts: dict) -> None:
+    """Add one phase's method facts to the run's (counts add up over phases)."""
+    for key, value in facts.items():
+        old = settings.get(key)
+        if isinstance(old, dict) and "solves" in old:
+            solves = old["solves"] + value["solves"]
+            value = {"solves": solves, "failures": old["failures"] + value["failures"],
+                     "mean_iterations": (old["mean_iterations"] * old["solves"]
+                                         + value["mean_iterations"] * value["solves"]) / max(solves, 1),
+                     "max_iterations": max(old["max_iterations"], value["max_iterations"])}
+        settings[key] = value
+
+
+def descent_rate_events(case: Case, time, descent_rate, after: float) -> list:
+    """First downward crossings of ``case.simulation.descent_rate_events`` by the vehicle's descent rate (m/s)
+    after time ``after`` (s), linearly interpolated."""
+    events = []
+    for threshold in case.simulation.descent_rate_events:
+        finite = np.isfinite(descent_rate) & (time >= after)
+        above = (descent_rate > threshold) & finite
+        for i in range(1, len(time)):
+            if above[i - 1] and finite[i] and descent_rate[i] <= threshold:
+                w = (descent_rate[i - 1] - threshold) / (descent_rate[i - 1] - descent_rate[i])
+                events.append({"event": "descent_rate", "value": threshold,
+                               "time": float(time[i - 1] + w * (time[i] - time[i - 1]))})
+                break
+    return events
+
+
 def run(case: Case, method: str, integrator: str, step: float, duration: float, *, kappa_max: float | None = None,
         slack_rule: str | None = None, line_law: str = "symbolic"):
-    """Build and integrate the engine model of ``case`` (arguments already resolved by ``resolve_run``).
+    """Build and integrate the engine models of ``case`` phase by phase (arguments resolved by ``resolve_run``).
 
-    Returns the checked engine history, the method's settings and facts for the summary.
+    Returns the checked engine history of the whole run, the method's settings and facts, and the event log.
     """
-    from .engine.full import add_rk4_step_monitor, build_full_model
+    from .engine.full import add_rk4_step_monitor
+    from .engine.items import Touchdown
     from .engine.solver import integrate
+    from .outputs import concatenate
+    from .phases import boundaries, initial_states, next_phase
 
     settings = {}
     if method == "sp":
-        from .engine.sp import build_sp_model
         kappa_max = case.simulation.kappa_max if kappa_max is None else kappa_max
         slack_rule = case.simulation.slack_rule if slack_rule is None else slack_rule
         check_sp_settings(case, kappa_max, slack_rule)
-        items = build_sp_model(case, kappa_max, slack_rule)
         settings = {"kappa_max": kappa_max, "slack_rule": slack_rule}
-    elif method == "equilibrium":
-        from .engine.equilibrium import build_equilibrium_model
-        items = build_equilibrium_model(case)
-    else:
-        items = build_full_model(case, line_law=line_law)
-    if integrator == "rk4" and method in ("full", "sp"):   # the equilibrium method has no confluence dynamics
-        add_rk4_step_monitor(items, case, step, method)
     output_step = min(case.simulation.output_step, duration)
-    raw = integrate(items, integrator, step, duration, output_step, case.simulation.spectral_radius)
-    check_history(case, raw, step)
-    for summarize in items.summaries:
-        settings.update(summarize())
+    body_states, confluence_states = initial_states(case)
+    events = [{"event": "start", "time": 0.0}]
+    histories = []
+    times = boundaries(case, duration)
+    for start, end in zip(times, times[1:]):
+        phase = next_phase(case, start, end, body_states, confluence_states)
+        events.extend(phase.events)
+        items = _build(case, phase, method, kappa_max, slack_rule, line_law)
+        if integrator == "rk4" and method in ("full", "sp"):   # the equilibrium method has no confluence dynamics
+            add_rk4_step_monitor(items, case, step, method)
+        touchdown = None
+        if case.simulation.ground_altitude is not None:
+            touchdown = Touchdown(items, case, case.simulation.ground_altitude)
+            items.stop_conditions.append(touchdown)
+        raw = integrate(items, integrator, step, end, output_step, case.simulation.spectral_radius, start=start)
+        check_history(case, raw, step)
+        histories.append(raw)
+        for summarize in items.summaries:
+            _merge_facts(settings, summarize())
+        if touchdown is not None and touchdown.event is not None:
+            events.append(touchdown.event)
+            break
+        body_states, confluence_states = _end_state(items, phase)
+    raw = concatenate(case, histories)
     settings["output_step"] = output_step
-    return raw, settings
+    settings["end"] = "touchdown" if events[-1]["event"] == "touchdown" else "duration"
+    return raw, settings, events
 
 
 def simulate(case: Case, method: str | None = None, integrator: str | None = None, step: float | None = None,
@@ -135,9 +205,12 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
     InputError, SimulationError
     """
     method, integrator, step, duration = resolve_run(case, method, integrator, step, duration)
-    raw, settings = run(case, method, integrator, step, duration, kappa_max=kappa_max, slack_rule=slack_rule,
-                        line_law=line_law)
+    raw, settings, events = run(case, method, integrator, step, duration, kappa_max=kappa_max, slack_rule=slack_rule,
+                                line_law=line_law)
     columns, units = derive_columns(case, raw)
+    last_deployment = max([e["time"] for e in events if e["event"] == "deploy"], default=0.0)
+    events = sorted(events + descent_rate_events(case, columns["time"], columns[f"{case.vehicle}_velocity_down"],
+                                                 last_deployment), key=lambda e: e["time"])
     vehicle = case.vehicle
     summary = {
         "case": case.name,
@@ -159,8 +232,9 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
                   **{f"{label}_{key}": float(columns[f"{label}_{key}"][-1])
                      for label in (case.confluence_label(system) for system in case.systems.values())
                      for key in ("altitude", "east", "north") if f"{label}_{key}" in columns}},
-        "peak_tension": {k.removeprefix("tension_"): float(np.max(v)) for k, v in columns.items()
-                         if k.startswith("tension_")},
+        "peak_tension": {k.removeprefix("tension_"): float(np.nanmax(v)) if np.isfinite(v).any() else None
+                         for k, v in columns.items() if k.startswith("tension_")},
+        "events": events,
         "units": units,
         "versions": versions(),
         "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),

@@ -122,7 +122,7 @@ def test_all_slack_keeps_the_previous_velocity():
     sol = solve(points, np.ones((4, 3)), (0.3, 0.2, -7.0))
     assert sol.velocity == (0.3, 0.2, -7.0)
     assert not any(sol.taut) and sol.damping == 0.0 and sol.condition_number == 0.0
-    assert sol.tensions == (0.0, 0.0, 0.0, 0.0)
+    assert list(sol.tensions) == [0.0, 0.0, 0.0, 0.0]
 
 
 def test_force_rule_never_leaves_a_pushing_line():

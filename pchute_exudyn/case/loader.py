@@ -34,8 +34,9 @@ from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere
 from ..physics.planet import FlatPlanet, Planet, StartFrame
+from ..physics.atmosphere import US76Lower, Wind
 from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Aerodynamics, Body, Case, Confluence,
-                    InitialState, Line, ParachuteSystem, SimulationSettings)
+                    DragAreaSchedule, InitialState, Line, ParachuteSystem, SimulationSettings)
 
 _REQUIRED = object()
 _NO_VALUE = CaseError._NO_VALUE
@@ -55,6 +56,11 @@ def read_toml(path: Path) -> dict:
         with path.open("rb") as handle:
             return tomllib.load(handle)
     except tomllib.TOMLDecodeError as exc:
+        twice = re.search(r"Cannot declare \(([^)]*)\) twice", str(exc))
+        if twice:  # e.g. two systems with the same name
+            name = ".".join(part.strip(" '") for part in twice.group(1).split(","))
+            raise CaseError(str(path), name, f"defined twice (names of bodies, systems and lines must be unique): "
+                                             f"{exc}") from None
         raise CaseError(str(path), "", f"malformed TOML: {exc}") from None
     except UnicodeDecodeError:
         raise CaseError(str(path), "", "malformed TOML: the file is not UTF-8 text") from None
@@ -168,10 +174,13 @@ def apply_override(data: dict, origins: dict, key: str, value: Any, source: str 
     source = source or f"--set {key}={value}"
     parts = _split_key(key, source)
     if parts[0] not in _TOP_KEYS:
-        for section in ("bodies", "systems"):
-            if isinstance(data.get(section), dict) and parts[0] in data[section]:
-                parts = [section] + parts
-                break
+        sections = [section for section in ("bodies", "systems")
+                    if isinstance(data.get(section), dict) and parts[0] in data[section]]
+        if len(sections) > 1:
+            raise CaseError(source, key, f"'{parts[0]}' names both a body and a system: write bodies.{key} or "
+                                         f"systems.{key}")
+        if sections:
+            parts = [sections[0]] + parts
     for path in _expand(data, parts, (), source, key):
         node = data
         for i, part in enumerate(path[:-1]):
@@ -391,10 +400,10 @@ def _read_body(name: str, t: _Table) -> Body:
         for point in list(table.data):
             points[point] = table.vector(point, "m")
         table.finish()
-    initial_table = t.table("initial")
-    initial = _read_initial(initial_table, attitude=True)
+    initial_table = t.table("initial", None)   # absent only for a canopy placed at deployment (checked later)
+    initial = _read_initial(initial_table, attitude=True) if initial_table is not None else None
     moving = [key for key in ("velocity_north", "velocity_east", "velocity_down", "rate_x", "rate_y", "rate_z")
-              if getattr(initial, key) != 0.0]
+              if initial is not None and getattr(initial, key) != 0.0]
     if fixed and moving:
         raise initial_table.error(moving[0], "a fixed body cannot move: its velocities and rates must be 0",
                                   getattr(initial, moving[0]))
@@ -404,30 +413,72 @@ def _read_body(name: str, t: _Table) -> Body:
     return Body(name, mass, inertia, points, initial, aero, fixed)
 
 
+def _read_body_point(t: _Table, key: str, bodies: dict, text: str) -> tuple:
+    body, _, point = text.partition(".")
+    if body not in bodies:
+        raise t.error(key, f"unknown body '{body}'; bodies are: {', '.join(bodies)}", text)
+    if point not in bodies[body].points:
+        known = ", ".join(bodies[body].points) or "none"
+        raise t.error(key, f"body '{body}' has no point '{point}'; its points are: {known} "
+                           "(write \"<body>.<point>\")", text)
+    return body, point
+
+
+def _read_schedule(t: _Table) -> DragAreaSchedule:
+    times = t.sequence("time", "s", min_length=1)
+    fractions = t.vector("fraction", "", length=len(times))
+    t.finish()
+    if times[0] < 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+        raise t.error("time", "times since deployment must be >= 0 and strictly increasing", list(times))
+    if any(not 0.0 <= f <= 1.0 for f in fractions):
+        raise t.error("fraction", "fractions of the full drag area must be within [0, 1]", list(fractions))
+    return DragAreaSchedule(times, fractions)
+
+
 def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
     c = t.table("confluence")
-    confluence = Confluence(c.number("mass", "kg", above=0.0), _read_initial(c.table("initial"), attitude=False))
+    initial_table = c.table("initial", None)
+    confluence = Confluence(c.number("mass", "kg", above=0.0),
+                            _read_initial(initial_table, attitude=False) if initial_table is not None else None)
     c.finish()
+    canopy = t.string("canopy", None)
+    if canopy is not None and (canopy not in bodies or bodies[canopy].fixed):
+        raise t.error("canopy", f"must name a free body; bodies are: {', '.join(bodies)}", canopy)
+    deploy_time = t.number("deploy_time", "s", None, minimum=0.0)
+    cutaway_time = t.number("cutaway_time", "s", None, above=0.0)
+    deploy_point = None
+    if "deploy_point" in t.data:
+        deploy_point = _read_body_point(t, "deploy_point", bodies, t.string("deploy_point"))
+    else:
+        t.allowed.append("deploy_point")
+    schedule_table = t.table("drag_area_schedule", None)
+    schedule = _read_schedule(schedule_table) if schedule_table is not None else None
     lines = []
     line_tables = t.named_tables("lines")
     if not line_tables:
         raise t.error("lines", "a system needs at least one line")
     for line_name, lt in line_tables.items():
-        attach = lt.string("attach")
-        body, _, point = attach.partition(".")
-        if body not in bodies:
-            raise lt.error("attach", f"unknown body '{body}'; bodies are: {', '.join(bodies)}", attach)
-        if point not in bodies[body].points:
-            known = ", ".join(bodies[body].points) or "none"
-            raise lt.error("attach", f"body '{body}' has no point '{point}'; its points are: {known} "
-                                     "(write attach = \"<body>.<point>\")", attach)
+        body, point = _read_body_point(lt, "attach", bodies, lt.string("attach"))
         lines.append(Line(line_name, body, point,
                           free_length=lt.number("free_length", "m", above=0.0),
                           stiffness=lt.number("stiffness", "N/m", minimum=0.0),
                           damping=lt.number("damping", "N s/m", minimum=0.0)))
         lt.finish()
+    if deploy_time is not None:
+        missing = [key for key, value in (("canopy", canopy), ("deploy_point", deploy_point)) if value is None]
+        if missing:
+            raise t.error(missing[0], "required: a system with a deploy_time is placed at line stretch, which needs "
+                                      "its canopy body and the vehicle point where its confluence goes")
+    if cutaway_time is not None and cutaway_time <= (deploy_time or 0.0):
+        raise t.error("cutaway_time", f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
+                      cutaway_time)
+    if schedule is not None and (canopy is None or bodies[canopy].aerodynamics is None):
+        raise t.error("drag_area_schedule", "needs a canopy body with aerodynamics (canopy = \"<body>\")")
+    if canopy is not None and canopy not in {line.body for line in lines}:
+        raise t.error("canopy", f"no line of the system attaches to body '{canopy}'", canopy)
     t.finish()
-    return ParachuteSystem(name, confluence, tuple(lines))
+    return ParachuteSystem(name, confluence, tuple(lines), canopy, deploy_time, deploy_point, cutaway_time,
+                           schedule)
 
 
 def _read_simulation(t: _Table) -> SimulationSettings:
@@ -442,6 +493,12 @@ def _read_simulation(t: _Table) -> SimulationSettings:
         kappa_max = sp_table.number("kappa_max", "", 5.0, above=3.0)
         slack_rule = sp_table.string("slack_rule", "stretch", SLACK_RULES)
         sp_table.finish()
+    ground_altitude = t.number("ground_altitude", "m", None)
+    rates = t._get("descent_rate_events", [], "m/s")
+    if not isinstance(rates, list):
+        raise t.error("descent_rate_events", "must be a list of descent rates > 0 (m/s)", rates)
+    descent_rates = [_check_number(r, "m/s", None, 0.0, None, lambda m: t.error("descent_rate_events", m, rates))
+                     for r in rates]
     steps = {}
     step_table = t.table("steps", None)
     if step_table is not None:
@@ -454,18 +511,30 @@ def _read_simulation(t: _Table) -> SimulationSettings:
         step_table.finish()
     t.finish()
     return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, kappa_max,
-                              slack_rule)
+                              slack_rule, ground_altitude, tuple(descent_rates))
 
 
 def _read_atmosphere(t: _Table):
-    model = t.string("model", choices=("mars_grc", "table"))
+    model = t.string("model", choices=("mars_grc", "us76", "table"))
     if model == "table":
-        file = t.string("file")
-        atmosphere = TabulatedAtmosphere.from_csv(file)
+        atmosphere = TabulatedAtmosphere.from_csv(t.string("file"))
+    elif model == "us76":
+        atmosphere = US76Lower()
     else:
         atmosphere = MarsGRC()
+    wind = None
+    w = t.table("wind", None)
+    if w is not None:
+        if "altitude" in w.data:
+            altitude = w.sequence("altitude", "m", min_length=2)
+            if any(b <= a for a, b in zip(altitude, altitude[1:])):
+                raise w.error("altitude", "must be strictly increasing", list(altitude))
+            wind = Wind(altitude, w.vector("east", "m/s", len(altitude)), w.vector("north", "m/s", len(altitude)))
+        else:
+            wind = Wind.constant(w.number("east", "m/s", 0.0), w.number("north", "m/s", 0.0))
+        w.finish()
     t.finish()
-    return atmosphere
+    return atmosphere, wind
 
 
 def build_case(data: dict, origins: dict, source: str) -> Case:
@@ -497,7 +566,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
                        s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
     s.finish()
     atmosphere_table = top.table("atmosphere", None)
-    atmosphere = _read_atmosphere(atmosphere_table) if atmosphere_table is not None else None
+    atmosphere, wind = _read_atmosphere(atmosphere_table) if atmosphere_table is not None else (None, None)
 
     body_tables = top.named_tables("bodies")
     if not body_tables:
@@ -508,14 +577,56 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
         raise top.error("atmosphere", f"required because body '{aerodynamic[0]}' has aerodynamics")
     if vehicle not in bodies:
         raise info.error("vehicle", f"must name a body; bodies are: {', '.join(bodies)}", vehicle)
-    systems = {sys_name: _read_system(sys_name, st, bodies)
-               for sys_name, st in top.named_tables("systems", {}).items()}
-    simulation = _read_simulation(top.table("simulation"))
+    system_tables = top.named_tables("systems", {})
+    systems = {sys_name: _read_system(sys_name, st, bodies) for sys_name, st in system_tables.items()}
+    simulation_table = top.table("simulation")
+    simulation = _read_simulation(simulation_table)
+    _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     top.allowed.append("extends")
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
-                data=copy.deepcopy(data))
+                data=copy.deepcopy(data), wind=wind)
+
+
+def _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle) -> None:
+    """Cross-checks of deployments, cut-aways, canopies, initial states and the ground."""
+    duration = simulation.duration
+    canopies = {}
+    for name, system in systems.items():
+        st = system_tables[name]
+        if system.deploy_time is not None and system.deploy_time >= duration:
+            raise st.error("deploy_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
+                           system.deploy_time)
+        if system.cutaway_time is not None and system.cutaway_time >= duration:
+            raise st.error("cutaway_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
+                           system.cutaway_time)
+        if system.canopy is not None:
+            if system.canopy in canopies:
+                raise st.error("canopy", f"body '{system.canopy}' is already the canopy of system "
+                                         f"'{canopies[system.canopy]}'", system.canopy)
+            if system.canopy == vehicle:
+                raise st.error("canopy", "the vehicle cannot be a canopy", system.canopy)
+            canopies[system.canopy] = name
+        placed = system.deploy_time is not None
+        canopy_initial = system.canopy is not None and bodies[system.canopy].initial is not None
+        if placed and canopy_initial:
+            raise body_tables[system.canopy].error("initial", f"a canopy deployed at line stretch (system '{name}', "
+                                                              "deploy_time) gets its initial state at deployment; "
+                                                              "remove this table")
+        if placed and system.confluence.initial is not None:
+            raise st.error("confluence.initial", "a system deployed at line stretch gets its confluence state at "
+                                                 "deployment; remove this table")
+        if not placed and system.confluence.initial is None:
+            raise st.error("confluence.initial", "required (or give the system a deploy_time)")
+    for name, body in bodies.items():
+        if body.initial is None and name not in canopies or \
+                body.initial is None and systems[canopies[name]].deploy_time is None:
+            raise body_tables[name].error("initial", "required (only a canopy deployed at line stretch has none)")
+    ground = simulation.ground_altitude
+    if ground is not None and ground >= bodies[vehicle].initial.altitude:
+        raise simulation_table.error("ground_altitude", f"must be below the vehicle's start altitude "
+                                                        f"({bodies[vehicle].initial.altitude:g} m)", ground)
 
 
 def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:

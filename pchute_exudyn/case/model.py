@@ -168,13 +168,68 @@ class Confluence:
 
 
 @dataclass(frozen=True)
+class DragAreaSchedule:
+    """Fraction of a canopy's full drag area against time since its system's deployment (inflation, reefing).
+
+    Attributes
+    ----------
+    time : tuple of float
+        Strictly increasing times since deployment (s), the first >= 0.
+    fraction : tuple of float
+        Fractions in [0, 1], linear between the points and held beyond the ends.
+    """
+
+    time: tuple
+    fraction: tuple
+
+    def __call__(self, since_deployment: float) -> float:
+        import bisect
+        t = self.time
+        if since_deployment <= t[0]:
+            return self.fraction[0]
+        if since_deployment >= t[-1]:
+            return self.fraction[-1]
+        i = bisect.bisect_right(t, since_deployment)
+        w = (since_deployment - t[i - 1]) / (t[i] - t[i - 1])
+        return self.fraction[i - 1] + w * (self.fraction[i] - self.fraction[i - 1])
+
+
+@dataclass(frozen=True)
 class ParachuteSystem:
     """A parachute system: a confluence and the lines meeting there (bridles from the vehicle, riser(s) from
-    the canopy)."""
+    the canopy).
+
+    Attributes
+    ----------
+    name : str
+    confluence : Confluence
+    lines : tuple of Line
+    canopy : str or None
+        The body that is this system's parachute (placed at deployment, removed at cut-away).
+    deploy_time : float or None
+        Time (s) at which the system is placed at line stretch; None: present from the start as the case states.
+    deploy_point : tuple (body, point) or None
+        The vehicle point where the confluence goes at deployment (every bridle at free length).
+    cutaway_time : float or None
+        Time (s) at which the system is cut away: its lines stop acting and it leaves the model and the outputs.
+    drag_area_schedule : DragAreaSchedule or None
+        Multiplies the canopy's aerodynamic coefficients, against time since deployment (since t = 0 if present
+        from the start).
+    """
 
     name: str
     confluence: Confluence
     lines: tuple
+    canopy: str | None = None
+    deploy_time: float | None = None
+    deploy_point: tuple | None = None
+    cutaway_time: float | None = None
+    drag_area_schedule: DragAreaSchedule | None = None
+
+    def active_at(self, time: float) -> bool:
+        """Whether the system acts at ``time`` (s): deployed and not yet cut away."""
+        deployed = self.deploy_time is None or self.deploy_time <= time
+        return deployed and (self.cutaway_time is None or time < self.cutaway_time)
 
 
 @dataclass(frozen=True)
@@ -199,6 +254,10 @@ class SimulationSettings:
         SP: largest condition number (Eq. 3.13) accepted while a line is slack (> 3).
     slack_rule : str
         SP: one of SLACK_RULES.
+    ground_altitude : float or None
+        Geodetic altitude of the ground (m): the run ends at touchdown, when the vehicle's centre of mass reaches it.
+    descent_rate_events : tuple of float
+        Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
     """
 
     duration: float
@@ -209,6 +268,8 @@ class SimulationSettings:
     spectral_radius: float = 0.9
     kappa_max: float = 5.0
     slack_rule: str = "stretch"
+    ground_altitude: float | None = None
+    descent_rate_events: tuple = ()
 
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
@@ -229,6 +290,8 @@ class Case:
         Local east/north/up frame of the start point.
     atmosphere : Atmosphere or None
         None when no body has aerodynamics.
+    wind : Wind or None
+        Horizontal wind (physics.atmosphere.Wind); None for still air.
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -249,6 +312,23 @@ class Case:
     simulation: SimulationSettings
     vehicle: str
     data: dict = field(default_factory=dict, repr=False)
+    wind: object = None
+
+    def canopy_system(self, body_name: str):
+        """The system whose canopy ``body_name`` is, or None."""
+        for system in self.systems.values():
+            if system.canopy == body_name:
+                return system
+        return None
+
+    def active_bodies(self, time: float) -> list:
+        """Free bodies present at ``time`` (s): every body but the canopies of systems not active then."""
+        active = []
+        for body in self.free_bodies():
+            system = self.canopy_system(body.name)
+            if system is None or system.active_at(time):
+                active.append(body.name)
+        return active
 
     def free_bodies(self):
         """The bodies that move (not fixed), in case order."""

@@ -10,20 +10,20 @@ MAX_CONSECUTIVE_FAILURES failed solves in a row stop the run with an error.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..case.model import Case, ParachuteSystem
 from ..errors import SimulationError
+from ..phases import ConfluenceState, Phase, initial_phase
 from ..physics.equilibrium import equilibrium_point, equilibrium_velocity
 from ..physics.lines import tension
-from .items import ModelItems, add_aerodynamics, add_body, new_system
+from .items import ModelItems, add_bodies, new_system
 from .reduced import ReducedConfluence
 
 MAX_CONSECUTIVE_FAILURES = 20
 
 
-@dataclass(frozen=True)
-class EquilibriumSolution:
+class EquilibriumSolution(NamedTuple):
     """Equilibrium point, its velocity and the resulting line tensions at one evaluation."""
 
     position: tuple
@@ -37,10 +37,9 @@ class EquilibriumSolution:
 class EquilibriumConfluence(ReducedConfluence):
     """State and user functions of one equilibrium-point confluence."""
 
-    def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem):
+    def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, state: ConfluenceState):
         super().__init__(items, case, system, [0.0])
-        init = system.confluence.initial
-        self.position = case.start.local_position(init.altitude, init.east, init.north)
+        self.position = tuple(state.position.tolist())
         self.solves = self.failures = self.consecutive_failures = self.iterations = 0
         self.max_iterations_used = 0
 
@@ -89,16 +88,15 @@ class EquilibriumConfluence(ReducedConfluence):
                 "mean_iterations": self.iterations / max(self.solves, 1), "max_iterations": self.max_iterations_used}
 
 
-def build_equilibrium_model(case: Case) -> ModelItems:
-    """Build the equilibrium-point Exudyn model of ``case``."""
+def build_equilibrium_model(case: Case, phase: Phase | None = None) -> ModelItems:
+    """Build the equilibrium-point Exudyn model of ``case`` for one phase."""
+    phase = phase or initial_phase(case)
     items = new_system(case)
-    for body in case.bodies.values():
-        add_body(items, case, body)
-    for body in case.bodies.values():
-        add_aerodynamics(items, case, body)
-    for system in case.systems.values():
-        confluence = EquilibriumConfluence(items, case, system)
+    add_bodies(items, case, phase, snapshot=True)
+    for system in items.systems:
+        confluence = EquilibriumConfluence(items, case, system, phase.confluence_states[system.name])
         items.sp[system.name] = confluence
+        confluence.register()
         confluence.add_channels(case)
         items.summaries.append(lambda confluence=confluence: {f"equilibrium_{confluence.system.name}":
                                                               confluence.summary()})

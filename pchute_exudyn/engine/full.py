@@ -15,11 +15,13 @@ from exudyn.utilities import CreateSymbolicUserFunction
 from ..case.model import Case
 from ..errors import SimulationError
 from ..stability import confluence_rk4_limit, sp_rk4_limit, unstable_step_message
-from .items import CURRENT, OV, ModelItems, add_aerodynamics, add_body, add_point_mass, new_system
+from ..phases import Phase, initial_phase
+from .items import CURRENT, OV, ModelItems, add_bodies, add_point_mass, new_system
 
 MONITOR_INTERVAL = 0.1
 """Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
-moves with the line loads, over seconds; a check costs about 0.25 ms)."""
+moves with the line loads, over seconds; a check costs about 0.25 ms). At least MONITOR_STEPS steps apart."""
+MONITOR_STEPS = 100
 
 esym = exu.symbolic
 LINE_LAWS = ("symbolic", "python")
@@ -43,29 +45,30 @@ def _force_reader(mbs, connector: int):
     return lambda: get(connector, OV.ForceLocal, CURRENT)
 
 
-def build_full_model(case: Case, line_law: str = "symbolic") -> ModelItems:
-    """Build the full-mass Exudyn model of ``case``.
+def build_full_model(case: Case, phase: Phase | None = None, line_law: str = "symbolic") -> ModelItems:
+    """Build the full-mass Exudyn model of ``case`` for one phase of a run.
 
     Parameters
     ----------
     case : Case
+    phase : Phase, optional
+        Active bodies and systems and their states at the phase's start (``phases``); default: the case at t = 0.
     line_law : {"symbolic", "python"}
         How the tension-only law runs; "python" exists to measure the difference.
     """
+    phase = phase or initial_phase(case)
     items = new_system(case)
     mbs = items.mbs
-    for body in case.bodies.values():
-        add_body(items, case, body)
-    for body in case.bodies.values():
-        add_aerodynamics(items, case, body)
+    add_bodies(items, case, phase)
     if line_law == "symbolic":
         law = CreateSymbolicUserFunction(mbs, _tension_only_symbolic, "springForceUserFunction",
                                          itemTypeName="ObjectConnectorSpringDamper")
         items.keep_alive.append(law)
     else:
         law = _tension_only_python
-    for system in case.systems.values():
-        confluence = add_point_mass(items, case, system.name, system.confluence.mass, system.confluence.initial)
+    for system in items.systems:
+        confluence = add_point_mass(items, case, system.name, system.confluence.mass,
+                                    phase.confluence_states[system.name])
         for line in system.lines:
             attach = items.bodies[line.body].point_markers[line.point]
             connector = mbs.AddObject(eii.ObjectConnectorSpringDamper(
@@ -89,7 +92,7 @@ def add_rk4_step_monitor(items: ModelItems, case: Case, step: float, method: str
     get_marker, get_node = mbs.GetMarkerOutput, mbs.GetNodeOutput
     limit_of = confluence_rk4_limit if method == "full" else sp_rk4_limit
     watched = []
-    for system in case.systems.values():
+    for system in items.systems:
         markers = [items.bodies[line.body].point_markers[line.point] for line in system.lines]
         if method == "full":
             marker = items.confluences[system.name].marker
@@ -103,7 +106,7 @@ def add_rk4_step_monitor(items: ModelItems, case: Case, step: float, method: str
     def monitor(mbs_, t):
         if t < next_check[0]:
             return
-        next_check[0] = t + interval
+        next_check[0] = t + max(interval, MONITOR_STEPS * step)
         for system, markers, where in watched:
             attach = np.array([get_marker(m, OV.Position, CURRENT) for m in markers])
             limit = limit_of(system, attach, where())

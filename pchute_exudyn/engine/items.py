@@ -13,7 +13,9 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Body, Case
+from ..phases import BodyState, ConfluenceState, Phase
 from ..physics.aerodynamics import aerodynamic_force
+from ..physics.air import AirMotion
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import attitude_matrix, rotation_vector
 
@@ -63,6 +65,10 @@ class ModelItems:
     failure: Exception | None = None                    # first error raised inside a user function
     sp: dict = field(default_factory=dict)              # system -> massless confluence (engine.reduced)
     summaries: list = field(default_factory=list)       # callables returning method facts for summary.json
+    systems: list = field(default_factory=list)         # the ParachuteSystems active in this model
+    stop_conditions: list = field(default_factory=list)  # callables (t) -> True to end the run after this step
+    post_step_count: list = field(default_factory=lambda: [0])  # bumped by the solver at every post-step call
+    snapshot: "BodySnapshot | None" = None              # per-stage body states (models with a right-hand side)
 
 
 def new_system(case: Case) -> ModelItems:
@@ -99,14 +105,14 @@ def _inertia6(inertia: np.ndarray) -> list:
     return [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[1, 2], inertia[0, 2], inertia[0, 1]]
 
 
-def add_body(items: ModelItems, case: Case, body: Body) -> BodyItems:
-    """A 6-DoF rigid body (rotation-vector node with Lie-group integration), its point markers and gravity;
-    a fixed body becomes markers on the ground."""
+def add_body(items: ModelItems, case: Case, body: Body, state: BodyState | None = None) -> BodyItems:
+    """A 6-DoF rigid body (rotation-vector node with Lie-group integration) in ``state`` (a fixed body: at its
+    case position), its point markers and gravity; a fixed body becomes markers on the ground."""
     mbs = items.mbs
-    init = body.initial
-    position = case.start.local_position(init.altitude, init.east, init.north)
-    attitude = attitude_matrix(init.yaw_deg, init.pitch_deg, init.roll_deg)
     if body.fixed:
+        init = body.initial
+        position = case.start.local_position(init.altitude, init.east, init.north)
+        attitude = attitude_matrix(init.yaw_deg, init.pitch_deg, init.roll_deg)
         points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=items.ground,
                                                              localPosition=(position + attitude @ p).tolist()))
                   for name, p in body.points.items()}
@@ -116,10 +122,9 @@ def add_body(items: ModelItems, case: Case, body: Body) -> BodyItems:
         result = BodyItems(-1, items.ground, -1, points)
         items.bodies[body.name] = result
         return result
-    velocity = case.start.inertial_velocity(position, init.velocity_enu)
     node = mbs.AddNode(eii.NodeRigidBodyRotVecLG(
-        referenceCoordinates=position.tolist() + rotation_vector(attitude).tolist(),
-        initialVelocities=velocity.tolist() + init.angular_velocity.tolist(),
+        referenceCoordinates=state.position.tolist() + rotation_vector(state.attitude).tolist(),
+        initialVelocities=state.velocity.tolist() + np.asarray(state.angular_velocity, float).tolist(),
         visualization=eii.VNodeRigidBodyRotVecLG(show=False)))
     obj = mbs.AddObject(eii.ObjectRigidBody(nodeNumber=node, mass=body.mass, inertia=_inertia6(body.inertia),
                                             visualization=eii.VObjectRigidBody(show=False)))
@@ -135,18 +140,61 @@ def add_body(items: ModelItems, case: Case, body: Body) -> BodyItems:
     return result
 
 
+class BodySnapshot:
+    """The free bodies' states read once per right-hand-side evaluation (4 engine calls per body), from which user
+    functions of the same stage compute any body point in plain floats instead of reading markers.
+
+    Only models whose stages start with an ODE1 right-hand side (SP, equilibrium point) use it: Exudyn evaluates that
+    before the loads of the stage, and once more at the end of each step, which makes the snapshot current for the
+    post-step sampling too.
+    """
+
+    def __init__(self, items: "ModelItems", names):
+        self.nodes = [(name, items.bodies[name].node) for name in names]
+        self.get = items.mbs.GetNodeOutput
+        self.state = {}
+
+    def refresh(self) -> None:
+        get, state = self.get, self.state
+        for name, node in self.nodes:
+            state[name] = (get(node, OV.Position, CURRENT).tolist(), get(node, OV.Velocity, CURRENT).tolist(),
+                           get(node, OV.RotationMatrix, CURRENT).tolist(),
+                           get(node, OV.AngularVelocity, CURRENT).tolist())
+
+    def point(self, name: str, local):
+        """Position (m) and velocity (m/s) of body point ``local`` (body axes, m), start-frame components."""
+        x, v, r, w = self.state[name]
+        lx, ly, lz = local
+        ax, ay, az = r[0] * lx + r[1] * ly + r[2] * lz, r[3] * lx + r[4] * ly + r[5] * lz, r[6] * lx + r[7] * ly + r[8] * lz
+        return ((x[0] + ax, x[1] + ay, x[2] + az),
+                (v[0] + w[1] * az - w[2] * ay, v[1] + w[2] * ax - w[0] * az, v[2] + w[0] * ay - w[1] * ax))
+
+    def channels(self, items: "ModelItems") -> None:
+        """Serve the bodies' output channels from the snapshot (current at every post-step call)."""
+        for name, _ in self.nodes:
+            items.channels[("body", name, "position")] = lambda name=name: self.state[name][0]
+            items.channels[("body", name, "velocity")] = lambda name=name: self.state[name][1]
+            items.channels[("body", name, "rotation")] = lambda name=name: self.state[name][2]
+            items.channels[("body", name, "angular_velocity")] = lambda name=name: self.local_rate(name)
+
+    def local_rate(self, name: str) -> list:
+        """Angular velocity in body axes (rad/s): R^T w."""
+        _, _, r, w = self.state[name]
+        return [r[0] * w[0] + r[3] * w[1] + r[6] * w[2], r[1] * w[0] + r[4] * w[1] + r[7] * w[2],
+                r[2] * w[0] + r[5] * w[1] + r[8] * w[2]]
+
+
 def node_reader(mbs, node: int, kind):
-    """A reader of one node output in the current configuration."""
+    """A reader of one node output in the current configuration (as a list of floats, like every channel)."""
     get = mbs.GetNodeOutput
-    return lambda: get(node, kind, CURRENT)
+    return lambda: get(node, kind, CURRENT).tolist()
 
 
-def add_point_mass(items: ModelItems, case: Case, key: str, mass: float, initial) -> PointItems:
-    """A 3-DoF point mass with gravity (the full-mass confluence)."""
+def add_point_mass(items: ModelItems, case: Case, key: str, mass: float, state: ConfluenceState) -> PointItems:
+    """A 3-DoF point mass with gravity (the full-mass confluence) in ``state``."""
     mbs = items.mbs
-    position = case.start.local_position(initial.altitude, initial.east, initial.north)
-    velocity = case.start.inertial_velocity(position, initial.velocity_enu)
-    node = mbs.AddNode(eii.NodePoint(referenceCoordinates=position.tolist(), initialVelocities=velocity.tolist(),
+    node = mbs.AddNode(eii.NodePoint(referenceCoordinates=state.position.tolist(),
+                                     initialVelocities=state.velocity.tolist(),
                                      visualization=eii.VNodePoint(show=False)))
     obj = mbs.AddObject(eii.ObjectMassPoint(nodeNumber=node, mass=mass,
                                             visualization=eii.VObjectMassPoint(show=False)))
@@ -159,11 +207,13 @@ def add_point_mass(items: ModelItems, case: Case, key: str, mass: float, initial
     return result
 
 
-def add_aerodynamics(items: ModelItems, case: Case, body: Body) -> int | None:
+def add_aerodynamics(items: ModelItems, case: Case, body: Body, schedule=None, deployed_at: float = 0.0) -> int | None:
     """The body's aerodynamic force as a load at its aerodynamic centre, evaluated at every solver stage.
 
     A Python load user function (no symbolic function can read the state); it reads the centre's position and
-    velocity and the body axis with three engine calls and does the rest in plain floats (``physics``).
+    velocity and the body axis with three engine calls and does the rest in plain floats (``physics``). The velocity
+    is taken relative to the air (planet rotation and wind, ``physics.air``); ``schedule`` (a drag-area schedule)
+    scales the coefficients by its fraction at the time since ``deployed_at`` (s).
     """
     aero = body.aerodynamics
     if aero is None or not aero.enabled:
@@ -172,32 +222,95 @@ def add_aerodynamics(items: ModelItems, case: Case, body: Body) -> int | None:
     body_items = items.bodies[body.name]
     marker = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=body_items.object, localPosition=list(aero.center)))
     get_marker, get_node = mbs.GetMarkerOutput, mbs.GetNodeOutput
+    snapshot, name, center = items.snapshot, body.name, tuple(aero.center)
     node = body_items.node
     ox, oy, oz = case.start.origin.tolist()
     (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = case.start.axes.tolist()
     altitude = case.planet.altitude_scalar
     density = case.atmosphere.density
-    omega = case.start.rotation_vector.tolist()
-    cx, cy, cz = case.start.planet_center.tolist()
-    rotating = case.planet.rotation_rate != 0.0
+    air = AirMotion(case.start, case.wind)
+    still = air.still
     area, axial, normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
 
     def aerodynamic_load(mbs_, t, load_vector):
-        x, y, z = get_marker(marker, OV.Position, CURRENT).tolist()
-        vx, vy, vz = get_marker(marker, OV.Velocity, CURRENT).tolist()
-        r = get_node(node, OV.RotationMatrix, CURRENT).tolist()
+        if snapshot is not None:   # the stage's right-hand side has read the bodies already (point() inlined)
+            (px, py, pz), (vx, vy, vz), r, w = snapshot.state[name]
+            lx, ly, lz = center
+            ax, ay, az = (r[0] * lx + r[1] * ly + r[2] * lz, r[3] * lx + r[4] * ly + r[5] * lz,
+                          r[6] * lx + r[7] * ly + r[8] * lz)
+            x, y, z = px + ax, py + ay, pz + az
+            vx, vy, vz = vx + w[1] * az - w[2] * ay, vy + w[2] * ax - w[0] * az, vz + w[0] * ay - w[1] * ax
+        else:
+            x, y, z = get_marker(marker, OV.Position, CURRENT).tolist()
+            vx, vy, vz = get_marker(marker, OV.Velocity, CURRENT).tolist()
+            r = get_node(node, OV.RotationMatrix, CURRENT).tolist()
         try:
-            rho = density(altitude(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
-                                   oz + a20 * x + a21 * y + a22 * z))
+            h = altitude(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
+                         oz + a20 * x + a21 * y + a22 * z)
+            rho = density(h)
         except Exception as exc:  # keep our own error (e.g. outside an atmosphere table) for the solver to raise
             items.failure = items.failure or exc
             raise
-        if rotating:  # the air turns with the planet: subtract omega x (r - r_centre)
-            dx, dy, dz = x - cx, y - cy, z - cz
-            vx -= omega[1] * dz - omega[2] * dy
-            vy -= omega[2] * dx - omega[0] * dz
-            vz -= omega[0] * dy - omega[1] * dx
-        return list(aerodynamic_force((vx, vy, vz), (r[0], r[3], r[6]), rho, area, axial, normal))
+        if not still:
+            wx, wy, wz = air(x, y, z, h, t)
+            vx, vy, vz = vx - wx, vy - wy, vz - wz
+        fraction = 1.0 if schedule is None else schedule(t - deployed_at)
+        return list(aerodynamic_force((vx, vy, vz), (r[0], r[3], r[6]), rho, area, axial, normal, fraction))
 
     return mbs.AddLoad(eii.LoadForceVector(markerNumber=marker, loadVectorUserFunction=aerodynamic_load,
                                            visualization=eii.VLoadForceVector(show=False)))
+
+
+def add_bodies(items: ModelItems, case: Case, phase: Phase, snapshot: bool = False) -> None:
+    """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics;
+    ``snapshot``: the model's right-hand side keeps a BodySnapshot that the loads and outputs read."""
+    for body in case.bodies.values():
+        if body.fixed or body.name in phase.bodies:
+            add_body(items, case, body, phase.body_states.get(body.name))
+    if snapshot and phase.systems:   # refreshed by the systems' right-hand sides, so only when there are some
+        items.snapshot = BodySnapshot(items, phase.bodies)
+        items.snapshot.channels(items)
+    for body in case.bodies.values():
+        if body.name in phase.bodies:
+            system = case.canopy_system(body.name)
+            schedule = system.drag_area_schedule if system is not None else None
+            deployed = system.deploy_time if system is not None and system.deploy_time is not None else 0.0
+            add_aerodynamics(items, case, body, schedule, deployed)
+    items.systems = [case.systems[name] for name in phase.systems]
+
+
+class Touchdown:
+    """Stop condition: the vehicle's centre of mass reaches the ground altitude. Interpolates the crossing."""
+
+    def __init__(self, items: ModelItems, case: Case, ground_altitude: float):
+        self.position = items.channels[("body", case.vehicle, "position")]
+        self.velocity = items.channels[("body", case.vehicle, "velocity")]
+        self.case, self.ground = case, ground_altitude
+        self.origin = case.start.origin.tolist()
+        self.axes = case.start.axes.tolist()
+        self.altitude = case.planet.altitude_scalar
+        self.previous = None
+        self.event = None
+
+    def __call__(self, t: float) -> bool:   # every step: plain floats
+        x, y, z = self.position()
+        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = self.axes
+        ox, oy, oz = self.origin
+        height = self.altitude(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
+                               oz + a20 * x + a21 * y + a22 * z)
+        if height > self.ground:
+            self.previous = (t, height)
+            return False
+        position = np.array([x, y, z])
+        velocity = np.asarray(self.velocity(), float)
+        w = 1.0
+        if self.previous is not None and self.previous[1] > height:
+            w = (self.previous[1] - self.ground) / (self.previous[1] - height)
+        t_prev = self.previous[0] if self.previous is not None else t
+        time = t_prev + w * (t - t_prev)
+        v = velocity   # the velocity changes little within a step; the crossing time is interpolated
+        ground_velocity = self.case.start.velocity_to_planet_fixed(position, v, time)
+        self.event = {"event": "touchdown", "time": float(time), "speed": float(np.linalg.norm(ground_velocity)),
+                      "vertical_speed": float(-ground_velocity[2]),
+                      "horizontal_speed": float(np.hypot(ground_velocity[0], ground_velocity[1]))}
+        return True

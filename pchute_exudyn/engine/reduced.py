@@ -23,19 +23,29 @@ class ReducedConfluence:
     ``velocity``, ``tensions`` and ``directions``, and ``derivative(solution)`` for the ODE1 states."""
 
     def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, initial_states: list):
+        """``initial_states``: the ODE1 coordinates at the phase start."""
         mbs = items.mbs
         self.items, self.system = items, system
         self.free_length = [line.free_length for line in system.lines]
         self.stiffness = [line.stiffness for line in system.lines]
         self.damping = [line.damping for line in system.lines]
         self.markers = [items.bodies[line.body].point_markers[line.point] for line in system.lines]
+        self.snapshot = items.snapshot
+        fixed = {name for name, body in case.bodies.items() if body.fixed}
+        # attach points from the stage snapshot (free bodies) or their ground markers (fixed bodies)
+        self.points = [(line.body, tuple(case.bodies[line.body].points[line.point]), marker)
+                       for line, marker in zip(system.lines, self.markers)]
+        self.on_fixed = [line.body in fixed for line in system.lines]
         self.node = mbs.AddNode(eii.NodeGenericODE1(referenceCoordinates=[0.0] * len(initial_states),
                                                     initialCoordinates=list(initial_states),
                                                     numberOfODE1Coordinates=len(initial_states)))
         mbs.AddObject(eii.ObjectGenericODE1(nodeNumbers=[self.node], rhsUserFunction=self._rhs))
         self.forces = [[0.0, 0.0, 0.0] for _ in system.lines]
         self.solution = None
-        self.solved_at = None  # (t, q) of self.solution
+        self.solved_at = None       # (t, q) of self.solution
+        self.solved_at_end = False  # self.solution is at an end-of-step state (nothing has changed since)
+        self.calls_in_step = 0      # right-hand-side calls since the step began
+        self._checked = -1          # post-step call in which self.solution was last confirmed current
         self._get_marker = mbs.GetMarkerOutput
         self._get_node = mbs.GetNodeOutput
         self._get_time = mbs.systemData.GetTime
@@ -49,20 +59,62 @@ class ReducedConfluence:
     def derivative(self, solution) -> list:  # pragma: no cover - interface
         raise NotImplementedError
 
-    def solve(self, t, q):
-        """Solve at the current attach-point states and ODE1 coordinates ``q``; stores forces, caches."""
-        get = self._get_marker
-        positions = [get(m, OV.Position, CURRENT).tolist() for m in self.markers]
-        velocities = [get(m, OV.Velocity, CURRENT).tolist() for m in self.markers]
+    STAGES = 4
+    """Right-hand-side calls per RK44 step; Exudyn makes one more at the end-of-step state."""
+
+    def new_step(self, mbs, t):
+        """Pre-step hook."""
+        self.calls_in_step = 0
+
+    def confirm(self, mbs, t):
+        """Post-step hook, before any other: make the solution (and the body snapshot) current for the step's end."""
+        self.current()
+
+    def register(self) -> None:
+        """Hook this confluence into the solver's per-step work."""
+        self.items.pre_step_hooks.append(self.new_step)
+        self.items.post_step_hooks.insert(0, self.confirm)
+
+    def solve(self, t, q, at_end: bool = False):
+        """Solve at the current attach-point states and ODE1 coordinates ``q``; stores forces, caches.
+        ``at_end``: the state is an end-of-step one (post-step work, or the call after the last stage)."""
+        snapshot, get = self.snapshot, self._get_marker
+        snapshot.refresh()
+        state = snapshot.state
+        positions, velocities = [], []
+        for (body, (lx, ly, lz), marker), fixed in zip(self.points, self.on_fixed):
+            if fixed:
+                positions.append(get(marker, OV.Position, CURRENT).tolist())
+                velocities.append((0.0, 0.0, 0.0))
+                continue
+            # BodySnapshot.point, inlined (it runs for every line at every stage)
+            x, v, r, w = state[body]
+            ax = r[0] * lx + r[1] * ly + r[2] * lz
+            ay = r[3] * lx + r[4] * ly + r[5] * lz
+            az = r[6] * lx + r[7] * ly + r[8] * lz
+            positions.append((x[0] + ax, x[1] + ay, x[2] + az))
+            velocities.append((v[0] + w[1] * az - w[2] * ay, v[1] + w[2] * ax - w[0] * az,
+                               v[2] + w[0] * ay - w[1] * ax))
         solution = self.compute(t, q, positions, velocities)
         for force, t_i, (nx, ny, nz) in zip(self.forces, solution.tensions, solution.directions):
             force[0], force[1], force[2] = -t_i * nx, -t_i * ny, -t_i * nz   # on the body: -T n
-        self.solution, self.solved_at = solution, (t, q)
+        self.solution, self.solved_at, self.solved_at_end = solution, (t, q), at_end
         return solution
+
+    def reusable(self, solution) -> bool:
+        """Whether ``solution`` holds for the same state in the next step too (it does not depend on anything the
+        method updates between steps); subclasses refine this."""
+        return True
 
     def _rhs(self, mbs, t, item, q):
         try:
-            return self.derivative(self.solve(t, list(q)))
+            q = list(q)
+            self.calls_in_step += 1
+            # the first stage of a step sees exactly the end-of-step state solved last: reuse that solve
+            if self.calls_in_step == 1 and self.solved_at_end and self.solved_at == (t, q) \
+                    and self.reusable(self.solution):
+                return self.derivative(self.solution)
+            return self.derivative(self.solve(t, q, at_end=self.calls_in_step > self.STAGES))
         except Exception as exc:  # keep our own error for the solver to report
             self.items.failure = self.items.failure or exc
             raise
@@ -72,12 +124,16 @@ class ReducedConfluence:
         return lambda mbs, t, load: force
 
     def current(self):
-        """The solution at the current (end-of-step) state, reusing the last right-hand side when it matches."""
+        """The solution at the current (end-of-step) state, reusing the last right-hand side when it matches;
+        checked once per post-step call (``items.post_step_count``), then served as it is."""
+        if self._checked == self.items.post_step_count[0]:
+            return self.solution
         t = self._get_time()
         q = np.atleast_1d(self._get_node(self.node, OV.Coordinates, CURRENT)).tolist()
-        if self.solved_at is not None and self.solved_at[0] == t and self.solved_at[1] == q:
-            return self.solution
-        return self.solve(t, q)
+        if not (self.solved_at_end and self.solved_at == (t, q)):
+            self.solve(t, q, at_end=True)
+        self._checked = self.items.post_step_count[0]
+        return self.solution
 
     def add_channels(self, case: Case) -> None:
         """Output channels: confluence position and velocity and the line tensions."""

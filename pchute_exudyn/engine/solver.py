@@ -26,15 +26,15 @@ CHECK_EVERY = 200
 """Steps between NaN/inf checks of the state (a check costs about 2 us; a full-mass MER RK4 step about 70 us)."""
 
 
-def _settings(integrator: str, step: float, duration: float, output_step: float, spectral_radius: float):
+def _settings(integrator: str, step: float, start: float, end: float, spectral_radius: float):
     settings = exu.SimulationSettings()
     settings.solution.file.write = False
     settings.solution.sensors.active = False  # outputs are sampled by the post-step hook, on an exact grid
     settings.show.statistics = False
     ti = settings.timeIntegration
-    ti.startTime = 0.0
-    ti.endTime = duration
-    ti.numberOfSteps = max(1, int(round(duration / step)))
+    ti.startTime = start
+    ti.endTime = end
+    ti.numberOfSteps = max(1, int(round((end - start) / step)))
     ti.verboseMode = 0
     ti.automaticStepSize = False
     if integrator == "rk4":
@@ -50,8 +50,10 @@ def _settings(integrator: str, step: float, duration: float, output_step: float,
 
 
 def integrate(items: ModelItems, integrator: str, step: float, duration: float, output_step: float,
-              spectral_radius: float = 0.9) -> RawHistory:
-    """Integrate a built model from 0 to ``duration`` (s) with ``step`` (s), sampling every ``output_step`` (s).
+              spectral_radius: float = 0.9, start: float = 0.0) -> RawHistory:
+    """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
+    grid of ``output_step`` (s). A stop condition (``items.stop_conditions``) may end it early, after a step it
+    samples; ``RawHistory.stopped_at`` then holds that time.
 
     Raises
     ------
@@ -60,8 +62,8 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
         simulation time and what to try.
     """
     mbs = items.mbs
-    settings, solver_type = _settings(integrator, step, duration, output_step, spectral_radius)
-    progress = {"steps": 0, "time": 0.0, "bad": None}
+    settings, solver_type = _settings(integrator, step, start, duration, spectral_radius)
+    progress = {"steps": 0, "time": start, "bad": None, "stopped": None}
     hooks = list(items.pre_step_hooks)
     get_coordinates = mbs.systemData.GetODE2Coordinates
     get_first_order = mbs.systemData.GetODE1Coordinates
@@ -84,24 +86,31 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
     # Sample the channels at the first step on or past each output time (within half a step): Exudyn's own sensor
     # clock anchors each write to the last one and drifts off the grid (seen: 55.4102 s for 55.41 s at 2e-4 s).
     readers = list(items.channels.items())
-    samples = {key: [] for key, _ in readers}
+    keys = [key for key, _ in readers]
+    reads = [read for _, read in readers]
+    rows: list = []
     times: list = []
-    next_sample = [0.0]
-
+    next_sample = [start]
     post_hooks = list(items.post_step_hooks)
+    stop_conditions = list(items.stop_conditions)
+
+    count = items.post_step_count
 
     def post_step(mbs_, t):
         if times and t <= times[-1] + 0.5 * step:  # Exudyn calls this once more after the last step
             return True
+        count[0] += 1
         try:
             for hook in post_hooks:
                 hook(mbs_, t)
-            if t >= next_sample[0] - 0.5 * step or t >= duration - 0.5 * step:
-                values = [read() for _, read in readers]
+            stop = any([condition(t) for condition in stop_conditions])
+            if stop or t >= next_sample[0] - 0.5 * step or t >= duration - 0.5 * step:
+                rows.append([read() for read in reads])
                 times.append(t)
-                for (key, _), value in zip(readers, values):
-                    samples[key].append(value)
                 next_sample[0] = (round(t / output_step) + 1) * output_step
+            if stop:
+                progress["stopped"] = t
+                return False
         except Exception as exc:  # stop cleanly and raise it after the solver has returned
             items.failure = items.failure or exc
             return False
@@ -136,7 +145,10 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
         raise SimulationError(
             f"the state became NaN or infinite near t = {progress['bad']:.4f} s with the {integrator} integrator "
             f"at step {step:g} s: try a smaller step", progress["bad"])
-    return _collect(np.array(times), samples, progress["steps"], wall)
+    samples = {key: [row[i] for row in rows] for i, key in enumerate(keys)}
+    raw = _collect(np.array(times), samples, progress["steps"], wall)
+    raw.stopped_at = progress["stopped"]
+    return raw
 
 
 def _collect(times: np.ndarray, samples: dict, steps: int, wall: float) -> RawHistory:

@@ -9,20 +9,21 @@ velocity.
 from __future__ import annotations
 
 from ..case.model import Case, ParachuteSystem
+from ..phases import ConfluenceState, Phase, initial_phase
 from ..physics.singular_perturbation import confluence_velocity
-from .items import CURRENT, OV, ModelItems, add_aerodynamics, add_body, new_system
+from .items import CURRENT, OV, ModelItems, add_bodies, new_system
 from .reduced import ReducedConfluence
 
 
 class SPConfluence(ReducedConfluence):
     """State and user functions of one SP confluence."""
 
-    def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, kappa_max: float, slack_rule: str):
-        init = system.confluence.initial
-        position = case.start.local_position(init.altitude, init.east, init.north)
-        super().__init__(items, case, system, position.tolist())
+    def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, state: ConfluenceState,
+                 kappa_max: float, slack_rule: str, start_time: float = 0.0):
+        super().__init__(items, case, system, state.position.tolist())
         self.kappa_max, self.slack_rule = kappa_max, slack_rule
-        self.previous_velocity = tuple(case.start.inertial_velocity(position, init.velocity_enu).tolist())
+        self.previous_velocity = tuple(state.velocity.tolist())   # v0 of the first step: the state's velocity
+        self.start_time = start_time
 
     def compute(self, t, q, positions, velocities):
         return confluence_velocity(positions, velocities, q, self.previous_velocity, self.free_length,
@@ -31,9 +32,14 @@ class SPConfluence(ReducedConfluence):
     def derivative(self, solution) -> list:
         return list(solution.velocity)
 
+    def reusable(self, solution) -> bool:
+        # v0 enters Eq. 3.10 only through C_c (and the all-slack case): without them the solve does not depend on
+        # the v0 update between steps
+        return solution.damping == 0.0 and any(solution.taut)
+
     def update_previous_velocity(self, mbs, t):
         """Post-step hook: v0 for the next step is the velocity at the end of this one."""
-        if t > 0.0:
+        if t > self.start_time:
             self.previous_velocity = self.current().velocity
 
     def add_channels(self, case: Case) -> None:
@@ -48,16 +54,16 @@ class SPConfluence(ReducedConfluence):
         channels[("extra", f"{prefix}taut_lines", "-")] = lambda: sum(self.current().taut)
 
 
-def build_sp_model(case: Case, kappa_max: float, slack_rule: str) -> ModelItems:
-    """Build the SP Exudyn model of ``case`` (bodies and aerodynamics as in the full model, SP confluences)."""
+def build_sp_model(case: Case, phase: Phase | None, kappa_max: float, slack_rule: str) -> ModelItems:
+    """Build the SP Exudyn model of ``case`` for one phase (bodies and aerodynamics as in the full model)."""
+    phase = phase or initial_phase(case)
     items = new_system(case)
-    for body in case.bodies.values():
-        add_body(items, case, body)
-    for body in case.bodies.values():
-        add_aerodynamics(items, case, body)
-    for system in case.systems.values():
-        sp = SPConfluence(items, case, system, kappa_max, slack_rule)
+    add_bodies(items, case, phase, snapshot=True)
+    for system in items.systems:
+        sp = SPConfluence(items, case, system, phase.confluence_states[system.name], kappa_max, slack_rule,
+                          phase.start)
         items.sp[system.name] = sp
+        sp.register()
         items.post_step_hooks.append(sp.update_previous_velocity)
         sp.add_channels(case)
     items.mbs.Assemble()

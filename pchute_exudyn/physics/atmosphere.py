@@ -124,3 +124,62 @@ class TabulatedAtmosphere(Atmosphere):
         i = min(bisect.bisect_right(alt, altitude), len(alt) - 1)
         w = (altitude - alt[i - 1]) / (alt[i] - alt[i - 1])
         return math.exp(self._log_density[i - 1] + w * (self._log_density[i] - self._log_density[i - 1]))
+
+
+@dataclass(frozen=True)
+class US76Lower(Atmosphere):
+    """U.S. Standard Atmosphere 1976 below 11 km (``shared/models/cev_pa1.md``), geometric altitude h used directly:
+
+    T = 288.15 - 0.0065 h K, p = 101 325 (T / 288.15)^5.25588 Pa, rho = p / (287.053 T).
+    A run that leaves -500 to 11 000 m stops with an error (the next layer is not modelled).
+    """
+
+    name = "us76"
+    floor = -500.0
+    ceiling = 11000.0
+
+    def temperature(self, altitude: float) -> float:
+        """Temperature (K) at ``altitude`` (m)."""
+        return 288.15 - 0.0065 * altitude
+
+    def pressure(self, altitude: float) -> float:
+        """Pressure (Pa) at ``altitude`` (m)."""
+        return 101325.0 * (self.temperature(altitude) / 288.15) ** 5.25588
+
+    def density(self, altitude: float) -> float:
+        """Density (kg/m^3) at geodetic ``altitude`` (m)."""
+        if not (self.floor <= altitude <= self.ceiling):
+            raise SimulationError(f"altitude {altitude:.1f} m is outside the US76 lower atmosphere "
+                                  f"({self.floor:g} to {self.ceiling:g} m)")
+        return self.pressure(altitude) / (287.053 * self.temperature(altitude))
+
+
+@dataclass(frozen=True)
+class Wind:
+    """Horizontal wind: the air's velocity relative to the ground in the start point's east and north axes (m/s),
+    constant or tabulated against geodetic altitude (m), linear between the points and constant beyond the ends.
+
+    ``east`` > 0 is air moving east (a west wind). ``altitude`` is empty for a constant wind.
+    """
+
+    altitude: tuple
+    east: tuple
+    north: tuple
+
+    @classmethod
+    def constant(cls, east: float, north: float) -> "Wind":
+        return cls((), (float(east),), (float(north),))
+
+    def at(self, altitude: float):
+        """(east, north) wind (m/s) at ``altitude`` (m)."""
+        a = self.altitude
+        if not a:
+            return self.east[0], self.north[0]
+        if altitude <= a[0]:
+            return self.east[0], self.north[0]
+        if altitude >= a[-1]:
+            return self.east[-1], self.north[-1]
+        i = bisect.bisect_right(a, altitude)
+        w = (altitude - a[i - 1]) / (a[i] - a[i - 1])
+        return (self.east[i - 1] + w * (self.east[i] - self.east[i - 1]),
+                self.north[i - 1] + w * (self.north[i] - self.north[i - 1]))

@@ -26,21 +26,25 @@ _NUMPY = SimpleNamespace(sin=np.sin, cos=np.cos, atan2=np.arctan2, hypot=np.hypo
 def _geodetic(x, y, z, a, b, m, iterations=3):
     """Geodetic latitude (rad) and height (m) of planet-centred points, by Bowring's iteration.
 
-    Written once for both scalars (``m`` = math) and arrays (``m`` = numpy). One iteration is exact to 2e-9 m for
-    Mars heights from -1 to 50 km (measured on 10 000 random points); three reach machine precision far above.
+    Written once for both scalars (``m`` = math) and arrays (``m`` = numpy), and without trigonometric calls in the
+    loop: the sine and cosine of each latitude come from normalising the vector whose atan2 it is. One iteration is
+    exact to 2e-9 m for Mars heights from -1 to 50 km (measured on 10 000 random points); three reach machine
+    precision far above.
     """
     e2 = 1.0 - (b * b) / (a * a)
     ep2 = (a * a) / (b * b) - 1.0
     p = m.hypot(x, y)
-    beta = m.atan2(a * z, b * p)  # reduced latitude, first guess
+    sb, cb = a * z, b * p                      # reduced latitude beta, first guess: tan(beta) = a z / (b p)
     for _ in range(iterations):
-        sb = m.sin(beta)
-        cb = m.cos(beta)
-        lat = m.atan2(z + ep2 * b * sb * sb * sb, p - e2 * a * cb * cb * cb)
-        beta = m.atan2(b * m.sin(lat), a * m.cos(lat))
-    sl = m.sin(lat)
-    height = p * m.cos(lat) + z * sl - a * m.sqrt(1.0 - e2 * sl * sl)
-    return lat, height
+        norm = m.sqrt(sb * sb + cb * cb)
+        sb, cb = sb / norm, cb / norm
+        sl = z + ep2 * b * sb * sb * sb        # geodetic latitude phi: tan(phi) = sl / cl
+        cl = p - e2 * a * cb * cb * cb
+        norm = m.sqrt(sl * sl + cl * cl)
+        sl, cl = sl / norm, cl / norm
+        sb, cb = b * sl, a * cl                # tan(beta) = (b / a) tan(phi)
+    height = p * cl + z * sl - a * m.sqrt(1.0 - e2 * sl * sl)
+    return m.atan2(sl, cl), height
 
 
 @dataclass(frozen=True)

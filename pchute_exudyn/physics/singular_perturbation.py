@@ -28,9 +28,8 @@ Plain floats throughout (about 10 us a call): it runs at every solver stage.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
-from .lines import tension
 from .small_linalg import solve_symmetric, symmetric_eigenvalues  # noqa: F401  (re-exported)
 
 SLACK_RULES = ("stretch", "force")
@@ -39,9 +38,8 @@ SINGULAR = 1e-12
 eigenvalue is below about SINGULAR times its largest) or its determinant is not positive."""
 
 
-@dataclass(frozen=True)
-class SPSolution:
-    """Result of one SP solve.
+class SPSolution(NamedTuple):
+    """Result of one SP solve (a named tuple: it is made at every solver stage).
 
     Attributes
     ----------
@@ -53,9 +51,9 @@ class SPSolution:
         kappa of the alpha that was solved (Eq. 3.13); 0 when every line is slack (no alpha).
     taut : tuple of bool
         Lines counted taut in the final solve.
-    tensions : tuple of float
+    tensions : list of float
         Line tensions T >= 0 (N) from the line law with velocity v: the forces on the bodies are -T n.
-    directions : tuple of tuple
+    directions : list of tuple
         Unit vectors n from the confluence to each attach point.
     """
 
@@ -63,8 +61,8 @@ class SPSolution:
     damping: float
     condition_number: float
     taut: tuple
-    tensions: tuple
-    directions: tuple
+    tensions: list
+    directions: list
 
 
 def condition_number(eigenvalues, damping: float = 0.0) -> float:
@@ -165,17 +163,19 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
     SPSolution
     """
     cx, cy, cz = confluence_position
-    lines = []  # (nx, ny, nz, stretch, attach velocity along n, K, C)
+    lines = []       # (nx, ny, nz, stretch, attach velocity along n, K, C)
+    directions = []
     for (px, py, pz), (vx, vy, vz), l0, k, c in zip(attach_position, attach_velocity, free_length, stiffness, damping):
         dx, dy, dz = px - cx, py - cy, pz - cz
         length = math.sqrt(dx * dx + dy * dy + dz * dz)
         nx, ny, nz = dx / length, dy / length, dz / length
+        directions.append((nx, ny, nz))
         lines.append((nx, ny, nz, length - l0, vx * nx + vy * ny + vz * nz, k, c))
     active = [line[3] > 0.0 for line in lines]
     v0x, v0y, v0z = previous_velocity
     visited = {tuple(active)}
     while True:
-        if not any(active):
+        if True not in active:
             velocity, c_c, kappa = (v0x, v0y, v0z), 0.0, 0.0
             if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
                 break
@@ -183,27 +183,30 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
         a00 = a01 = a02 = a11 = a12 = a22 = bx = by = bz = 0.0
         for (nx, ny, nz, stretch, vn, k, c), on in zip(lines, active):
             if on:
-                a00 += c * nx * nx
-                a01 += c * nx * ny
-                a02 += c * nx * nz
-                a11 += c * ny * ny
-                a12 += c * ny * nz
+                cnx, cny = c * nx, c * ny
+                a00 += cnx * nx
+                a01 += cnx * ny
+                a02 += cnx * nz
+                a11 += cny * ny
+                a12 += cny * nz
                 a22 += c * nz * nz
                 f = k * stretch + c * vn
                 bx += f * nx
                 by += f * ny
                 bz += f * nz
-        solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if all(active) else None
+        solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if False not in active else None
         if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
             c_c = 0.0
             velocity, kappa = solved
         else:  # a slack line, or alpha (near-)singular: the smallest C_c that conditions it (Eq. 3.13)
             c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
             velocity, kappa = solve_symmetric(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
-                                     bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
+                                              bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
         if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
             break
     wx, wy, wz = velocity
-    tensions = tuple(tension(stretch, vn - wx * nx - wy * ny - wz * nz, k, c)
-                     for nx, ny, nz, stretch, vn, k, c in lines)
-    return SPSolution(velocity, c_c, kappa, tuple(active), tensions, tuple(line[:3] for line in lines))
+    tensions = []   # the line law (physics.lines.tension) with the solved velocity, inlined: it runs every stage
+    for nx, ny, nz, stretch, vn, k, c in lines:
+        value = k * stretch + c * (vn - wx * nx - wy * ny - wz * nz) if stretch > 0.0 else 0.0
+        tensions.append(value if value > 0.0 else 0.0)
+    return SPSolution(velocity, c_c, kappa, tuple(active), tensions, directions)
