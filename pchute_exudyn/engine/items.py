@@ -69,6 +69,7 @@ class ModelItems:
     stop_conditions: list = field(default_factory=list)  # callables (t) -> True to end the run after this step
     post_step_count: list = field(default_factory=lambda: [0])  # bumped by the solver at every post-step call
     snapshot: "BodySnapshot | None" = None              # per-stage body states (models with a right-hand side)
+    aerodynamic_loads: dict = field(default_factory=dict)  # body -> its load user function (for inspection)
 
 
 def new_system(case: Case) -> ModelItems:
@@ -257,6 +258,7 @@ def add_aerodynamics(items: ModelItems, case: Case, body: Body, schedule=None, d
         fraction = 1.0 if schedule is None else schedule(t - deployed_at)
         return list(aerodynamic_force((vx, vy, vz), (r[0], r[3], r[6]), rho, area, axial, normal, fraction))
 
+    items.aerodynamic_loads[body.name] = aerodynamic_load
     return mbs.AddLoad(eii.LoadForceVector(markerNumber=marker, loadVectorUserFunction=aerodynamic_load,
                                            visualization=eii.VLoadForceVector(show=False)))
 
