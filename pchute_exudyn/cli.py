@@ -149,6 +149,71 @@ def _linearize(args) -> int:
     return 0
 
 
+def _add_study(subparsers) -> None:
+    study = subparsers.add_parser(
+        "study", help="run a parameter study or Monte Carlo dispersion",
+        description="Run every run of a study file (grids, distributions, method and step configurations) and "
+                    "record each as it finishes into the study folder; rerunning the same command resumes, skipping "
+                    "finished runs. A failed run is recorded with its error and the study goes on.")
+    study.add_argument("study_file", metavar="STUDY", help="study file (TOML), see docs/study-format.md")
+    where = study.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="local worker processes (default: every core)")
+    where.add_argument("--dask-scheduler", default=None, metavar="ADDRESS",
+                       help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (install the dask extra)")
+    where.add_argument("--dask-local", type=int, default=None, metavar="N",
+                       help="start a local Dask cluster of N worker processes")
+    study.add_argument("--dask-timeout", type=float, default=10.0, metavar="S",
+                       help="seconds to wait for the Dask scheduler (default 10)")
+    study.add_argument("--out", default=None, metavar="DIR", help="study folder; default: studies/<study file name>")
+    study.add_argument("--retry-failed", action="store_true", help="run again the runs recorded as failed")
+    study.add_argument("--no-progress", action="store_true", help="no progress bar")
+    study.set_defaults(func=_study)
+    report = subparsers.add_parser(
+        "study-report", help="summaries and plots of a study folder",
+        description="Write DIR/report/: percentiles, histograms, scatter plots against the drawn inputs, line plots "
+                    "for grids, and errors against the study's reference runs.")
+    report.add_argument("folder", metavar="DIR", help="a study folder written by pchute study")
+    report.set_defaults(func=_study_report)
+
+
+def _study(args) -> int:
+    from .study import dask_executor, load_study, run_study
+
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers = {args.workers}: must be >= 1")
+    if args.dask_local is not None and args.dask_local < 1:
+        raise InputError(f"--dask-local = {args.dask_local}: must be >= 1")
+    if not args.dask_timeout > 0:
+        raise InputError(f"--dask-timeout = {args.dask_timeout}: must be > 0 (s)")
+    spec = load_study(args.study_file)
+    out = Path(args.out) if args.out else Path("studies") / Path(args.study_file).stem
+    executor, close = None, None
+    if args.dask_scheduler is not None or args.dask_local is not None:
+        executor, close = dask_executor(args.dask_scheduler, args.dask_local, args.dask_timeout)
+    try:
+        counts = run_study(spec, out, executor, args.workers, progress=not args.no_progress,
+                           retry_failed=args.retry_failed)
+    except KeyboardInterrupt:
+        print(f"pchute study: interrupted; finished runs are recorded in {out}: rerun the same command to resume",
+              file=sys.stderr)
+        return 130
+    finally:
+        if close is not None:
+            close()
+    print(f"{spec.name}: {counts['executed']} runs in {counts['wall_time']:.1f} s ({counts['skipped']} already done, "
+          f"{counts['failed']} failed of {counts['planned']}) -> {out}")
+    return 0
+
+
+def _study_report(args) -> int:
+    from .study.report import study_report
+
+    paths = study_report(args.folder)
+    print(f"report: {paths['report']}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``pchute`` argument parser."""
     parser = _Parser(prog="pchute", description="Multibody parachute descent simulation on the Exudyn engine.")
@@ -158,6 +223,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_run(subparsers)
     _add_compare(subparsers)
     _add_linearize(subparsers)
+    _add_study(subparsers)
     return parser
 
 

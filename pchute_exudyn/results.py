@@ -83,16 +83,19 @@ class Result:
 
     # -- files ---------------------------------------------------------------------------------------------------
 
-    def save(self, folder, plot: bool = True) -> dict:
-        """Write the result files into ``folder`` (created if needed); returns their paths."""
+    def save(self, folder, plot: bool = True, csv: bool = True) -> dict:
+        """Write the result files into ``folder`` (created if needed); returns their paths. ``csv=False`` keeps
+        the time histories in ``result.npz`` only (a study's many runs)."""
         folder = ensure_writable_dir(folder)
-        paths = {"csv": folder / CSV_NAME, "npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
-        names = self.names
-        table = np.column_stack([self.columns[n] for n in names])
-        buffer = io.StringIO()
-        buffer.write(",".join(names) + "\n")
-        np.savetxt(buffer, table, delimiter=",", fmt="%.12g")
-        atomic_write_text(paths["csv"], buffer.getvalue())
+        paths = {"npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
+        if csv:
+            paths["csv"] = folder / CSV_NAME
+            names = self.names
+            table = np.column_stack([self.columns[n] for n in names])
+            buffer = io.StringIO()
+            buffer.write(",".join(names) + "\n")
+            np.savetxt(buffer, table, delimiter=",", fmt="%.12g")
+            atomic_write_text(paths["csv"], buffer.getvalue())
         with atomic_writer(paths["npz"], "wb") as handle:
             np.savez_compressed(handle, **self.columns, units=json.dumps(self.units),
                                 summary=json.dumps(self.summary))
@@ -115,6 +118,11 @@ class Result:
         if path.is_dir():
             if (path / SUMMARY_NAME).is_file():
                 summary = json.loads((path / SUMMARY_NAME).read_text())
+            if not (path / CSV_NAME).is_file() and (path / NPZ_NAME).is_file():
+                with np.load(path / NPZ_NAME) as data:
+                    columns = {k: data[k] for k in data.files if k not in ("units", "summary")}
+                    units = json.loads(str(data["units"])) if "units" in data.files else {}
+                return cls(map_columns(columns, column_map or {}, path), units, summary)
             path = path / CSV_NAME
         if not path.is_file():
             raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")

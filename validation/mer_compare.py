@@ -120,8 +120,9 @@ rows of cases 3-4 are a diagnostic beyond the thesis's runs (see the notes below
 
 NOTES = """Notes (measured with this script and `validation/output/mer/case*_tensions_first10s.png`):
 
-* Final positions: SP is within 0.26 m in altitude (0.55 m with the force rule) and 0.09 m laterally of the
-  full-mass reference in every case, step and slack rule (the thesis's POST2 differences: 1.9-9.9 m and up to 1.2 m).
+* Final positions: SP is within 0.26 m in altitude and 0.09 m laterally of the full-mass reference in every case
+  and step with the stretch rule (0.58 m and 0.15 m with the force rule; the thesis's POST2 differences: 1.9-9.9 m
+  and up to 1.2 m).
 * Case 1 (and 2), stretch rule: bridles within 0.4 N and riser within 0.6 N after 2 s (thesis: 1 N and 6 N).
 * Cases 3-4: the largest tension differences after 2 s are tens of newtons because SP's oscillation lags the
   reference by a few hundredths of a second while the swing-and-bounce oscillation grows to +-75 N (thesis: "the
@@ -129,11 +130,14 @@ NOTES = """Notes (measured with this script and `validation/output/mer/case*_ten
   definition), so C_c ties the confluence to its previous velocity through whole 0.01 s steps while the vehicle
   moves at 1 m/s, giving spikes of about 130 N where the full-mass tensions are near zero (the thesis's "erratic
   force profile"). At 1e-3 s the same SP runs differ by at most 4.2 N (RMS 1.7 N), ten times less (diagnostic
-  rows), so the lag is an effect of the step, not of removing the confluence mass.
+  rows), so the lag is an effect of the step, not of removing the confluence mass. Raising kappa_max from the
+  thesis's 5 to 10 does as well, at 0.01 s and no extra cost (case 4: 82 N -> 4.2 N;
+  `validation/output/studies/kappa_max/`).
 * The force (active-set) rule does not track the reference better here: dropping a line whose linear tension dips
   negative brings in C_c more often, and each C_c episode at a 0.01 s step adds phase error. Its discontinuous
-  set changes also amplify the 1e-7 asymmetry of mer.md's 7-digit attach points into a 3 cm lateral drift in
-  case 1, where the full-mass model and the stretch rule stay on the vertical.
+  set changes also amplify the 1e-7 asymmetry of mer.md's 7-digit attach points into a 5 cm lateral drift in
+  case 1, where the full-mass model and the stretch rule stay on the vertical; for the same reason its results move
+  by centimetres with round-off-level changes to the code.
 * The equilibrium-point method (no confluence states; the confluence at the balance of the line *stiffness* forces,
   moving with the Appendix B velocity) matches SP in cases 1-2 and places the vehicle as well everywhere (within
   0.24 m and 0.01 m). It needs no confluence damping, so its tensions in the slack-heavy cases 3-4 lag less than

@@ -127,6 +127,16 @@ def _display(path: Path) -> str:
 # overrides
 
 
+class Scale:
+    """An override value that multiplies the value already in the case (a relative dispersion: stiffness x 1.1)."""
+
+    def __init__(self, factor: float):
+        self.factor = float(factor)
+
+    def __repr__(self) -> str:
+        return f"x{self.factor:g}"
+
+
 def parse_override(text: str) -> tuple[str, Any]:
     """Split ``key=value``; the value is read as TOML (``800``, ``true``, ``[1, 2]``, ``"x"``) or else as a string."""
     if "=" not in text:
@@ -200,11 +210,16 @@ def apply_override(data: dict, origins: dict, key: str, value: Any, source: str 
         if isinstance(last, int):
             if not isinstance(node, list) or last >= len(node):
                 raise CaseError(source, _dotted(path), "index out of range or not an array")
-            node[last] = value
-        elif isinstance(node, dict):
-            node[last] = copy.deepcopy(value)
-        else:
+        elif not isinstance(node, dict):
             raise CaseError(source, _dotted(path[:-1]), f"is not a table, so it has no key '{last}'")
+        new = value
+        if isinstance(value, Scale):   # relative: multiply what the case holds there
+            base = node[last] if isinstance(last, int) else node.get(last)
+            if isinstance(base, bool) or not isinstance(base, (int, float)):
+                raise CaseError(source, _dotted(path), "a relative value needs a number in the case to scale, "
+                                                       f"found {base!r}")
+            new = base * value.factor
+        node[last] = copy.deepcopy(new)
         _record(origins, tuple(p for p in path if not isinstance(p, int)), value, source)
 
 

@@ -1,0 +1,8 @@
+"""Parameter studies and Monte Carlo dispersions (spec: study files; runner: execution; store: results;
+report: summaries and plots)."""
+
+from .runner import dask_executor, execute, run_study, scalar_outputs
+from .spec import Configuration, Parameter, RunSpec, StudySpec, load_study
+
+__all__ = ["Configuration", "Parameter", "RunSpec", "StudySpec", "dask_executor", "execute", "load_study",
+           "run_study", "scalar_outputs"]

@@ -1,0 +1,279 @@
+"""Summaries and plots of a study folder (``pchute study-report DIR``).
+
+Writes into ``DIR/report/``: ``report.md`` (counts, percentiles, failed runs and their errors, errors against the
+reference), ``percentiles.json``, ``histograms.png``, ``scatter_<parameter>.png`` (outputs against each drawn input),
+``grid_<parameter>.png`` (outputs against each grid parameter, one line per configuration) and, when the study has a
+reference, ``errors.csv`` and ``error_vs_wall_time.png``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..compare import compare_results
+from ..errors import InputError
+from ..io import atomic_write_text, ensure_writable_dir
+from ..plotting import new_figure, save_figure
+from ..results import Result
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+PERCENTILES = (1, 50, 99)
+MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed")
+
+
+def _number(text):
+    if text in ("", None):
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def load_table(folder) -> list:
+    """Rows of ``runs.csv`` with numbers as floats."""
+    path = Path(folder) / "runs.csv"
+    if not path.is_file():
+        raise InputError(f"{folder}: no runs.csv: not a study folder (run `pchute study` into it first)")
+    with path.open(newline="") as handle:
+        return [{k: _number(v) for k, v in row.items()} for row in csv.DictReader(handle)]
+
+
+def _configuration(row, with_step: bool = True) -> str:
+    """'method integrator step slack_rule kappa' of a run (without the step: its family, one curve in a plot)."""
+    step = f"{row['step']:g}" if with_step and isinstance(row.get("step"), float) else ""
+    parts = [str(row.get("method") or "case"), str(row.get("integrator") or ""), step, str(row.get("slack_rule") or "")]
+    if isinstance(row.get("kappa_max"), float):
+        parts.append(f"kappa {row['kappa_max']:g}")
+    return " ".join(p for p in parts if p)
+
+
+def _plot_error_against_cost(errors: list, path: Path) -> None:
+    """Error against wall time: one colour per configuration family, its steps joined by a line; one marker per case."""
+    families = sorted({e["family"] for e in errors})
+    cases = sorted({e["case"] for e in errors})
+    markers = "osD^v<>ph*"
+    figure, axes = new_figure(1, 2, size=(12.0, 5.0))
+    for ax, metric, unit in zip(axes[0], ("altitude_error", "max_tension_error"), ("m", "N")):
+        labelled = set()
+        for i, family in enumerate(families):
+            for j, case in enumerate(cases):
+                points = sorted((e["step"], e["wall_time"], e[metric]) for e in errors
+                                if e["family"] == family and e["case"] == case and e[metric] > 0
+                                and isinstance(e.get("step"), float))
+                if points:
+                    # ten colours, then the same colours dashed, dotted, ...
+                    ax.loglog([p[1] for p in points], [p[2] for p in points], ("-", "--", ":", "-.")[i // 10 % 4],
+                              color=f"C{i % 10}",
+                              marker=markers[j % len(markers)], markersize=5, linewidth=0.8,
+                              label=None if family in labelled else family)
+                    labelled.add(family)
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel(f"{metric.replace('_', ' ')} against the reference ({unit})")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0, 1].legend(fontsize="x-small", title="configuration (line joins its steps)", title_fontsize="x-small")
+    if len(cases) > 1:
+        handles = [axes[0, 0].plot([], [], linestyle="none", color="0.3", marker=markers[j % len(markers)])[0]
+                   for j in range(len(cases))]
+        axes[0, 0].legend(handles, cases, fontsize="x-small", title="case", title_fontsize="x-small")
+    figure.suptitle("accuracy against cost: each run against its reference")
+    save_figure(figure, path)
+
+
+def percentiles(rows: list, outputs: list) -> dict:
+    table = {}
+    for name in outputs:
+        values = np.array([r[name] for r in rows if isinstance(r.get(name), float)])
+        if len(values):
+            table[name] = {**{f"p{p}": float(np.percentile(values, p)) for p in PERCENTILES},
+                           "mean": float(values.mean()), "std": float(values.std(ddof=1)) if len(values) > 1 else 0.0,
+                           "min": float(values.min()), "max": float(values.max()), "count": int(len(values))}
+    return table
+
+
+def reference_errors(folder: Path, rows: list, grid: list) -> list:
+    """Each run's differences from its reference run (from the saved histories)."""
+    references = {r["run"]: r for r in rows if r.get("reference") == "True" and r.get("status") == "ok"}
+    errors = []
+    cache = {}
+
+    def history(run):
+        if run not in cache:
+            cache[run] = Result.load(folder / "histories" / f"run_{int(run):05d}")
+        return cache[run]
+    for row in rows:
+        ref = references.get(row.get("reference_run"))
+        if row.get("reference") == "True" or ref is None or row.get("status") != "ok":
+            continue
+        try:
+            a, b = history(ref["run"]), history(row["run"])
+        except InputError:
+            continue
+        settle = min(2.0, 0.2 * float(a.time[-1]))   # the start-up transient, shorter for short runs
+        c = compare_results(a, b, settle_time=settle, vehicle=a.summary.get("vehicle", "vehicle"))
+        tension = [m["max_settled"] for m in c.lines.values() if np.isfinite(m["max_settled"])]
+        errors.append({"run": int(row["run"]), "case": row["case"], "configuration": _configuration(row),
+                       "family": _configuration(row, with_step=False), "step": row.get("step"),
+                       "wall_time": row.get("wall_time"), "reference_wall_time": ref.get("wall_time"),
+                       "altitude_error": abs(c.final.get(f"{a.summary.get('vehicle', 'vehicle')} altitude", math.nan)),
+                       "lateral_error": c.final.get(f"{a.summary.get('vehicle', 'vehicle')} lateral position",
+                                                    math.nan),
+                       "max_tension_error": max(tension) if tension else math.nan,
+                       **{key: row.get(key) for key in grid}})
+    return errors
+
+
+def study_report(folder) -> dict:
+    """Write the report of study folder ``folder``; returns the paths written."""
+    folder = Path(folder)
+    rows = load_table(folder)
+    study = tomllib.loads((folder / "study.toml").read_text()) if (folder / "study.toml").is_file() else {}
+    title = study.get("study", {}).get("name", folder.name)
+    parameters = study.get("parameters", {})
+    drawn = [k for k, p in parameters.items() if "distribution" in p]
+    grid = [k for k, p in parameters.items() if "distribution" not in p]
+    out = ensure_writable_dir(folder / "report")
+    ok = [r for r in rows if r.get("status") == "ok" and r.get("reference") != "True"]
+    outputs = [o for o in MAIN_OUTPUTS if any(isinstance(r.get(o), float) for r in ok)] + \
+        sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
+    stats = percentiles(ok, outputs)
+    atomic_write_text(out / "percentiles.json", json.dumps(stats, indent=2) + "\n")
+    paths = {"percentiles": out / "percentiles.json"}
+    if ok and outputs:
+        paths["histograms"] = _plot_histograms(ok, outputs[:8], stats, f"{title}: {len(ok)} runs", out)
+    tensions = [o for o in outputs if o.startswith("peak_tension_")][:2]
+    for key in drawn:
+        targets = [o for o in ("final_lateral", "final_altitude", "touchdown_speed") if o in outputs] + tensions
+        paths[f"scatter {key}"] = _plot_scatter(ok, key, targets, out / f"scatter_{_safe(key)}.png")
+    for key in grid:
+        targets = [o for o in ("final_altitude", "final_lateral") if o in outputs] + tensions
+        paths[f"grid {key}"] = _plot_grid(ok, key, targets, out / f"grid_{_safe(key)}.png")
+    errors = reference_errors(folder, rows, grid) if any(r.get("reference") == "True" for r in rows) else []
+    if errors:
+        paths["errors"] = _write_errors(errors, out / "errors.csv")
+        _plot_error_against_cost(errors, out / "error_vs_wall_time.png")
+        paths["error_vs_wall_time"] = out / "error_vs_wall_time.png"
+        for key in grid:
+            paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, out / f"error_vs_{_safe(key)}.png")
+    atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths))
+    paths["report"] = out / "report.md"
+    return paths
+
+
+def _plot_histograms(ok: list, shown: list, stats: dict, title: str, out: Path) -> Path:
+    figure, axes = new_figure(math.ceil(len(shown) / 2), 2, size=(10.0, 2.6 * math.ceil(len(shown) / 2) + 0.6))
+    for ax, name in zip(axes.ravel(), shown):
+        values = [r[name] for r in ok if isinstance(r.get(name), float)]
+        ax.hist(values, bins=min(30, max(5, len(values) // 5)), color="tab:blue", alpha=0.8)
+        for p in PERCENTILES:
+            ax.axvline(stats[name][f"p{p}"], color="k", linewidth=0.8, linestyle=":" if p != 50 else "-")
+        ax.set_xlabel(name)
+    for ax in axes.ravel()[len(shown):]:
+        ax.set_visible(False)
+    return _finish(figure, None, f"{title} (dotted: 1st and 99th percentile, solid: median)", out / "histograms.png")
+
+
+def _plot_scatter(ok: list, key: str, targets: list, path: Path) -> Path:
+    """Outputs against a drawn input, one point per run."""
+    figure, axes = new_figure(1, len(targets), size=(3.6 * len(targets), 3.4))
+    for ax, name in zip(axes[0], targets):
+        ax.plot([r[key] for r in ok], [r.get(name) for r in ok], ".", markersize=4)
+        ax.set_xlabel(key)
+        ax.set_ylabel(name)
+        ax.grid(True, alpha=0.3)
+    return _finish(figure, None, f"outputs against {key}", path)
+
+
+def _plot_grid(ok: list, key: str, targets: list, path: Path) -> Path:
+    """Outputs against a grid parameter, one line per case and configuration."""
+    figure, axes = new_figure(1, len(targets), size=(3.8 * len(targets), 3.4))
+    for ax, name in zip(axes[0], targets):
+        for case, configuration in sorted({(r["case"], _configuration(r)) for r in ok}):
+            points = sorted((r[key], r[name]) for r in ok if r["case"] == case and _configuration(r) == configuration
+                            and isinstance(r.get(name), float) and isinstance(r.get(key), float))
+            if points:
+                ax.plot(*zip(*points), "o-", label=f"{case} {configuration}", markersize=3)
+        ax.set_xlabel(key)
+        ax.set_ylabel(name)
+        ax.grid(True, alpha=0.3)
+    return _finish(figure, axes[0, 0], f"outputs against {key}", path)
+
+
+def _plot_error_against_parameter(errors: list, key: str, path: Path) -> Path:
+    """Errors against the reference over a grid parameter, one line per case and configuration."""
+    figure, axes = new_figure(1, 2, size=(12.0, 4.6))
+    positive = all(isinstance(e.get(key), float) and e[key] > 0 for e in errors)
+    for ax, metric, unit in zip(axes[0], ("altitude_error", "max_tension_error"), ("m", "N")):
+        for group in sorted({(e["case"], e["configuration"]) for e in errors}):
+            points = sorted((e[key], e[metric]) for e in errors if (e["case"], e["configuration"]) == group
+                            and isinstance(e.get(key), float) and e[metric] > 0)
+            if points:
+                ax.plot(*zip(*points), "o-", label=" ".join(group), markersize=4)
+        ax.set_xscale("log" if positive else "linear")
+        ax.set_yscale("log")
+        ax.set_xlabel(key)
+        ax.set_ylabel(f"{metric.replace('_', ' ')} against the reference ({unit})")
+        ax.grid(True, which="both", alpha=0.3)
+    return _finish(figure, axes[0, 1], f"error against {key}", path)
+
+
+def _finish(figure, legend_axis, title: str, path: Path) -> Path:
+    if legend_axis is not None and legend_axis.get_legend_handles_labels()[0]:
+        legend_axis.legend(fontsize="x-small")
+    figure.suptitle(title)
+    save_figure(figure, path)
+    return path
+
+
+def _write_errors(errors: list, path: Path) -> Path:
+    keys = list(errors[0])
+
+    def cell(value):
+        return f"{value:.6g}" if isinstance(value, float) else ("" if value is None else str(value))
+    atomic_write_text(path, ",".join(keys) + "\n" + "".join(",".join(cell(e[k]) for k in keys) + "\n" for e in errors))
+    return path
+
+
+def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, paths: dict) -> str:
+    failed = [r for r in rows if r.get("status") != "ok"]
+    lines = [f"# Study report: {title}", "",
+             f"{len(rows)} runs recorded: {len(rows) - len(failed)} ok, {len(failed)} failed "
+             f"({sum(r.get('reference') == 'True' for r in rows)} reference runs).", "",
+             "| output | p1 | p50 | p99 | mean | std | min | max |", "|---|---|---|---|---|---|---|---|"]
+    for name, s in stats.items():
+        lines.append(f"| {name} | " + " | ".join(f"{s[k]:.6g}" for k in ("p1", "p50", "p99", "mean", "std", "min",
+                                                                          "max")) + " |")
+    if errors:
+        lines += ["", "Errors against the reference (each run against its reference run):", "",
+                  "| case | configuration | " + "".join(f"{k} | " for k in grid) + "wall time (s) | final altitude "
+                  "error (m) | final lateral error (m) | max tension error after min(2 s, 20% of the run) (N) |",
+                  "|---|---|" + "---|" * len(grid) + "---|---|---|---|"]
+        for e in sorted(errors, key=lambda e: (e["case"], e["family"], e["step"] or 0.0,
+                                               *[_sort_key(e.get(k)) for k in grid])):
+            lines.append(f"| {e['case']} | {e['configuration']} | " + "".join(f"{e.get(k)} | " for k in grid)
+                         + f"{e['wall_time']:.3g} | {e['altitude_error']:.3g} | {e['lateral_error']:.3g} | "
+                           f"{e['max_tension_error']:.3g} |")
+    if failed:
+        lines += ["", "Failed runs:", "", "| run | case | configuration | error |", "|---|---|---|---|"]
+        for r in failed:
+            lines.append(f"| {int(r['run'])} | {r['case']} | {_configuration(r)} | {r.get('error')} |")
+    lines += ["", "Figures: " + ", ".join(f"`{Path(p).name}`" for p in paths.values() if str(p).endswith(".png"))]
+    return "\n".join(lines) + "\n"
+
+
+def _sort_key(value):
+    return (0, value, "") if isinstance(value, float) else (1, 0.0, str(value))
+
+
+def _safe(key: str) -> str:
+    return "_".join("".join(c if c.isalnum() else " " for c in key).split())

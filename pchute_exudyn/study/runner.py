@@ -1,0 +1,152 @@
+"""Run a study on any ``concurrent.futures.Executor``: a local process pool by default, a Dask client's executor
+when asked. Results are recorded as they come back, in whatever order; the inputs never depend on the executor."""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, PchuteError
+from .spec import RunSpec, StudySpec
+from .store import StudyStore
+
+
+def scalar_outputs(result) -> dict:
+    """The scalar outputs a study keeps of a run (m, s, N, m/s)."""
+    s, f = result.summary, result.summary["final"]
+    out = {"final_time": f["time"], "final_altitude": f["vehicle_altitude"], "final_east": f["vehicle_east"],
+           "final_north": f["vehicle_north"], "final_lateral": math.hypot(f["vehicle_east"], f["vehicle_north"])}
+    touchdown = [e for e in s.get("events", []) if e["event"] == "touchdown"]
+    if touchdown:
+        out["touchdown_time"] = touchdown[0]["time"]
+        out["touchdown_speed"] = touchdown[0]["speed"]
+    for name in result.tension_names():
+        values = result[name][np.isfinite(result[name])]
+        label = name.removeprefix("tension_")
+        out[f"peak_tension_{label}"] = float(values.max()) if len(values) else None
+        out[f"rms_tension_{label}"] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
+    return out
+
+
+def execute(run: RunSpec) -> dict:
+    """Run one study run in a worker; never raises: a failure is a record with its error text."""
+    from ..case import load_case
+    from ..simulation import simulate
+
+    started = time.perf_counter()
+    record = {"run": run.index, "status": "ok", "error": ""}
+    try:
+        case = load_case(run.case_file, run.overrides())
+        c = run.configuration
+        result = simulate(case, c.method, c.integrator, c.step, kappa_max=c.kappa_max, slack_rule=c.slack_rule)
+        record.update(scalar_outputs(result))
+        record["wall_time"] = result.summary["wall_time"]
+        record["steps"] = result.summary["steps"]
+        if run.history_dir is not None:
+            result.save(run.history_dir, plot=False, csv=False)
+    except PchuteError as exc:
+        record.update(status="failed", error=str(exc), wall_time=time.perf_counter() - started)
+    except Exception as exc:  # a bug, not a user mistake: still recorded, the study goes on
+        record.update(status="failed", error=f"internal error: {exc!r}", wall_time=time.perf_counter() - started)
+    return record
+
+
+def dask_executor(scheduler: str | None = None, local_workers: int | None = None, timeout: float = 10.0):
+    """A Dask executor and a function that closes what was opened: a scheduler at ``scheduler`` (bounded by
+    ``timeout`` s) or a ``LocalCluster`` of ``local_workers`` processes."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError("Dask is not installed: pip install 'pchute-exudyn[dask]'") from None
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=timeout, set_as_default=False)
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"could not reach the Dask scheduler at {scheduler!r} within {timeout:g} s "
+                             f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None
+        return client.get_executor(pure=False), client.close
+    cluster = LocalCluster(n_workers=local_workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    client = Client(cluster, set_as_default=False)
+
+    def close():
+        client.close()
+        cluster.close()
+    return client.get_executor(pure=False), close
+
+
+def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: int | None = None,
+              progress: bool = True, retry_failed: bool = False) -> dict:
+    """Run (or resume) ``spec`` into folder ``out``.
+
+    Parameters
+    ----------
+    spec : StudySpec
+    out : path
+        The study folder (see ``study.store``); rerunning into it skips finished runs.
+    executor : concurrent.futures.Executor, optional
+        Where runs execute; default a process pool of ``workers`` (default: every core).
+    progress : bool
+        Show a progress bar (runs done, failed, time left).
+    retry_failed : bool
+        Run again the runs recorded as failed.
+
+    Returns
+    -------
+    dict
+        Counts: planned, skipped (already done), executed, failed, and the wall time (s).
+    """
+    out = Path(out)
+    runs = spec.expand(out / "histories")
+    store = StudyStore(out, spec, runs)
+    store.open()
+    done = store.done(retry_failed)
+    pending = [r for r in runs if r.index not in done]
+    owned = executor is None
+    if owned:
+        executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count())
+    failed = sum(1 for i in done if store.records[i].get("status") != "ok")
+    bar = _progress(len(runs), len(done), failed) if progress else None
+    started = time.perf_counter()
+    executed = 0
+    futures = {}
+    try:
+        futures = {executor.submit(execute, run): run for run in pending}
+        remaining = set(futures)
+        while remaining:
+            finished, remaining = wait(remaining, return_when=FIRST_COMPLETED)
+            for future in finished:
+                run = futures[future]
+                try:
+                    record = future.result()
+                except Exception as exc:  # the executor itself failed (a worker died, transport error)
+                    record = {"run": run.index, "status": "failed", "error": f"executor error: {exc!r}"}
+                store.record(record)
+                executed += 1
+                failed += record["status"] != "ok"
+                if bar is not None:
+                    bar.update(1)
+                    bar.set_postfix(failed=failed)
+    except KeyboardInterrupt:
+        for future in futures:
+            future.cancel()
+        raise
+    finally:
+        store.write_table()
+        if bar is not None:
+            bar.close()
+        if owned:
+            executor.shutdown(wait=True, cancel_futures=True)
+    return {"planned": len(runs), "skipped": len(done), "executed": executed, "failed": failed,
+            "wall_time": time.perf_counter() - started, "folder": str(out)}
+
+
+def _progress(total: int, initial: int, failed: int):
+    from tqdm import tqdm
+    bar = tqdm(total=total, initial=initial, unit="run", desc="study", dynamic_ncols=True)
+    bar.set_postfix(failed=failed)
+    return bar

@@ -1,0 +1,357 @@
+"""Study files: a base case (or several), method and step configurations, and varied parameters; expanded into runs.
+
+A study file is TOML::
+
+    [study]
+    name = "MER Monte Carlo"
+    case = "../../cases/mer/case1.toml"   # a path relative to this file, or a list of them (a grid dimension)
+    runs = 200                            # Monte Carlo samples per grid point (default 1)
+    seed = 2026                           # master seed: required when a parameter has a distribution
+    duration = 60.0                       # optional: overrides the cases' simulation.duration (s)
+    histories = false                     # also save each run's time histories
+
+    [[study.configurations]]              # method, integrator, steps (a list: one run each), SP options
+    method = "sp"
+    steps = [1e-2]
+
+    [study.reference]                     # optional: every sample is also run like this; the report measures
+    method = "full"                       # each run's error against it
+    integrator = "rk4"
+    step = 1e-4
+    per = "sample"                        # or "case": one reference per case file, run as written (without the
+                                          # parameter values), for keys it does not depend on (kappa_max for full)
+
+    [parameters."vehicle.initial.velocity_east"]      # dotted case keys, as for --set
+    distribution = "normal"                           # normal (mean, std), uniform (low, high),
+    mean = 0.0                                        # truncated_normal (mean, std, low, high)
+    std = 0.5
+
+    [parameters."main.lines.*.stiffness"]
+    distribution = "uniform"
+    low = 0.9
+    high = 1.1
+    relative = true                                   # multiplies the case's value(s)
+
+    [parameters."main.confluence.mass"]               # a grid: values = [...], or
+    values = [0.1539, 0.01539]                        # range = {start, stop, step}, linspace = {start, stop, num}
+
+Runs are the product of cases, grid values and Monte Carlo samples (the *samples*), times the configurations (and
+the reference). Random draws come from ``numpy.random.SeedSequence(seed).spawn`` by sample index, in the file's
+parameter order, so they do not depend on how many workers run the study, and every configuration of a sample (and
+its reference) sees the same draws (common random numbers).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..case.loader import Scale, _check_number, _Context, _Table, load_case, read_toml
+from ..case.model import INTEGRATORS, METHODS, SLACK_RULES
+from ..errors import CaseError
+
+DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
+                 "truncated_normal": ("mean", "std", "low", "high")}
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A varied case key: a grid of values, or a distribution to draw from.
+
+    Attributes
+    ----------
+    key : str
+        Dotted case key (``--set`` syntax).
+    values : tuple
+        Grid values; empty for a distribution.
+    distribution : str or None
+        One of DISTRIBUTIONS.
+    arguments : dict
+        The distribution's parameters (same unit as the key, or multipliers when relative).
+    relative : bool
+        The value multiplies the case's value(s) instead of replacing it.
+    """
+
+    key: str
+    values: tuple = ()
+    distribution: str | None = None
+    arguments: dict = field(default_factory=dict)
+    relative: bool = False
+
+    def draw(self, rng: np.random.Generator) -> float:
+        a = self.arguments
+        if self.distribution == "normal":
+            return float(rng.normal(a["mean"], a["std"]))
+        if self.distribution == "uniform":
+            return float(rng.uniform(a["low"], a["high"]))
+        while True:  # truncated normal by rejection (the bounds hold at least 1e-6 of the probability: checked)
+            value = float(rng.normal(a["mean"], a["std"]))
+            if a["low"] <= value <= a["high"]:
+                return value
+
+
+@dataclass(frozen=True)
+class Configuration:
+    """How a run integrates: method, integrator, step (s) and SP options (None: the case's)."""
+
+    method: str | None = None
+    integrator: str | None = None
+    step: float | None = None
+    slack_rule: str | None = None
+    kappa_max: float | None = None
+
+    @property
+    def label(self) -> str:
+        parts = [self.method or "case method", self.integrator or "", f"{self.step:g}" if self.step else ""]
+        if self.slack_rule:
+            parts.append(self.slack_rule)
+        if self.kappa_max is not None:
+            parts.append(f"kappa {self.kappa_max:g}")
+        return " ".join(p for p in parts if p)
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of a study; everything a worker needs, picklable."""
+
+    index: int
+    sample: int
+    case_file: str
+    configuration: Configuration
+    values: dict
+    relative: dict
+    duration: float | None
+    reference: bool
+    history_dir: str | None = None
+    reference_run: int | None = None   # the reference run this run's errors are measured against
+
+    def overrides(self) -> dict:
+        """The case overrides of this run (relative values as Scale)."""
+        over = {key: (Scale(value) if self.relative.get(key) else value) for key, value in self.values.items()}
+        if self.duration is not None:
+            over["simulation.duration"] = self.duration
+        return over
+
+    def row(self, case_label: str) -> dict:
+        """The run's inputs as a table row."""
+        c = self.configuration
+        return {"run": self.index, "sample": self.sample, "case": case_label, "reference": self.reference,
+                "reference_run": self.reference_run, "method": c.method or "", "integrator": c.integrator or "",
+                "step": c.step, "slack_rule": c.slack_rule or "", "kappa_max": c.kappa_max, **self.values}
+
+
+@dataclass(frozen=True)
+class StudySpec:
+    """A validated study file."""
+
+    name: str
+    source: Path
+    cases: tuple
+    configurations: tuple
+    reference: Configuration | None
+    reference_per: str
+    parameters: tuple
+    runs: int
+    seed: int | None
+    duration: float | None
+    histories: bool
+    text: str
+
+    def samples(self) -> list:
+        """(case file, grid values) of every sample, with its Monte Carlo index: the study's sample order."""
+        grid = [p for p in self.parameters if p.distribution is None]
+        combos = list(itertools.product(*[p.values for p in grid])) if grid else [()]
+        return [(case, dict(zip([p.key for p in grid], combo)), mc)
+                for case in self.cases for combo in combos for mc in range(self.runs)]
+
+    def expand(self, history_root: Path | None = None) -> list:
+        """Every run of the study, in order: per sample its reference (if any), then each configuration; with a
+        per-case reference, that reference comes before the case's first sample and runs the case file as written (no
+        parameter values: the varied keys may not even apply to the reference's method, e.g. kappa_max to full mass)."""
+        samples = self.samples()
+        # one child seed per sample, by index: the draws never depend on the number of workers or their order
+        seeds = [None] * len(samples) if self.seed is None else np.random.SeedSequence(self.seed).spawn(len(samples))
+        drawn = [p for p in self.parameters if p.distribution is not None]
+        relative = {p.key: p.relative for p in self.parameters}
+        keep = history_root is not None and (self.histories or self.reference is not None)
+        runs, case_reference = [], {}
+
+        def add(sample, case, configuration, values, is_reference, reference_run):
+            index = len(runs)
+            history = str(history_root / f"run_{index:05d}") if keep else None
+            runs.append(RunSpec(index, sample, str(case), configuration, values, relative, self.duration,
+                                is_reference, history, reference_run))
+            return index
+
+        for sample, ((case, grid_values, _), seed) in enumerate(zip(samples, seeds)):
+            values = dict(grid_values)
+            if drawn:
+                rng = np.random.default_rng(seed)
+                for parameter in drawn:
+                    values[parameter.key] = parameter.draw(rng)
+            ordered = {p.key: values[p.key] for p in self.parameters}
+            reference_run = None
+            if self.reference is not None and self.reference_per == "case":
+                if case not in case_reference:
+                    case_reference[case] = add(sample, case, self.reference, {}, True, None)
+                reference_run = case_reference[case]
+            elif self.reference is not None:
+                reference_run = add(sample, case, self.reference, ordered, True, None)
+            for configuration in self.configurations:
+                add(sample, case, configuration, ordered, False, reference_run)
+        return runs
+
+    def fingerprint(self) -> str:
+        """A hash of the study file, the case files and the expanded inputs: a resumed study must match it."""
+        digest = hashlib.sha256(self.text.encode())
+        for case in self.cases:
+            digest.update(Path(case).read_bytes())
+        digest.update(json.dumps([r.row("") for r in self.expand()], sort_keys=True, default=str).encode())
+        return digest.hexdigest()
+
+
+def _read_configuration(t: _Table, single_step: bool) -> list:
+    if single_step:
+        t.allowed.append("per")
+    method = t.string("method", None, METHODS)
+    integrator = t.string("integrator", None, INTEGRATORS)
+    slack_rule = t.string("slack_rule", None, SLACK_RULES)
+    kappa_max = t.number("kappa_max", "", None)
+    if single_step:
+        steps = [t.number("step", "s", None, above=0.0)]
+    else:
+        steps = list(t.sequence("steps", "s")) if "steps" in t.data else [t.number("step", "s", None, above=0.0)]
+        if any(s is not None and not s > 0.0 for s in steps):
+            raise t.error("steps", "every step must be > 0 (s)", steps)
+    t.finish()
+    return [Configuration(method, integrator, step, slack_rule, kappa_max) for step in steps]
+
+
+def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
+    relative = t.boolean("relative", False)
+    if "distribution" in t.data:
+        name = t.string("distribution", choices=tuple(DISTRIBUTIONS))
+        arguments = {}
+        for argument in DISTRIBUTIONS[name]:
+            if argument not in t.data:
+                raise t.error(argument, f"required by distribution '{name}' (it needs "
+                                        f"{', '.join(DISTRIBUTIONS[name])})")
+            arguments[argument] = t.number(argument, "")
+        if "std" in arguments and not arguments["std"] > 0.0:
+            raise t.error("std", "must be > 0", arguments["std"])
+        if "low" in arguments and not arguments["low"] < arguments["high"]:
+            raise t.error("high", f"must be > low ({arguments['low']:g})", arguments["high"])
+        if name == "truncated_normal":
+            from scipy.stats import norm
+            mass = norm.cdf(arguments["high"], arguments["mean"], arguments["std"]) - \
+                norm.cdf(arguments["low"], arguments["mean"], arguments["std"])
+            if mass < 1e-6:
+                raise t.error("low", "the bounds leave almost none of the normal distribution's probability")
+        t.finish()
+        return Parameter(key, (), name, arguments, relative)
+    given = [k for k in ("values", "range", "linspace") if k in t.data]
+    if len(given) != 1:
+        raise t.error(None, "give exactly one of: distribution (with its parameters), values = [...], "
+                            "range = {start, stop, step} or linspace = {start, stop, num}")
+    if given[0] == "values":
+        raw = t._get("values", None, "")
+        if not isinstance(raw, list) or not raw:
+            raise t.error("values", "must be a non-empty list", raw)
+        values = tuple(raw)
+    elif given[0] == "range":
+        r = t.table("range")
+        start, stop, step = r.number("start", ""), r.number("stop", ""), r.number("step", "")
+        r.finish()
+        if step == 0.0 or (stop - start) / step < 0:
+            raise r.error("step", "must be non-zero and point from start to stop", step)
+        count = int(math.floor((stop - start) / step + 1e-9)) + 1
+        values = tuple(float(start + i * step) for i in range(count))
+    else:
+        r = t.table("linspace")
+        start, stop = r.number("start", ""), r.number("stop", "")
+        num = r._get("num", None, "")
+        r.allowed.append("num")
+        if isinstance(num, bool) or not isinstance(num, int) or num < 2:
+            raise r.error("num", "must be an integer >= 2", num)
+        r.finish()
+        values = tuple(float(v) for v in np.linspace(start, stop, num))
+    t.finish()
+    return Parameter(key, values, None, {}, relative)
+
+
+def load_study(path) -> StudySpec:
+    """Read and validate a study file; every parameter key is checked against the base case(s)."""
+    path = Path(path)
+    data = read_toml(path)
+    source = str(path)
+    ctx = _Context(source, {})
+    top = _Table(data, (), ctx)
+    s = top.table("study")
+    name = s.string("name", path.stem)
+    raw_cases = s._get("case", None, "")
+    if isinstance(raw_cases, str):
+        raw_cases = [raw_cases]
+    if not isinstance(raw_cases, list) or not raw_cases or not all(isinstance(c, str) for c in raw_cases):
+        raise s.error("case", "must be a case file path or a non-empty list of them", raw_cases)
+    cases = tuple((path.parent / c).resolve() for c in raw_cases)
+    for case in cases:
+        if not case.is_file():
+            raise s.error("case", f"case file not found: {case}", str(case))
+    runs = s._get("runs", 1, "")
+    if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
+        raise s.error("runs", "must be an integer >= 1 (Monte Carlo samples per grid point)", runs)
+    seed = s._get("seed", None, "")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+        raise s.error("seed", "must be an integer >= 0", seed)
+    duration = s.number("duration", "s", None, above=0.0)
+    histories = s.boolean("histories", False)
+    configurations = []
+    outer = s._get("configurations", [{}], "")
+    if not isinstance(outer, list) or not outer:
+        raise s.error("configurations", "must be a non-empty array of tables ([[study.configurations]])", outer)
+    for i, entry in enumerate(outer):
+        configurations.extend(_read_configuration(_Table(entry, ("study", "configurations", i), ctx), False))
+    reference_table = s.table("reference", None)
+    reference, reference_per = None, "sample"
+    if reference_table is not None:
+        reference_per = reference_table.string("per", "sample", ("sample", "case"))
+        reference = _read_configuration(reference_table, True)[0]
+    s.finish()
+    parameters = []
+    for key, table in top.named_tables("parameters", {}).items():
+        parameters.append(_read_parameter(key, table, source))
+    top.finish()
+    if any(p.distribution for p in parameters) and seed is None:
+        raise s.error("seed", "required: the study draws random values")
+    if runs > 1 and not any(p.distribution for p in parameters):
+        raise s.error("runs", "more than one run per grid point needs a parameter with a distribution", runs)
+    spec = StudySpec(name, path, cases, tuple(configurations), reference, reference_per, tuple(parameters), runs, seed,
+                     duration, histories, path.read_text())
+    _check_parameters(spec, source)
+    return spec
+
+
+def _check_parameters(spec: StudySpec, source: str) -> None:
+    """Apply each parameter to every case now, so a key that does not exist fails before any run. A grid passes
+    when one of its values applies: a value the case refuses (a step study's unstable step, a kappa_max of 3) is
+    recorded as that run's failure instead."""
+    extra = {"simulation.duration": spec.duration} if spec.duration else {}
+    for case in spec.cases:
+        for p in spec.parameters:
+            candidates = p.values or (p.arguments.get("mean", p.arguments.get("low")),)
+            first = None
+            for value in candidates:
+                try:
+                    load_case(case, {p.key: Scale(value) if p.relative else value, **extra})
+                    break
+                except CaseError as exc:
+                    first = first or exc
+            else:
+                raise CaseError(source, f'parameters."{p.key}"',
+                                f"does not apply to case {case.name}: {first.detail}") from None

@@ -1,0 +1,127 @@
+"""The result store of a study: one folder, nothing lost, nothing twice.
+
+* ``study.toml``: a copy of the study file; ``manifest.json``: the study's fingerprint and run count;
+* ``inputs.csv``: every planned run and its inputs, written before the first run;
+* ``runs.jsonl``: one line per finished run (inputs, outputs, status, error), appended and flushed to disk as each
+  run finishes: the record that survives a crash (a torn last line is ignored, so that run simply runs again);
+* ``runs.csv``: the same as a table, rewritten atomically as runs finish;
+* ``histories/run_NNNNN/``: time histories, when the study keeps them.
+
+Rerunning a study into the same folder skips the runs in ``runs.jsonl``; a study whose file, cases or inputs changed
+is refused (start it in a new folder).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import time
+from pathlib import Path
+
+from ..errors import InputError
+from ..io import atomic_write_text, ensure_writable_dir
+
+FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step", "slack_rule",
+                 "kappa_max"]
+OUTCOME_COLUMNS = ["status", "error", "wall_time", "steps"]
+
+
+class StudyStore:
+    """Append-only record of a study's runs in ``folder``."""
+
+    def __init__(self, folder, spec, runs: list):
+        self.folder = Path(folder)
+        self.spec = spec
+        self.runs = runs
+        self.records: dict = {}
+        self._last_table = 0.0
+
+    # -- set up and resume --------------------------------------------------------------------------------------
+
+    def open(self) -> None:
+        ensure_writable_dir(self.folder)
+        manifest = self.folder / "manifest.json"
+        fingerprint = self.spec.fingerprint()
+        if manifest.is_file():
+            saved = json.loads(manifest.read_text())
+            if saved.get("fingerprint") != fingerprint:
+                raise InputError(f"{self.folder} holds a study whose file, cases or inputs differ from "
+                                 f"{self.spec.source}: resume only the same study (use another --out)")
+        else:
+            atomic_write_text(self.folder / "study.toml", self.spec.text)
+            atomic_write_text(self.folder / "inputs.csv", self._csv([self._input_row(r) for r in self.runs]))
+            atomic_write_text(manifest, json.dumps({"name": self.spec.name, "fingerprint": fingerprint,
+                                                    "runs": len(self.runs), "study_file": str(self.spec.source)},
+                                                   indent=2) + "\n")
+        self.records = self.load_records(self.folder)
+
+    @staticmethod
+    def load_records(folder) -> dict:
+        """Finished runs from ``runs.jsonl`` by run index (a torn line is skipped). An index appears twice only when a
+        failed run was retried (``--retry-failed``): the later record wins."""
+        records = {}
+        path = Path(folder) / "runs.jsonl"
+        if path.is_file():
+            for line in path.read_text().splitlines():
+                try:
+                    record = json.loads(line)
+                except json.JSONDecodeError:
+                    continue
+                records[record["run"]] = record
+        return records
+
+    def done(self, retry_failed: bool = False) -> set:
+        return {i for i, r in self.records.items() if not (retry_failed and r.get("status") != "ok")}
+
+    # -- recording ------------------------------------------------------------------------------------------------
+
+    def record(self, record: dict) -> None:
+        """Append one finished run to disk at once, then refresh the table (at most once a second)."""
+        line = json.dumps(record, default=_plain) + "\n"
+        with open(self.folder / "runs.jsonl", "a", encoding="utf-8") as handle:
+            handle.write(line)
+            handle.flush()
+            os.fsync(handle.fileno())
+        self.records[record["run"]] = record
+        if time.monotonic() - self._last_table > 1.0:
+            self.write_table()
+
+    def write_table(self) -> None:
+        rows = [{**self._input_row(self.runs[i]), **self.records[i]} for i in sorted(self.records)]
+        atomic_write_text(self.folder / "runs.csv", self._csv(rows))
+        self._last_table = time.monotonic()
+
+    # -- helpers ----------------------------------------------------------------------------------------------------
+
+    def _input_row(self, run) -> dict:
+        return run.row(Path(run.case_file).stem)
+
+    def _csv(self, rows: list) -> str:
+        keys = list(FIRST_COLUMNS) + [p.key for p in self.spec.parameters]
+        for row in rows:
+            for key in row:
+                if key not in keys:
+                    keys.append(key)
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=keys, extrasaction="ignore", lineterminator="\n")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: _cell(v) for k, v in row.items()})
+        return buffer.getvalue()
+
+
+def _plain(value):
+    if hasattr(value, "item"):
+        return value.item()
+    raise TypeError(f"not JSON serialisable: {value!r}")
+
+
+def _cell(value):
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return ""
+    if isinstance(value, float):
+        return f"{value:.12g}"
+    return value
