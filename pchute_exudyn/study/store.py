@@ -54,7 +54,8 @@ class StudyStore:
             atomic_write_text(self.folder / "study.toml", self.spec.text)
             atomic_write_text(self.folder / "inputs.csv", self._csv([self._input_row(r) for r in self.runs]))
             atomic_write_text(manifest, json.dumps({"name": self.spec.name, "fingerprint": fingerprint,
-                                                    "runs": len(self.runs), "study_file": str(self.spec.source)},
+                                                    "runs": len(self.runs),
+                                                    "study_file": os.path.relpath(self.spec.source, self.folder)},
                                                    indent=2) + "\n")
         self.records = self.load_records(self.folder)
 
