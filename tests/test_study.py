@@ -250,6 +250,15 @@ def test_unreachable_dask_scheduler_fails_fast_with_a_clear_message(tmp_path, ca
     assert time.time() - started < 30
 
 
+def test_study_on_a_running_dask_scheduler_by_address(tmp_path):
+    from distributed import LocalCluster
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        code = main(["study", str(write_study(tmp_path, runs=2, duration=1.0)), "--dask-scheduler",
+                     cluster.scheduler_address, "--no-progress", "--out", str(tmp_path / "remote")])
+    rows = table(tmp_path / "remote")
+    assert code == 0 and len(rows) == 2 and all(r["status"] == "ok" for r in rows)
+
+
 def test_changed_study_is_not_resumed_into_the_same_folder(tmp_path):
     run_study(load_study(write_study(tmp_path, runs=2, duration=1.0)), tmp_path / "s", workers=1, progress=False)
     changed = load_study(write_study(tmp_path, runs=3, duration=1.0))

@@ -3,10 +3,12 @@ when asked. Results are recorded as they come back, in whatever order; the input
 
 from __future__ import annotations
 
+import asyncio
 import math
 import os
+import sys
 import time
-from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, ThreadPoolExecutor, wait
 from pathlib import Path
 
 import numpy as np
@@ -56,6 +58,20 @@ def execute(run: RunSpec) -> dict:
     return record
 
 
+def _first_line(exc: Exception) -> str:
+    return str(exc).splitlines()[0] if str(exc) else ""
+
+
+async def _scheduler_identity(address: str, timeout: float) -> dict:
+    from distributed.core import rpc
+
+    scheduler = rpc(address, timeout=timeout)
+    try:
+        return await asyncio.wait_for(scheduler.identity(), timeout)
+    finally:
+        await scheduler.close_rpc()
+
+
 def dask_executor(scheduler: str | None = None, local_workers: int | None = None, timeout: float = 10.0):
     """A Dask executor and a function that closes what was opened: a scheduler at ``scheduler`` (bounded by
     ``timeout`` s) or a ``LocalCluster`` of ``local_workers`` processes."""
@@ -64,11 +80,23 @@ def dask_executor(scheduler: str | None = None, local_workers: int | None = None
     except ImportError:
         raise InputError("Dask is not installed: pip install 'pchute-exudyn[dask]'") from None
     if scheduler is not None:
+        # Ask the scheduler who it is before building a Client: a Client that fails to connect blocks its own
+        # clean-up for 2 x timeout at exit, and a port that answers but is not a scheduler breaks it oddly.
         try:
-            client = Client(scheduler, timeout=timeout, set_as_default=False)
-        except (OSError, TimeoutError) as exc:
+            with ThreadPoolExecutor(1) as thread:   # its own event loop, even when the caller runs one (Jupyter)
+                identity = thread.submit(asyncio.run, _scheduler_identity(scheduler, timeout)).result()
+        except (OSError, TimeoutError, asyncio.TimeoutError) as exc:   # refused, unreachable, no answer in time
             raise InputError(f"could not reach the Dask scheduler at {scheduler!r} within {timeout:g} s "
-                             f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None
+                             f"({type(exc).__name__}: {_first_line(exc)})") from None
+        except Exception as exc:  # something answered, but not the Dask protocol
+            raise InputError(f"{scheduler!r} did not answer as a Dask scheduler ({type(exc).__name__}: "
+                             f"{_first_line(exc)}): check the address and port") from None
+        if not isinstance(identity, dict) or identity.get("type") != "Scheduler":
+            raise InputError(f"{scheduler!r} answered but is not a Dask scheduler")
+        if not identity.get("workers"):
+            print(f"pchute study: the Dask scheduler at {scheduler} has no workers yet; runs start when workers join",
+                  file=sys.stderr)
+        client = Client(scheduler, timeout=timeout, set_as_default=False)
         return client.get_executor(pure=False), client.close
     cluster = LocalCluster(n_workers=local_workers, threads_per_worker=1, processes=True, dashboard_address=None)
     client = Client(cluster, set_as_default=False)
@@ -101,7 +129,7 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
         Counts: planned, skipped (already done), executed, failed, and the wall time (s).
     """
     out = Path(out)
-    runs = spec.expand(out / "histories")
+    runs = spec.expand(out.resolve() / "histories")   # absolute: workers may run elsewhere
     store = StudyStore(out, spec, runs)
     store.open()
     done = store.done(retry_failed)
