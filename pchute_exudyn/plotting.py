@@ -49,33 +49,28 @@ def plot_tension_overlay(results: dict, lines=None, title: str = "", t_max: floa
     """One panel per line, the tension of each labelled result overlaid (``results``: label -> Result)."""
     first = next(iter(results.values()))
     lines = lines or [n.removeprefix("tension_") for n in first.tension_names()]
-    figure, axes = new_figure(len(lines), 1, size=(9.0, 2.2 * len(lines) + 0.8), sharex=True)
-    for ax, line in zip(axes[:, 0], lines):
-        for label, result in results.items():
-            if f"tension_{line}" in result:
-                mask = result.time <= (t_max if t_max is not None else result.time[-1])
-                ax.plot(result.time[mask], result[f"tension_{line}"][mask], label=label, linewidth=0.8)
-        ax.set_ylabel(f"{line} (N)")
-        ax.grid(True, alpha=0.3)
-    axes[0, 0].legend(loc="best", fontsize="small")
-    axes[-1, 0].set_xlabel("time (s)")
-    figure.suptitle(title or "line tensions")
-    return figure
+    return _overlay(results, [(f"tension_{line}", f"{line} (N)") for line in lines], title or "line tensions",
+                    (9.0, 2.2 * len(lines) + 0.8), t_max)
 
 
 def plot_confluence_velocity_overlay(results: dict, prefix: str = "confluence", title: str = "",
                                      t_max: float | None = None) -> Figure:
     """Confluence east and north (lateral) velocity of each labelled result overlaid."""
-    figure, axes = new_figure(2, 1, size=(9.0, 5.5), sharex=True)
-    for ax, component in zip(axes[:, 0], ("east", "north")):
+    panels = [(f"{prefix}_velocity_{c}", f"{c} velocity (m/s)") for c in ("east", "north")]
+    return _overlay(results, panels, title or "confluence lateral velocity", (9.0, 5.5), t_max)
+
+
+def _overlay(results: dict, panels: list, title: str, size, t_max: float | None) -> Figure:
+    """One panel per (column, y label), every labelled result that has the column overlaid, up to ``t_max`` (s)."""
+    figure, axes = new_figure(len(panels), 1, size=size, sharex=True)
+    for ax, (name, ylabel) in zip(axes[:, 0], panels):
         for label, result in results.items():
-            name = f"{prefix}_velocity_{component}"
             if name in result:
                 mask = result.time <= (t_max if t_max is not None else result.time[-1])
                 ax.plot(result.time[mask], result[name][mask], label=label, linewidth=0.8)
-        ax.set_ylabel(f"{component} velocity (m/s)")
+        ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
     axes[0, 0].legend(loc="best", fontsize="small")
     axes[-1, 0].set_xlabel("time (s)")
-    figure.suptitle(title or "confluence lateral velocity")
+    figure.suptitle(title)
     return figure

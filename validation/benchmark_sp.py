@@ -15,9 +15,8 @@ import cProfile
 import pstats
 from pathlib import Path
 
-import numpy as np
-
 import pchute_exudyn as pc
+from pchute_exudyn.compare import compare_results
 from pchute_exudyn.io import atomic_write_text
 from pchute_exudyn.simulation import versions
 
@@ -77,11 +76,9 @@ def main(argv=None) -> None:
     reference = results[0][1]
     rows = ["| run | wall time (s) | steps | ratio to full RK4 1e-4 | speed-up | final altitude diff (m) | "
             "max tension diff after 2 s (N) |", "|---|---|---|---|---|---|---|"]
-    settled = reference.time > 2.0
     for label, result in results:
         wall = result.summary["wall_time"]
-        tension = max(np.abs(np.interp(reference.time, result.time, result[n]) - reference[n])[settled].max()
-                      for n in reference.tension_names())
+        tension = max(m["max_settled"] for m in compare_results(reference, result, settle_time=2.0).lines.values())
         rows.append(f"| {label} | {wall:.2f} | {result.summary['steps']} | {wall / reference.summary['wall_time']:.4f} "
                     f"| {reference.summary['wall_time'] / wall:.1f}x | "
                     f"{result.final('vehicle_altitude') - reference.final('vehicle_altitude'):+.3f} | {tension:.3g} |")

@@ -116,9 +116,10 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     -------
     Equilibrium
     """
-    attach = [tuple(float(c) for c in p) for p in np.asarray(attach_position, float).tolist()]
-    free_length = [float(v) for v in np.ravel(free_length)]
-    stiffness = [float(v) for v in np.ravel(stiffness)]
+    # plain floats for the loops below (accepts lists or arrays; cheap: this runs at every solver stage)
+    attach = [(float(p[0]), float(p[1]), float(p[2])) for p in attach_position]
+    free_length = [float(v) for v in free_length]
+    stiffness = [float(v) for v in stiffness]
     total = sum(stiffness)
     if not total > 0.0:
         raise NoEquilibriumError("no equilibrium point: no line has stiffness")
