@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from . import __version__
-from .case.model import INTEGRATORS, METHODS
+from .case.model import INTEGRATORS, METHODS, SLACK_RULES
 from .errors import InputError, PchuteError
 
 EXIT_ERROR = 1
@@ -45,7 +45,7 @@ def _add_run(subparsers) -> None:
                      help="override a case field, validated like the file; repeatable. Keys are dotted "
                           "(bodies.vehicle.mass=800); a body or system name may lead (vehicle.mass=800); '*' "
                           "matches every entry (main.lines.*.damping=0); [i] indexes arrays (vehicle.inertia[0]=250)")
-    run.add_argument("--slack-rule", choices=("stretch", "force"), default=None,
+    run.add_argument("--slack-rule", choices=SLACK_RULES, default=None,
                      help="sp: when a line counts as slack: stretch = L <= L0 (the thesis), force = its tension "
                           "would push (active set); default: the case's simulation.sp.slack_rule (stretch)")
     run.add_argument("--kappa-max", type=float, default=None, metavar="K",

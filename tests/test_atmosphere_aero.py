@@ -81,3 +81,13 @@ def test_folded_angle_beyond_90_degrees():
     f = aerodynamic_force(velocity, (0.0, 0.0, -1.0), 2.0, 1.0, 0.0, MER_CN)
     assert f[0] == pytest.approx(-1.0 * 0.15)
     assert aerodynamic_force((0, 0, 0), (0, 0, -1), 1.0, 1.0, 1.0, MER_CN) == (0.0, 0.0, 0.0)
+
+
+def test_table_interpolation_is_linear_inside_and_held_beyond_the_ends():
+    from pchute_exudyn.physics.interpolation import bracket, interpolate_held
+    xs, ys = (0.0, 1.0, 3.0), (10.0, 20.0, 0.0)
+    assert interpolate_held(xs, ys, 0.5) == pytest.approx(15.0)
+    assert interpolate_held(xs, ys, 2.0) == pytest.approx(10.0)
+    assert interpolate_held(xs, ys, -5.0) == 10.0 and interpolate_held(xs, ys, 9.0) == 0.0
+    assert interpolate_held(xs, ys, 1.0) == 20.0                     # a breakpoint is hit exactly
+    assert bracket(xs, 0.0) == (1, 0.0) and bracket(xs, 3.0) == (2, 1.0)

@@ -32,9 +32,8 @@ else:  # pragma: no cover
 
 from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
-from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere
+from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere, US76Lower, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
-from ..physics.atmosphere import US76Lower, Wind
 from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Aerodynamics, Body, Case, Confluence,
                     DragAreaSchedule, InitialState, Line, ParachuteSystem, SimulationSettings)
 

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import Atmosphere
+from ..physics.interpolation import interpolate_held
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.singular_perturbation import SLACK_RULES  # noqa: F401  (re-exported for the loader and CLI)
 
@@ -183,15 +184,10 @@ class DragAreaSchedule:
     fraction: tuple
 
     def __call__(self, since_deployment: float) -> float:
-        import bisect
-        t = self.time
-        if since_deployment <= t[0]:
+        """Fraction of the full drag area at ``since_deployment`` (s)."""
+        if len(self.time) == 1:
             return self.fraction[0]
-        if since_deployment >= t[-1]:
-            return self.fraction[-1]
-        i = bisect.bisect_right(t, since_deployment)
-        w = (since_deployment - t[i - 1]) / (t[i] - t[i - 1])
-        return self.fraction[i - 1] + w * (self.fraction[i] - self.fraction[i - 1])
+        return interpolate_held(self.time, self.fraction, since_deployment)
 
 
 @dataclass(frozen=True)

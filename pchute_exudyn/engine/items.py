@@ -141,6 +141,16 @@ def add_body(items: ModelItems, case: Case, body: Body, state: BodyState | None 
     return result
 
 
+def point_motion(body_state, local) -> tuple:
+    """Position (m) and velocity (m/s) of the body point ``local`` (body axes, m), start-frame components, from a
+    BodySnapshot entry (position, velocity, rotation matrix row-major, angular velocity). Plain floats."""
+    x, v, r, w = body_state
+    lx, ly, lz = local
+    ax, ay, az = r[0] * lx + r[1] * ly + r[2] * lz, r[3] * lx + r[4] * ly + r[5] * lz, r[6] * lx + r[7] * ly + r[8] * lz
+    return ((x[0] + ax, x[1] + ay, x[2] + az),
+            (v[0] + w[1] * az - w[2] * ay, v[1] + w[2] * ax - w[0] * az, v[2] + w[0] * ay - w[1] * ax))
+
+
 class BodySnapshot:
     """The free bodies' states read once per right-hand-side evaluation (4 engine calls per body), from which user
     functions of the same stage compute any body point in plain floats instead of reading markers.
@@ -161,14 +171,6 @@ class BodySnapshot:
             state[name] = (get(node, OV.Position, CURRENT).tolist(), get(node, OV.Velocity, CURRENT).tolist(),
                            get(node, OV.RotationMatrix, CURRENT).tolist(),
                            get(node, OV.AngularVelocity, CURRENT).tolist())
-
-    def point(self, name: str, local):
-        """Position (m) and velocity (m/s) of body point ``local`` (body axes, m), start-frame components."""
-        x, v, r, w = self.state[name]
-        lx, ly, lz = local
-        ax, ay, az = r[0] * lx + r[1] * ly + r[2] * lz, r[3] * lx + r[4] * ly + r[5] * lz, r[6] * lx + r[7] * ly + r[8] * lz
-        return ((x[0] + ax, x[1] + ay, x[2] + az),
-                (v[0] + w[1] * az - w[2] * ay, v[1] + w[2] * ax - w[0] * az, v[2] + w[0] * ay - w[1] * ax))
 
     def channels(self, items: "ModelItems") -> None:
         """Serve the bodies' output channels from the snapshot (current at every post-step call)."""
@@ -225,29 +227,23 @@ def add_aerodynamics(items: ModelItems, case: Case, body: Body, schedule=None, d
     get_marker, get_node = mbs.GetMarkerOutput, mbs.GetNodeOutput
     snapshot, name, center = items.snapshot, body.name, tuple(aero.center)
     node = body_items.node
-    ox, oy, oz = case.start.origin.tolist()
-    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = case.start.axes.tolist()
-    altitude = case.planet.altitude_scalar
+    altitude = case.start.altitude_scalar
     density = case.atmosphere.density
     air = AirMotion(case.start, case.wind)
     still = air.still
     area, axial, normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
 
     def aerodynamic_load(mbs_, t, load_vector):
-        if snapshot is not None:   # the stage's right-hand side has read the bodies already (point() inlined)
-            (px, py, pz), (vx, vy, vz), r, w = snapshot.state[name]
-            lx, ly, lz = center
-            ax, ay, az = (r[0] * lx + r[1] * ly + r[2] * lz, r[3] * lx + r[4] * ly + r[5] * lz,
-                          r[6] * lx + r[7] * ly + r[8] * lz)
-            x, y, z = px + ax, py + ay, pz + az
-            vx, vy, vz = vx + w[1] * az - w[2] * ay, vy + w[2] * ax - w[0] * az, vz + w[0] * ay - w[1] * ax
+        if snapshot is not None:   # the stage's right-hand side has read the bodies already
+            state = snapshot.state[name]
+            (x, y, z), (vx, vy, vz) = point_motion(state, center)
+            r = state[2]
         else:
             x, y, z = get_marker(marker, OV.Position, CURRENT).tolist()
             vx, vy, vz = get_marker(marker, OV.Velocity, CURRENT).tolist()
             r = get_node(node, OV.RotationMatrix, CURRENT).tolist()
         try:
-            h = altitude(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
-                         oz + a20 * x + a21 * y + a22 * z)
+            h = altitude(x, y, z)
             rho = density(h)
         except Exception as exc:  # keep our own error (e.g. outside an atmosphere table) for the solver to raise
             items.failure = items.failure or exc
@@ -288,30 +284,24 @@ class Touchdown:
         self.position = items.channels[("body", case.vehicle, "position")]
         self.velocity = items.channels[("body", case.vehicle, "velocity")]
         self.case, self.ground = case, ground_altitude
-        self.origin = case.start.origin.tolist()
-        self.axes = case.start.axes.tolist()
-        self.altitude = case.planet.altitude_scalar
+        self.altitude = case.start.altitude_scalar
         self.previous = None
         self.event = None
 
     def __call__(self, t: float) -> bool:   # every step: plain floats
         x, y, z = self.position()
-        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = self.axes
-        ox, oy, oz = self.origin
-        height = self.altitude(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
-                               oz + a20 * x + a21 * y + a22 * z)
+        height = self.altitude(x, y, z)
         if height > self.ground:
             self.previous = (t, height)
             return False
-        position = np.array([x, y, z])
-        velocity = np.asarray(self.velocity(), float)
         w = 1.0
         if self.previous is not None and self.previous[1] > height:
             w = (self.previous[1] - self.ground) / (self.previous[1] - height)
         t_prev = self.previous[0] if self.previous is not None else t
         time = t_prev + w * (t - t_prev)
-        v = velocity   # the velocity changes little within a step; the crossing time is interpolated
-        ground_velocity = self.case.start.velocity_to_planet_fixed(position, v, time)
+        # the crossing time is interpolated; the velocity changes little within a step and is taken at its end
+        ground_velocity = self.case.start.velocity_to_planet_fixed(np.array([x, y, z]),
+                                                                   np.asarray(self.velocity(), float), time)
         self.event = {"event": "touchdown", "time": float(time), "speed": float(np.linalg.norm(ground_velocity)),
                       "vertical_speed": float(-ground_velocity[2]),
                       "horizontal_speed": float(np.hypot(ground_velocity[0], ground_velocity[1]))}

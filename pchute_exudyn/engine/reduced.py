@@ -15,7 +15,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
-from .items import CURRENT, OV, ModelItems
+from .items import CURRENT, OV, ModelItems, point_motion
 
 
 class ReducedConfluence:
@@ -82,19 +82,14 @@ class ReducedConfluence:
         snapshot.refresh()
         state = snapshot.state
         positions, velocities = [], []
-        for (body, (lx, ly, lz), marker), fixed in zip(self.points, self.on_fixed):
+        for (body, local, marker), fixed in zip(self.points, self.on_fixed):
             if fixed:
                 positions.append(get(marker, OV.Position, CURRENT).tolist())
                 velocities.append((0.0, 0.0, 0.0))
                 continue
-            # BodySnapshot.point, inlined (it runs for every line at every stage)
-            x, v, r, w = state[body]
-            ax = r[0] * lx + r[1] * ly + r[2] * lz
-            ay = r[3] * lx + r[4] * ly + r[5] * lz
-            az = r[6] * lx + r[7] * ly + r[8] * lz
-            positions.append((x[0] + ax, x[1] + ay, x[2] + az))
-            velocities.append((v[0] + w[1] * az - w[2] * ay, v[1] + w[2] * ax - w[0] * az,
-                               v[2] + w[0] * ay - w[1] * ax))
+            position, velocity = point_motion(state[body], local)
+            positions.append(position)
+            velocities.append(velocity)
         solution = self.compute(t, q, positions, velocities)
         for force, t_i, (nx, ny, nz) in zip(self.forces, solution.tensions, solution.directions):
             force[0], force[1], force[2] = -t_i * nx, -t_i * ny, -t_i * nz   # on the body: -T n

@@ -13,9 +13,10 @@ For a parachute, +x points from the canopy toward the payload, so in a steady de
 
 from __future__ import annotations
 
-import bisect
 import math
 from dataclasses import dataclass
+
+from .interpolation import interpolate_held
 
 
 @dataclass(frozen=True)
@@ -35,14 +36,7 @@ class CoefficientTable:
 
     def __call__(self, angle_deg: float) -> float:
         """Coefficient at ``angle_deg`` (deg), linear interpolation (held constant beyond the end points)."""
-        a = self.angle_deg
-        if angle_deg <= a[0]:
-            return self.value[0]
-        if angle_deg >= a[-1]:
-            return self.value[-1]
-        i = bisect.bisect_right(a, angle_deg)
-        w = (angle_deg - a[i - 1]) / (a[i] - a[i - 1])
-        return self.value[i - 1] + w * (self.value[i] - self.value[i - 1])
+        return interpolate_held(self.angle_deg, self.value, angle_deg)
 
 
 def angle_of_attack_deg(velocity, axis) -> float:

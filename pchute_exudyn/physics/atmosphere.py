@@ -6,7 +6,6 @@ Each model has ``density(altitude)`` for one altitude (plain floats: it runs in 
 
 from __future__ import annotations
 
-import bisect
 import csv
 import math
 from dataclasses import dataclass
@@ -15,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import CaseError, SimulationError
+from .interpolation import bracket
 
 
 class Atmosphere:
@@ -121,8 +121,7 @@ class TabulatedAtmosphere(Atmosphere):
             raise SimulationError(
                 f"altitude {altitude:.1f} m is outside the atmosphere table {self.source} "
                 f"({alt[0]:g} to {alt[-1]:g} m); extend the table")
-        i = min(bisect.bisect_right(alt, altitude), len(alt) - 1)
-        w = (altitude - alt[i - 1]) / (alt[i] - alt[i - 1])
+        i, w = bracket(alt, altitude)
         return math.exp(self._log_density[i - 1] + w * (self._log_density[i] - self._log_density[i - 1]))
 
 
@@ -172,14 +171,8 @@ class Wind:
 
     def at(self, altitude: float):
         """(east, north) wind (m/s) at ``altitude`` (m)."""
-        a = self.altitude
-        if not a:
+        if not self.altitude:
             return self.east[0], self.north[0]
-        if altitude <= a[0]:
-            return self.east[0], self.north[0]
-        if altitude >= a[-1]:
-            return self.east[-1], self.north[-1]
-        i = bisect.bisect_right(a, altitude)
-        w = (altitude - a[i - 1]) / (a[i] - a[i - 1])
+        i, w = bracket(self.altitude, altitude)
         return (self.east[i - 1] + w * (self.east[i] - self.east[i - 1]),
                 self.north[i - 1] + w * (self.north[i] - self.north[i - 1]))

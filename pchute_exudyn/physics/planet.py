@@ -180,10 +180,12 @@ class StartFrame:
     longitude_deg: float
     origin: np.ndarray = field(init=False, repr=False)
     axes: np.ndarray = field(init=False, repr=False)
+    _plain: tuple = field(init=False, repr=False, compare=False)   # origin and axes as floats, for altitude_scalar
 
     def __post_init__(self):
         object.__setattr__(self, "origin", self.planet.cartesian(self.latitude_deg, self.longitude_deg, 0.0))
         object.__setattr__(self, "axes", self.planet.enu_axes(self.latitude_deg, self.longitude_deg))
+        object.__setattr__(self, "_plain", (*self.origin.tolist(), *self.axes.ravel().tolist()))
 
     @property
     def planet_center(self) -> np.ndarray:
@@ -232,6 +234,12 @@ class StartFrame:
     def altitude(self, local) -> np.ndarray:
         """Geodetic altitude (m) of start-frame positions (m), shape (..., 3)."""
         return self.planet.altitude(self.to_planet(local))
+
+    def altitude_scalar(self, x: float, y: float, z: float) -> float:
+        """Geodetic altitude (m) of one start-frame position (m), in plain floats (user functions, every stage)."""
+        ox, oy, oz, a00, a01, a02, a10, a11, a12, a20, a21, a22 = self._plain
+        return self.planet.altitude_scalar(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
+                                           oz + a20 * x + a21 * y + a22 * z)
 
 
 def _rotate(vectors, axis_rate, time):

@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from .lines import tension
 from .small_linalg import solve_symmetric, symmetric_eigenvalues  # noqa: F401  (re-exported)
 
 SLACK_RULES = ("stretch", "force")
@@ -205,8 +206,5 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
         if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
             break
     wx, wy, wz = velocity
-    tensions = []   # the line law (physics.lines.tension) with the solved velocity, inlined: it runs every stage
-    for nx, ny, nz, stretch, vn, k, c in lines:
-        value = k * stretch + c * (vn - wx * nx - wy * ny - wz * nz) if stretch > 0.0 else 0.0
-        tensions.append(value if value > 0.0 else 0.0)
+    tensions = [tension(stretch, vn - wx * nx - wy * ny - wz * nz, k, c) for nx, ny, nz, stretch, vn, k, c in lines]
     return SPSolution(velocity, c_c, kappa, tuple(active), tensions, directions)
