@@ -58,8 +58,10 @@ def execute(run: RunSpec) -> dict:
     return record
 
 
-def _first_line(exc: Exception) -> str:
-    return str(exc).splitlines()[0] if str(exc) else ""
+def _describe(exc: Exception) -> str:
+    """'TypeName: first line of the message' (or the type name alone)."""
+    text = str(exc).strip()
+    return f"{type(exc).__name__}: {text.splitlines()[0]}" if text else type(exc).__name__
 
 
 async def _scheduler_identity(address: str, timeout: float) -> dict:
@@ -87,10 +89,10 @@ def dask_executor(scheduler: str | None = None, local_workers: int | None = None
                 identity = thread.submit(asyncio.run, _scheduler_identity(scheduler, timeout)).result()
         except (OSError, TimeoutError, asyncio.TimeoutError) as exc:   # refused, unreachable, no answer in time
             raise InputError(f"could not reach the Dask scheduler at {scheduler!r} within {timeout:g} s "
-                             f"({type(exc).__name__}: {_first_line(exc)})") from None
+                             f"({_describe(exc)})") from None
         except Exception as exc:  # something answered, but not the Dask protocol
-            raise InputError(f"{scheduler!r} did not answer as a Dask scheduler ({type(exc).__name__}: "
-                             f"{_first_line(exc)}): check the address and port") from None
+            raise InputError(f"{scheduler!r} did not answer as a Dask scheduler ({_describe(exc)}): check the "
+                             "address and port") from None
         if not isinstance(identity, dict) or identity.get("type") != "Scheduler":
             raise InputError(f"{scheduler!r} answered but is not a Dask scheduler")
         if not identity.get("workers"):
