@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from . import __version__
-from .case.model import INTEGRATORS, METHODS, SLACK_RULES
+from .case.model import INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS
 from .errors import InputError, PchuteError
 
 EXIT_ERROR = 1
@@ -51,6 +51,9 @@ def _add_run(subparsers) -> None:
     run.add_argument("--kappa-max", type=float, default=None, metavar="K",
                      help="sp: largest condition number of alpha (thesis Eq. 3.13) while a line is slack, > 3; "
                           "default: the case's simulation.sp.kappa_max (5)")
+    run.add_argument("--sp-order", type=int, choices=SP_ORDERS, default=None,
+                     help="sp: 0 = massless confluence (Eq. 3.10, the thesis), 1 = its weight and inertia kept to "
+                          "first order; default: the case's simulation.sp.order (0)")
     run.add_argument("--no-plot", action="store_true", help="do not write overview.png")
     run.set_defaults(func=_run)
 
@@ -64,7 +67,8 @@ def _run(args) -> int:
     method, integrator, step, duration = resolve_run(case, args.method, args.integrator, args.dt, args.t_end)
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     ensure_writable_dir(out)  # fail before a long run, not after it
-    result = simulate(case, method, integrator, step, duration, kappa_max=args.kappa_max, slack_rule=args.slack_rule)
+    result = simulate(case, method, integrator, step, duration, kappa_max=args.kappa_max, slack_rule=args.slack_rule,
+                      sp_order=args.sp_order)
     result.save(out, plot=not args.no_plot)
     s, f = result.summary, result.summary["final"]
     ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"

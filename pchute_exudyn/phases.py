@@ -31,10 +31,12 @@ class BodyState:
 
 @dataclass
 class ConfluenceState:
-    """A confluence's position (m) and velocity (m/s) in the start frame."""
+    """A confluence's position (m), velocity (m/s) and, when a method knows it, acceleration (m/s^2; SP order 1
+    carries it into the next phase) in the start frame."""
 
     position: np.ndarray
     velocity: np.ndarray
+    acceleration: np.ndarray | None = None
 
 
 @dataclass

@@ -9,7 +9,7 @@ from datetime import datetime, timezone
 
 import numpy as np
 
-from .case.model import IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Case
+from .case.model import IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS, Case
 from .errors import InputError
 from .outputs import check_history, derive_columns
 from .results import Result
@@ -54,13 +54,16 @@ def versions() -> dict:
             "python": sys.version.split()[0], "platform": platform.platform()}
 
 
-def check_sp_settings(case: Case, kappa_max: float, slack_rule: str) -> None:
+def check_sp_settings(case: Case, kappa_max: float, slack_rule: str, sp_order: int = 0) -> None:
     """Refuse SP settings and cases the method cannot solve (InputError)."""
     if not (isinstance(kappa_max, (int, float)) and math.isfinite(kappa_max) and kappa_max > 3.0):
         raise InputError(f"kappa_max (--kappa-max) = {kappa_max!r}: must be > 3 (the Frobenius condition number "
                          "of Eq. 3.13 is at least 3 for any 3x3 matrix; the thesis used 5)")
     if slack_rule not in SLACK_RULES:
         raise InputError(f"unknown slack rule {slack_rule!r}; slack rules are: {', '.join(SLACK_RULES)}")
+    if isinstance(sp_order, bool) or sp_order not in SP_ORDERS:
+        raise InputError(f"sp_order (--sp-order) = {sp_order!r}: must be 0 (the massless balance of Eq. 3.10, the "
+                         "thesis) or 1 (the confluence mass kept to first order)")
     undamped = [f"{case.line_label(system, line)}" for system, line in case.lines() if line.damping <= 0.0]
     if undamped:
         every = "every line" if len(undamped) == len(case.lines()) else f"line(s) {', '.join(undamped)}"
@@ -69,10 +72,10 @@ def check_sp_settings(case: Case, kappa_max: float, slack_rule: str) -> None:
                          "taut; use --method full (or the equilibrium method, which ignores damping)")
 
 
-def _build(case: Case, phase, method: str, kappa_max, slack_rule, line_law: str):
+def _build(case: Case, phase, method: str, kappa_max, slack_rule, sp_order, line_law: str):
     if method == "sp":
         from .engine.sp import build_sp_model
-        return build_sp_model(case, phase, kappa_max, slack_rule)
+        return build_sp_model(case, phase, kappa_max, slack_rule, sp_order)
     if method == "equilibrium":
         from .engine.equilibrium import build_equilibrium_model
         return build_equilibrium_model(case, phase)
@@ -90,9 +93,16 @@ def _end_state(items, phase) -> tuple[dict, dict]:
                               np.asarray(read[("body", name, "angular_velocity")](), float))
               for name in phase.bodies}
     confluences = {name: ConfluenceState(np.asarray(read[("confluence", name, "position")](), float)[:3],
-                                         np.asarray(read[("confluence", name, "velocity")](), float))
+                                         np.asarray(read[("confluence", name, "velocity")](), float),
+                                         _acceleration(items.sp.get(name)))
                    for name in phase.systems}
     return bodies, confluences
+
+
+def _acceleration(confluence):
+    """The confluence acceleration a method carries into the next phase (SP order 1), else None."""
+    acceleration = getattr(confluence, "acceleration", lambda: None)()
+    return None if acceleration is None else np.asarray(acceleration, float)
 
 
 def _merge_facts(settings: dict, facts: dict) -> None:
@@ -125,7 +135,7 @@ def descent_rate_events(case: Case, time, descent_rate, after: float) -> list:
 
 
 def run(case: Case, method: str, integrator: str, step: float, duration: float, *, kappa_max: float | None = None,
-        slack_rule: str | None = None, line_law: str = "symbolic"):
+        slack_rule: str | None = None, sp_order: int | None = None, line_law: str = "symbolic"):
     """Build and integrate the engine models of ``case`` phase by phase (arguments resolved by ``resolve_run``).
 
     Returns the checked engine history of the whole run, the method's settings and facts, and the event log.
@@ -140,8 +150,9 @@ def run(case: Case, method: str, integrator: str, step: float, duration: float, 
     if method == "sp":
         kappa_max = case.simulation.kappa_max if kappa_max is None else kappa_max
         slack_rule = case.simulation.slack_rule if slack_rule is None else slack_rule
-        check_sp_settings(case, kappa_max, slack_rule)
-        settings = {"kappa_max": kappa_max, "slack_rule": slack_rule}
+        sp_order = case.simulation.sp_order if sp_order is None else sp_order
+        check_sp_settings(case, kappa_max, slack_rule, sp_order)
+        settings = {"kappa_max": kappa_max, "slack_rule": slack_rule, "sp_order": sp_order}
     output_step = min(case.simulation.output_step, duration)
     body_states, confluence_states = initial_states(case)
     events = [{"event": "start", "time": 0.0}]
@@ -150,7 +161,7 @@ def run(case: Case, method: str, integrator: str, step: float, duration: float, 
     for start, end in zip(times, times[1:]):
         phase = next_phase(case, start, end, body_states, confluence_states)
         events.extend(phase.events)
-        items = _build(case, phase, method, kappa_max, slack_rule, line_law)
+        items = _build(case, phase, method, kappa_max, slack_rule, sp_order, line_law)
         if integrator == "rk4" and method in ("full", "sp"):   # the equilibrium method has no confluence dynamics
             add_rk4_step_monitor(items, case, step, method)
         touchdown = None
@@ -174,7 +185,7 @@ def run(case: Case, method: str, integrator: str, step: float, duration: float, 
 
 def simulate(case: Case, method: str | None = None, integrator: str | None = None, step: float | None = None,
              duration: float | None = None, *, kappa_max: float | None = None, slack_rule: str | None = None,
-             line_law: str = "symbolic") -> Result:
+             sp_order: int | None = None, line_law: str = "symbolic") -> Result:
     """Simulate ``case``.
 
     Parameters
@@ -193,6 +204,9 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
         SP: largest condition number while a line is slack (> 3); default from the case (5).
     slack_rule : {"stretch", "force"}, optional
         SP slack rule; default from the case (``stretch``, the thesis's).
+    sp_order : {0, 1}, optional
+        SP order in the confluence mass: 0 drops it (Eq. 3.10, the thesis), 1 keeps its weight and inertia to first
+        order; default from the case (0).
     line_law : {"symbolic", "python"}
         How the full model's tension-only law runs in the engine (symbolic is faster; python exists to measure).
 
@@ -206,7 +220,7 @@ def simulate(case: Case, method: str | None = None, integrator: str | None = Non
     """
     method, integrator, step, duration = resolve_run(case, method, integrator, step, duration)
     raw, settings, events = run(case, method, integrator, step, duration, kappa_max=kappa_max, slack_rule=slack_rule,
-                                line_law=line_law)
+                                sp_order=sp_order, line_law=line_law)
     columns, units = derive_columns(case, raw)
     last_deployment = max([e["time"] for e in events if e["event"] == "deploy"], default=0.0)
     events = sorted(events + descent_rate_events(case, columns["time"], columns[f"{case.vehicle}_velocity_down"],

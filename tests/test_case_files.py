@@ -90,6 +90,8 @@ def _write(tmp_path, text, name="case.toml"):
     ("[simulation.steps]\nfull = 100.0\n", "simulation.steps.full", "must be <= 60"),
     ("[simulation.steps]\nfull = 0.0\n", "simulation.steps.full", "must be > 0"),
     ("[simulation]\nmethod = \"magic\"\n", "simulation.method", "must be one of"),
+    ("[simulation.sp]\norder = 2\n", "simulation.sp.order", "must be 0"),
+    ("[simulation.sp]\norder = \"first\"\n", "simulation.sp.order", "or 1 (the confluence mass"),
     ("[atmosphere]\nmodel = \"venus\"\n", "atmosphere.model", "must be one of"),
     ("[planet]\npolar_radius = 4e6\n", "planet.polar_radius", "must be <= equatorial_radius"),
     ("[bodies.parachute.aerodynamics.normal_coefficient]\nalpha_deg = [0.0, 45.0]\nvalue = [0.0, 0.1]\n",

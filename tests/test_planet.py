@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from pchute_exudyn.physics.planet import EARTH_WGS84, MARS, Planet, StartFrame
+from pchute_exudyn.physics.planet import EARTH_WGS84, MARS, FlatPlanet, Planet, StartFrame
 
 
 def test_gravity_hand_values():
@@ -73,3 +73,11 @@ def _rot_about(rate_vector, t):
     kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
     a = rate * t
     return np.eye(3) + np.sin(a) * kx + (1 - np.cos(a)) * kx @ kx
+
+
+def test_gravity_scalar_is_the_planet_gravity_in_start_frame_axes():
+    frame = StartFrame(EARTH_WGS84, 32.9, -106.4)
+    for point in ([0.0, 0.0, 2300.0], [1500.0, -800.0, 50.0], [-3.0e4, 2.0e4, 9000.0]):
+        expected = frame.axes.T @ EARTH_WGS84.gravity(frame.to_planet(np.array(point)))
+        np.testing.assert_allclose(frame.gravity_scalar(*point), expected, rtol=0.0, atol=1e-12)
+    assert StartFrame(FlatPlanet(3.71), 0.0, 0.0).gravity_scalar(1.0, 2.0, 3.0) == (0.0, 0.0, -3.71)

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.physics.singular_perturbation import (condition_number, confluence_velocity, minimum_damping,
-                                                        symmetric_eigenvalues)
+from pchute_exudyn.physics.singular_perturbation import (MassTerm, condition_number, confluence_velocity,
+                                                        minimum_damping, symmetric_eigenvalues)
 
 # MER geometry (mer.md, exactly symmetric) about a confluence at the origin, body x = down = -z here
 _DROP = -math.sqrt(0.7152 ** 2 - 0.6 ** 2)
@@ -156,3 +156,48 @@ def test_symmetric_eigenvalues_closed_form():
         mine = symmetric_eigenvalues(a[0, 0], a[0, 1], a[0, 2], a[1, 1], a[1, 2], a[2, 2])
         np.testing.assert_allclose(mine, np.linalg.eigvalsh(a), rtol=1e-9, atol=1e-9 * np.abs(a).max())
     assert symmetric_eigenvalues(1.0, 0.0, 0.0, 3.0, 0.0, 2.0) == (1.0, 2.0, 3.0)
+
+
+# ---- order 1: the confluence mass to first order ----------------------------------------------------------------
+
+def test_order1_solves_the_balance_with_weight_and_inertia():
+    """sum T n + m g - (m / tau) (v - v_r) = 0 at the solution (all lines taut, linear law)."""
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        points, _ = geometry(rng.uniform(0.005, 0.03, 4))
+        velocities = rng.normal(0.0, 1.0, (4, 3))
+        mass, tau = 0.1539, rng.uniform(1e-3, 1e-2)
+        v_r, weight = tuple(rng.normal(0.0, 2.0, 3)), (0.0, 0.0, -0.1539 * 3.71)
+        sol = solve(points, velocities, mass_term=MassTerm(mass / tau, v_r, weight))
+        assert all(sol.taut) and sol.damping == 0.0
+        force = sum(t * np.asarray(n) for t, n in zip(sol.tensions, sol.directions))
+        inertia = mass / tau * (np.asarray(sol.velocity) - v_r)
+        np.testing.assert_allclose(force + weight - inertia, 0.0, atol=1e-9 * max(sol.tensions))
+
+
+def test_order1_with_no_mass_is_the_massless_solve():
+    points, _ = geometry((0.02, 0.01, 0.015, 0.03))
+    velocities = np.arange(12.0).reshape(4, 3) / 10.0
+    massless = solve(points, velocities)
+    zero = solve(points, velocities, mass_term=MassTerm(0.0, (5.0, 5.0, 5.0), (0.0, 0.0, 0.0)))
+    assert zero.velocity == massless.velocity and zero.tensions == massless.tensions
+
+
+def test_order1_confluence_falls_freely_when_every_line_is_slack():
+    points, _ = geometry((-0.01, -0.01, -0.01, -0.01))
+    mass, tau, g = 8.0, 0.01, 9.81
+    sol = solve(points, np.ones((4, 3)), (0.3, 0.2, -7.0),
+                mass_term=MassTerm(mass / tau, (1.0, 2.0, -3.0), (0.0, 0.0, -mass * g)))
+    np.testing.assert_allclose(sol.velocity, (1.0, 2.0, -3.0 - g * tau), rtol=1e-14)   # v_r + tau g
+    assert sol.damping == 0.0 and list(sol.tensions) == [0.0, 0.0, 0.0, 0.0]
+
+
+def test_order1_inertia_regularises_a_singular_alpha():
+    # only the riser taut: massless alpha is rank 1 and needs C_c; an inertia rate r = C conditions it by itself
+    # (kappa of diag(2 C, C, C) is 3.7 <= 5), so no C_c is added
+    points, _ = geometry((-0.05, -0.05, -0.05, 0.02))
+    massless = solve(points, np.zeros((4, 3)), (0.0, 0.0, -2.0))
+    heavy = solve(points, np.zeros((4, 3)), (0.0, 0.0, -2.0), mass_term=MassTerm(600.0, (0.0, 0.0, -2.0),
+                                                                                 (0.0, 0.0, 0.0)))
+    assert massless.damping > 0.0 and heavy.damping == 0.0
+    assert heavy.condition_number <= 5.0

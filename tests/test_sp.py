@@ -67,8 +67,61 @@ def test_sp_columns_and_units(tmp_path):
     assert "confluence_damping" in (tmp_path / "timeseries.csv").read_text().splitlines()[0]
 
 
+def test_sp_order1_carries_the_confluence_weight(mer_case1, case1_rk4_reference):
+    """Order 0 drops the confluence's weight: the system falls as if 0.15 kg lighter (+0.24 m at 60 s); order 1 keeps
+    it and lands on the full-mass altitude."""
+    ref = case1_rk4_reference
+    first = pc.simulate(mer_case1, "sp", "rk4", 1e-2, sp_order=1)
+    assert first.summary["sp_order"] == 1
+    assert abs(first.final("vehicle_altitude") - ref.final("vehicle_altitude")) < 0.02     # measured 0.0004 m
+    settled = ref.time > 2.0
+    for name in first.tension_names():
+        diff = np.abs(np.interp(ref.time, first.time, first[name]) - ref[name])[settled]
+        assert diff.max() < 0.5, name                                                     # measured 0.20, 0.38 N
+
+
+def test_sp_order1_tracks_the_full_mass_swing_that_order0_misses():
+    """Case 5 (10 deg swing): the confluence's inertia is what order 0 lacks; order 1 brings the RMS tension
+    difference to the full-mass model down a hundredfold at the same step (measured 0.012 N -> 9e-5 N)."""
+    case = pc.load_case(MER / "case5.toml")
+    full = pc.simulate(case, "full", "implicit", 1e-4, 3.0)
+    late = full.time > 1.0
+    errors = {}
+    for order in (0, 1):
+        sp = pc.simulate(case, "sp", "rk4", 1e-2, 3.0, sp_order=order)
+        errors[order] = max(np.sqrt(np.mean((np.interp(full.time, sp.time, sp[n]) - full[n])[late] ** 2))
+                            for n in sp.tension_names())
+    assert errors[1] < 0.05 * errors[0], errors
+
+
+def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
+    """The end-of-phase state carries the confluence acceleration (the mean over the last step), and the next
+    phase's first solve uses it as the inertial force m (g - a) while it has no earlier velocity."""
+    from pchute_exudyn.engine.solver import integrate
+    from pchute_exudyn.engine.sp import build_sp_model
+    from pchute_exudyn.phases import initial_phase
+    from pchute_exudyn.simulation import _end_state
+
+    phase = initial_phase(mer_case1)
+    items = build_sp_model(mer_case1, phase, 5.0, "stretch", 1)
+    raw = integrate(items, "rk4", 1e-2, 3.0, 1e-2)
+    velocity = raw.confluences["main"]["velocity"]
+    _, states = _end_state(items, phase)
+    np.testing.assert_allclose(states["main"].acceleration, (velocity[-1] - velocity[-2]) / 1e-2, rtol=1e-9)
+    assert abs(states["main"].acceleration[2]) > 0.1       # still decelerating at 3 s
+    nxt = build_sp_model(mer_case1, phase, 5.0, "stretch", 1)
+    sp = nxt.sp["main"]
+    sp.start_acceleration = tuple(states["main"].acceleration.tolist())
+    term = sp.mass_term(0.0, states["main"].position.tolist())
+    g = mer_case1.start.gravity_scalar(*states["main"].position.tolist())
+    np.testing.assert_allclose(term.weight, 0.1539 * (np.array(g) - states["main"].acceleration), rtol=1e-12)
+    assert term.rate == 0.0
+
+
 @pytest.mark.parametrize("kwargs, message", [
     ({"integrator": "implicit"}, "rk4 only"),
+    ({"sp_order": 2}, "must be 0 .* or 1"),
+    ({"sp_order": True}, "must be 0 .* or 1"),
     ({"kappa_max": 1.0}, "must be > 3"),
     ({"kappa_max": 3.0}, "must be > 3"),
     ({"slack_rule": "sometimes"}, "unknown slack rule"),

@@ -34,8 +34,8 @@ from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere, US76Lower, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
-from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Aerodynamics, Body, Case, Confluence,
-                    DragAreaSchedule, InitialState, Line, ParachuteSystem, SimulationSettings)
+from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS, Aerodynamics, Body, Case,
+                    Confluence, DragAreaSchedule, InitialState, Line, ParachuteSystem, SimulationSettings)
 
 _REQUIRED = object()
 _NO_VALUE = CaseError._NO_VALUE
@@ -501,11 +501,15 @@ def _read_simulation(t: _Table) -> SimulationSettings:
     method = t.string("method", "full", METHODS)
     integrator = t.string("integrator", "rk4", INTEGRATORS)
     spectral_radius = t.number("spectral_radius", "", 0.9, minimum=0.0, maximum=1.0)
-    kappa_max, slack_rule = 5.0, "stretch"
+    kappa_max, slack_rule, sp_order = 5.0, "stretch", 0
     sp_table = t.table("sp", None)
     if sp_table is not None:
         kappa_max = sp_table.number("kappa_max", "", 5.0, above=3.0)
         slack_rule = sp_table.string("slack_rule", "stretch", SLACK_RULES)
+        sp_order = sp_table._get("order", 0, "")
+        if isinstance(sp_order, bool) or sp_order not in SP_ORDERS:
+            raise sp_table.error("order", "must be 0 (the massless balance of Eq. 3.10, the thesis) or 1 (the "
+                                 "confluence mass kept to first order)", sp_order)
         sp_table.finish()
     ground_altitude = t.number("ground_altitude", "m", None)
     rates = t._get("descent_rate_events", [], "m/s")
@@ -525,7 +529,7 @@ def _read_simulation(t: _Table) -> SimulationSettings:
         step_table.finish()
     t.finish()
     return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, kappa_max,
-                              slack_rule, ground_altitude, tuple(descent_rates))
+                              slack_rule, ground_altitude, tuple(descent_rates), int(sp_order))
 
 
 def _read_atmosphere(t: _Table):

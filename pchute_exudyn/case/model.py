@@ -14,7 +14,7 @@ from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import Atmosphere
 from ..physics.interpolation import interpolate_held
 from ..physics.planet import FlatPlanet, Planet, StartFrame
-from ..physics.singular_perturbation import SLACK_RULES  # noqa: F401  (re-exported for the loader and CLI)
+from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS  # noqa: F401  (re-exported for the loader and CLI)
 
 METHODS = ("full", "sp", "equilibrium")
 """Confluence methods: ``full`` = the confluence as a 3-DoF point mass (thesis Eqs. 1.1-1.7); ``sp`` = singular
@@ -254,6 +254,9 @@ class SimulationSettings:
         Geodetic altitude of the ground (m): the run ends at touchdown, when the vehicle's centre of mass reaches it.
     descent_rate_events : tuple of float
         Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
+    sp_order : int
+        SP: order in the confluence mass, one of SP_ORDERS (0: massless, Eq. 3.10, the thesis; 1: the confluence's
+        weight and inertia kept to first order).
     """
 
     duration: float
@@ -266,6 +269,7 @@ class SimulationSettings:
     slack_rule: str = "stretch"
     ground_altitude: float | None = None
     descent_rate_events: tuple = ()
+    sp_order: int = 0
 
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""

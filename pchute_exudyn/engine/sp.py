@@ -4,13 +4,19 @@ derivative is the SP velocity of ``physics.singular_perturbation`` (see ``engine
 v0, the confluence velocity at the end of the previous step, is held through each step's stages and updated after
 the step (from the end-of-step solution Exudyn computes anyway); the first step uses the case's initial confluence
 velocity.
+
+Order 1 (the confluence mass to first order): the reference velocity of a solve at time t is the latest end-of-step
+velocity from before t, so the backward difference spans the stage's part of the step (h/2 or h) and, at a step's
+first stage, the whole previous step; that stage then solves the same equation as the end-of-step call before it and
+reuses its solution like order 0. At a phase's first stage there is no earlier velocity: the acceleration carried
+from the previous phase (zero for a newly deployed system) enters as a force instead.
 """
 
 from __future__ import annotations
 
 from ..case.model import Case, ParachuteSystem
 from ..phases import ConfluenceState, Phase, initial_phase
-from ..physics.singular_perturbation import confluence_velocity
+from ..physics.singular_perturbation import MassTerm, confluence_velocity
 from .items import CURRENT, OV, ModelItems, add_bodies, new_system
 from .reduced import ReducedConfluence
 
@@ -19,28 +25,56 @@ class SPConfluence(ReducedConfluence):
     """State and user functions of one SP confluence."""
 
     def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, state: ConfluenceState,
-                 kappa_max: float, slack_rule: str, start_time: float = 0.0):
+                 kappa_max: float, slack_rule: str, start_time: float = 0.0, order: int = 0):
         super().__init__(items, case, system, state.position.tolist())
-        self.kappa_max, self.slack_rule = kappa_max, slack_rule
+        self.kappa_max, self.slack_rule, self.order = kappa_max, slack_rule, order
         self.previous_velocity = tuple(state.velocity.tolist())   # v0 of the first step: the state's velocity
         self.start_time = start_time
+        self.mass = system.confluence.mass
+        self.gravity = case.start.gravity_scalar
+        acceleration = state.acceleration
+        self.start_acceleration = (0.0, 0.0, 0.0) if acceleration is None else tuple(acceleration.tolist())
+        self.end_velocities = []   # the last two (t, end-of-step confluence velocity), for order 1
+
+    def mass_term(self, t, q) -> MassTerm | None:
+        """The order-1 inertia and weight for a solve at time ``t`` (s) and confluence position ``q`` (m)."""
+        if self.order == 0:
+            return None
+        m = self.mass
+        gx, gy, gz = self.gravity(*q)
+        for time, velocity in reversed(self.end_velocities):
+            if time < t:
+                return MassTerm(m / (t - time), velocity, (m * gx, m * gy, m * gz))
+        ax, ay, az = self.start_acceleration
+        return MassTerm(0.0, (0.0, 0.0, 0.0), (m * (gx - ax), m * (gy - ay), m * (gz - az)))
 
     def compute(self, t, q, positions, velocities):
         return confluence_velocity(positions, velocities, q, self.previous_velocity, self.free_length,
-                                   self.stiffness, self.damping, self.kappa_max, self.slack_rule)
+                                   self.stiffness, self.damping, self.kappa_max, self.slack_rule,
+                                   self.mass_term(t, q))
 
     def derivative(self, solution) -> list:
         return list(solution.velocity)
 
     def reusable(self, solution) -> bool:
         # v0 enters Eq. 3.10 only through C_c (and the all-slack case): without them the solve does not depend on
-        # the v0 update between steps
+        # the v0 update between steps (order 1's reference velocity is the same for both calls: see the module doc)
         return solution.damping == 0.0 and any(solution.taut)
 
-    def update_previous_velocity(self, mbs, t):
-        """Post-step hook: v0 for the next step is the velocity at the end of this one."""
+    def end_step(self, mbs, t):
+        """Post-step hook: v0 for the next step is the velocity at the end of this one; order 1 records it."""
+        velocity = self.current().velocity
         if t > self.start_time:
-            self.previous_velocity = self.current().velocity
+            self.previous_velocity = velocity
+        if self.order == 1 and (not self.end_velocities or t > self.end_velocities[-1][0]):
+            self.end_velocities = [*self.end_velocities[-1:], (t, velocity)]
+
+    def acceleration(self):
+        """Mean confluence acceleration over the last step (m/s^2), or None before the first step ends."""
+        if len(self.end_velocities) < 2:
+            return None
+        (t0, v0), (t1, v1) = self.end_velocities
+        return [(b - a) / (t1 - t0) for a, b in zip(v0, v1)]
 
     def add_channels(self, case: Case) -> None:
         super().add_channels(case)
@@ -54,17 +88,18 @@ class SPConfluence(ReducedConfluence):
         channels[("extra", f"{prefix}taut_lines", "-")] = lambda: sum(self.current().taut)
 
 
-def build_sp_model(case: Case, phase: Phase | None, kappa_max: float, slack_rule: str) -> ModelItems:
-    """Build the SP Exudyn model of ``case`` for one phase (bodies and aerodynamics as in the full model)."""
+def build_sp_model(case: Case, phase: Phase | None, kappa_max: float, slack_rule: str, order: int = 0) -> ModelItems:
+    """Build the SP Exudyn model of ``case`` for one phase (bodies and aerodynamics as in the full model); ``order``
+    1 keeps the confluence mass to first order (``physics.singular_perturbation``)."""
     phase = phase or initial_phase(case)
     items = new_system(case)
     add_bodies(items, case, phase, snapshot=True)
     for system in items.systems:
         sp = SPConfluence(items, case, system, phase.confluence_states[system.name], kappa_max, slack_rule,
-                          phase.start)
+                          phase.start, order)
         items.sp[system.name] = sp
         sp.register()
-        items.post_step_hooks.append(sp.update_previous_velocity)
+        items.post_step_hooks.append(sp.end_step)
         sp.add_channels(case)
     items.mbs.Assemble()
     return items

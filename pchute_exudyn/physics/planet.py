@@ -181,11 +181,17 @@ class StartFrame:
     origin: np.ndarray = field(init=False, repr=False)
     axes: np.ndarray = field(init=False, repr=False)
     _plain: tuple = field(init=False, repr=False, compare=False)   # origin and axes as floats, for altitude_scalar
+    _gravity_plain: tuple = field(init=False, repr=False, compare=False)  # (mu, centre) or (0, uniform g), floats
 
     def __post_init__(self):
         object.__setattr__(self, "origin", self.planet.cartesian(self.latitude_deg, self.longitude_deg, 0.0))
         object.__setattr__(self, "axes", self.planet.enu_axes(self.latitude_deg, self.longitude_deg))
         object.__setattr__(self, "_plain", (*self.origin.tolist(), *self.axes.ravel().tolist()))
+        if isinstance(self.planet, FlatPlanet):
+            gravity = (0.0, (0.0, 0.0, -float(self.planet.gravity_acceleration)))
+        else:
+            gravity = (float(self.planet.gravitational_parameter), tuple(self.planet_center.tolist()))
+        object.__setattr__(self, "_gravity_plain", gravity)
 
     @property
     def planet_center(self) -> np.ndarray:
@@ -240,6 +246,17 @@ class StartFrame:
         ox, oy, oz, a00, a01, a02, a10, a11, a12, a20, a21, a22 = self._plain
         return self.planet.altitude_scalar(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
                                            oz + a20 * x + a21 * y + a22 * z)
+
+
+    def gravity_scalar(self, x: float, y: float, z: float) -> tuple:
+        """Gravitational acceleration (m/s^2, start-frame axes) at one start-frame position (m), in plain floats:
+        -mu r / |r|^3 with r from the planet centre, or the flat planet's uniform g."""
+        mu, vector = self._gravity_plain
+        if mu == 0.0:
+            return vector
+        rx, ry, rz = x - vector[0], y - vector[1], z - vector[2]
+        scale = -mu / (rx * rx + ry * ry + rz * rz) ** 1.5
+        return rx * scale, ry * scale, rz * scale
 
 
 def _rotate(vectors, axis_rate, time):

@@ -22,6 +22,19 @@ lines, each pass drops every taut line that pushes or, when none does, takes bac
 would pull, and solves again, until the set is consistent both ways (a set seen before ends the search). All
 lines slack: the confluence keeps its previous velocity (reported C_c = 0, kappa = 0).
 
+First-order confluence mass (``order = 1``, our addition beyond the thesis). Eq. 3.1 is the zeroth-order term of the
+confluence's equation of motion m_c a_c = sum T n + m_c g as m_c -> 0, so SP drops the confluence's weight and
+inertia: the bodies then carry a system lighter by m_c, and a mode in which the confluence moves (a capsule rocking on
+its bridles) runs at the massless frequency. Order 1 keeps both in the same solve, with the acceleration as a
+backward difference from a reference velocity v_r at an earlier time (m_c / tau = rate)::
+
+    sum T n + m_c g - rate (v - v_r) = 0   ->   alpha' = alpha + rate I,   b' = b + m_c g + rate v_r
+
+The inertia adds rate to every eigenvalue of alpha, so the solve is never less regular than the massless one (it is
+unconditionally stable, where an explicit, lagged m_c a_c is not once m_c / tau exceeds alpha's smallest eigenvalue),
+C_c is still the smallest value meeting kappa_max for the sum, and with every line slack the confluence falls freely
+(v = v_r + tau g). As m_c -> 0 it is the massless solve again.
+
 Plain floats throughout (about 10 us a call): it runs at every solver stage.
 """
 
@@ -34,9 +47,30 @@ from .lines import tension
 from .small_linalg import solve_symmetric, symmetric_eigenvalues  # noqa: F401  (re-exported)
 
 SLACK_RULES = ("stretch", "force")
+SP_ORDERS = (0, 1)
+"""Order in the confluence mass: 0, the massless balance of Eq. 3.10 (the thesis); 1, the mass kept to first order."""
 SINGULAR = 1e-12
 """Relative singularity test: alpha counts as singular when its condition number exceeds 1/SINGULAR (its smallest
 eigenvalue is below about SINGULAR times its largest) or its determinant is not positive."""
+
+
+class MassTerm(NamedTuple):
+    """The confluence mass kept to first order (``order = 1``): the inertia rate (v - v_r) and the weight m_c g.
+
+    Attributes
+    ----------
+    rate : float
+        m_c / tau (N s/m): the confluence mass over the time since the reference velocity; 0 when there is none yet
+        (then ``weight`` may carry the inertial force of a known acceleration instead).
+    reference_velocity : tuple of 3 float
+        v_r (m/s), the confluence velocity at that earlier time.
+    weight : tuple of 3 float
+        m_c g (N), the confluence's weight (minus m_c a_c when ``rate`` is 0 and a_c is known).
+    """
+
+    rate: float
+    reference_velocity: tuple
+    weight: tuple
 
 
 class SPSolution(NamedTuple):
@@ -140,9 +174,31 @@ def _next_active_set(lines, active, velocity, visited) -> bool:
     return True
 
 
+def _assemble(lines, active, base) -> tuple:
+    """alpha and b of Eq. 3.10 over the active lines (six entries of alpha, then b), starting from the mass term
+    ``base`` = (rate, b0x, b0y, b0z) on the diagonal and in b."""
+    rate, bx, by, bz = base
+    a00 = a11 = a22 = rate
+    a01 = a02 = a12 = 0.0
+    for (nx, ny, nz, stretch, vn, k, c), on in zip(lines, active):
+        if on:
+            cnx, cny = c * nx, c * ny
+            a00 += cnx * nx
+            a01 += cnx * ny
+            a02 += cnx * nz
+            a11 += cny * ny
+            a12 += cny * nz
+            a22 += c * nz * nz
+            f = k * stretch + c * vn
+            bx += f * nx
+            by += f * ny
+            bz += f * nz
+    return a00, a01, a02, a11, a12, a22, bx, by, bz
+
+
 def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity,
                         free_length, stiffness, damping, kappa_max: float = 5.0,
-                        slack_rule: str = "stretch") -> SPSolution:
+                        slack_rule: str = "stretch", mass_term: MassTerm | None = None) -> SPSolution:
     """SP confluence velocity (Eq. 3.10) with the minimal confluence damping of Eq. 3.13.
 
     Parameters
@@ -158,12 +214,15 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
     kappa_max : float
         Largest condition number accepted while a line is slack (> 3).
     slack_rule : {"stretch", "force"}
+    mass_term : MassTerm, optional
+        The confluence mass to first order (see the module docstring); None for the massless balance of Eq. 3.10.
 
     Returns
     -------
     SPSolution
     """
     cx, cy, cz = confluence_position
+    rate, (rx, ry, rz), (gx, gy, gz) = mass_term or (0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     lines = []       # (nx, ny, nz, stretch, attach velocity along n, K, C)
     directions = []
     for (px, py, pz), (vx, vy, vz), l0, k, c in zip(attach_position, attach_velocity, free_length, stiffness, damping):
@@ -173,38 +232,29 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
         directions.append((nx, ny, nz))
         lines.append((nx, ny, nz, length - l0, vx * nx + vy * ny + vz * nz, k, c))
     active = [line[3] > 0.0 for line in lines]
+    base = (rate, gx + rate * rx, gy + rate * ry, gz + rate * rz)
+    a00, a01, a02, a11, a12, a22, bx, by, bz = _assemble(lines, active, base)
     v0x, v0y, v0z = previous_velocity
-    visited = {tuple(active)}
+    visited = None   # the force rule's active sets seen so far
     while True:
-        if True not in active:
+        if True not in active and rate == 0.0:
             velocity, c_c, kappa = (v0x, v0y, v0z), 0.0, 0.0
-            if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
-                break
-            continue
-        a00 = a01 = a02 = a11 = a12 = a22 = bx = by = bz = 0.0
-        for (nx, ny, nz, stretch, vn, k, c), on in zip(lines, active):
-            if on:
-                cnx, cny = c * nx, c * ny
-                a00 += cnx * nx
-                a01 += cnx * ny
-                a02 += cnx * nz
-                a11 += cny * ny
-                a12 += cny * nz
-                a22 += c * nz * nz
-                f = k * stretch + c * vn
-                bx += f * nx
-                by += f * ny
-                bz += f * nz
-        solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if False not in active else None
-        if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
-            c_c = 0.0
-            velocity, kappa = solved
-        else:  # a slack line, or alpha (near-)singular: the smallest C_c that conditions it (Eq. 3.13)
-            c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
-            velocity, kappa = solve_symmetric(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
-                                              bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
-        if slack_rule != "force" or not _next_active_set(lines, active, velocity, visited):
+        else:
+            solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if False not in active else None
+            if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
+                c_c = 0.0
+                velocity, kappa = solved
+            else:  # a slack line, or alpha (near-)singular: the smallest C_c that conditions it (Eq. 3.13)
+                c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
+                velocity, kappa = solve_symmetric(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
+                                                  bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
+        if slack_rule != "force":
             break
+        if visited is None:
+            visited = {tuple(active)}
+        if not _next_active_set(lines, active, velocity, visited):
+            break
+        a00, a01, a02, a11, a12, a22, bx, by, bz = _assemble(lines, active, base)
     wx, wy, wz = velocity
     tensions = [tension(stretch, vn - wx * nx - wy * ny - wz * nz, k, c) for nx, ny, nz, stretch, vn, k, c in lines]
     return SPSolution(velocity, c_c, kappa, tuple(active), tensions, directions)

@@ -50,11 +50,14 @@ def load_table(folder) -> list:
 
 
 def _configuration(row, with_step: bool = True) -> str:
-    """'method integrator step slack_rule kappa' of a run (without the step: its family, one curve in a plot)."""
+    """'method integrator step slack_rule kappa order' of a run (without the step: its family, one curve in a plot)."""
     step = f"{row['step']:g}" if with_step and isinstance(row.get("step"), float) else ""
     parts = [str(row.get("method") or "case"), str(row.get("integrator") or ""), step, str(row.get("slack_rule") or "")]
     if isinstance(row.get("kappa_max"), float):
         parts.append(f"kappa {row['kappa_max']:g}")
+    order = row.get("sp_order")
+    if isinstance(order, (int, float)) and math.isfinite(order):   # absent, or NaN in rows of other configurations
+        parts.append(f"order {int(order)}")
     return " ".join(p for p in parts if p)
 
 

@@ -45,7 +45,8 @@ def execute(run: RunSpec) -> dict:
     try:
         case = load_case(run.case_file, run.overrides())
         c = run.configuration
-        result = simulate(case, c.method, c.integrator, c.step, kappa_max=c.kappa_max, slack_rule=c.slack_rule)
+        result = simulate(case, c.method, c.integrator, c.step, kappa_max=c.kappa_max, slack_rule=c.slack_rule,
+                          sp_order=c.sp_order)
         record.update(scalar_outputs(result))
         record["wall_time"] = result.summary["wall_time"]
         record["steps"] = result.summary["steps"]

@@ -53,7 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from ..case.loader import Scale, _check_number, _Context, _Table, load_case, read_toml
-from ..case.model import INTEGRATORS, METHODS, SLACK_RULES
+from ..case.model import INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS
 from ..errors import CaseError
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
@@ -105,6 +105,7 @@ class Configuration:
     step: float | None = None
     slack_rule: str | None = None
     kappa_max: float | None = None
+    sp_order: int | None = None
 
     @property
     def label(self) -> str:
@@ -113,6 +114,8 @@ class Configuration:
             parts.append(self.slack_rule)
         if self.kappa_max is not None:
             parts.append(f"kappa {self.kappa_max:g}")
+        if self.sp_order is not None:
+            parts.append(f"order {self.sp_order}")
         return " ".join(p for p in parts if p)
 
 
@@ -143,7 +146,9 @@ class RunSpec:
         c = self.configuration
         return {"run": self.index, "sample": self.sample, "case": case_label, "reference": self.reference,
                 "reference_run": self.reference_run, "method": c.method or "", "integrator": c.integrator or "",
-                "step": c.step, "slack_rule": c.slack_rule or "", "kappa_max": c.kappa_max, **self.values}
+                "step": c.step, "slack_rule": c.slack_rule or "", "kappa_max": c.kappa_max,
+                # only when set, so that studies written before the option keep their fingerprint
+                **({"sp_order": c.sp_order} if c.sp_order is not None else {}), **self.values}
 
 
 @dataclass(frozen=True)
@@ -223,6 +228,10 @@ def _read_configuration(t: _Table, single_step: bool) -> list:
     integrator = t.string("integrator", None, INTEGRATORS)
     slack_rule = t.string("slack_rule", None, SLACK_RULES)
     kappa_max = t.number("kappa_max", "", None)
+    sp_order = t._get("sp_order", None, "")
+    if sp_order is not None and (isinstance(sp_order, bool) or sp_order not in SP_ORDERS):
+        raise t.error("sp_order", "must be 0 (the massless balance of Eq. 3.10, the thesis) or 1 (the confluence "
+                      "mass kept to first order)", sp_order)
     if single_step:
         steps = [t.number("step", "s", None, above=0.0)]
     else:
@@ -230,7 +239,7 @@ def _read_configuration(t: _Table, single_step: bool) -> list:
         if any(s is not None and not s > 0.0 for s in steps):
             raise t.error("steps", "every step must be > 0 (s)", steps)
     t.finish()
-    return [Configuration(method, integrator, step, slack_rule, kappa_max) for step in steps]
+    return [Configuration(method, integrator, step, slack_rule, kappa_max, sp_order) for step in steps]
 
 
 def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
