@@ -9,9 +9,10 @@ from datetime import datetime, timezone
 
 import numpy as np
 
-from .case.model import IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS, Case
+from .case.model import IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Case
 from .errors import InputError
 from .outputs import check_history, derive_columns
+from .physics.singular_perturbation import SP_ORDER_RULE, is_sp_order
 from .results import Result
 
 
@@ -61,9 +62,8 @@ def check_sp_settings(case: Case, kappa_max: float, slack_rule: str, sp_order: i
                          "of Eq. 3.13 is at least 3 for any 3x3 matrix; the thesis used 5)")
     if slack_rule not in SLACK_RULES:
         raise InputError(f"unknown slack rule {slack_rule!r}; slack rules are: {', '.join(SLACK_RULES)}")
-    if isinstance(sp_order, bool) or sp_order not in SP_ORDERS:
-        raise InputError(f"sp_order (--sp-order) = {sp_order!r}: must be 0 (the massless balance of Eq. 3.10, the "
-                         "thesis) or 1 (the confluence mass kept to first order)")
+    if not is_sp_order(sp_order):
+        raise InputError(f"sp_order (--sp-order) = {sp_order!r}: {SP_ORDER_RULE}")
     undamped = [f"{case.line_label(system, line)}" for system, line in case.lines() if line.damping <= 0.0]
     if undamped:
         every = "every line" if len(undamped) == len(case.lines()) else f"line(s) {', '.join(undamped)}"

@@ -31,10 +31,11 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 from ..errors import CaseError
+from ..physics.singular_perturbation import SP_ORDER_RULE, is_sp_order
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere, US76Lower, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
-from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS, Aerodynamics, Body, Case,
+from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Aerodynamics, Body, Case,
                     Confluence, DragAreaSchedule, InitialState, Line, ParachuteSystem, SimulationSettings)
 
 _REQUIRED = object()
@@ -507,9 +508,8 @@ def _read_simulation(t: _Table) -> SimulationSettings:
         kappa_max = sp_table.number("kappa_max", "", 5.0, above=3.0)
         slack_rule = sp_table.string("slack_rule", "stretch", SLACK_RULES)
         sp_order = sp_table._get("order", 0, "")
-        if isinstance(sp_order, bool) or sp_order not in SP_ORDERS:
-            raise sp_table.error("order", "must be 0 (the massless balance of Eq. 3.10, the thesis) or 1 (the "
-                                 "confluence mass kept to first order)", sp_order)
+        if not is_sp_order(sp_order):
+            raise sp_table.error("order", SP_ORDER_RULE, sp_order)
         sp_table.finish()
     ground_altitude = t.number("ground_altitude", "m", None)
     rates = t._get("descent_rate_events", [], "m/s")

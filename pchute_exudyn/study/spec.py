@@ -53,8 +53,9 @@ from pathlib import Path
 import numpy as np
 
 from ..case.loader import Scale, _check_number, _Context, _Table, load_case, read_toml
-from ..case.model import INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS
+from ..case.model import INTEGRATORS, METHODS, SLACK_RULES
 from ..errors import CaseError
+from ..physics.singular_perturbation import SP_ORDER_RULE, is_sp_order
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
                  "truncated_normal": ("mean", "std", "low", "high")}
@@ -229,9 +230,8 @@ def _read_configuration(t: _Table, single_step: bool) -> list:
     slack_rule = t.string("slack_rule", None, SLACK_RULES)
     kappa_max = t.number("kappa_max", "", None)
     sp_order = t._get("sp_order", None, "")
-    if sp_order is not None and (isinstance(sp_order, bool) or sp_order not in SP_ORDERS):
-        raise t.error("sp_order", "must be 0 (the massless balance of Eq. 3.10, the thesis) or 1 (the confluence "
-                      "mass kept to first order)", sp_order)
+    if sp_order is not None and not is_sp_order(sp_order):
+        raise t.error("sp_order", SP_ORDER_RULE, sp_order)
     if single_step:
         steps = [t.number("step", "s", None, above=0.0)]
     else:
