@@ -154,6 +154,25 @@ def test_divergence_without_the_monitor_reports_the_time():
     assert info.value.time < 5.0
 
 
+def test_solve_pauses_the_garbage_collector_and_restores_it_after_success_and_failure():
+    import gc
+    case = pc.load_case(MER / "case1.toml")
+    seen = []
+    items = build_full_model(case)
+    items.post_step_hooks.append(lambda mbs, t: seen.append(gc.isenabled()))
+    integrate(items, "implicit", 1e-2, 0.05, 0.01)
+    assert seen and not any(seen) and gc.isenabled()
+    gc.disable()   # a caller's own setting is kept
+    try:
+        integrate(build_full_model(case), "implicit", 1e-2, 0.05, 0.01)
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
+    with pytest.raises(pc.SimulationError):
+        integrate(build_full_model(case), "rk4", 1e-2, 5.0, 0.01)
+    assert gc.isenabled()
+
+
 def test_atmosphere_table_exceeded_stops_the_run(tmp_path):
     table = tmp_path / "atm.csv"
     table.write_text("altitude,density\n8300,0.0080\n9000,0.0075\n")

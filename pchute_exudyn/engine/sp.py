@@ -17,7 +17,7 @@ from __future__ import annotations
 from ..case.model import Case, ParachuteSystem
 from ..phases import ConfluenceState, Phase, initial_phase
 from ..physics.singular_perturbation import MassTerm, confluence_velocity
-from .items import CURRENT, OV, ModelItems, add_bodies, new_system
+from .items import ModelItems, add_bodies, new_system
 from .reduced import ReducedConfluence
 
 
@@ -78,9 +78,8 @@ class SPConfluence(ReducedConfluence):
 
     def add_channels(self, case: Case) -> None:
         super().add_channels(case)
-        channels, mbs = self.items.channels, self.items.mbs
-        channels[("confluence", self.system.name, "position")] = \
-            lambda: mbs.GetNodeOutput(self.node, OV.Coordinates, CURRENT)
+        channels = self.items.channels
+        channels[("confluence", self.system.name, "position")] = self.current_coordinates
         label = case.confluence_label(self.system)
         prefix = "" if len(case.systems) == 1 else f"{self.system.name}_"
         channels[("extra", f"{label}_damping", "N s/m")] = lambda: self.current().damping

@@ -35,12 +35,13 @@ unconditionally stable, where an explicit, lagged m_c a_c is not once m_c / tau 
 C_c is still the smallest value meeting kappa_max for the sum, and with every line slack the confluence falls freely
 (v = v_r + tau g). As m_c -> 0 it is the massless solve again.
 
-Plain floats throughout (about 10 us a call): it runs at every solver stage.
+Plain floats throughout (about 7 us a call for four taut lines): it runs at every solver stage.
 """
 
 from __future__ import annotations
 
 import math
+from itertools import repeat
 from typing import NamedTuple
 
 from .lines import tension
@@ -180,28 +181,6 @@ def _next_active_set(lines, active, velocity, visited) -> bool:
     return True
 
 
-def _assemble(lines, active, base) -> tuple:
-    """alpha and b of Eq. 3.10 over the active lines (six entries of alpha, then b), starting from the mass term
-    ``base`` = (rate, b0x, b0y, b0z) on the diagonal and in b."""
-    rate, bx, by, bz = base
-    a00 = a11 = a22 = rate
-    a01 = a02 = a12 = 0.0
-    for (nx, ny, nz, stretch, vn, k, c), on in zip(lines, active):
-        if on:
-            cnx, cny = c * nx, c * ny
-            a00 += cnx * nx
-            a01 += cnx * ny
-            a02 += cnx * nz
-            a11 += cny * ny
-            a12 += cny * nz
-            a22 += c * nz * nz
-            f = k * stretch + c * vn
-            bx += f * nx
-            by += f * ny
-            bz += f * nz
-    return a00, a01, a02, a11, a12, a22, bx, by, bz
-
-
 def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity,
                         free_length, stiffness, damping, kappa_max: float = 5.0,
                         slack_rule: str = "stretch", mass_term: MassTerm | None = None) -> SPSolution:
@@ -228,21 +207,46 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
     SPSolution
     """
     cx, cy, cz = confluence_position
-    rate, (rx, ry, rz), (gx, gy, gz) = mass_term or (0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-    lines = []       # (nx, ny, nz, stretch, attach velocity along n, K, C)
-    directions = []
-    for (px, py, pz), (vx, vy, vz), l0, k, c in zip(attach_position, attach_velocity, free_length, stiffness, damping):
-        dx, dy, dz = px - cx, py - cy, pz - cz
-        length = math.sqrt(dx * dx + dy * dy + dz * dz)
-        nx, ny, nz = dx / length, dy / length, dz / length
-        directions.append((nx, ny, nz))
-        lines.append((nx, ny, nz, length - l0, vx * nx + vy * ny + vz * nz, k, c))
-    active = [line[3] > 0.0 for line in lines]
-    base = (rate, gx + rate * rx, gy + rate * ry, gz + rate * rz)
-    a00, a01, a02, a11, a12, a22, bx, by, bz = _assemble(lines, active, base)
+    if mass_term is None:
+        rate = bx = by = bz = 0.0
+    else:
+        rate, (rx, ry, rz), (gx, gy, gz) = mass_term
+        bx, by, bz = gx + rate * rx, gy + rate * ry, gz + rate * rz
+    b0x, b0y, b0z = bx, by, bz
     v0x, v0y, v0z = previous_velocity
+    forced = None    # the force rule's active set, once a pass has found the last one inconsistent
     visited = None   # the force rule's active sets seen so far
     while True:
+        # geometry of every line, assembling alpha and b over the active ones (first pass: the stretched ones);
+        # only the force rule makes further passes, and they repeat the geometry rather than keep a second loop
+        a00 = a11 = a22 = rate
+        a01 = a02 = a12 = 0.0
+        bx, by, bz = b0x, b0y, b0z
+        lines = []       # (nx, ny, nz, stretch, attach velocity along n, K, C)
+        directions = []
+        active = []
+        for (px, py, pz), (vx, vy, vz), l0, k, c, on in zip(attach_position, attach_velocity, free_length, stiffness,
+                                                            damping, forced or repeat(None)):
+            dx, dy, dz = px - cx, py - cy, pz - cz
+            length = math.sqrt(dx * dx + dy * dy + dz * dz)
+            nx, ny, nz = dx / length, dy / length, dz / length
+            stretch, vn = length - l0, vx * nx + vy * ny + vz * nz
+            directions.append((nx, ny, nz))
+            lines.append((nx, ny, nz, stretch, vn, k, c))
+            taut = stretch > 0.0 if on is None else on
+            active.append(taut)
+            if taut:
+                cnx, cny = c * nx, c * ny
+                a00 += cnx * nx
+                a01 += cnx * ny
+                a02 += cnx * nz
+                a11 += cny * ny
+                a12 += cny * nz
+                a22 += c * nz * nz
+                f = k * stretch + c * vn
+                bx += f * nx
+                by += f * ny
+                bz += f * nz
         if True not in active and rate == 0.0:
             velocity, c_c, kappa = (v0x, v0y, v0z), 0.0, 0.0
         else:
@@ -260,7 +264,7 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
             visited = {tuple(active)}
         if not _next_active_set(lines, active, velocity, visited):
             break
-        a00, a01, a02, a11, a12, a22, bx, by, bz = _assemble(lines, active, base)
+        forced = active
     wx, wy, wz = velocity
     tensions = [tension(stretch, vn - wx * nx - wy * ny - wz * nz, k, c) for nx, ny, nz, stretch, vn, k, c in lines]
     return SPSolution(velocity, c_c, kappa, tuple(active), tensions, directions)
