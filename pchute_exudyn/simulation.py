@@ -94,14 +94,14 @@ def _end_state(items, phase) -> tuple[dict, dict]:
               for name in phase.bodies}
     confluences = {name: ConfluenceState(np.asarray(read[("confluence", name, "position")](), float)[:3],
                                          np.asarray(read[("confluence", name, "velocity")](), float),
-                                         _acceleration(items.sp.get(name)))
+                                         _acceleration(items.reduced.get(name)))
                    for name in phase.systems}
     return bodies, confluences
 
 
 def _acceleration(confluence):
-    """The confluence acceleration a method carries into the next phase (SP order 1), else None."""
-    acceleration = getattr(confluence, "acceleration", lambda: None)()
+    """The acceleration a massless confluence carries into the next phase (SP order 1), else None."""
+    acceleration = None if confluence is None else confluence.acceleration()
     return None if acceleration is None else np.asarray(acceleration, float)
 
 

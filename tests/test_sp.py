@@ -110,7 +110,7 @@ def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
     np.testing.assert_allclose(states["main"].acceleration, (velocity[-1] - velocity[-2]) / 1e-2, rtol=1e-9)
     assert abs(states["main"].acceleration[2]) > 0.1       # still decelerating at 3 s
     nxt = build_sp_model(mer_case1, phase, 5.0, "stretch", 1)
-    sp = nxt.sp["main"]
+    sp = nxt.reduced["main"]
     sp.start_acceleration = tuple(states["main"].acceleration.tolist())
     term = sp.mass_term(0.0, states["main"].position.tolist())
     g = mer_case1.start.gravity_scalar(*states["main"].position.tolist())

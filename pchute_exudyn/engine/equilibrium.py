@@ -95,7 +95,7 @@ def build_equilibrium_model(case: Case, phase: Phase | None = None) -> ModelItem
     add_bodies(items, case, phase, snapshot=True)
     for system in items.systems:
         confluence = EquilibriumConfluence(items, case, system, phase.confluence_states[system.name])
-        items.sp[system.name] = confluence
+        items.reduced[system.name] = confluence
         confluence.register()
         confluence.add_channels(case)
         items.summaries.append(lambda confluence=confluence: {f"equilibrium_{confluence.system.name}":

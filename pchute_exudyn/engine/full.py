@@ -98,7 +98,7 @@ def add_rk4_step_monitor(items: ModelItems, case: Case, step: float, method: str
             marker = items.confluences[system.name].marker
             where = (lambda marker=marker: get_marker(marker, OV.Position, CURRENT))
         else:
-            node = items.sp[system.name].node
+            node = items.reduced[system.name].node
             where = (lambda node=node: get_node(node, OV.Coordinates, CURRENT)[:3])
         watched.append((system, markers, where))
     next_check = [0.0]

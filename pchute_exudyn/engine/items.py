@@ -63,7 +63,7 @@ class ModelItems:
     post_step_hooks: list = field(default_factory=list)  # callables (mbs, t) run after every step (and at t = 0)
     keep_alive: list = field(default_factory=list)      # symbolic user functions must outlive the solve
     failure: Exception | None = None                    # first error raised inside a user function
-    sp: dict = field(default_factory=dict)              # system -> massless confluence (engine.reduced)
+    reduced: dict = field(default_factory=dict)         # system -> massless confluence (engine.reduced: SP, equilibrium)
     summaries: list = field(default_factory=list)       # callables returning method facts for summary.json
     systems: list = field(default_factory=list)         # the ParachuteSystems active in this model
     stop_conditions: list = field(default_factory=list)  # callables (t) -> True to end the run after this step

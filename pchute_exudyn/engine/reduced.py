@@ -102,6 +102,10 @@ class ReducedConfluence:
         self.solution, self.solved_at, self.solved_at_end = solution, (t, q), at_end
         return solution
 
+    def acceleration(self):
+        """Confluence acceleration (m/s^2) to carry into the next phase, or None (the method keeps none)."""
+        return None
+
     def reusable(self, solution) -> bool:
         """Whether ``solution`` holds for the same state in the next step too (it does not depend on anything the
         method updates between steps); subclasses refine this."""

@@ -96,7 +96,7 @@ def build_sp_model(case: Case, phase: Phase | None, kappa_max: float, slack_rule
     for system in items.systems:
         sp = SPConfluence(items, case, system, phase.confluence_states[system.name], kappa_max, slack_rule,
                           phase.start, order)
-        items.sp[system.name] = sp
+        items.reduced[system.name] = sp
         sp.register()
         items.post_step_hooks.append(sp.end_step)
         sp.add_channels(case)
