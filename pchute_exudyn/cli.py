@@ -6,8 +6,10 @@ import argparse
 import sys
 from pathlib import Path
 
+from dataclasses import fields
+
 from . import __version__
-from .case.model import INTEGRATORS, METHODS, SLACK_RULES, SP_ORDERS
+from .case.method_table import INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
 
 EXIT_ERROR = 1
@@ -27,11 +29,10 @@ def _add_run(subparsers) -> None:
         description="Simulate a case file and write timeseries.csv, result.npz, summary.json and overview.png "
                     "into the output folder. Prints a one-line summary.")
     run.add_argument("case", help="case file (TOML), e.g. cases/mer/case1.toml")
-    run.add_argument("--method", choices=METHODS, default=None,
-                     help="confluence method: full = the confluence as a point mass (thesis Eqs. 1.1-1.7); sp = "
-                          "singular perturbation, the confluence velocity from the line-force balance (thesis ch. 3, "
-                          "rk4 only); equilibrium = the confluence at the balance of the line stiffness forces "
-                          "(Raiszadeh, thesis Eq. 2.9, rk4 only); default: the case's simulation.method")
+    run.add_argument("--method", choices=tuple(METHODS), default=None,
+                     help="confluence method: " + "; ".join(f"{name} = {cls.summary}" + (
+                         "" if cls.integrators == INTEGRATORS else f" ({', '.join(cls.integrators)} only)")
+                         for name, cls in METHODS.items()) + "; default: the case's simulation.method")
     run.add_argument("--integrator", choices=INTEGRATORS, default=None,
                      help="rk4 = explicit Runge-Kutta 4, fixed step (the thesis's); implicit = Exudyn's "
                           "generalized-alpha; default: the case's simulation.integrator")
@@ -45,30 +46,58 @@ def _add_run(subparsers) -> None:
                      help="override a case field, validated like the file; repeatable. Keys are dotted "
                           "(bodies.vehicle.mass=800); a body or system name may lead (vehicle.mass=800); '*' "
                           "matches every entry (main.lines.*.damping=0); [i] indexes arrays (vehicle.inertia[0]=250)")
-    run.add_argument("--slack-rule", choices=SLACK_RULES, default=None,
-                     help="sp: when a line counts as slack: stretch = L <= L0 (the thesis), force = its tension "
-                          "would push (active set); default: the case's simulation.sp.slack_rule (stretch)")
-    run.add_argument("--kappa-max", type=float, default=None, metavar="K",
-                     help="sp: largest condition number of alpha (thesis Eq. 3.13) while a line is slack, > 3; "
-                          "default: the case's simulation.sp.kappa_max (5)")
-    run.add_argument("--sp-order", type=int, choices=SP_ORDERS, default=None,
-                     help="sp: 0 = massless confluence (Eq. 3.10, the thesis), 1 = its weight and inertia kept to "
-                          "first order; default: the case's simulation.sp.order (0)")
+    _add_method_options(run)
     run.add_argument("--no-plot", action="store_true", help="do not write overview.png")
     run.set_defaults(func=_run)
+
+
+def _option_flags():
+    """(method name, option name, flag, field) of every method option that has a command-line flag."""
+    for name, method_class in METHODS.items():
+        for f in fields(method_class.Options):
+            if f.metadata.get("flag"):
+                yield name, f.name, f.metadata["flag"], f
+
+
+def _add_method_options(parser) -> None:
+    """One flag per method option that declares one (``methods.base.option``), from the method table."""
+    seen = {}
+    for method, _, flag, f in _option_flags():
+        if flag in seen:   # two methods sharing a flag share its meaning
+            continue
+        seen[flag] = method
+        parser.add_argument(flag, type=f.metadata["parse"], choices=f.metadata["choices"], default=None,
+                            dest=f"option_{method}_{f.name}", metavar=None if f.metadata["choices"] else "X",
+                            help=f"{method}: {f.metadata['help']}; default: the case's simulation.{method}.{f.name} "
+                                 f"({f.default})")
+
+
+def _method_options(args, method_class) -> dict:
+    """The options of ``method_class`` given on the command line; a flag of another method's option is an error."""
+    own = {f.metadata.get("flag"): f.name for f in fields(method_class.Options)}
+    given = {}
+    for owner, option, flag, _ in _option_flags():
+        value = getattr(args, f"option_{owner}_{option}", None)
+        if value is None:
+            continue
+        if flag not in own:
+            raise InputError(f"{flag} is an option of the {owner} method, not of --method {method_class.name}")
+        given[own[flag]] = value
+    return given
 
 
 def _run(args) -> int:
     from .case import load_case
     from .io import ensure_writable_dir
-    from .simulation import resolve_run, simulate
+    from .simulation import resolve_method, resolve_run, simulate
 
     case = load_case(args.case, args.overrides)
-    method, integrator, step, duration = resolve_run(case, args.method, args.integrator, args.dt, args.t_end)
+    method_class = type(resolve_method(case, args.method))
+    plan = resolve_run(case, method_class, args.integrator, args.dt, args.t_end, _method_options(args, method_class))
+    method, integrator, step = method_class.name, plan.integrator, plan.step
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     ensure_writable_dir(out)  # fail before a long run, not after it
-    result = simulate(case, method, integrator, step, duration, kappa_max=args.kappa_max, slack_rule=args.slack_rule,
-                      sp_order=args.sp_order)
+    result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options)
     result.save(out, plot=not args.no_plot)
     s, f = result.summary, result.summary["final"]
     ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"

@@ -15,8 +15,9 @@ from .case.model import Case
 from .errors import InputError
 from .outputs import attach_points
 from .physics.equilibrium import equilibrium_point
-from .physics.linearization import linearize, max_stable_step_rk4, modes
-from .stability import initial_confluence, initial_point
+from .methods.full import FullMass
+from .physics.linearization import linearize, max_stable_step_rk4, modes, sp_eigenvalues
+from .state import initial_confluence_state, initial_point
 
 
 def attach_state(case: Case, system, time: float):
@@ -24,11 +25,10 @@ def attach_state(case: Case, system, time: float):
     moving = {line.body for line in system.lines if not case.bodies[line.body].fixed}
     if not moving or time == 0.0:
         attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
-        return attach, initial_confluence(case, system), 0.0
+        return attach, initial_confluence_state(case, system).position, 0.0
     from .simulation import resolve_run, run
-    step = case.simulation.default_step("full", "implicit") or 1e-3
-    method, integrator, step, duration = resolve_run(case, "full", "implicit", min(step, time), time)
-    raw, _, _ = run(case, method, integrator, step, duration)
+    step = case.simulation.default_step(FullMass.name, "implicit") or 1e-3
+    raw, _, _ = run(case, resolve_run(case, FullMass, "implicit", min(step, time), time))
     positions, _ = attach_points(case, raw, system)
     return positions[-1], raw.confluences[system.name]["position"][-1], float(raw.time[-1])
 
@@ -52,7 +52,7 @@ def linearization_report(case: Case, system_name: str | None = None, time: float
     eq = equilibrium_point(attach, free_length, stiffness, guess=guess, require_unique=True)
     c_bar, k_bar = linearize(attach, eq.position, free_length, stiffness, damping)
     found = modes(system.confluence.mass, c_bar, k_bar)
-    sp_roots = np.linalg.eigvals(-np.linalg.solve(c_bar, k_bar)) if np.linalg.matrix_rank(c_bar) == 3 else []
+    sp_roots = sp_eigenvalues(c_bar, k_bar)
     return {
         "case": case.name,
         "system": system_name,

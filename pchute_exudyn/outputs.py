@@ -18,35 +18,20 @@ A body or system absent from part of a run (not yet deployed, or cut away) has N
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from .case.model import Case
 from .errors import SimulationError
 from .physics.aerodynamics import angle_of_attack_deg
 from .physics.air import AirMotion
+from .physics.kinematics import body_point, relative_to_body
 from .physics.lines import line_states
 from .physics.rotations import attitude_angles_deg, tilt_deg
+from .state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, RawHistory
 
 MAX_LINE_STRAIN = 1.0
 """A line stretched beyond (1 + MAX_LINE_STRAIN) times its free length means the integration diverged (parachute
 lines fail at a few per cent strain); such a run stops with an error instead of returning numbers."""
-
-
-@dataclass
-class RawHistory:
-    """Sampled histories from an engine run, in start-frame coordinates (m, m/s, rad/s)."""
-
-    time: np.ndarray
-    bodies: dict = field(default_factory=dict)        # name -> {position, velocity, rotation, angular_velocity}
-    confluences: dict = field(default_factory=dict)   # system -> {position, velocity}
-    tensions: dict = field(default_factory=dict)      # (system, line) -> tension (N)
-    extra: dict = field(default_factory=dict)         # column name -> method-specific history
-    units: dict = field(default_factory=dict)         # column name -> unit of the extra columns
-    steps: int = 0
-    wall_time: float = 0.0
-    stopped_at: float | None = None                   # time a stop condition (touchdown) ended the run
 
 
 def concatenate(case: Case, histories: list) -> RawHistory:
@@ -70,18 +55,17 @@ def concatenate(case: Case, histories: list) -> RawHistory:
             parts.append(value[rows] if value is not None else np.full((int(rows.sum()),) + shape, np.nan))
         return np.concatenate(parts)
 
-    shapes = {"position": (3,), "velocity": (3,), "rotation": (3, 3), "angular_velocity": (3,)}
+    shapes = dict(zip(BODY_QUANTITIES, [(3,), (3,), (3, 3), (3,)]))
     for name in case.bodies:   # every body and system gets columns, NaN where absent (e.g. never deployed)
         out.bodies[name] = {key: gather(lambda r, k=key: r.bodies.get(name, {}).get(k), shape)
                             for key, shape in shapes.items()}
     for name, system in case.systems.items():
         out.confluences[name] = {key: gather(lambda r, k=key: r.confluences.get(name, {}).get(k), (3,))
-                                 for key in ("position", "velocity")}
+                                 for key in CONFLUENCE_QUANTITIES}
         for line in system.lines:
             out.tensions[(name, line.name)] = gather(lambda r, k=(name, line.name): r.tensions.get(k), ())
-    for key in dict.fromkeys(k for r in histories for k in r.extra):   # ordered union
-        out.extra[key] = gather(lambda r: r.extra.get(key), ())
-        out.units[key] = next(r.units[key] for r in histories if key in r.units)
+    for key in dict.fromkeys(k for r in histories for k in r.method):   # ordered union
+        out.method[key] = gather(lambda r: r.method.get(key), ())
     return out
 
 
@@ -90,11 +74,10 @@ def attach_points(case: Case, raw: RawHistory, system) -> tuple[np.ndarray, np.n
     positions, velocities = [], []
     for line in system.lines:
         body = raw.bodies[line.body]
-        rotation = body["rotation"]
-        arm = rotation @ np.asarray(case.bodies[line.body].points[line.point])           # (n, 3)
-        omega = np.einsum("nij,nj->ni", rotation, body["angular_velocity"])              # global components
-        positions.append(body["position"] + arm)
-        velocities.append(body["velocity"] + np.cross(omega, arm))
+        position, velocity = body_point(body["position"], body["rotation"], body["velocity"],
+                                        body["angular_velocity"], case.bodies[line.body].points[line.point])
+        positions.append(position)
+        velocities.append(velocity)
     return np.stack(positions, axis=1), np.stack(velocities, axis=1)
 
 
@@ -174,9 +157,9 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             key = f"tension_{case.line_label(system, line)}"
             columns[key] = raw.tensions[(system.name, line.name)]
             units[key] = "N"
-    for key, value in raw.extra.items():
-        columns[key] = value
-        units[key] = raw.units.get(key, "")
+    for key, value in raw.method.items():
+        column = key.name if len(case.systems) == 1 else f"{key.system}_{key.name}"
+        columns[column], units[column] = value, key.unit
     return columns, units
 
 
@@ -184,10 +167,7 @@ def _aero_columns(case: Case, body: dict, center, time):
     """Total angle of attack, aerodynamic angles alpha and beta (deg) and dynamic pressure (Pa) from the velocity of
     the aerodynamic centre relative to the air (planet rotation and wind); NaN where the body is absent."""
     rotation = body["rotation"]
-    arm = rotation @ np.asarray(center)
-    omega = np.einsum("nij,nj->ni", rotation, body["angular_velocity"])
-    position = body["position"] + arm
-    velocity = body["velocity"] + np.cross(omega, arm)
+    position, velocity = body_point(body["position"], rotation, body["velocity"], body["angular_velocity"], center)
     air = AirMotion(case.start, case.wind)
     n = len(time)
     alpha, beta, total, pressure = (np.full(n, np.nan) for _ in range(4))
@@ -209,12 +189,8 @@ def _aero_columns(case: Case, body: dict, center, time):
 def _relative_columns(prefix: str, vehicle: dict, position, velocity, columns: dict, units: dict) -> None:
     """Position and velocity of a point relative to the vehicle, in vehicle body axes (m, m/s): the velocity as
     seen from the vehicle, its rotation included."""
-    rotation = vehicle["rotation"]
-    arm = position - vehicle["position"]
-    omega = np.einsum("nij,nj->ni", rotation, vehicle["angular_velocity"])
-    relative_velocity = velocity - vehicle["velocity"] - np.cross(omega, arm)
-    body_arm = np.einsum("nji,nj->ni", rotation, arm)
-    body_velocity = np.einsum("nji,nj->ni", rotation, relative_velocity)
+    body_arm, body_velocity = relative_to_body(vehicle["position"], vehicle["rotation"], vehicle["velocity"],
+                                               vehicle["angular_velocity"], position, velocity)
     for i, axis in enumerate("xyz"):
         columns[f"{prefix}_relative_position_{axis}"], units[f"{prefix}_relative_position_{axis}"] = body_arm[:, i], "m"
         columns[f"{prefix}_relative_velocity_{axis}"] = body_velocity[:, i]

@@ -8,48 +8,13 @@ over, and a newly deployed system is placed at line stretch (``physics.deploymen
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from .case.model import Case, ParachuteSystem
 from .physics.air import AirMotion
 from .physics.deployment import line_stretch_placement
-from .physics.rotations import attitude_matrix
-
-
-@dataclass
-class BodyState:
-    """A rigid body's state in the start frame: position (m), attitude (body -> start frame), velocity (m/s) and
-    angular velocity in body axes (rad/s)."""
-
-    position: np.ndarray
-    attitude: np.ndarray
-    velocity: np.ndarray
-    angular_velocity: np.ndarray
-
-
-@dataclass
-class ConfluenceState:
-    """A confluence's position (m), velocity (m/s) and, when a method knows it, acceleration (m/s^2; SP order 1
-    carries it into the next phase) in the start frame."""
-
-    position: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray | None = None
-
-
-@dataclass
-class Phase:
-    """One model of a run: from ``start`` to ``end`` (s) with these systems and free bodies."""
-
-    start: float
-    end: float
-    systems: list
-    bodies: list
-    body_states: dict = field(default_factory=dict)
-    confluence_states: dict = field(default_factory=dict)
-    events: list = field(default_factory=list)
+from .state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
+from .summary import CutawayEvent, DeployEvent
 
 
 def boundaries(case: Case, duration: float) -> list:
@@ -64,20 +29,9 @@ def boundaries(case: Case, duration: float) -> list:
 
 def initial_states(case: Case) -> tuple[dict, dict]:
     """States at t = 0 of the bodies and confluences that have an initial state in the case."""
-    bodies, confluences = {}, {}
-    for body in case.free_bodies():
-        i = body.initial
-        if i is None:
-            continue
-        position = case.start.local_position(i.altitude, i.east, i.north)
-        bodies[body.name] = BodyState(position, attitude_matrix(i.yaw_deg, i.pitch_deg, i.roll_deg),
-                                      case.start.inertial_velocity(position, i.velocity_enu), i.angular_velocity)
-    for system in case.systems.values():
-        i = system.confluence.initial
-        if i is None:
-            continue
-        position = case.start.local_position(i.altitude, i.east, i.north)
-        confluences[system.name] = ConfluenceState(position, case.start.inertial_velocity(position, i.velocity_enu))
+    bodies = {body.name: initial_body_state(case, body) for body in case.free_bodies() if body.initial is not None}
+    confluences = {system.name: initial_confluence_state(case, system) for system in case.systems.values()
+                   if system.confluence.initial is not None}
     return bodies, confluences
 
 
@@ -103,14 +57,14 @@ def next_phase(case: Case, start: float, end: float, body_states: dict, confluen
     phase = Phase(start, end, systems, case.active_bodies(start))
     for system in case.systems.values():
         if system.cutaway_time is not None and system.cutaway_time == start:
-            phase.events.append({"event": "cutaway", "system": system.name, "time": start})
+            phase.events.append(CutawayEvent(start, system.name))
     for name in systems:
         system = case.systems[name]
         if system.deploy_time is not None and system.deploy_time == start:
             canopy, confluence = deploy(case, system, body_states, start)
             body_states = {**body_states, system.canopy: canopy}
             confluence_states = {**confluence_states, name: confluence}
-            phase.events.append({"event": "deploy", "system": name, "time": start})
+            phase.events.append(DeployEvent(start, name))
     phase.body_states = {name: body_states[name] for name in phase.bodies}
     phase.confluence_states = {name: confluence_states[name] for name in systems}
     return phase

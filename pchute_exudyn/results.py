@@ -34,15 +34,18 @@ class Result:
     units : dict of str to str
         Unit of each column.
     summary : dict
-        Run metadata (see the module docstring).
+        Run metadata (see the module docstring), as ``summary.json`` holds it.
+    run_summary : summary.RunSummary, optional
+        The same as a typed object, for a result just simulated (None for one loaded from files).
     """
 
-    def __init__(self, columns: dict, units: dict | None = None, summary: dict | None = None):
+    def __init__(self, columns: dict, units: dict | None = None, summary: dict | None = None, run_summary=None):
         if "time" not in columns:
             raise InputError("a result needs a 'time' column")
         self.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
         self.units = dict(units or {})
         self.summary = dict(summary or {})
+        self.run_summary = run_summary
 
     @property
     def time(self) -> np.ndarray:

@@ -5,9 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.errors import CaseError, SimulationError
+from pchute_exudyn.case.tables import read_atmosphere_table
+from pchute_exudyn.errors import CaseError
 from pchute_exudyn.physics.aerodynamics import CoefficientTable, aerodynamic_force, angle_of_attack_deg
-from pchute_exudyn.physics.atmosphere import MarsGRC, TabulatedAtmosphere
+from pchute_exudyn.physics.atmosphere import MarsGRC, OutsideAtmosphereError
 
 MER_CN = CoefficientTable((0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0, 90.0),
                           (0.0, 0.040, 0.080, 0.110, 0.130, 0.150, 0.140, 0.110, 0.0))
@@ -33,10 +34,10 @@ def test_table_is_log_linear_and_exact_for_an_exponential(tmp_path):
     heights = np.arange(0.0, 12001.0, 2000.0)
     path.write_text("# exponential, H = 11.1 km\naltitude,density\n"
                     + "".join(f"{h},{0.02 * math.exp(-h / 11100.0)}\n" for h in heights))
-    table = TabulatedAtmosphere.from_csv(path)
+    table = read_atmosphere_table(path)
     for h in (0.0, 1234.0, 7777.7, 12000.0):
         assert table.density(h) == pytest.approx(0.02 * math.exp(-h / 11100.0), rel=1e-12)
-    with pytest.raises(SimulationError, match="outside the atmosphere table"):
+    with pytest.raises(OutsideAtmosphereError, match="outside the atmosphere table"):
         table.density(12000.1)
 
 
@@ -51,7 +52,7 @@ def test_bad_tables(tmp_path, text, message):
     path = tmp_path / "bad.csv"
     path.write_text(text)
     with pytest.raises(CaseError, match=message):
-        TabulatedAtmosphere.from_csv(path)
+        read_atmosphere_table(path)
 
 
 def test_axial_force_at_zero_incidence():

@@ -1,6 +1,8 @@
-"""Case files: the model of a run as validated, frozen data."""
+"""Case files: the model of a run as validated, frozen data, and the table of methods a case can name."""
 
 from .loader import Scale, apply_override, load_case, parse_override
-from .model import INTEGRATORS, METHODS, Case
+from .method_table import INTEGRATORS, METHODS, OptionError
+from .model import Case
 
-__all__ = ["Case", "INTEGRATORS", "METHODS", "Scale", "apply_override", "load_case", "parse_override"]
+__all__ = ["Case", "INTEGRATORS", "METHODS", "OptionError", "Scale", "apply_override", "load_case",
+           "parse_override"]

@@ -31,12 +31,13 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 from ..errors import CaseError
-from ..physics.singular_perturbation import SP_ORDER_RULE, is_sp_order
 from ..physics.aerodynamics import CoefficientTable
-from ..physics.atmosphere import MarsGRC, TabulatedAtmosphere, US76Lower, Wind
+from ..physics.atmosphere import MarsGRC, US76Lower, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
-from .model import (IMPLICIT_METHODS, INTEGRATORS, METHODS, SLACK_RULES, Aerodynamics, Body, Case,
-                    Confluence, DragAreaSchedule, InitialState, Line, ParachuteSystem, SimulationSettings)
+from .method_table import INTEGRATORS, METHODS, OptionError, make_options
+from .tables import read_atmosphere_table
+from .model import (Aerodynamics, Body, Case, Confluence, DragAreaSchedule, InitialState, Line, ParachuteSystem,
+                    SimulationSettings)
 
 _REQUIRED = object()
 _NO_VALUE = CaseError._NO_VALUE
@@ -496,46 +497,64 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
                            schedule)
 
 
+def _read_method_options(t: _Table) -> dict:
+    """``[simulation.<method>]`` tables: each method's options, validated by its Options type."""
+    options = {}
+    for name, method_class in METHODS.items():
+        table = t.table(name, None)
+        if table is None:
+            continue
+        table.allowed = list(table.data)
+        try:
+            options[name] = make_options(method_class.Options, table.data)
+        except OptionError as exc:
+            raise table.error(exc.field, exc.allowed, exc.value) from None
+    return options
+
+
+def _read_steps(t: _Table, duration: float) -> dict:
+    """``[simulation.steps]``: ``<method>`` (rk4) and ``<method>_<integrator>`` keys, s."""
+    steps = {}
+    step_table = t.table("steps", None)
+    if step_table is None:
+        return steps
+    keys = [name if integrator == "rk4" else f"{name}_{integrator}"
+            for name, method_class in METHODS.items() for integrator in method_class.integrators]
+    for key in keys:
+        if key in step_table.data:
+            steps[key] = step_table.number(key, "s", above=0.0, maximum=duration)
+        else:
+            step_table.allowed.append(key)
+    step_table.finish()
+    return steps
+
+
 def _read_simulation(t: _Table) -> SimulationSettings:
     duration = t.number("duration", "s", above=0.0)
     output_step = t.number("output_step", "s", 0.01, above=0.0, maximum=duration)
-    method = t.string("method", "full", METHODS)
+    method = t.string("method", "full", tuple(METHODS))
     integrator = t.string("integrator", "rk4", INTEGRATORS)
+    if integrator not in METHODS[method].integrators:
+        raise t.error("integrator", f"the {method} method runs with: {', '.join(METHODS[method].integrators)}",
+                      integrator)
     spectral_radius = t.number("spectral_radius", "", 0.9, minimum=0.0, maximum=1.0)
-    kappa_max, slack_rule, sp_order = 5.0, "stretch", 0
-    sp_table = t.table("sp", None)
-    if sp_table is not None:
-        kappa_max = sp_table.number("kappa_max", "", 5.0, above=3.0)
-        slack_rule = sp_table.string("slack_rule", "stretch", SLACK_RULES)
-        sp_order = sp_table._get("order", 0, "")
-        if not is_sp_order(sp_order):
-            raise sp_table.error("order", SP_ORDER_RULE, sp_order)
-        sp_table.finish()
+    options = _read_method_options(t)
     ground_altitude = t.number("ground_altitude", "m", None)
     rates = t._get("descent_rate_events", [], "m/s")
     if not isinstance(rates, list):
         raise t.error("descent_rate_events", "must be a list of descent rates > 0 (m/s)", rates)
     descent_rates = [_check_number(r, "m/s", None, 0.0, None, lambda m: t.error("descent_rate_events", m, rates))
                      for r in rates]
-    steps = {}
-    step_table = t.table("steps", None)
-    if step_table is not None:
-        allowed = list(METHODS) + [f"{m}_implicit" for m in IMPLICIT_METHODS]
-        for key in allowed:
-            if key in step_table.data:
-                steps[key] = step_table.number(key, "s", above=0.0, maximum=duration)
-            else:
-                step_table.allowed.append(key)
-        step_table.finish()
+    steps = _read_steps(t, duration)
     t.finish()
-    return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, kappa_max,
-                              slack_rule, ground_altitude, tuple(descent_rates), int(sp_order))
+    return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, options,
+                              ground_altitude, tuple(descent_rates))
 
 
 def _read_atmosphere(t: _Table):
     model = t.string("model", choices=("mars_grc", "us76", "table"))
     if model == "table":
-        atmosphere = TabulatedAtmosphere.from_csv(t.string("file"))
+        atmosphere = read_atmosphere_table(t.string("file"))
     elif model == "us76":
         atmosphere = US76Lower()
     else:
@@ -604,7 +623,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
-                data=copy.deepcopy(data), wind=wind)
+                wind=wind)
 
 
 def _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle) -> None:

@@ -14,21 +14,6 @@ from ..physics.aerodynamics import CoefficientTable
 from ..physics.atmosphere import Atmosphere
 from ..physics.interpolation import interpolate_held
 from ..physics.planet import FlatPlanet, Planet, StartFrame
-from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS  # noqa: F401  (re-exported for the loader and CLI)
-
-METHODS = ("full", "sp", "equilibrium")
-"""Confluence methods: ``full`` = the confluence as a 3-DoF point mass (thesis Eqs. 1.1-1.7); ``sp`` = singular
-perturbation, the confluence velocity from the line-force balance (thesis chapter 3); ``equilibrium`` = the
-confluence placed where the line stiffness forces balance (Raiszadeh, thesis ref. 7, Eq. 2.9)."""
-
-INTEGRATORS = ("rk4", "implicit")
-"""``rk4``: explicit Runge-Kutta 4 with a fixed step; ``implicit``: Exudyn's generalized-alpha."""
-
-IMPLICIT_METHODS = ("full",)
-"""Methods the implicit integrator can run (Exudyn's implicit solvers drop the ODE1/ODE2 coupling SP needs)."""
-
-# SP slack rules: "stretch" (thesis: taut means L > L0) or "force" (active set: taut lines must pull)
-
 
 @dataclass(frozen=True)
 class InitialState:
@@ -239,24 +224,20 @@ class SimulationSettings:
     output_step : float
         Sampling interval of the stored time histories (s).
     method : str
-        Default confluence method (one of METHODS).
+        Default confluence method (a name in ``case.method_table.METHODS``).
     integrator : str
-        Default integrator (one of INTEGRATORS).
+        Default integrator (one of ``case.method_table.INTEGRATORS``).
     steps : dict of str to float
         Default integration step (s) per method, keyed ``<method>`` for rk4 and ``<method>_implicit``.
     spectral_radius : float
         Numerical damping of the generalized-alpha integrator (spectral radius at infinity, 0..1).
-    kappa_max : float
-        SP: largest condition number (Eq. 3.13) accepted while a line is slack (> 3).
-    slack_rule : str
-        SP: one of SLACK_RULES.
+    options : dict of str to options
+        The options the case sets per method (``[simulation.<method>]``), as each method's validated ``Options``
+        object; a method missing here runs with its defaults.
     ground_altitude : float or None
         Geodetic altitude of the ground (m): the run ends at touchdown, when the vehicle's centre of mass reaches it.
     descent_rate_events : tuple of float
         Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
-    sp_order : int
-        SP: order in the confluence mass, one of SP_ORDERS (0: massless, Eq. 3.10, the thesis; 1: the confluence's
-        weight and inertia kept to first order).
     """
 
     duration: float
@@ -265,11 +246,9 @@ class SimulationSettings:
     integrator: str = "rk4"
     steps: dict = field(default_factory=dict)
     spectral_radius: float = 0.9
-    kappa_max: float = 5.0
-    slack_rule: str = "stretch"
+    options: dict = field(default_factory=dict)
     ground_altitude: float | None = None
     descent_rate_events: tuple = ()
-    sp_order: int = 0
 
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
@@ -297,8 +276,6 @@ class Case:
     simulation : SimulationSettings
     vehicle : str
         Name of the body the summary reports (final altitude and position).
-    data : dict
-        The merged, validated case data (written beside results for provenance).
     """
 
     name: str
@@ -311,7 +288,6 @@ class Case:
     systems: dict
     simulation: SimulationSettings
     vehicle: str
-    data: dict = field(default_factory=dict, repr=False)
     wind: object = None
 
     def canopy_system(self, body_name: str):

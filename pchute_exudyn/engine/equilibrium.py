@@ -9,15 +9,15 @@ MAX_CONSECUTIVE_FAILURES failed solves in a row stop the run with an error.
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple
 
 from ..case.model import Case, ParachuteSystem
 from ..errors import SimulationError
-from ..phases import ConfluenceState, Phase, initial_phase
 from ..physics.equilibrium import equilibrium_point, equilibrium_velocity
-from ..physics.lines import tension
-from .items import ModelItems, add_bodies, new_system
+from ..physics.lines import line_tensions
+from ..state import ConfluenceState, Phase
+from .bodies import add_bodies
+from .model import Model
 from .reduced import ReducedConfluence
 
 MAX_CONSECUTIVE_FAILURES = 20
@@ -37,14 +37,17 @@ class EquilibriumSolution(NamedTuple):
 class EquilibriumConfluence(ReducedConfluence):
     """State and user functions of one equilibrium-point confluence."""
 
-    def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, state: ConfluenceState):
-        super().__init__(items, case, system, [0.0])
-        self.position = tuple(state.position.tolist())
+    OUTPUTS = {"equilibrium_iterations": ("-", lambda c: c.current().iterations),
+               "equilibrium_failures": ("-", lambda c: c.failures)}
+
+    def __init__(self, model: Model, case: Case, system: ParachuteSystem, state: ConfluenceState):
+        super().__init__(model, case, system, [0.0])
+        self.guess = tuple(state.position.tolist())   # warm start: the last solution
         self.solves = self.failures = self.consecutive_failures = self.iterations = 0
         self.max_iterations_used = 0
 
     def compute(self, t, q, positions, velocities):
-        solved = equilibrium_point(positions, self.free_length, self.stiffness, guess=self.position)
+        solved = equilibrium_point(positions, self.free_length, self.stiffness, guess=self.guess)
         self.solves += 1
         self.iterations += solved.iterations
         self.max_iterations_used = max(self.max_iterations_used, solved.iterations)
@@ -59,46 +62,26 @@ class EquilibriumConfluence(ReducedConfluence):
                     f"{MAX_CONSECUTIVE_FAILURES} solves in a row (near t = {t:.4f} s, residual {solved.residual:.3g} "
                     "N): use --method sp or full", t)
         position = tuple(solved.position.tolist())
-        self.position = position
+        self.guess = position
         velocity, _ = equilibrium_velocity(positions, velocities, position, self.free_length, self.stiffness)
-        wx, wy, wz = velocity
-        cx, cy, cz = position
-        tensions, directions = [], []
-        for (px, py, pz), (vx, vy, vz), l0, k, c in zip(positions, velocities, self.free_length, self.stiffness,
-                                                        self.damping):
-            dx, dy, dz = px - cx, py - cy, pz - cz
-            length = math.sqrt(dx * dx + dy * dy + dz * dz)
-            nx, ny, nz = dx / length, dy / length, dz / length
-            directions.append((nx, ny, nz))
-            tensions.append(tension(length - l0, (vx - wx) * nx + (vy - wy) * ny + (vz - wz) * nz, k, c))
+        tensions, directions = line_tensions(positions, velocities, position, velocity, self.free_length,
+                                             self.stiffness, self.damping)
         return EquilibriumSolution(position, tuple(velocity), tuple(tensions), tuple(directions), solved.iterations,
                                    solved.converged)
 
     def derivative(self, solution) -> list:
         return [0.0]
 
-    def add_channels(self, case: Case) -> None:
-        super().add_channels(case)
-        prefix = "" if len(case.systems) == 1 else f"{self.system.name}_"
-        self.items.channels[("extra", f"{prefix}equilibrium_iterations", "-")] = lambda: self.current().iterations
-        self.items.channels[("extra", f"{prefix}equilibrium_failures", "-")] = lambda: self.failures
-
-    def summary(self) -> dict:
-        return {"solves": self.solves, "failures": self.failures,
-                "mean_iterations": self.iterations / max(self.solves, 1), "max_iterations": self.max_iterations_used}
+    def facts(self) -> dict:
+        return {f"equilibrium_{self.system.name}": {
+            "solves": self.solves, "failures": self.failures,
+            "mean_iterations": self.iterations / max(self.solves, 1), "max_iterations": self.max_iterations_used}}
 
 
-def build_equilibrium_model(case: Case, phase: Phase | None = None) -> ModelItems:
+def build_equilibrium_model(case: Case, phase: Phase) -> Model:
     """Build the equilibrium-point Exudyn model of ``case`` for one phase."""
-    phase = phase or initial_phase(case)
-    items = new_system(case)
-    add_bodies(items, case, phase, snapshot=True)
-    for system in items.systems:
-        confluence = EquilibriumConfluence(items, case, system, phase.confluence_states[system.name])
-        items.reduced[system.name] = confluence
-        confluence.register()
-        confluence.add_channels(case)
-        items.summaries.append(lambda confluence=confluence: {f"equilibrium_{confluence.system.name}":
-                                                              confluence.summary()})
-    items.mbs.Assemble()
-    return items
+    model = Model(case, phase)
+    add_bodies(model, case, snapshot=True)
+    for system in model.systems:
+        EquilibriumConfluence(model, case, system, phase.confluence_states[system.name]).register(case)
+    return model.assemble()

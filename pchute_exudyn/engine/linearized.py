@@ -6,20 +6,20 @@ import exudyn as exu
 import numpy as np
 
 from ..case.model import Case
+from ..physics.linearization import companion_matrix
+from ..state import Phase
 from .full import build_full_model
 
 
-def exudyn_linear_system(case: Case):
-    """Mass, stiffness and damping matrices (M, K, D) of the full-mass model at the case's initial state, from
+def exudyn_linear_system(case: Case, phase: Phase):
+    """Mass, stiffness and damping matrices (M, K, D) of the full-mass model at the phase's start state, from
     Exudyn's ``ComputeLinearizedSystem`` (numerical differentiation of the engine's forces)."""
-    items = build_full_model(case)
-    m, k, d = items.mbs.ComputeLinearizedSystem(exu.SimulationSettings(), projectIntoConstraintNullspace=False)
+    model = build_full_model(case, phase)
+    m, k, d = model.mbs.ComputeLinearizedSystem(exu.SimulationSettings(), projectIntoConstraintNullspace=False)
     return np.asarray(m), np.asarray(k), np.asarray(d)
 
 
-def exudyn_eigenvalues(case: Case) -> np.ndarray:
+def exudyn_eigenvalues(case: Case, phase: Phase) -> np.ndarray:
     """Roots of det(M lambda^2 + D lambda + K) = 0 from Exudyn's linearisation (1/s)."""
-    m, k, d = exudyn_linear_system(case)
-    n = m.shape[0]
-    companion = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, d)]])
-    return np.linalg.eigvals(companion)
+    m, k, d = exudyn_linear_system(case, phase)
+    return np.linalg.eigvals(companion_matrix(m, d, k))

@@ -15,22 +15,27 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
-from .items import CURRENT, OV, ModelItems, point_motion
+from ..physics.kinematics import point_motion
+from ..state import ConfluenceChannel, MethodChannel, TensionChannel
+from .model import CURRENT, OV, Confluence, Model
 
 
-class ReducedConfluence:
+class ReducedConfluence(Confluence):
     """Base class: subclasses implement ``compute(t, q, positions, velocities)`` returning a solution with
-    ``velocity``, ``tensions`` and ``directions``, and ``derivative(solution)`` for the ODE1 states."""
+    ``velocity``, ``tensions`` and ``directions``, and ``derivative(solution)`` for the ODE1 states; ``OUTPUTS``
+    names the quantities they report per system (name -> (unit, function of the confluence))."""
 
-    def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, initial_states: list):
+    OUTPUTS: dict = {}
+
+    def __init__(self, model: Model, case: Case, system: ParachuteSystem, initial_states: list):
         """``initial_states``: the ODE1 coordinates at the phase start."""
-        mbs = items.mbs
-        self.items, self.system = items, system
+        mbs = model.mbs
+        self.model, self.system = model, system
         self.free_length = [line.free_length for line in system.lines]
         self.stiffness = [line.stiffness for line in system.lines]
         self.damping = [line.damping for line in system.lines]
-        self.markers = [items.bodies[line.body].point_markers[line.point] for line in system.lines]
-        self.snapshot = items.snapshot
+        self.markers = [model.bodies[line.body].point_markers[line.point] for line in system.lines]
+        self.snapshot = model.snapshot
         fixed = {name for name, body in case.bodies.items() if body.fixed}
         # attach points from the stage snapshot (free bodies) or their ground markers (fixed bodies)
         self.points = [(line.body, tuple(case.bodies[line.body].points[line.point]), marker, line.body in fixed)
@@ -72,14 +77,16 @@ class ReducedConfluence:
         between it and this hook, so a solve marked ``at_end`` at time ``t`` is current without reading the state
         back (reading the ODE1 coordinates inside the solver costs several microseconds)."""
         if self.solved_at_end and self.solved_at[0] == t:
-            self._checked = self.items.post_step_count[0]
+            self._checked = self.model.post_step_count[0]
         else:
             self.current()
 
-    def register(self) -> None:
-        """Hook this confluence into the solver's per-step work."""
-        self.items.pre_step_hooks.append(self.new_step)
-        self.items.post_step_hooks.insert(0, self.confirm)
+    def register(self, case: Case) -> None:
+        """Hook this confluence into the solver's per-step work and the model's channels."""
+        self.model.add_pre_step(self.new_step)
+        self.model.add_post_step(self.confirm, first=True)
+        self.model.confluences[self.system.name] = self
+        self.add_channels(case)
 
     def solve(self, t, q, at_end: bool = False):
         """Solve at the current attach-point states and ODE1 coordinates ``q``; stores forces, caches.
@@ -120,7 +127,7 @@ class ReducedConfluence:
                 return self.derivative(self.solution)
             return self.derivative(self.solve(t, q, at_end=self.calls_in_step > self.STAGES))
         except Exception as exc:  # keep our own error for the solver to report
-            self.items.failure = self.items.failure or exc
+            self.model.record_failure(exc)
             raise
 
     def _load(self, i):
@@ -129,14 +136,14 @@ class ReducedConfluence:
 
     def current(self):
         """The solution at the current (end-of-step) state, reusing the last right-hand side when it matches;
-        checked once per post-step call (``items.post_step_count``), then served as it is."""
-        if self._checked == self.items.post_step_count[0]:
+        checked once per post-step call (``model.post_step_count``), then served as it is."""
+        if self._checked == self.model.post_step_count[0]:
             return self.solution
         t = self._get_time()
         q = np.atleast_1d(self._get_node(self.node, OV.Coordinates, CURRENT)).tolist()
         if not (self.solved_at_end and self.solved_at == (t, q)):
             self.solve(t, q, at_end=True)
-        self._checked = self.items.post_step_count[0]
+        self._checked = self.model.post_step_count[0]
         return self.solution
 
     def current_coordinates(self) -> list:
@@ -144,10 +151,18 @@ class ReducedConfluence:
         self.current()
         return self.solved_at[1]
 
+    def position(self) -> list:
+        return self.current().position
+
+    def velocity(self) -> list:
+        return self.current().velocity
+
     def add_channels(self, case: Case) -> None:
-        """Output channels: confluence position and velocity and the line tensions."""
-        channels, name = self.items.channels, self.system.name
-        channels[("confluence", name, "position")] = lambda: self.current().position
-        channels[("confluence", name, "velocity")] = lambda: self.current().velocity
+        """Output channels: confluence position and velocity, the line tensions and the method's ``OUTPUTS``."""
+        name = self.system.name
+        self.model.add_channel(ConfluenceChannel(name, "position"), self.position)
+        self.model.add_channel(ConfluenceChannel(name, "velocity"), self.velocity)
         for i, line in enumerate(self.system.lines):
-            channels[("tension", name, line.name)] = (lambda i=i: self.current().tensions[i])
+            self.model.add_channel(TensionChannel(name, line.name), lambda i=i: self.current().tensions[i])
+        for output, (unit, value) in self.OUTPUTS.items():
+            self.model.add_channel(MethodChannel(name, output, unit), lambda value=value: value(self))

@@ -20,8 +20,9 @@ import exudyn as exu
 import numpy as np
 
 from ..errors import PchuteError, SimulationError
-from ..outputs import RawHistory
-from .items import ModelItems
+from ..physics.atmosphere import OutsideAtmosphereError
+from ..state import RawHistory
+from .model import Model
 
 CHECK_EVERY = 200
 """Steps between NaN/inf checks of the state (a check costs about 2 us; a full-mass MER RK4 step about 70 us)."""
@@ -50,10 +51,10 @@ def _settings(integrator: str, step: float, start: float, end: float, spectral_r
     return settings, exu.DynamicSolverType.GeneralizedAlpha
 
 
-def integrate(items: ModelItems, integrator: str, step: float, duration: float, output_step: float,
+def integrate(model: Model, integrator: str, step: float, duration: float, output_step: float,
               spectral_radius: float = 0.9, start: float = 0.0) -> RawHistory:
     """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
-    grid of ``output_step`` (s). A stop condition (``items.stop_conditions``) may end it early, after a step it
+    grid of ``output_step`` (s). A stop condition (``model.stop_conditions``) may end it early, after a step it
     samples; ``RawHistory.stopped_at`` then holds that time.
 
     Raises
@@ -62,10 +63,10 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
         When the state becomes NaN or infinite, a user function fails or the engine stops; the message gives the
         simulation time and what to try.
     """
-    mbs = items.mbs
+    mbs = model.mbs
     settings, solver_type = _settings(integrator, step, start, duration, spectral_radius)
     progress = {"steps": 0, "time": start, "bad": None, "stopped": None}
-    hooks = list(items.pre_step_hooks)
+    hooks = list(model.pre_step_hooks)
     get_coordinates = mbs.systemData.GetODE2Coordinates
     get_first_order = mbs.systemData.GetODE1Coordinates
 
@@ -76,7 +77,7 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
             for hook in hooks:
                 hook(mbs_, t)
         except Exception as exc:  # stop cleanly and raise it after the solver has returned
-            items.failure = items.failure or exc
+            model.record_failure(exc)
             return False
         if progress["steps"] % CHECK_EVERY == 0 and not (math.isfinite(float(get_coordinates().sum()))
                                                          and math.isfinite(float(get_first_order().sum()))):
@@ -86,16 +87,16 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
 
     # Sample the channels at the first step on or past each output time (within half a step): Exudyn's own sensor
     # clock anchors each write to the last one and drifts off the grid (seen: 55.4102 s for 55.41 s at 2e-4 s).
-    readers = list(items.channels.items())
+    readers = list(model.channels.items())
     keys = [key for key, _ in readers]
     reads = [read for _, read in readers]
     rows: list = []
     times: list = []
     next_sample = [start]
-    post_hooks = list(items.post_step_hooks)
-    stop_conditions = list(items.stop_conditions)
+    post_hooks = list(model.post_step_hooks)
+    stop_conditions = list(model.stop_conditions)
 
-    count = items.post_step_count
+    count = model.post_step_count
 
     def post_step(mbs_, t):
         if times and t <= times[-1] + 0.5 * step:  # Exudyn calls this once more after the last step
@@ -113,7 +114,7 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
                 progress["stopped"] = t
                 return False
         except Exception as exc:  # stop cleanly and raise it after the solver has returned
-            items.failure = items.failure or exc
+            model.record_failure(exc)
             return False
         return True
 
@@ -131,11 +132,8 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
     try:
         mbs.SolveDynamic(settings, solverType=solver_type, showHints=False)
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
-        if isinstance(items.failure, PchuteError):
-            raise items.failure from None
-        if items.failure is not None:
-            raise SimulationError(f"a user function failed at t = {progress['time']:.4f} s: {items.failure!r}",
-                                  progress["time"]) from items.failure
+        if model.failure is not None:
+            raise _user_error(model.failure, progress["time"]) from None
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise SimulationError(
             f"the {integrator} integration stopped at t = {progress['time']:.4f} s ({detail}); the state most "
@@ -145,32 +143,23 @@ def integrate(items: ModelItems, integrator: str, step: float, duration: float, 
         if collector_was_enabled:
             gc.enable()
         exu.config.printToConsole = console
-    if isinstance(items.failure, PchuteError):
-        raise items.failure
-    if items.failure is not None:
-        raise SimulationError(f"a user function failed at t = {progress['time']:.4f} s: {items.failure!r}",
-                              progress["time"])
+    if model.failure is not None:
+        raise _user_error(model.failure, progress["time"])
     if progress["bad"] is not None:
         raise SimulationError(
             f"the state became NaN or infinite near t = {progress['bad']:.4f} s with the {integrator} integrator "
             f"at step {step:g} s: try a smaller step", progress["bad"])
     samples = {key: [row[i] for row in rows] for i, key in enumerate(keys)}
-    raw = _collect(np.array(times), samples, progress["steps"], wall)
+    raw = RawHistory.from_samples(times, samples, progress["steps"], wall)
     raw.stopped_at = progress["stopped"]
     return raw
 
 
-def _collect(times: np.ndarray, samples: dict, steps: int, wall: float) -> RawHistory:
-    raw = RawHistory(time=times, steps=steps, wall_time=wall)
-    for key, values in samples.items():
-        array = np.array(values, dtype=float)
-        if key[0] == "body":
-            raw.bodies.setdefault(key[1], {})[key[2]] = array.reshape(-1, 3, 3) if key[2] == "rotation" else array
-        elif key[0] == "confluence":
-            raw.confluences.setdefault(key[1], {})[key[2]] = array
-        elif key[0] == "tension":
-            raw.tensions[(key[1], key[2])] = array.reshape(-1)
-        else:
-            raw.extra[key[1]] = array.reshape(-1)
-            raw.units[key[1]] = key[2]
-    return raw
+def _user_error(failure: Exception, time: float) -> Exception:
+    """The error to raise for the first exception a user function raised at ``time`` (s): ours as it is, a
+    physics model's range error as a SimulationError with its own message, anything else named as a failure."""
+    if isinstance(failure, PchuteError):
+        return failure
+    if isinstance(failure, OutsideAtmosphereError):
+        return SimulationError(str(failure), time)
+    return SimulationError(f"a user function failed at t = {time:.4f} s: {failure!r}", time)

@@ -14,20 +14,28 @@ from the previous phase (zero for a newly deployed system) enters as a force ins
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..case.model import Case, ParachuteSystem
-from ..phases import ConfluenceState, Phase, initial_phase
 from ..physics.singular_perturbation import MassTerm, confluence_velocity
-from .items import ModelItems, add_bodies, new_system
+from ..state import ConfluenceState, Phase
+from .bodies import add_bodies
+from .model import CURRENT, OV, Model
 from .reduced import ReducedConfluence
 
 
 class SPConfluence(ReducedConfluence):
-    """State and user functions of one SP confluence."""
+    """State and user functions of one SP confluence; ``options``: the SP method's options (kappa_max,
+    slack_rule, order)."""
 
-    def __init__(self, items: ModelItems, case: Case, system: ParachuteSystem, state: ConfluenceState,
-                 kappa_max: float, slack_rule: str, start_time: float = 0.0, order: int = 0):
-        super().__init__(items, case, system, state.position.tolist())
-        self.kappa_max, self.slack_rule, self.order = kappa_max, slack_rule, order
+    OUTPUTS = {"confluence_damping": ("N s/m", lambda c: c.current().damping),
+               "condition_number": ("-", lambda c: c.current().condition_number),
+               "taut_lines": ("-", lambda c: sum(c.current().taut))}
+
+    def __init__(self, model: Model, case: Case, system: ParachuteSystem, state: ConfluenceState, options,
+                 start_time: float = 0.0):
+        super().__init__(model, case, system, state.position.tolist())
+        self.kappa_max, self.slack_rule, self.order = options.kappa_max, options.slack_rule, options.order
         self.previous_velocity = tuple(state.velocity.tolist())   # v0 of the first step: the state's velocity
         self.start_time = start_time
         self.mass = system.confluence.mass
@@ -76,29 +84,21 @@ class SPConfluence(ReducedConfluence):
         (t0, v0), (t1, v1) = self.end_velocities
         return [(b - a) / (t1 - t0) for a, b in zip(v0, v1)]
 
-    def add_channels(self, case: Case) -> None:
-        super().add_channels(case)
-        channels = self.items.channels
-        channels[("confluence", self.system.name, "position")] = self.current_coordinates
-        label = case.confluence_label(self.system)
-        prefix = "" if len(case.systems) == 1 else f"{self.system.name}_"
-        channels[("extra", f"{label}_damping", "N s/m")] = lambda: self.current().damping
-        channels[("extra", f"{prefix}condition_number", "-")] = lambda: self.current().condition_number
-        channels[("extra", f"{prefix}taut_lines", "-")] = lambda: sum(self.current().taut)
+    def position(self) -> list:
+        """The ODE1 coordinates of ``current()``'s solution: the confluence position (m)."""
+        return self.current_coordinates()
+
+    def state_position(self) -> list:
+        return np.asarray(self._get_node(self.node, OV.Coordinates, CURRENT))[:3]
 
 
-def build_sp_model(case: Case, phase: Phase | None, kappa_max: float, slack_rule: str, order: int = 0) -> ModelItems:
-    """Build the SP Exudyn model of ``case`` for one phase (bodies and aerodynamics as in the full model); ``order``
-    1 keeps the confluence mass to first order (``physics.singular_perturbation``)."""
-    phase = phase or initial_phase(case)
-    items = new_system(case)
-    add_bodies(items, case, phase, snapshot=True)
-    for system in items.systems:
-        sp = SPConfluence(items, case, system, phase.confluence_states[system.name], kappa_max, slack_rule,
-                          phase.start, order)
-        items.reduced[system.name] = sp
-        sp.register()
-        items.post_step_hooks.append(sp.end_step)
-        sp.add_channels(case)
-    items.mbs.Assemble()
-    return items
+def build_sp_model(case: Case, phase: Phase, options) -> Model:
+    """Build the SP Exudyn model of ``case`` for one phase (bodies and aerodynamics as in the full model) with the
+    SP method's ``options``; order 1 keeps the confluence mass to first order (``physics.singular_perturbation``)."""
+    model = Model(case, phase)
+    add_bodies(model, case, snapshot=True)
+    for system in model.systems:
+        sp = SPConfluence(model, case, system, phase.confluence_states[system.name], options, phase.start)
+        sp.register(case)
+        model.add_post_step(sp.end_step)
+    return model.assemble()

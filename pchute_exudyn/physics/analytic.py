@@ -12,12 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import expm
 
-
-def companion_matrix(mass: float, damping_matrix, stiffness_matrix) -> np.ndarray:
-    """First-order system matrix A of m dr'' + C dr' + K dr = 0 (1/s)."""
-    c = np.asarray(damping_matrix, float)
-    k = np.asarray(stiffness_matrix, float)
-    return np.block([[np.zeros((3, 3)), np.eye(3)], [-k / mass, -c / mass]])
+from .linearization import companion_matrix
 
 
 def analytic_response(mass: float, damping_matrix, stiffness_matrix, initial_offset, initial_velocity, times):

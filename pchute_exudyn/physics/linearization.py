@@ -82,12 +82,32 @@ class Modes:
     natural_periods: np.ndarray
 
 
-def modes(mass: float, damping_matrix, stiffness_matrix) -> Modes:
-    """Solve the quadratic eigenvalue problem m lambda^2 I + lambda C + K = 0 via its first-order companion form."""
+def companion_matrix(mass, damping_matrix, stiffness_matrix) -> np.ndarray:
+    """First-order system matrix A = [[0, I], [-M^-1 K, -M^-1 C]] (1/s) of M x'' + C x' + K x = 0, whose eigenvalues
+    are the roots of det(M lambda^2 + C lambda + K) = 0 (thesis Eq. 2.6). ``mass``: a scalar m (kg; M = m I) or a
+    mass matrix."""
     c = np.asarray(damping_matrix, float)
     k = np.asarray(stiffness_matrix, float)
-    companion = np.block([[np.zeros((3, 3)), np.eye(3)], [-k / mass, -c / mass]])
-    values, vectors = np.linalg.eig(companion)
+    n = k.shape[0]
+    if np.ndim(mass) == 0:
+        lower = [-k / mass, -c / mass]
+    else:
+        lower = [-np.linalg.solve(mass, k), -np.linalg.solve(mass, c)]
+    return np.block([[np.zeros((n, n)), np.eye(n)], lower])
+
+
+def sp_eigenvalues(damping_matrix, stiffness_matrix) -> np.ndarray:
+    """Eigenvalues (1/s) of the SP confluence's first-order dynamics dr/dt = v(r), Jacobian -C_bar^-1 K_bar (thesis
+    Eq. 3.10 linearised with C_c = 0); empty when C_bar is singular (no SP solve without confluence damping)."""
+    c = np.asarray(damping_matrix, float)
+    if np.linalg.matrix_rank(c) < c.shape[0]:
+        return np.array([], dtype=complex)
+    return np.linalg.eigvals(-np.linalg.solve(c, np.asarray(stiffness_matrix, float)))
+
+
+def modes(mass: float, damping_matrix, stiffness_matrix) -> Modes:
+    """Solve the quadratic eigenvalue problem m lambda^2 I + lambda C + K = 0 via its first-order companion form."""
+    values, vectors = np.linalg.eig(companion_matrix(mass, damping_matrix, stiffness_matrix))
     order = np.lexsort((values.imag, np.abs(values)))
     values, vectors = values[order], vectors[:3, order]
     vectors = vectors / np.linalg.norm(vectors, axis=0)
@@ -123,3 +143,31 @@ def max_stable_step_rk4(eigenvalues) -> float:
                 hi = mid
         limit = min(limit, lo)
     return limit
+
+
+def _all_taut(attach_position, confluence_position, free_length, stiffness, damping):
+    """C_bar and K_bar with every line counted taut: a slack line adds neither stiffness nor damping, so this
+    stiffest state bounds the step limit through slack events."""
+    return linearize(attach_position, confluence_position, free_length, stiffness, damping,
+                     taut=np.ones(len(free_length), bool))
+
+
+def full_mass_step_limit(mass, attach_position, confluence_position, free_length, stiffness, damping):
+    """Largest stable RK4 step (s) of a full-mass confluence of ``mass`` (kg) linearised at the given geometry
+    with every line taut, and the eigenvalue (1/s) that sets it. The limit falls as the lines stretch under load
+    (MER case 1: 4.28e-4 s at free length, 3.93e-4 s at 60 s)."""
+    c_bar, k_bar = _all_taut(attach_position, confluence_position, free_length, stiffness, damping)
+    found = modes(mass, c_bar, k_bar)
+    steps = [max_stable_step_rk4([lam]) for lam in found.eigenvalues]
+    worst = int(np.argmin(steps))
+    return float(steps[worst]), complex(found.eigenvalues[worst])
+
+
+def sp_step_limit(attach_position, confluence_position, free_length, stiffness, damping):
+    """Largest stable RK4 step (s) of an SP confluence at the given geometry with every line taut, and its fastest
+    eigenvalue (1/s): real and negative, about -K/C (-100 1/s for MER, a limit near 2.8e-2 s). Slack lines raise
+    alpha through C_c, which only slows this mode."""
+    c_bar, k_bar = _all_taut(attach_position, confluence_position, free_length, stiffness, damping)
+    eigenvalues = sp_eigenvalues(c_bar, k_bar)
+    fastest = eigenvalues[np.argmax(np.abs(eigenvalues))]
+    return max_stable_step_rk4(eigenvalues), complex(fastest)

@@ -18,6 +18,7 @@ system (shape ``(n_lines, 3)``) or all output samples at once (shape ``(n_sample
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -65,6 +66,24 @@ def tension(stretch: float, length_rate: float, stiffness: float, damping: float
         return 0.0
     value = stiffness * stretch + damping * length_rate
     return value if value > 0.0 else 0.0
+
+
+def line_tensions(attach_position, attach_velocity, confluence_position, confluence_velocity, free_length,
+                  stiffness, damping) -> tuple[tuple, tuple]:
+    """Tensions T (N) and unit vectors n (confluence -> attach point) of a system's lines in plain floats (the
+    per-stage form of ``line_states``): sequences of (x, y, z) in m and m/s, and per-line L0 (m), K (N/m), C (N s/m).
+    """
+    cx, cy, cz = confluence_position
+    wx, wy, wz = confluence_velocity
+    tensions, directions = [], []
+    for (px, py, pz), (vx, vy, vz), l0, k, c in zip(attach_position, attach_velocity, free_length, stiffness,
+                                                    damping):
+        dx, dy, dz = px - cx, py - cy, pz - cz
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        nx, ny, nz = dx / length, dy / length, dz / length
+        directions.append((nx, ny, nz))
+        tensions.append(tension(length - l0, (vx - wx) * nx + (vy - wy) * ny + (vz - wz) * nz, k, c))
+    return tuple(tensions), tuple(directions)
 
 
 def tension_magnitude(length, length_rate, free_length, stiffness, damping):

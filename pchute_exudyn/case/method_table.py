@@ -1,0 +1,91 @@
+"""The table of confluence methods, as scipy's ``solve_ivp`` keeps ``METHODS``: name -> method class.
+
+The classes themselves live in :mod:`pchute_exudyn.methods` (they build Exudyn models, so they sit above the engine)
+and register here when the package is imported; the case loader, the Python API, the command line and study files
+all resolve a method and validate its options through this one table. Nothing else compares method names.
+
+A method class has a ``name``, the ``integrators`` it supports (a subset of INTEGRATORS), a one-line ``summary`` and
+an ``Options`` type: a frozen dataclass whose fields are the method's options with their defaults, validated in
+``__post_init__`` by raising :class:`OptionError`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+from typing import Any, Iterator, Mapping
+
+INTEGRATORS = ("rk4", "implicit")
+"""``rk4``: Exudyn's explicit RK44, fixed step; ``implicit``: Exudyn's generalized-alpha."""
+
+
+class OptionError(ValueError):
+    """A method option (or a method name) is invalid: ``field``, ``value`` and what is allowed (``allowed``)."""
+
+    def __init__(self, field: str, value: Any, allowed: str):
+        self.field, self.value, self.allowed = field, value, allowed
+        super().__init__(f"{field} = {value!r}: {allowed}")
+
+
+@dataclass(frozen=True)
+class NoOptions:
+    """Options of a method that has none."""
+
+
+def option_names(options_type) -> tuple:
+    """The option names of an options type, in declaration order."""
+    return tuple(f.name for f in fields(options_type))
+
+
+def make_options(options_type, values: Mapping[str, Any], base=None):
+    """An options object of ``options_type`` from ``values`` on top of ``base`` (default: the type's defaults);
+    an unknown name or a bad value raises OptionError."""
+    names = option_names(options_type)
+    for name, value in values.items():
+        if name not in names:
+            allowed = f"options are: {', '.join(names)}" if names else "this method has no options"
+            raise OptionError(name, value, f"not an option of this method; {allowed}")
+    base = options_type() if base is None else base
+    return replace(base, **dict(values)) if values else base
+
+
+class MethodTable(Mapping):
+    """Method name -> method class; ``register`` adds one (also as a class decorator)."""
+
+    def __init__(self):
+        self._classes: dict = {}
+
+    def register(self, method_class):
+        """Add ``method_class`` under its ``name``; a name already taken by another class is an error."""
+        name = method_class.name
+        if name in self._classes and self._classes[name] is not method_class:
+            raise ValueError(f"a method named {name!r} is already registered ({self._classes[name].__name__})")
+        unknown = [i for i in method_class.integrators if i not in INTEGRATORS]
+        if unknown:
+            raise ValueError(f"method {name!r} names unknown integrator(s) {unknown}; integrators are {INTEGRATORS}")
+        self._classes[name] = method_class
+        return method_class
+
+    def unregister(self, name: str) -> None:
+        """Remove a method (tests register toy methods and remove them again)."""
+        self._classes.pop(name, None)
+
+    def resolve(self, method):
+        """The class for a method name or class; an unknown name raises OptionError listing the methods."""
+        if isinstance(method, type):   # a method class itself, registered or not (as solve_ivp takes a solver class)
+            return method
+        if method not in self._classes:
+            raise OptionError("method", method, f"methods are: {', '.join(self._classes)}")
+        return self._classes[method]
+
+    def __getitem__(self, name: str):
+        return self._classes[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._classes)
+
+    def __len__(self) -> int:
+        return len(self._classes)
+
+
+METHODS = MethodTable()
+"""The method table (filled by :mod:`pchute_exudyn.methods`)."""

@@ -1,0 +1,49 @@
+"""Tables that a case file names by path, read into physics objects; every problem becomes a CaseError naming the file.
+
+The physics package reads no files: this module does it for it.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+from ..errors import CaseError
+from ..physics.atmosphere import AtmosphereTableError, TabulatedAtmosphere
+
+
+def read_atmosphere_table(path) -> TabulatedAtmosphere:
+    """Read a CSV atmosphere table: a header row naming the columns ``altitude`` (m, geodetic) and ``density``
+    (kg/m^3), in any order and case, then one row per altitude; blank lines and lines starting with ``#`` are skipped.
+
+    Raises
+    ------
+    CaseError
+        Naming ``path``: the file is missing, empty, lacks a column, holds a non-number, or the table is invalid
+        (fewer than 2 rows, altitudes not strictly increasing, a density not > 0).
+    """
+    path = Path(path)
+    source = str(path)
+    if not path.is_file():
+        raise CaseError(source, "", "atmosphere table file not found")
+    with path.open(newline="") as handle:
+        rows = list(csv.reader(row for row in handle if row.strip() and not row.lstrip().startswith("#")))
+    if not rows:
+        raise CaseError(source, "", "atmosphere table is empty")
+    header = [h.strip().lower() for h in rows[0]]
+    if "altitude" not in header or "density" not in header:
+        raise CaseError(source, "", f"header {rows[0]} must name the columns 'altitude' (m) and 'density' (kg/m^3)")
+    ia, idens = header.index("altitude"), header.index("density")
+    altitude, density = [], []
+    for number, row in enumerate(rows[1:], start=2):
+        try:
+            altitude.append(float(row[ia]))
+            density.append(float(row[idens]))
+        except (ValueError, IndexError):
+            raise CaseError(source, f"row {number}", "altitude and density must be numbers", value=row) from None
+    try:
+        return TabulatedAtmosphere(altitude, density, source)
+    except AtmosphereTableError as exc:
+        if exc.field:
+            raise CaseError(source, exc.field, str(exc), value=exc.value) from None
+        raise CaseError(source, "", str(exc)) from None

@@ -1,0 +1,255 @@
+"""Exudyn items every method shares: rigid bodies, spherical gravity, aerodynamic loads, the body snapshot,
+the full-mass confluence point and the touchdown stop condition.
+
+All coordinates are in the start frame (local east/north/up of the start point, origin on the ellipsoid), which is
+inertial; see ``docs/models/conventions.md``. Exudyn's CamelCase API stays in this package (``engine``).
+"""
+
+from __future__ import annotations
+
+import exudyn.itemInterface as eii
+import numpy as np
+
+from ..case.model import Body, Case
+from ..physics.aerodynamics import aerodynamic_force
+from ..physics.air import AirMotion
+from ..physics.kinematics import point_motion
+from ..physics.planet import FlatPlanet
+from ..physics.rotations import rotation_vector
+from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
+from .model import CURRENT, OV, BodyItems, Confluence, Model
+
+
+def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -> None:
+    """Gravity on the body or point mass ``body`` whose centre of mass is at ``marker``.
+
+    Spherical gravity -mu m r/|r|^3 by Exudyn's native gravity connector to the planet centre (exact at every
+    stage); on a flat planet a uniform mass-proportional load (none when g = 0).
+    """
+    mbs = model.mbs
+    if isinstance(case.planet, FlatPlanet):
+        if case.planet.gravity_acceleration != 0.0:
+            mass_marker = mbs.AddMarker(eii.MarkerBodyMass(bodyNumber=body))
+            mbs.AddLoad(eii.LoadMassProportional(markerNumber=mass_marker,
+                                                 loadVector=[0.0, 0.0, -case.planet.gravity_acceleration],
+                                                 visualization=eii.VLoadMassProportional(show=False)))
+        return
+    mbs.AddObject(eii.ObjectConnectorGravity(
+        markerNumbers=[model.planet_marker, marker], gravitationalConstant=case.planet.gravitational_parameter,
+        mass0=1.0, mass1=mass, visualization=eii.VObjectConnectorGravity(show=False)))
+
+
+def _inertia6(inertia: np.ndarray) -> list:
+    """Exudyn's inertia order [Jxx, Jyy, Jzz, Jyz, Jxz, Jxy]."""
+    return [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[1, 2], inertia[0, 2], inertia[0, 1]]
+
+
+def add_fixed_body(model: Model, case: Case, body: Body) -> BodyItems:
+    """A body fixed to the ground: its points become ground markers, its channels constants."""
+    state = initial_body_state(case, body)
+    points = {name: model.mbs.AddMarker(eii.MarkerBodyPosition(
+        bodyNumber=model.ground, localPosition=(state.position + state.attitude @ p).tolist()))
+        for name, p in body.points.items()}
+    for name, value in (("position", state.position), ("velocity", np.zeros(3)),
+                        ("rotation", state.attitude.ravel()), ("angular_velocity", np.zeros(3))):
+        model.add_channel(BodyChannel(body.name, name), lambda value=value.tolist(): value)
+    result = BodyItems(-1, model.ground, -1, points)
+    model.bodies[body.name] = result
+    return result
+
+
+def add_body(model: Model, case: Case, body: Body, state: BodyState | None = None) -> BodyItems:
+    """A 6-DoF rigid body (rotation-vector node with Lie-group integration) in ``state``, its point markers and
+    gravity; a fixed body becomes markers on the ground."""
+    if body.fixed:
+        return add_fixed_body(model, case, body)
+    mbs = model.mbs
+    node = mbs.AddNode(eii.NodeRigidBodyRotVecLG(
+        referenceCoordinates=state.position.tolist() + rotation_vector(state.attitude).tolist(),
+        initialVelocities=state.velocity.tolist() + np.asarray(state.angular_velocity, float).tolist(),
+        visualization=eii.VNodeRigidBodyRotVecLG(show=False)))
+    obj = mbs.AddObject(eii.ObjectRigidBody(nodeNumber=node, mass=body.mass, inertia=_inertia6(body.inertia),
+                                            visualization=eii.VObjectRigidBody(show=False)))
+    center = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=[0.0, 0.0, 0.0]))
+    points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=list(p)))
+              for name, p in body.points.items()}
+    add_gravity(model, case, obj, center, body.mass)
+    result = BodyItems(node, obj, center, points)
+    for name, kind in (("position", OV.Position), ("velocity", OV.Velocity), ("rotation", OV.RotationMatrix),
+                       ("angular_velocity", OV.AngularVelocityLocal)):
+        model.add_channel(BodyChannel(body.name, name), node_reader(mbs, node, kind))
+    model.bodies[body.name] = result
+    return result
+
+
+_SNAPSHOT_OUTPUTS = (OV.Position, OV.Velocity, OV.RotationMatrix, OV.AngularVelocity)
+
+
+class BodySnapshot:
+    """The free bodies' states read once per right-hand-side evaluation (4 engine calls per body), from which user
+    functions of the same stage compute any body point in plain floats instead of reading markers.
+
+    Only models whose stages start with an ODE1 right-hand side (SP, equilibrium point) use it: Exudyn evaluates that
+    before the loads of the stage, and once more at the end of each step, which makes the snapshot current for the
+    post-step sampling too.
+    """
+
+    def __init__(self, model: Model, names):
+        self.nodes = [(name, model.bodies[name].node) for name in names]
+        self.get = model.mbs.GetNodeOutput
+        self.state = {}
+
+    def refresh(self) -> None:
+        get, state = self.get, self.state
+        position, velocity, rotation, rate = _SNAPSHOT_OUTPUTS
+        for name, node in self.nodes:   # the configuration argument left at its default, Current: a little faster
+            state[name] = (get(node, position).tolist(), get(node, velocity).tolist(), get(node, rotation).tolist(),
+                           get(node, rate).tolist())
+
+    def serve_channels(self, model: Model) -> None:
+        """Serve the bodies' output channels from the snapshot (current at every post-step call)."""
+        for name, _ in self.nodes:
+            model.add_channel(BodyChannel(name, "position"), lambda name=name: self.state[name][0])
+            model.add_channel(BodyChannel(name, "velocity"), lambda name=name: self.state[name][1])
+            model.add_channel(BodyChannel(name, "rotation"), lambda name=name: self.state[name][2])
+            model.add_channel(BodyChannel(name, "angular_velocity"), lambda name=name: self.local_rate(name))
+
+    def local_rate(self, name: str) -> list:
+        """Angular velocity in body axes (rad/s): R^T w."""
+        _, _, r, w = self.state[name]
+        return [r[0] * w[0] + r[3] * w[1] + r[6] * w[2], r[1] * w[0] + r[4] * w[1] + r[7] * w[2],
+                r[2] * w[0] + r[5] * w[1] + r[8] * w[2]]
+
+
+def node_reader(mbs, node: int, kind):
+    """A reader of one node output in the current configuration (as a list of floats, like every channel)."""
+    get = mbs.GetNodeOutput
+    return lambda: get(node, kind, CURRENT).tolist()
+
+
+class PointConfluence(Confluence):
+    """A full-mass confluence: a 3-DoF point mass with gravity (thesis Eqs. 1.1-1.5)."""
+
+    def __init__(self, model: Model, case: Case, system_name: str, mass: float, state: ConfluenceState):
+        mbs = model.mbs
+        self.node = mbs.AddNode(eii.NodePoint(referenceCoordinates=state.position.tolist(),
+                                              initialVelocities=state.velocity.tolist(),
+                                              visualization=eii.VNodePoint(show=False)))
+        obj = mbs.AddObject(eii.ObjectMassPoint(nodeNumber=self.node, mass=mass,
+                                                visualization=eii.VObjectMassPoint(show=False)))
+        self.marker = mbs.AddMarker(eii.MarkerNodePosition(nodeNumber=self.node))
+        add_gravity(model, case, obj, self.marker, mass)
+        self.position = node_reader(mbs, self.node, OV.Position)
+        self.velocity = node_reader(mbs, self.node, OV.Velocity)
+        model.add_channel(ConfluenceChannel(system_name, "position"), self.position)
+        model.add_channel(ConfluenceChannel(system_name, "velocity"), self.velocity)
+        model.confluences[system_name] = self
+
+
+def _body_reader(model: Model, body: Body, center: tuple, marker: int):
+    """A reader of the aerodynamic centre's position, velocity and the body's rotation (row-major) at the current
+    stage: from the stage's snapshot when the model keeps one, else three engine calls."""
+    snapshot, name = model.snapshot, body.name
+    if snapshot is not None:
+        def from_snapshot():
+            state = snapshot.state[name]
+            position, velocity = point_motion(state, center)
+            return position, velocity, state[2]
+        return from_snapshot
+    mbs = model.mbs
+    get_marker, get_node = mbs.GetMarkerOutput, mbs.GetNodeOutput
+    node = model.bodies[name].node
+
+    def from_engine():
+        return (get_marker(marker, OV.Position, CURRENT).tolist(), get_marker(marker, OV.Velocity, CURRENT).tolist(),
+                get_node(node, OV.RotationMatrix, CURRENT).tolist())
+    return from_engine
+
+
+def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0):
+    """The body's aerodynamic force as a load at its aerodynamic centre, evaluated at every solver stage; returns
+    the load's user function (or None for a body without aerodynamics).
+
+    A Python load user function (no symbolic function can read the state); the state comes from ``_body_reader``
+    and the rest is plain floats (``physics``). The velocity is taken relative to the air (planet rotation and wind,
+    ``physics.air``); ``schedule`` (a drag-area schedule) scales the coefficients by its fraction at the time since
+    ``deployed_at`` (s).
+    """
+    aero = body.aerodynamics
+    if aero is None or not aero.enabled:
+        return None
+    mbs = model.mbs
+    marker = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=model.bodies[body.name].object,
+                                                  localPosition=list(aero.center)))
+    read = _body_reader(model, body, tuple(aero.center), marker)
+    altitude, density = case.start.altitude_scalar, case.atmosphere.density
+    air = AirMotion(case.start, case.wind)
+    still = air.still
+    area, axial, normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
+
+    def aerodynamic_load(mbs_, t, load_vector):
+        (x, y, z), (vx, vy, vz), r = read()
+        try:
+            h = altitude(x, y, z)
+            rho = density(h)
+        except Exception as exc:  # keep our own error (e.g. outside an atmosphere table) for the solver to raise
+            model.record_failure(exc)
+            raise
+        if not still:
+            wx, wy, wz = air(x, y, z, h, t)
+            vx, vy, vz = vx - wx, vy - wy, vz - wz
+        fraction = 1.0 if schedule is None else schedule(t - deployed_at)
+        return list(aerodynamic_force((vx, vy, vz), (r[0], r[3], r[6]), rho, area, axial, normal, fraction))
+
+    mbs.AddLoad(eii.LoadForceVector(markerNumber=marker, loadVectorUserFunction=aerodynamic_load,
+                                    visualization=eii.VLoadForceVector(show=False)))
+    return aerodynamic_load
+
+
+def add_bodies(model: Model, case: Case, snapshot: bool = False) -> None:
+    """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics;
+    ``snapshot``: the model's right-hand side keeps a BodySnapshot that the loads and outputs read."""
+    phase = model.phase
+    for body in case.bodies.values():
+        if body.fixed or body.name in phase.bodies:
+            add_body(model, case, body, phase.body_states.get(body.name))
+    if snapshot and phase.systems:   # refreshed by the systems' right-hand sides, so only when there are some
+        model.snapshot = BodySnapshot(model, phase.bodies)
+        model.snapshot.serve_channels(model)
+    loads = model.aerodynamic_loads
+    for body in case.bodies.values():
+        if body.name in phase.bodies:
+            system = case.canopy_system(body.name)
+            schedule = system.drag_area_schedule if system is not None else None
+            deployed = system.deploy_time if system is not None and system.deploy_time is not None else 0.0
+            loads[body.name] = add_aerodynamics(model, case, body, schedule, deployed)
+
+
+class Touchdown:
+    """Stop condition: the vehicle's centre of mass reaches the ground altitude (m). Interpolates the crossing;
+    ``crossing`` then holds (time in s, ground-relative velocity in m/s at the step's end)."""
+
+    def __init__(self, model: Model, case: Case, ground_altitude: float):
+        self.position = model.channels[BodyChannel(case.vehicle, "position")]
+        self.velocity = model.channels[BodyChannel(case.vehicle, "velocity")]
+        self.case, self.ground = case, ground_altitude
+        self.altitude = case.start.altitude_scalar
+        self.previous = None
+        self.crossing = None
+
+    def __call__(self, t: float) -> bool:   # every step: plain floats
+        x, y, z = self.position()
+        height = self.altitude(x, y, z)
+        if height > self.ground:
+            self.previous = (t, height)
+            return False
+        w = 1.0
+        if self.previous is not None and self.previous[1] > height:
+            w = (self.previous[1] - self.ground) / (self.previous[1] - height)
+        t_prev = self.previous[0] if self.previous is not None else t
+        time = t_prev + w * (t - t_prev)
+        # the crossing time is interpolated; the velocity changes little within a step and is taken at its end
+        ground_velocity = self.case.start.velocity_to_planet_fixed(np.array([x, y, z]),
+                                                                   np.asarray(self.velocity(), float), time)
+        self.crossing = (float(time), ground_velocity)
+        return True

@@ -1,0 +1,157 @@
+"""The typed interface of a built Exudyn model of one phase (``Model``): what the solver, the simulation and the
+methods may use of it. Exudyn's CamelCase API stays in this package.
+
+A model holds the Exudyn system, its bodies and parachute systems, the per-step hooks the solver runs, the stop
+conditions, the confluence objects of its method and its named, typed output channels (``state``: BodyChannel,
+ConfluenceChannel, TensionChannel, MethodChannel). The end-of-phase state and the facts a method reports are read
+through it, never by reaching into a method's parts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import exudyn as exu
+import exudyn.itemInterface as eii
+import numpy as np
+
+from ..case.model import Case
+from ..state import BodyChannel, BodyState, ConfluenceState, Phase
+
+OV = exu.OutputVariableType
+CURRENT = exu.ConfigurationType.Current
+
+Reader = Callable[[], object]
+"""An output channel: a no-argument callable returning the current value (a float or a list of floats)."""
+
+
+@dataclass
+class BodyItems:
+    """Exudyn indices of one rigid body (``node`` -1 for a fixed body, whose markers sit on the ground)."""
+
+    node: int
+    object: int
+    center_marker: int
+    point_markers: dict
+
+
+class Confluence:
+    """What a model knows of one system's confluence, whichever the method: its state and the facts it reports.
+
+    Subclasses (full-mass point, SP, equilibrium point) implement ``position`` and ``velocity``; ``state_position``
+    is the position held by the solver's current state without any solve (the step monitor reads it before a step).
+    """
+
+    def position(self) -> list:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def velocity(self) -> list:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def state_position(self) -> list:
+        return self.position()
+
+    def acceleration(self):
+        """Acceleration (m/s^2) carried into the next phase, or None when the method keeps none."""
+        return None
+
+    def facts(self) -> dict:
+        """Facts for the run summary (counts add up over phases: see ``summary.merge_facts``)."""
+        return {}
+
+
+class Model:
+    """A built Exudyn model of one phase of a run (see the module docstring).
+
+    Parameters
+    ----------
+    case : Case
+    phase : Phase
+        The phase's bodies, systems and their states at its start.
+    """
+
+    def __init__(self, case: Case, phase: Phase):
+        self.case, self.phase = case, phase
+        self.system_container = exu.SystemContainer()
+        self.mbs = self.system_container.AddSystem()
+        self.ground = self.mbs.AddObject(eii.ObjectGround(visualization=eii.VObjectGround(show=False)))
+        self.planet_marker = self.mbs.AddMarker(eii.MarkerBodyPosition(
+            bodyNumber=self.ground, localPosition=case.start.planet_center.tolist()))
+        self.systems = [case.systems[name] for name in phase.systems]
+        self.bodies: dict = {}
+        self.confluences: dict = {}
+        self.channels: dict = {}
+        self.pre_step_hooks: list = []    # (mbs, t) before every step
+        self.post_step_hooks: list = []   # (mbs, t) after every step and once at the start
+        self.stop_conditions: list = []   # (t) -> True ends the run after this step
+        self.post_step_count = [0]        # bumped by the solver at every post-step call
+        self.snapshot = None              # engine.bodies.BodySnapshot of models with a right-hand side
+        self.aerodynamic_loads: dict = {}  # body -> its aerodynamic load user function (to evaluate it alone)
+        self.failure: Exception | None = None
+        self._keep_alive: list = []       # symbolic user functions must outlive the solve
+
+    # -- building ---------------------------------------------------------------------------------------------------
+
+    def add_channel(self, key, reader: Reader) -> None:
+        """Register an output channel (a ``state`` channel key) and its reader."""
+        self.channels[key] = reader
+
+    def add_pre_step(self, hook) -> None:
+        self.pre_step_hooks.append(hook)
+
+    def add_post_step(self, hook, first: bool = False) -> None:
+        """``first``: run before the hooks already added (a method making its solution current for the others)."""
+        if first:
+            self.post_step_hooks.insert(0, hook)
+        else:
+            self.post_step_hooks.append(hook)
+
+    def add_stop_condition(self, condition) -> None:
+        self.stop_conditions.append(condition)
+
+    def keep_alive(self, item) -> None:
+        """Hold a reference for the life of the model (Exudyn keeps none to symbolic user functions)."""
+        self._keep_alive.append(item)
+
+    def record_failure(self, exc: Exception) -> None:
+        """Keep the first error raised inside a user function; the solver raises it after Exudyn returns."""
+        self.failure = self.failure or exc
+
+    def assemble(self) -> "Model":
+        self.mbs.Assemble()
+        return self
+
+    # -- reading ----------------------------------------------------------------------------------------------------
+
+    def read(self, key) -> np.ndarray:
+        """The current value of channel ``key`` as an array."""
+        return np.asarray(self.channels[key](), float)
+
+    def attach_positions(self, system) -> np.ndarray:
+        """Current positions (n_lines, 3) of a system's attach points (m)."""
+        get = self.mbs.GetMarkerOutput
+        return np.array([get(self.bodies[line.body].point_markers[line.point], OV.Position, CURRENT)
+                         for line in system.lines])
+
+    def end_state(self) -> tuple[dict, dict]:
+        """Body and confluence states at the current (end-of-phase) time, to start the next phase from."""
+        bodies = {name: BodyState(self.read(BodyChannel(name, "position")),
+                                  self.read(BodyChannel(name, "rotation")).reshape(3, 3),
+                                  self.read(BodyChannel(name, "velocity")),
+                                  self.read(BodyChannel(name, "angular_velocity")))
+                  for name in self.phase.bodies}
+        confluences = {}
+        for name, confluence in self.confluences.items():
+            acceleration = confluence.acceleration()
+            confluences[name] = ConfluenceState(np.asarray(confluence.position(), float)[:3],
+                                                np.asarray(confluence.velocity(), float),
+                                                None if acceleration is None else np.asarray(acceleration, float))
+        return bodies, confluences
+
+    def facts(self) -> dict:
+        """The facts the method's confluences report for the run summary, keyed as in ``summary.json``."""
+        facts = {}
+        for confluence in self.confluences.values():
+            facts.update(confluence.facts())
+        return facts

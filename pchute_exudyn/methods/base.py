@@ -1,0 +1,100 @@
+"""The method interface: what a confluence method is to the rest of the package.
+
+A method is a class registered in the method table (``case.method_table.METHODS``): it says which integrators it
+supports, owns a frozen ``Options`` type (its options, their defaults and their validation in one place), builds its
+Exudyn model for a phase, gives its explicit-step limit and names the per-system quantities it reports.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import ClassVar
+
+from ..case.method_table import NoOptions, OptionError, make_options
+from ..case.model import Case, ParachuteSystem
+from ..state import Phase
+
+
+def option(flag: str | None, parse, help: str, choices: tuple | None = None) -> dict:
+    """Field metadata of a method option: its command-line ``flag`` (None: none), the function that reads the
+    flag's text, its help and its choices."""
+    return {"flag": flag, "parse": parse, "help": help, "choices": choices}
+
+
+def option_field(default, flag: str | None, parse, help: str, choices: tuple | None = None):
+    """A dataclass field for a method option (see ``option``)."""
+    return field(default=default, metadata=option(flag, parse, help, choices))
+
+
+@dataclass(frozen=True)
+class StepLimit:
+    """The largest stable RK4 step of one confluence and the mode that sets it."""
+
+    system: str
+    step: float               # s
+    eigenvalue: complex       # 1/s, the limiting eigenvalue of the linearised confluence
+
+
+class Method:
+    """Base class of the confluence methods (see the module docstring).
+
+    Parameters
+    ----------
+    options : Options, optional
+        The method's validated options; default: the Options type's defaults.
+    """
+
+    name: ClassVar[str] = ""
+    summary: ClassVar[str] = ""
+    integrators: ClassVar[tuple] = ("rk4",)
+    Options: ClassVar[type] = NoOptions
+    outputs: ClassVar[dict] = {}
+    """Per-system quantities the method reports: name -> unit (columns ``<name>`` or ``<system>_<name>``)."""
+    step_limited: ClassVar[bool] = False
+    """Whether the method's confluences have dynamics that limit an explicit step (``step_limit``)."""
+    implicit_hint: ClassVar[str] = ""
+    """What to suggest besides a smaller step when an RK4 step exceeds the limit (e.g. the implicit integrator)."""
+
+    def __init__(self, options=None):
+        self.options = self.Options() if options is None else options
+
+    @classmethod
+    def configure(cls, case: Case, values: dict | None = None) -> "Method":
+        """The method with the case's options for it, overridden by ``values`` (validated: OptionError)."""
+        base = case.simulation.options.get(cls.name)
+        return cls(make_options(cls.Options, values or {}, base))
+
+    def check(self, case: Case, integrator: str) -> None:
+        """Refuse an integrator the method does not support, or a case it cannot solve (OptionError)."""
+        if integrator not in self.integrators:
+            raise OptionError("integrator", integrator, f"the {self.name} method runs with: "
+                                                         f"{', '.join(self.integrators)}")
+
+    def build(self, case: Case, phase: Phase):  # pragma: no cover - interface
+        """The method's Exudyn model of ``case`` for one phase (an ``engine.model.Model``)."""
+        raise NotImplementedError
+
+    def step_limit(self, system: ParachuteSystem, attach_position, confluence_position) -> StepLimit | None:
+        """Largest stable RK4 step of a system's confluence at the given geometry; None when the method has no
+        confluence dynamics (nothing to limit)."""
+        return None
+
+    def settings(self) -> dict:
+        """The options as ``summary.json`` reports them."""
+        report = getattr(self.options, "summary", None)
+        return report() if report is not None else asdict(self.options)
+
+
+def line_arrays(system: ParachuteSystem) -> tuple[list, list, list]:
+    """Free lengths (m), stiffnesses (N/m) and damping constants (N s/m) of a system's lines."""
+    lines = system.lines
+    return [line.free_length for line in lines], [line.stiffness for line in lines], [line.damping for line in lines]
+
+
+def unstable_step_message(method: Method, step: float, limit: StepLimit, time: float) -> str:
+    """The error text for an RK4 step beyond a confluence's stability limit."""
+    suggestion = float(f"{0.9 * limit.step:.2g}")  # below the limit even after rounding
+    return (f"the RK4 step {step:g} s exceeds the stability limit of the {limit.system} confluence ({method.name} "
+            f"method) at t = {time:.3f} s ({limit.step:.3g} s, set by its fastest mode {limit.eigenvalue.real:.0f} "
+            f"1/s with every line taut): the results would be wrong. Use --dt {suggestion:g} or smaller"
+            f"{method.implicit_hint}")

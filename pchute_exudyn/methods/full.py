@@ -1,0 +1,49 @@
+"""The full-mass method (thesis Eqs. 1.1-1.7): the confluence as a 3-DoF point mass; the reference solution."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..case.method_table import OptionError
+from ..engine.full import build_full_model
+from ..physics.linearization import full_mass_step_limit
+from .base import Method, StepLimit, line_arrays, option_field
+
+LINE_LAWS = ("symbolic", "python")
+
+
+@dataclass(frozen=True)
+class FullMassOptions:
+    """Options of the full-mass method.
+
+    Attributes
+    ----------
+    line_law : {"symbolic", "python"}
+        How the tension-only line law runs in the engine: an Exudyn symbolic user function (fast, the default) or a
+        Python one (exists to measure the difference).
+    """
+
+    line_law: str = option_field("symbolic", None, str, "how the line law runs in the engine", LINE_LAWS)
+
+    def __post_init__(self):
+        if self.line_law not in LINE_LAWS:
+            raise OptionError("line_law", self.line_law, f"must be one of: {', '.join(LINE_LAWS)}")
+
+
+class FullMass(Method):
+    """The confluence as a point mass with gravity; each line an Exudyn spring-damper with the tension-only law."""
+
+    name = "full"
+    summary = "the confluence as a 3-DoF point mass (thesis Eqs. 1.1-1.7), the reference"
+    integrators = ("rk4", "implicit")
+    step_limited = True
+    Options = FullMassOptions
+    implicit_hint = ", or --integrator implicit"
+
+    def build(self, case, phase):
+        return build_full_model(case, phase, symbolic_line_law=self.options.line_law == "symbolic")
+
+    def step_limit(self, system, attach_position, confluence_position) -> StepLimit:
+        step, eigenvalue = full_mass_step_limit(system.confluence.mass, attach_position, confluence_position,
+                                                *line_arrays(system))
+        return StepLimit(system.name, step, eigenvalue)

@@ -1,0 +1,81 @@
+"""The singular-perturbation method (thesis chapter 3): the confluence velocity from the line-force balance
+(Eq. 3.10), with the least confluence damping that keeps the solve conditioned (Eq. 3.13) while a line is slack."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..case.method_table import OptionError
+from ..errors import InputError
+from ..engine.sp import SPConfluence, build_sp_model
+from ..physics.linearization import sp_step_limit
+from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS
+from .base import Method, StepLimit, line_arrays, option_field
+
+
+@dataclass(frozen=True)
+class SPOptions:
+    """Options of the SP method (``[simulation.sp]`` in a case file).
+
+    Attributes
+    ----------
+    kappa_max : float
+        Largest condition number of alpha (Eq. 3.13) accepted while a line is slack (-, > 3; the thesis used 5).
+    slack_rule : {"stretch", "force"}
+        stretch: a line is slack when L <= L0 (the thesis); force: also when its tension would push (active set).
+    order : {0, 1}
+        Order in the confluence mass: 0 drops it (Eq. 3.10, the thesis), 1 keeps its weight and inertia to first
+        order.
+    """
+
+    kappa_max: float = option_field(5.0, "--kappa-max", float, "largest condition number of alpha (thesis Eq. "
+                                    "3.13) while a line is slack, > 3")
+    slack_rule: str = option_field("stretch", "--slack-rule", str, "when a line counts as slack: stretch = L <= L0 "
+                                   "(the thesis), force = its tension would push (active set)", SLACK_RULES)
+    order: int = option_field(0, "--sp-order", int, "0 = massless confluence (Eq. 3.10, the thesis), 1 = its "
+                              "weight and inertia kept to first order", SP_ORDERS)
+
+    def __post_init__(self):
+        kappa = self.kappa_max
+        if isinstance(kappa, bool) or not isinstance(kappa, (int, float)) or not (math.isfinite(kappa) and kappa > 3):
+            raise OptionError("kappa_max", kappa, "must be a number > 3 (the Frobenius condition number of Eq. 3.13 "
+                                                  "is at least 3 for any 3x3 matrix; the thesis used 5)")
+        if self.slack_rule not in SLACK_RULES:
+            raise OptionError("slack_rule", self.slack_rule, f"must be one of: {', '.join(SLACK_RULES)}")
+        if isinstance(self.order, bool) or self.order not in SP_ORDERS:
+            raise OptionError("order", self.order, "must be 0 (the massless balance of Eq. 3.10, the thesis) or 1 "
+                                                   "(the confluence mass kept to first order)")
+        object.__setattr__(self, "kappa_max", float(kappa))
+        object.__setattr__(self, "order", int(self.order))
+
+    def summary(self) -> dict:
+        return {"kappa_max": self.kappa_max, "slack_rule": self.slack_rule, "sp_order": self.order}
+
+
+class SingularPerturbation(Method):
+    """The confluence as three first-order states whose derivative is the SP velocity (an Exudyn user-function
+    object); RK4 only: Exudyn's implicit solvers drop the coupling of first-order states to the bodies from their
+    Jacobian (first-order accurate, slow)."""
+
+    name = "sp"
+    summary = "singular perturbation: the confluence velocity from the line-force balance (thesis ch. 3)"
+    step_limited = True
+    Options = SPOptions
+    outputs = {name: unit for name, (unit, _) in SPConfluence.OUTPUTS.items()}
+
+    def check(self, case, integrator):
+        super().check(case, integrator)
+        undamped = [case.line_label(system, line) for system, line in case.lines() if line.damping <= 0.0]
+        if undamped:
+            every = "every line" if len(undamped) == len(case.lines()) else f"line(s) {', '.join(undamped)}"
+            raise InputError(f"the sp method needs damping on every line, but {every} has zero damping: alpha of "
+                             "Eq. 3.6 is built from the line damping and is singular whenever only undamped lines are "
+                             "taut; use --method full (or the equilibrium method, which ignores damping)")
+
+    def build(self, case, phase):
+        return build_sp_model(case, phase, self.options)
+
+    def step_limit(self, system, attach_position, confluence_position) -> StepLimit:
+        step, eigenvalue = sp_step_limit(attach_position, confluence_position, *line_arrays(system))
+        return StepLimit(system.name, step, eigenvalue)

@@ -1,0 +1,139 @@
+"""The typed run summary and its events; ``RunSummary.to_dict`` is what ``summary.json`` holds.
+
+Events, in time order in the summary (times in s from the start of the run):
+
+* ``start``: the run begins (t = 0);
+* ``deploy`` / ``cutaway``: a parachute system is placed at line stretch / leaves the model (``system``);
+* ``descent_rate``: the vehicle's descent rate first falls through ``value`` (m/s) after the last deployment;
+* ``touchdown``: the vehicle's centre of mass reaches the ground altitude, with its ``speed``, ``vertical_speed``
+  and ``horizontal_speed`` relative to the ground (m/s).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from typing import ClassVar
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Event:
+    """Something that happened at ``time`` (s); ``kind`` is its name in ``summary.json``."""
+
+    time: float
+    kind: ClassVar[str] = ""
+
+    def to_dict(self) -> dict:
+        return {"event": self.kind, "time": self.time,
+                **{f.name: getattr(self, f.name) for f in fields(self) if f.name != "time"}}
+
+
+@dataclass(frozen=True)
+class StartEvent(Event):
+    kind: ClassVar[str] = "start"
+
+
+@dataclass(frozen=True)
+class DeployEvent(Event):
+    system: str = ""
+    kind: ClassVar[str] = "deploy"
+
+
+@dataclass(frozen=True)
+class CutawayEvent(Event):
+    system: str = ""
+    kind: ClassVar[str] = "cutaway"
+
+
+@dataclass(frozen=True)
+class DescentRateEvent(Event):
+    value: float = 0.0    # m/s
+    kind: ClassVar[str] = "descent_rate"
+
+
+@dataclass(frozen=True)
+class TouchdownEvent(Event):
+    speed: float = 0.0              # m/s, relative to the ground
+    vertical_speed: float = 0.0     # m/s, downward positive
+    horizontal_speed: float = 0.0   # m/s
+    kind: ClassVar[str] = "touchdown"
+
+    @classmethod
+    def from_crossing(cls, time: float, ground_velocity) -> "TouchdownEvent":
+        """From the crossing time (s) and the ground-relative velocity (m/s, east/north/up)."""
+        v = np.asarray(ground_velocity, float)
+        return cls(float(time), float(np.linalg.norm(v)), float(-v[2]), float(np.hypot(v[0], v[1])))
+
+
+def descent_rate_events(thresholds, time, descent_rate, after: float) -> list:
+    """First downward crossings of each threshold (m/s) by ``descent_rate`` (m/s) after time ``after`` (s),
+    linearly interpolated."""
+    events = []
+    for threshold in thresholds:
+        finite = np.isfinite(descent_rate) & (time >= after)
+        above = (descent_rate > threshold) & finite
+        for i in range(1, len(time)):
+            if above[i - 1] and finite[i] and descent_rate[i] <= threshold:
+                w = (descent_rate[i - 1] - threshold) / (descent_rate[i - 1] - descent_rate[i])
+                events.append(DescentRateEvent(float(time[i - 1] + w * (time[i] - time[i - 1])), threshold))
+                break
+    return events
+
+
+def merge_facts(total: dict, facts: dict) -> None:
+    """Add one phase's method facts to the run's: solve counts add up, means are weighted, maxima kept."""
+    for key, value in facts.items():
+        old = total.get(key)
+        if isinstance(old, dict) and "solves" in old:
+            solves = old["solves"] + value["solves"]
+            value = {"solves": solves, "failures": old["failures"] + value["failures"],
+                     "mean_iterations": (old["mean_iterations"] * old["solves"]
+                                         + value["mean_iterations"] * value["solves"]) / max(solves, 1),
+                     "max_iterations": max(old["max_iterations"], value["max_iterations"])}
+        total[key] = value
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """What a run was and how it ended (``summary.json``; units SI: s, m, N).
+
+    ``method_settings`` are the method's options as it reports them (SP: kappa_max, slack_rule, sp_order),
+    ``method_facts`` the counts it keeps (equilibrium point: solves and iterations per system); both sit at the top
+    level of ``summary.json``. ``final`` holds the last sample's time and the vehicle's and confluences' altitude,
+    east and north; ``peak_tension`` the largest tension per line (None for a line never present).
+    """
+
+    case: str
+    case_file: str
+    description: str
+    vehicle: str
+    method: str
+    integrator: str
+    step: float
+    duration: float
+    output_step: float
+    end: str                 # "touchdown" or "duration"
+    steps: int
+    wall_time: float         # s
+    final: dict
+    peak_tension: dict
+    events: tuple
+    units: dict
+    versions: dict
+    created: str
+    method_settings: dict = field(default_factory=dict)
+    method_facts: dict = field(default_factory=dict)
+
+    @property
+    def steps_per_second(self) -> float | None:
+        return self.steps / self.wall_time if self.wall_time > 0 else None
+
+    def to_dict(self) -> dict:
+        return {"case": self.case, "case_file": self.case_file, "description": self.description,
+                "vehicle": self.vehicle, "method": self.method, "integrator": self.integrator, "step": self.step,
+                "duration": self.duration, **self.method_settings, **self.method_facts,
+                "output_step": self.output_step, "end": self.end, "steps": self.steps, "wall_time": self.wall_time,
+                "steps_per_second": self.steps_per_second, "final": self.final, "peak_tension": self.peak_tension,
+                "events": [event.to_dict() for event in self.events], "units": self.units,
+                "versions": self.versions, "created": self.created}
