@@ -14,7 +14,7 @@ import numpy as np
 from .case.model import Case
 from .errors import InputError
 from .outputs import attach_points
-from .physics.equilibrium import equilibrium_point
+from .physics.equilibrium import NoEquilibriumError, equilibrium_point
 from .methods.full import FullMass
 from .physics.linearization import linearize, max_stable_step_rk4, modes, sp_eigenvalues
 from .state import initial_confluence_state, initial_point
@@ -49,7 +49,13 @@ def linearization_report(case: Case, system_name: str | None = None, time: float
     free_length = [l.free_length for l in lines]
     stiffness = [l.stiffness for l in lines]
     damping = [l.damping for l in lines]
-    eq = equilibrium_point(attach, free_length, stiffness, guess=guess, require_unique=True)
+    try:
+        eq = equilibrium_point(attach, free_length, stiffness, guess=guess, require_unique=True)
+    except NoEquilibriumError as exc:
+        raise InputError(f"no unique equilibrium point of the {system_name} confluence at t = {at_time:g} s: "
+                         f"{exc.taut} of {exc.lines} lines are taut at the force balance and they do not pull "
+                         "against each other in three dimensions (the stiffness matrix is singular); the confluence "
+                         "can sit anywhere in a line or region") from None
     c_bar, k_bar = linearize(attach, eq.position, free_length, stiffness, damping)
     found = modes(system.confluence.mass, c_bar, k_bar)
     sp_roots = sp_eigenvalues(c_bar, k_bar)

@@ -53,7 +53,7 @@ def resolve_method(case: Case, method=None, options=None) -> Method:
     try:
         method_class = METHODS.resolve(case.simulation.method if method is None else method)
     except OptionError as exc:
-        raise option_error(exc) from None
+        raise InputError(str(exc)) from None
     if options is not None and not isinstance(options, dict):
         if not isinstance(options, method_class.Options):
             raise InputError(f"options of type {type(options).__name__} do not belong to the {method_class.name} "
@@ -79,7 +79,7 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     try:
         resolved.check(case, integrator)
     except OptionError as exc:
-        raise option_error(exc) from None
+        raise InputError(str(exc)) from None
     duration = _check_number("duration", case.simulation.duration if duration is None else duration, "--t-end")
     if step is None:
         step = case.simulation.default_step(resolved.name, integrator)

@@ -8,7 +8,9 @@ import pchute_exudyn as pc
 from pchute_exudyn.engine.full import build_full_model
 from pchute_exudyn.engine.solver import integrate
 from pchute_exudyn.outputs import attach_points, line_tensions_from_states
-from pchute_exudyn.stability import full_mass_rk4_limit
+from pchute_exudyn.methods import FullMass
+from pchute_exudyn.phases import initial_phase
+from pchute_exudyn.state import initial_confluence_state, initial_point
 
 from .conftest import MER
 
@@ -41,7 +43,7 @@ def test_dropped_without_aerodynamics_falls_at_g_with_zero_tension():
 def test_engine_tension_equals_the_line_law_kernel():
     """The symbolic user function inside Exudyn and physics.lines agree on states with slack events."""
     case = pc.load_case(MER / "case3.toml")
-    items = build_full_model(case)
+    items = build_full_model(case, initial_phase(case))
     raw = integrate(items, "rk4", 1e-4, 3.0, 0.005)
     system = case.systems["main"]
     kernel = line_tensions_from_states(case, raw, system)
@@ -63,7 +65,7 @@ def test_energy_is_conserved_without_damping_or_aerodynamics():
     # case 3 with the vehicle also thrown down at 2 m/s: snatches every line repeatedly, without dissipation
     case = pc.load_case(MER / "case3.toml", {"main.lines.*.damping": 0.0, "parachute.aerodynamics.enabled": False,
                                              "vehicle.initial.velocity_down": 2.0})
-    items = build_full_model(case)
+    items = build_full_model(case, initial_phase(case))
     raw = integrate(items, "rk4", 1e-4, 5.0, 0.01)
     mu, center = case.planet.gravitational_parameter, case.start.planet_center
 
@@ -132,7 +134,9 @@ def test_results_are_symmetric_and_stay_on_the_vertical(case1_rk4_reference):
 
 def test_unstable_rk4_step_is_refused_before_it_spoils_results():
     case = pc.load_case(MER / "case1.toml")
-    limit = full_mass_rk4_limit(case, case.systems["main"])
+    system = case.systems["main"]
+    attach = [initial_point(case, line.body, line.point) for line in system.lines]
+    limit = FullMass().step_limit(system, attach, initial_confluence_state(case, system).position)
     assert 4.2e-4 < limit.step < 4.3e-4                       # fastest mode -6511 1/s at free length
     with pytest.raises(pc.SimulationError, match=r"exceeds the stability limit .* t = 0\.000 s"):
         pc.simulate(case, "full", "rk4", 1e-3, 5.0)
@@ -148,7 +152,7 @@ def test_limit_falls_under_load_and_the_run_stops_where_it_is_crossed():
 
 def test_divergence_without_the_monitor_reports_the_time():
     case = pc.load_case(MER / "case1.toml")
-    items = build_full_model(case)
+    items = build_full_model(case, initial_phase(case))
     with pytest.raises(pc.SimulationError, match=r"t = \d+\.\d+ s .*smaller step") as info:
         integrate(items, "rk4", 1e-2, 5.0, 0.01)
     assert info.value.time < 5.0
@@ -158,18 +162,18 @@ def test_solve_pauses_the_garbage_collector_and_restores_it_after_success_and_fa
     import gc
     case = pc.load_case(MER / "case1.toml")
     seen = []
-    items = build_full_model(case)
+    items = build_full_model(case, initial_phase(case))
     items.post_step_hooks.append(lambda mbs, t: seen.append(gc.isenabled()))
     integrate(items, "implicit", 1e-2, 0.05, 0.01)
     assert seen and not any(seen) and gc.isenabled()
     gc.disable()   # a caller's own setting is kept
     try:
-        integrate(build_full_model(case), "implicit", 1e-2, 0.05, 0.01)
+        integrate(build_full_model(case, initial_phase(case)), "implicit", 1e-2, 0.05, 0.01)
         assert not gc.isenabled()
     finally:
         gc.enable()
     with pytest.raises(pc.SimulationError):
-        integrate(build_full_model(case), "rk4", 1e-2, 5.0, 0.01)
+        integrate(build_full_model(case, initial_phase(case)), "rk4", 1e-2, 5.0, 0.01)
     assert gc.isenabled()
 
 

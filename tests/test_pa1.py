@@ -8,7 +8,7 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.engine.full import build_full_model
 from pchute_exudyn.phases import boundaries, deploy, initial_states, next_phase
-from pchute_exudyn.physics.atmosphere import US76Lower
+from pchute_exudyn.physics.atmosphere import US76
 
 from .conftest import ROOT
 
@@ -23,18 +23,6 @@ def pa1_sp():
 @pytest.fixture(scope="module")
 def pa1_implicit():
     return pc.simulate(pc.load_case(PA1), "full", "implicit", 1e-2)
-
-
-@pytest.mark.parametrize("h, table", [(0.0, 1.2250), (1200.0, 1.0900), (5000.0, 0.73643), (11000.0, 0.36391)])
-def test_us76_density_hand_values(h, table):
-    # cev_pa1.md: T = 288.15 - 0.0065 h K, p = 101325 (T / 288.15)^5.25588 Pa, rho = p / (287.053 T), h geometric
-    temperature = 288.15 - 0.0065 * h
-    hand = 101325.0 * (temperature / 288.15) ** 5.25588 / (287.053 * temperature)
-    assert US76Lower().density(h) == pytest.approx(hand, rel=1e-12)
-    # the published tables use geopotential altitude: 0.05% apart at 5 km
-    assert US76Lower().density(h) == pytest.approx(table, rel=1e-3)
-    with pytest.raises(pc.SimulationError, match="outside the US76"):
-        US76Lower().density(11500.0)
 
 
 def test_deployment_at_line_stretch_puts_every_line_at_free_length():
@@ -63,7 +51,7 @@ def test_phases_follow_the_event_times():
     bodies["drogue_canopy"] = deploy(case, case.systems["drogue"], bodies, 3.5)[0]
     last = next_phase(case, 9.5, 200.0, bodies, {"drogue": None})
     assert last.systems == ["main"] and "drogue_canopy" not in last.bodies      # the cut-away system is gone
-    assert [e["event"] for e in last.events] == ["cutaway", "deploy"]
+    assert [e.kind for e in last.events] == ["cutaway", "deploy"]
 
 
 def test_pa1_events_and_touchdown(pa1_sp):
@@ -81,7 +69,7 @@ def test_pa1_events_and_touchdown(pa1_sp):
     # steady descent under the full mains: the weight of capsule, main canopy and confluence = 1/2 rho v^2 (C_A S)_main,
     # rho at the 1200 m ground (US76): 7.99 m/s
     case = pc.load_case(PA1)
-    rho = US76Lower().density(1200.0)
+    rho = US76().density(1200.0)
     weight = (7500.0 + 423.0 + 8.0) * 3.986004418e14 / (6371000.0 + 1200.0) ** 2
     hand = math.sqrt(2.0 * weight / (rho * 0.76 * 2946.0))
     assert touchdown["speed"] == pytest.approx(hand, rel=0.10)                        # measured: -0.3%
@@ -219,7 +207,7 @@ def test_sp_order1_follows_the_capsule_rocking_that_massless_sp_drifts_from(pa1_
     """The capsule rocks on the main bridles at 1.2 Hz with little damping and the 8 kg main confluence moves with
     it: massless SP (order 0, the thesis) runs the mode about 0.5 % fast and drifts out of phase by touchdown;
     order 1 keeps the confluence's inertia and stays on the full-mass rocking."""
-    massless = pc.simulate(pc.load_case(PA1), "sp", "rk4", 1e-2, sp_order=0)
+    massless = pc.simulate(pc.load_case(PA1), "sp", "rk4", 1e-2, order=0)
     open_ = pa1_implicit.time > 27.5          # the mains are fully open 18 s after their deployment at 9.5 s
 
     def yaw_gap(result):

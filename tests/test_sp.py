@@ -71,7 +71,7 @@ def test_sp_order1_carries_the_confluence_weight(mer_case1, case1_rk4_reference)
     """Order 0 drops the confluence's weight: the system falls as if 0.15 kg lighter (+0.24 m at 60 s); order 1 keeps
     it and lands on the full-mass altitude."""
     ref = case1_rk4_reference
-    first = pc.simulate(mer_case1, "sp", "rk4", 1e-2, sp_order=1)
+    first = pc.simulate(mer_case1, "sp", "rk4", 1e-2, order=1)
     assert first.summary["sp_order"] == 1
     assert abs(first.final("vehicle_altitude") - ref.final("vehicle_altitude")) < 0.02     # measured 0.0004 m
     settled = ref.time > 2.0
@@ -88,7 +88,7 @@ def test_sp_order1_tracks_the_full_mass_swing_that_order0_misses():
     late = full.time > 1.0
     errors = {}
     for order in (0, 1):
-        sp = pc.simulate(case, "sp", "rk4", 1e-2, 3.0, sp_order=order)
+        sp = pc.simulate(case, "sp", "rk4", 1e-2, 3.0, order=order)
         errors[order] = max(np.sqrt(np.mean((np.interp(full.time, sp.time, sp[n]) - full[n])[late] ** 2))
                             for n in sp.tension_names())
     assert errors[1] < 0.05 * errors[0], errors
@@ -100,17 +100,17 @@ def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
     from pchute_exudyn.engine.solver import integrate
     from pchute_exudyn.engine.sp import build_sp_model
     from pchute_exudyn.phases import initial_phase
-    from pchute_exudyn.simulation import _end_state
+    from pchute_exudyn.methods.sp import SPOptions
 
     phase = initial_phase(mer_case1)
-    items = build_sp_model(mer_case1, phase, 5.0, "stretch", 1)
+    items = build_sp_model(mer_case1, phase, SPOptions(order=1))
     raw = integrate(items, "rk4", 1e-2, 3.0, 1e-2)
     velocity = raw.confluences["main"]["velocity"]
-    _, states = _end_state(items, phase)
+    _, states = items.end_state()
     np.testing.assert_allclose(states["main"].acceleration, (velocity[-1] - velocity[-2]) / 1e-2, rtol=1e-9)
     assert abs(states["main"].acceleration[2]) > 0.1       # still decelerating at 3 s
-    nxt = build_sp_model(mer_case1, phase, 5.0, "stretch", 1)
-    sp = nxt.reduced["main"]
+    nxt = build_sp_model(mer_case1, phase, SPOptions(order=1))
+    sp = nxt.confluences["main"]
     sp.start_acceleration = tuple(states["main"].acceleration.tolist())
     term = sp.mass_term(0.0, states["main"].position.tolist())
     g = mer_case1.start.gravity_scalar(*states["main"].position.tolist())
@@ -120,11 +120,11 @@ def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
 
 @pytest.mark.parametrize("kwargs, message", [
     ({"integrator": "implicit"}, "rk4 only"),
-    ({"sp_order": 2}, "must be 0 .* or 1"),
-    ({"sp_order": True}, "must be 0 .* or 1"),
+    ({"order": 2}, "must be 0 .* or 1"),
+    ({"order": True}, "must be 0 .* or 1"),
     ({"kappa_max": 1.0}, "must be > 3"),
     ({"kappa_max": 3.0}, "must be > 3"),
-    ({"slack_rule": "sometimes"}, "unknown slack rule"),
+    ({"slack_rule": "sometimes"}, "slack_rule .*= .sometimes.: must be one of: stretch, force"),
     ({"step": 0.05}, "exceeds the stability limit"),
 ])
 def test_sp_input_errors(mer_case1, kwargs, message):

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from pchute_exudyn.physics.atmosphere import (US76_LAYERS, US76_R0, OutsideAtmosphereError, TabulatedAtmosphere,
-                                              US76Lower)
+                                              US76)
 
 fluids_atmosphere = pytest.importorskip("fluids.atmosphere")
 ambiance = pytest.importorskip("ambiance")
 
-US76 = US76Lower()
+US76 = US76()
 R0 = 6356766.0                    # m, the standard's r0
 BOUNDARIES = [base for base, _ in US76_LAYERS[1:]]           # 11, 20, 32, 47, 51, 71 km geopotential
 

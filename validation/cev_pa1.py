@@ -24,7 +24,7 @@ import numpy as np
 import pchute_exudyn as pc
 from pchute_exudyn.compare import compare_results
 from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.physics.atmosphere import US76Lower
+from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.plotting import new_figure, plot_tension_overlay, save_figure
 from pchute_exudyn.simulation import versions
 
@@ -55,8 +55,8 @@ def timing_rounds(case) -> list:
     rounds = []
     for _ in range(TIMING_ROUNDS):
         rounds.append([pc.simulate(case, "full", "rk4", 5e-4).summary["wall_time"],
-                       pc.simulate(case, "sp", "rk4", 1e-2, sp_order=1).summary["wall_time"],
-                       pc.simulate(case, "sp", "rk4", 1e-2, sp_order=0).summary["wall_time"]])
+                       pc.simulate(case, "sp", "rk4", 1e-2, order=1).summary["wall_time"],
+                       pc.simulate(case, "sp", "rk4", 1e-2, order=0).summary["wall_time"]])
         print("  timing round: full %.2f s, sp order 1 %.2f s, sp order 0 %.2f s" % tuple(rounds[-1]), flush=True)
     return rounds
 
@@ -108,7 +108,7 @@ def main(argv=None) -> int:
     case = pc.load_case(CASE)
     results = {}
     for label, method, integrator, step, rule, order in RUNS:
-        results[label] = pc.simulate(case, method, integrator, step, slack_rule=rule, sp_order=order)
+        results[label] = pc.simulate(case, method, integrator, step, slack_rule=rule, order=order)
         print(f"  {label:22s} {results[label].summary['wall_time']:7.2f} s", flush=True)
     rounds = timing_rounds(case)
     light = pc.load_case(CASE, {"systems.main.confluence.mass": 0.08, "systems.drogue.confluence.mass": 0.03})
@@ -162,7 +162,7 @@ def main(argv=None) -> int:
 
     # steady-descent hand calculation: the weight of everything under way (capsule, main canopy, main confluence)
     # carried by the full mains' drag, 1/2 rho v^2 C_A S, at the ground
-    rho = US76Lower().density(1200.0)
+    rho = US76().density(1200.0)
     weight = (7500.0 + 423.0 + 8.0) * 3.986004418e14 / (6371000.0 + 1200.0) ** 2
     hand = math.sqrt(2.0 * weight / (rho * 0.76 * 2946.0))
 

@@ -19,12 +19,13 @@ import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.engine.linearized import exudyn_eigenvalues
+from pchute_exudyn.phases import initial_phase
 from pchute_exudyn.io import atomic_write_text
 from pchute_exudyn.physics.analytic import analytic_response
 from pchute_exudyn.physics.equilibrium import equilibrium_point
 from pchute_exudyn.physics.linearization import linearize, modes
 from pchute_exudyn.plotting import new_figure, save_figure
-from pchute_exudyn.stability import initial_point
+from pchute_exudyn.state import initial_point
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "cases" / "simple" / "simple.toml"
@@ -152,7 +153,7 @@ def main(argv=None) -> int:
                                 "confluence.confluence.initial.velocity_east": 0.0,
                                 "confluence.confluence.initial.velocity_north": 0.0,
                                 "confluence.confluence.initial.velocity_down": 0.0})
-    engine = np.sort_complex(exudyn_eigenvalues(at_eq))
+    engine = np.sort_complex(exudyn_eigenvalues(at_eq, initial_phase(at_eq)))
     ours_sorted = np.sort_complex(found_off.eigenvalues)
     eig_error = np.max(np.abs(engine - ours_sorted) / np.abs(ours_sorted))
     small = pc.load_case(CASE, {"anchors.points.riser": [2.0, 0.0, 36.2161],

@@ -68,7 +68,7 @@ def run_case(case_number: int, reuse: bool) -> dict:
             results[label] = pc.Result.load(folder)
         else:
             started = time.perf_counter()
-            results[label] = pc.simulate(case, method, integrator, step, slack_rule=rule, sp_order=order)
+            results[label] = pc.simulate(case, method, integrator, step, slack_rule=rule, order=order)
             results[label].save(folder, plot=False)
             print(f"  case {case_number} {label:22s} {time.perf_counter() - started:7.2f} s", flush=True)
     return results

@@ -32,7 +32,7 @@ else:  # pragma: no cover
 
 from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
-from ..physics.atmosphere import MarsGRC, US76Lower, Wind
+from ..physics.atmosphere import MarsGRC, US76, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from .method_table import INTEGRATORS, METHODS, OptionError, make_options
 from .tables import read_atmosphere_table
@@ -556,7 +556,7 @@ def _read_atmosphere(t: _Table):
     if model == "table":
         atmosphere = read_atmosphere_table(t.string("file"))
     elif model == "us76":
-        atmosphere = US76Lower()
+        atmosphere = US76()
     else:
         atmosphere = MarsGRC()
     wind = None

@@ -21,9 +21,9 @@ INTEGRATORS = ("rk4", "implicit")
 class OptionError(ValueError):
     """A method option (or a method name) is invalid: ``field``, ``value`` and what is allowed (``allowed``)."""
 
-    def __init__(self, field: str, value: Any, allowed: str):
+    def __init__(self, field: str, value: Any, allowed: str, message: str | None = None):
         self.field, self.value, self.allowed = field, value, allowed
-        super().__init__(f"{field} = {value!r}: {allowed}")
+        super().__init__(message or f"{field} = {value!r}: {allowed}")
 
 
 @dataclass(frozen=True)
@@ -74,7 +74,9 @@ class MethodTable(Mapping):
         if isinstance(method, type):   # a method class itself, registered or not (as solve_ivp takes a solver class)
             return method
         if method not in self._classes:
-            raise OptionError("method", method, f"methods are: {', '.join(self._classes)}")
+            methods = ", ".join(self._classes)
+            raise OptionError("method", method, f"must be one of: {methods}",
+                              f"unknown method {method!r}; methods are: {methods}")
         return self._classes[method]
 
     def __getitem__(self, name: str):

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import ClassVar
 
-from ..case.method_table import NoOptions, OptionError, make_options
+from ..case.method_table import INTEGRATORS, NoOptions, OptionError, make_options
 from ..case.model import Case, ParachuteSystem
 from ..state import Phase
 
@@ -50,6 +50,8 @@ class Method:
     Options: ClassVar[type] = NoOptions
     outputs: ClassVar[dict] = {}
     """Per-system quantities the method reports: name -> unit (columns ``<name>`` or ``<system>_<name>``)."""
+    integrator_note: ClassVar[str] = ""
+    """Why the method runs with its integrators only (for the message refusing another)."""
     step_limited: ClassVar[bool] = False
     """Whether the method's confluences have dynamics that limit an explicit step (``step_limit``)."""
     implicit_hint: ClassVar[str] = ""
@@ -66,9 +68,15 @@ class Method:
 
     def check(self, case: Case, integrator: str) -> None:
         """Refuse an integrator the method does not support, or a case it cannot solve (OptionError)."""
+        if integrator not in INTEGRATORS:
+            integrators = ", ".join(INTEGRATORS)
+            raise OptionError("integrator", integrator, f"must be one of: {integrators}",
+                              f"unknown integrator {integrator!r}; integrators are: {integrators}")
         if integrator not in self.integrators:
-            raise OptionError("integrator", integrator, f"the {self.name} method runs with: "
-                                                         f"{', '.join(self.integrators)}")
+            note = f": {self.integrator_note}" if self.integrator_note else ""
+            raise OptionError("integrator", integrator, f"must be one of: {', '.join(self.integrators)}",
+                              f"the {self.name} method runs with --integrator {' or '.join(self.integrators)} only"
+                              + note)
 
     def build(self, case: Case, phase: Phase):  # pragma: no cover - interface
         """The method's Exudyn model of ``case`` for one phase (an ``engine.model.Model``)."""

@@ -12,6 +12,9 @@ class EquilibriumPoint(Method):
 
     name = "equilibrium"
     summary = "the confluence at the balance of the line stiffness forces (Raiszadeh, thesis Eq. 2.9)"
+    integrator_note = ("it couples first-order (ODE1) user-function states to the bodies, and Exudyn's implicit "
+                       "solvers drop the ODE1/ODE2 coupling from their Jacobian (first-order accurate, slow); use "
+                       "rk4, or --method full with implicit")
     outputs = {name: unit for name, (unit, _) in EquilibriumConfluence.OUTPUTS.items()}
 
     def build(self, case, phase):

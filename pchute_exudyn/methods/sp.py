@@ -39,7 +39,7 @@ class SPOptions:
     def __post_init__(self):
         kappa = self.kappa_max
         if isinstance(kappa, bool) or not isinstance(kappa, (int, float)) or not (math.isfinite(kappa) and kappa > 3):
-            raise OptionError("kappa_max", kappa, "must be a number > 3 (the Frobenius condition number of Eq. 3.13 "
+            raise OptionError("kappa_max", kappa, "must be > 3 (the Frobenius condition number of Eq. 3.13 "
                                                   "is at least 3 for any 3x3 matrix; the thesis used 5)")
         if self.slack_rule not in SLACK_RULES:
             raise OptionError("slack_rule", self.slack_rule, f"must be one of: {', '.join(SLACK_RULES)}")
@@ -61,6 +61,9 @@ class SingularPerturbation(Method):
     name = "sp"
     summary = "singular perturbation: the confluence velocity from the line-force balance (thesis ch. 3)"
     step_limited = True
+    integrator_note = ("it couples first-order (ODE1) user-function states to the bodies, and Exudyn's implicit "
+                       "solvers drop the ODE1/ODE2 coupling from their Jacobian (first-order accurate, slow); use "
+                       "rk4, or --method full with implicit")
     Options = SPOptions
     outputs = {name: unit for name, (unit, _) in SPConfluence.OUTPUTS.items()}
 

@@ -189,7 +189,7 @@ _US76_BASES = tuple(row[0] for row in _US76)
 
 
 @dataclass(frozen=True)
-class US76Lower(Atmosphere):
+class US76(Atmosphere):
     """U.S. Standard Atmosphere 1976 (NOAA-S/T 76-1562, NOAA/NASA/USAF, 1976), part 1 (the seven layers of the
     lower atmosphere, to 86 km geometric), ``shared/models/cev_pa1.md``; the first layer extended down to -5 km.
 

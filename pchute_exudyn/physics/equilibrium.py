@@ -19,12 +19,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import PchuteError
 from .small_linalg import solve_symmetric, symmetric_eigenvalues
 
 
-class NoEquilibriumError(PchuteError):
-    """The lines have no unique (isolated) equilibrium point."""
+class NoEquilibriumError(ValueError):
+    """The lines have no unique (isolated) equilibrium point: ``taut`` of ``lines`` lines are taut at the force
+    balance (0 of n when no line has stiffness)."""
+
+    def __init__(self, message: str, taut: int = 0, lines: int = 0):
+        self.taut, self.lines = taut, lines
+        super().__init__(message)
 
 
 @dataclass(frozen=True)
@@ -122,7 +126,7 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     stiffness = [float(v) for v in stiffness]
     total = sum(stiffness)
     if not total > 0.0:
-        raise NoEquilibriumError("no equilibrium point: no line has stiffness")
+        raise NoEquilibriumError("no line has stiffness", 0, len(stiffness))
     if guess is None:
         r = tuple(sum(k * p[i] for k, p in zip(stiffness, attach)) / total for i in range(3))
     else:
@@ -169,10 +173,7 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     residual = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
     unique = _is_regular(k_bar)
     if require_unique and not unique:
-        raise NoEquilibriumError(
-            f"no unique equilibrium point: at the force balance {sum(taut)} of {len(taut)} lines are taut and "
-            "they do not pull against each other in three dimensions (the stiffness matrix is singular); the "
-            "confluence can sit anywhere in a line or region")
+        raise NoEquilibriumError("the stiffness matrix K_bar is singular at the force balance", sum(taut), len(taut))
     return Equilibrium(np.array(r), residual <= tolerance * scale, iterations, residual, np.array(taut), unique)
 
 

@@ -50,12 +50,7 @@ from .small_linalg import solve_symmetric, symmetric_eigenvalues  # noqa: F401  
 SLACK_RULES = ("stretch", "force")
 SP_ORDERS = (0, 1)
 """Order in the confluence mass: 0, the massless balance of Eq. 3.10 (the thesis); 1, the mass kept to first order."""
-SP_ORDER_RULE = "must be 0 (the massless balance of Eq. 3.10, the thesis) or 1 (the confluence mass kept to first order)"
 
-
-def is_sp_order(value) -> bool:
-    """Whether ``value`` is one of SP_ORDERS (an integer; a TOML or Python bool is not)."""
-    return not isinstance(value, bool) and value in SP_ORDERS
 SINGULAR = 1e-12
 """Relative singularity test: alpha counts as singular when its condition number exceeds 1/SINGULAR (its smallest
 eigenvalue is below about SINGULAR times its largest) or its determinant is not positive."""

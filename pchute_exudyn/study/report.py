@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..compare import compare_results
+from ..case.method_table import METHODS, option_names
 from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir
 from ..plotting import new_figure, save_figure
@@ -50,14 +51,18 @@ def load_table(folder) -> list:
 
 
 def _configuration(row, with_step: bool = True) -> str:
-    """'method integrator step slack_rule kappa order' of a run (without the step: its family, one curve in a plot)."""
+    """'method integrator step option value ...' of a run (without the step: its family, one curve in a plot); the
+    options are those of the row's method (the method table says which columns they are)."""
     step = f"{row['step']:g}" if with_step and isinstance(row.get("step"), float) else ""
-    parts = [str(row.get("method") or "case"), str(row.get("integrator") or ""), step, str(row.get("slack_rule") or "")]
-    if isinstance(row.get("kappa_max"), float):
-        parts.append(f"kappa {row['kappa_max']:g}")
-    order = row.get("sp_order")
-    if isinstance(order, (int, float)) and math.isfinite(order):   # absent, or NaN in rows of other configurations
-        parts.append(f"order {int(order)}")
+    method = row.get("method") or ""
+    parts = [str(method or "case"), str(row.get("integrator") or ""), step]
+    names = option_names(METHODS[method].Options) if method in METHODS else ()
+    for name in names:
+        value = row.get(name)
+        if isinstance(value, str) and value:
+            parts.append(value)
+        elif isinstance(value, (int, float)) and math.isfinite(value):   # absent: NaN or "" in other rows
+            parts.append(f"{name} {value:g}")
     return " ".join(p for p in parts if p)
 
 

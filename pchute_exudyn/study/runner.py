@@ -45,8 +45,7 @@ def execute(run: RunSpec) -> dict:
     try:
         case = load_case(run.case_file, run.overrides())
         c = run.configuration
-        result = simulate(case, c.method, c.integrator, c.step, kappa_max=c.kappa_max, slack_rule=c.slack_rule,
-                          sp_order=c.sp_order)
+        result = simulate(case, c.method, c.integrator, c.step, **dict(c.options))
         record.update(scalar_outputs(result))
         record["wall_time"] = result.summary["wall_time"]
         record["steps"] = result.summary["steps"]

@@ -10,8 +10,8 @@ A study file is TOML::
     duration = 60.0                       # optional: overrides the cases' simulation.duration (s)
     histories = false                     # also save each run's time histories
 
-    [[study.configurations]]              # method, integrator, steps (a list: one run each), SP options
-    method = "sp"
+    [[study.configurations]]              # method, integrator, steps (a list: one run each) and the
+    method = "sp"                         # method's options by name (SP: kappa_max, slack_rule, order)
     steps = [1e-2]
 
     [study.reference]                     # optional: every sample is also run like this; the report measures
@@ -47,15 +47,14 @@ import hashlib
 import itertools
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
 
-from ..case.loader import Scale, _check_number, _Context, _Table, load_case, read_toml
-from ..case.model import INTEGRATORS, METHODS, SLACK_RULES
+from ..case.loader import Scale, _Context, _Table, load_case, read_toml
+from ..case.method_table import INTEGRATORS, METHODS, OptionError, make_options
 from ..errors import CaseError
-from ..physics.singular_perturbation import SP_ORDER_RULE, is_sp_order
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
                  "truncated_normal": ("mean", "std", "low", "high")}
@@ -99,24 +98,18 @@ class Parameter:
 
 @dataclass(frozen=True)
 class Configuration:
-    """How a run integrates: method, integrator, step (s) and SP options (None: the case's)."""
+    """How a run integrates: method, integrator, step (s) (None: the case's) and the method options it sets, as
+    (name, value) pairs in the method's declaration order (the others: the case's)."""
 
     method: str | None = None
     integrator: str | None = None
     step: float | None = None
-    slack_rule: str | None = None
-    kappa_max: float | None = None
-    sp_order: int | None = None
+    options: tuple = ()
 
     @property
     def label(self) -> str:
         parts = [self.method or "case method", self.integrator or "", f"{self.step:g}" if self.step else ""]
-        if self.slack_rule:
-            parts.append(self.slack_rule)
-        if self.kappa_max is not None:
-            parts.append(f"kappa {self.kappa_max:g}")
-        if self.sp_order is not None:
-            parts.append(f"order {self.sp_order}")
+        parts += [f"{name} {value:g}" if isinstance(value, float) else f"{name} {value}" for name, value in self.options]
         return " ".join(p for p in parts if p)
 
 
@@ -147,9 +140,7 @@ class RunSpec:
         c = self.configuration
         return {"run": self.index, "sample": self.sample, "case": case_label, "reference": self.reference,
                 "reference_run": self.reference_run, "method": c.method or "", "integrator": c.integrator or "",
-                "step": c.step, "slack_rule": c.slack_rule or "", "kappa_max": c.kappa_max,
-                # only when set, so that studies written before the option keep their fingerprint
-                **({"sp_order": c.sp_order} if c.sp_order is not None else {}), **self.values}
+                "step": c.step, **dict(c.options), **self.values}
 
 
 @dataclass(frozen=True)
@@ -222,24 +213,37 @@ class StudySpec:
         return digest.hexdigest()
 
 
+def _read_options(t: _Table, method: str | None) -> tuple:
+    """The configuration's remaining keys as options of its method, validated by the method's Options type."""
+    given = {key: value for key, value in t.data.items() if key not in t.allowed}
+    if not given:
+        return ()
+    if method is None:
+        raise t.error(next(iter(given)), "a method option needs the configuration's method (method = \"...\")")
+    options_type = METHODS[method].Options
+    try:
+        make_options(options_type, given)
+    except OptionError as exc:
+        raise t.error(exc.field, exc.allowed, exc.value) from None
+    t.allowed.extend(given)
+    return tuple((f.name, given[f.name]) for f in fields(options_type) if f.name in given)
+
+
 def _read_configuration(t: _Table, single_step: bool) -> list:
     if single_step:
         t.allowed.append("per")
-    method = t.string("method", None, METHODS)
+    method = t.string("method", None, tuple(METHODS))
     integrator = t.string("integrator", None, INTEGRATORS)
-    slack_rule = t.string("slack_rule", None, SLACK_RULES)
-    kappa_max = t.number("kappa_max", "", None)
-    sp_order = t._get("sp_order", None, "")
-    if sp_order is not None and not is_sp_order(sp_order):
-        raise t.error("sp_order", SP_ORDER_RULE, sp_order)
     if single_step:
         steps = [t.number("step", "s", None, above=0.0)]
     else:
         steps = list(t.sequence("steps", "s")) if "steps" in t.data else [t.number("step", "s", None, above=0.0)]
         if any(s is not None and not s > 0.0 for s in steps):
             raise t.error("steps", "every step must be > 0 (s)", steps)
+        t.allowed.extend(["step", "steps"])
+    options = _read_options(t, method)
     t.finish()
-    return [Configuration(method, integrator, step, slack_rule, kappa_max, sp_order) for step in steps]
+    return [Configuration(method, integrator, step, options) for step in steps]
 
 
 def _read_parameter(key: str, t: _Table, source: str) -> Parameter:

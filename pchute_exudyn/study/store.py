@@ -24,8 +24,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir
 
-FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step", "slack_rule",
-                 "kappa_max"]
+FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
 OUTCOME_COLUMNS = ["status", "error", "wall_time", "steps"]
 
 
