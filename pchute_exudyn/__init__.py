@@ -13,9 +13,9 @@ The confluence methods are classes in one table, ``pc.METHODS`` (name -> class),
 
 __version__ = "0.1.0"
 
+from . import methods  # noqa: E402,F401  (registers the built-in methods in METHODS)
 from .case import Case, load_case  # noqa: E402
 from .case.method_table import METHODS  # noqa: E402
-from . import methods  # noqa: E402,F401  (registers the built-in methods in METHODS)
 from .errors import CaseError, InputError, PchuteError, SimulationError  # noqa: E402
 from .results import Result  # noqa: E402
 from .simulation import simulate  # noqa: E402

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
-
 from dataclasses import fields
+from pathlib import Path
 
 from . import __version__
 from .case.method_table import INTEGRATORS, METHODS

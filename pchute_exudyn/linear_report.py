@@ -13,9 +13,9 @@ import numpy as np
 
 from .case.model import Case
 from .errors import InputError
+from .methods.full import FullMass
 from .outputs import attach_points
 from .physics.equilibrium import NoEquilibriumError, equilibrium_point
-from .methods.full import FullMass
 from .physics.linearization import linearize, max_stable_step_rk4, modes, sp_eigenvalues
 from .state import initial_confluence_state, initial_point
 

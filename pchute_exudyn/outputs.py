@@ -57,15 +57,15 @@ def concatenate(case: Case, histories: list) -> RawHistory:
 
     shapes = dict(zip(BODY_QUANTITIES, [(3,), (3,), (3, 3), (3,)]))
     for name in case.bodies:   # every body and system gets columns, NaN where absent (e.g. never deployed)
-        out.bodies[name] = {key: gather(lambda r, k=key: r.bodies.get(name, {}).get(k), shape)
+        out.bodies[name] = {key: gather(lambda r, k=key, n=name: r.bodies.get(n, {}).get(k), shape)
                             for key, shape in shapes.items()}
     for name, system in case.systems.items():
-        out.confluences[name] = {key: gather(lambda r, k=key: r.confluences.get(name, {}).get(k), (3,))
+        out.confluences[name] = {key: gather(lambda r, k=key, n=name: r.confluences.get(n, {}).get(k), (3,))
                                  for key in CONFLUENCE_QUANTITIES}
         for line in system.lines:
             out.tensions[(name, line.name)] = gather(lambda r, k=(name, line.name): r.tensions.get(k), ())
     for key in dict.fromkeys(k for r in histories for k in r.method):   # ordered union
-        out.method[key] = gather(lambda r: r.method.get(key), ())
+        out.method[key] = gather(lambda r, k=key: r.method.get(k), ())
     return out
 
 

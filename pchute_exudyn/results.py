@@ -110,7 +110,7 @@ class Result:
         return paths
 
     @classmethod
-    def load(cls, path, column_map: dict | None = None) -> "Result":
+    def load(cls, path, column_map: dict | None = None) -> Result:
         """Read a result folder (its ``timeseries.csv`` and ``summary.json``) or any CSV file.
 
         ``column_map`` (see ``parse_column_map``) renames and scales another tool's columns to this package's names

@@ -4,8 +4,6 @@ phase by phase, integrate, check, and name the outputs."""
 from __future__ import annotations
 
 import math
-import platform
-import sys
 from dataclasses import dataclass, fields
 from datetime import datetime, timezone
 
@@ -14,7 +12,7 @@ import numpy as np
 from .case.method_table import METHODS, OptionError
 from .case.model import Case
 from .engine.bodies import Touchdown
-from .engine.solver import integrate
+from .engine.solver import integrate, versions
 from .errors import InputError, SimulationError
 from .methods.base import Method, unstable_step_message
 from .outputs import check_history, concatenate, derive_columns
@@ -90,15 +88,6 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     if step > duration:
         raise InputError(f"step (--dt) = {step:g} s: must not exceed the duration ({duration:g} s)")
     return RunPlan(resolved, integrator, step, duration)
-
-
-def versions() -> dict:
-    """Versions of this package and the libraries the numbers depend on."""
-    import exudyn
-
-    from . import __version__
-    return {"pchute_exudyn": __version__, "exudyn": exudyn.__version__, "numpy": np.__version__,
-            "python": sys.version.split()[0], "platform": platform.platform()}
 
 
 def add_step_monitor(model, method: Method, step: float, interval: float = MONITOR_INTERVAL) -> None:
@@ -210,8 +199,8 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     options : Options object of the method, optional
         The method's options as a whole (e.g. ``SPOptions(kappa_max=10)``).
     **option_values
-        Or single options by name, on top of the case's: SP ``kappa_max`` (-, > 3), ``slack_rule``
-        ("stretch", "force"), ``order`` (0, 1); full mass ``line_law`` ("symbolic", "python").
+        Or single options by name, on top of the case's (None: the case's): SP ``kappa_max`` (-, > 3),
+        ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass ``line_law`` ("symbolic", "python").
 
     Returns
     -------
@@ -221,6 +210,7 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     ------
     InputError, SimulationError
     """
+    option_values = {name: value for name, value in option_values.items() if value is not None}
     if options is not None and option_values:
         raise InputError("give the method's options either as an Options object or by name, not both")
     plan = resolve_run(case, method, integrator, step, duration, options if options is not None else option_values)

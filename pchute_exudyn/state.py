@@ -132,7 +132,7 @@ class RawHistory:
     stopped_at: float | None = None                   # time a stop condition (touchdown) ended the run
 
     @classmethod
-    def from_samples(cls, times, samples: dict, steps: int, wall_time: float) -> "RawHistory":
+    def from_samples(cls, times, samples: dict, steps: int, wall_time: float) -> RawHistory:
         """Sorts sampled channel values (``{channel key: list of samples}``) into the history's tables."""
         raw = cls(time=np.asarray(times, float), steps=steps, wall_time=wall_time)
         for key, values in samples.items():

@@ -60,7 +60,7 @@ class TouchdownEvent(Event):
     kind: ClassVar[str] = "touchdown"
 
     @classmethod
-    def from_crossing(cls, time: float, ground_velocity) -> "TouchdownEvent":
+    def from_crossing(cls, time: float, ground_velocity) -> TouchdownEvent:
         """From the crossing time (s) and the ground-relative velocity (m/s, east/north/up)."""
         v = np.asarray(ground_velocity, float)
         return cls(float(time), float(np.linalg.norm(v)), float(-v[2]), float(np.hypot(v[0], v[1])))

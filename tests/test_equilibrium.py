@@ -8,8 +8,8 @@ from scipy.integrate import solve_ivp
 
 from pchute_exudyn.physics.analytic import analytic_response
 from pchute_exudyn.physics.equilibrium import NoEquilibriumError, equilibrium_point, equilibrium_velocity
-from pchute_exudyn.physics.lines import line_states
 from pchute_exudyn.physics.linearization import linearize, modes
+from pchute_exudyn.physics.lines import line_states
 
 L0 = np.array([6.0, 6.0, 6.0, 30.0])
 K = np.array([50000.0, 50000.0, 50000.0, 90000.0])
@@ -75,7 +75,7 @@ def test_appendix_a_matrices_are_the_line_force_derivatives():
         r = equilibrium_point(attach, L0, K).position + rng.normal(0, 0.02, 3)
         c_bar, k_bar = linearize(attach, r, L0, K, C)
 
-        def force(position, velocity):
+        def force(position, velocity, attach=attach):
             state = line_states(attach, np.zeros((4, 3)), position, velocity, L0, K, C)
             return state.force_on_confluence().sum(axis=0)
 

@@ -3,8 +3,15 @@
 import numpy as np
 import pytest
 
-from pchute_exudyn.physics.rotations import (DESCENT_FRAME, attitude_angles_deg, attitude_matrix, euler321_angles,
-                                             euler321_matrix, rotation_vector, tilt_deg)
+from pchute_exudyn.physics.rotations import (
+    DESCENT_FRAME,
+    attitude_angles_deg,
+    attitude_matrix,
+    euler321_angles,
+    euler321_matrix,
+    rotation_vector,
+    tilt_deg,
+)
 
 
 def test_descent_frame_is_down_east_south():

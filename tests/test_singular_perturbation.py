@@ -5,8 +5,13 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.physics.singular_perturbation import (MassTerm, condition_number, confluence_velocity,
-                                                        minimum_damping, symmetric_eigenvalues)
+from pchute_exudyn.physics.singular_perturbation import (
+    MassTerm,
+    condition_number,
+    confluence_velocity,
+    minimum_damping,
+    symmetric_eigenvalues,
+)
 
 # MER geometry (mer.md, exactly symmetric) about a confluence at the origin, body x = down = -z here
 _DROP = -math.sqrt(0.7152 ** 2 - 0.6 ** 2)

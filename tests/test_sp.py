@@ -99,8 +99,8 @@ def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
     phase's first solve uses it as the inertial force m (g - a) while it has no earlier velocity."""
     from pchute_exudyn.engine.solver import integrate
     from pchute_exudyn.engine.sp import build_sp_model
-    from pchute_exudyn.phases import initial_phase
     from pchute_exudyn.methods.sp import SPOptions
+    from pchute_exudyn.phases import initial_phase
 
     phase = initial_phase(mer_case1)
     items = build_sp_model(mer_case1, phase, SPOptions(order=1))

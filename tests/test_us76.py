@@ -7,8 +7,7 @@ import pickle
 import numpy as np
 import pytest
 
-from pchute_exudyn.physics.atmosphere import (US76_LAYERS, US76_R0, OutsideAtmosphereError, TabulatedAtmosphere,
-                                              US76)
+from pchute_exudyn.physics.atmosphere import US76, US76_LAYERS, US76_R0, OutsideAtmosphereError, TabulatedAtmosphere
 
 fluids_atmosphere = pytest.importorskip("fluids.atmosphere")
 ambiance = pytest.importorskip("ambiance")

@@ -57,7 +57,8 @@ def timing_rounds(case) -> list:
         rounds.append([pc.simulate(case, "full", "rk4", 5e-4).summary["wall_time"],
                        pc.simulate(case, "sp", "rk4", 1e-2, order=1).summary["wall_time"],
                        pc.simulate(case, "sp", "rk4", 1e-2, order=0).summary["wall_time"]])
-        print("  timing round: full %.2f s, sp order 1 %.2f s, sp order 0 %.2f s" % tuple(rounds[-1]), flush=True)
+        full, order1, order0 = rounds[-1]
+        print(f"  timing round: full {full:.2f} s, sp order 1 {order1:.2f} s, sp order 0 {order0:.2f} s", flush=True)
     return rounds
 
 
@@ -194,7 +195,6 @@ def main(argv=None) -> int:
     for line in comparisons[SP].lines:
         cells = [f"{c.lines[line]['max']:.0f} / {c.lines[line]['rms']:.0f}" for c in comparisons.values()]
         per_line.append(f"| {line} | " + " | ".join(cells) + " |")
-    sp = results[SP]
     ratios = [full / order1 for full, order1, _ in rounds]
     ratios_thesis = [full / order0 for full, _, order0 in rounds]
     timing = ["| round | full RK4 5e-4 s (s) | SP order 1, 1e-2 s (s) | speed-up | SP order 0, 1e-2 s (s) | speed-up |",

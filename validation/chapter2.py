@@ -19,8 +19,8 @@ import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.engine.linearized import exudyn_eigenvalues
-from pchute_exudyn.phases import initial_phase
 from pchute_exudyn.io import atomic_write_text
+from pchute_exudyn.phases import initial_phase
 from pchute_exudyn.physics.analytic import analytic_response
 from pchute_exudyn.physics.equilibrium import equilibrium_point
 from pchute_exudyn.physics.linearization import linearize, modes

@@ -20,8 +20,9 @@ import difflib
 import math
 import re
 import sys
+from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -32,12 +33,21 @@ else:  # pragma: no cover
 
 from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
-from ..physics.atmosphere import MarsGRC, US76, Wind
+from ..physics.atmosphere import US76, MarsGRC, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from .method_table import INTEGRATORS, METHODS, OptionError, make_options
+from .model import (
+    Aerodynamics,
+    Body,
+    Case,
+    Confluence,
+    DragAreaSchedule,
+    InitialState,
+    Line,
+    ParachuteSystem,
+    SimulationSettings,
+)
 from .tables import read_atmosphere_table
-from .model import (Aerodynamics, Body, Case, Confluence, DragAreaSchedule, InitialState, Line, ParachuteSystem,
-                    SimulationSettings)
 
 _REQUIRED = object()
 _NO_VALUE = CaseError._NO_VALUE
@@ -89,7 +99,8 @@ def _merge(target: dict, data: Mapping, origins: dict, source: str, prefix: tupl
 def _load_merged(path: Path, origins: dict, chain: tuple = ()) -> dict:
     path = path.resolve() if path.exists() else path
     if path in chain:
-        raise CaseError(str(path), "extends", "circular 'extends' chain: " + " -> ".join(str(p) for p in chain + (path,)))
+        chain_text = " -> ".join(str(p) for p in (*chain, path))
+        raise CaseError(str(path), "extends", f"circular 'extends' chain: {chain_text}")
     data = read_toml(path)
     label = _display(path)
     merged: dict = {}
@@ -306,7 +317,7 @@ class _Table:
                              value)
         return _check_vector(value, unit, len(value), lambda m: self.error(key, m, value))
 
-    def table(self, key: str, default: Any = _REQUIRED) -> "_Table | None":
+    def table(self, key: str, default: Any = _REQUIRED) -> _Table | None:
         value = self._get(key, default, "table")
         if value is None:
             return None

@@ -11,8 +11,9 @@ an ``Options`` type: a frozen dataclass whose fields are the method's options wi
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, fields, replace
-from typing import Any, Iterator, Mapping
+from typing import Any
 
 INTEGRATORS = ("rk4", "implicit")
 """``rk4``: Exudyn's explicit RK44, fixed step; ``implicit``: Exudyn's generalized-alpha."""

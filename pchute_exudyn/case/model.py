@@ -15,6 +15,7 @@ from ..physics.atmosphere import Atmosphere
 from ..physics.interpolation import interpolate_held
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 
+
 @dataclass(frozen=True)
 class InitialState:
     """Initial state of a body or confluence.
@@ -281,9 +282,9 @@ class Case:
     name: str
     description: str
     source: str
-    planet: "Planet | FlatPlanet"
+    planet: Planet | FlatPlanet
     start: StartFrame
-    atmosphere: "Atmosphere | None"
+    atmosphere: Atmosphere | None
     bodies: dict
     systems: dict
     simulation: SimulationSettings

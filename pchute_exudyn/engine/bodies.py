@@ -52,7 +52,8 @@ def add_fixed_body(model: Model, case: Case, body: Body) -> BodyItems:
         for name, p in body.points.items()}
     for name, value in (("position", state.position), ("velocity", np.zeros(3)),
                         ("rotation", state.attitude.ravel()), ("angular_velocity", np.zeros(3))):
-        model.add_channel(BodyChannel(body.name, name), lambda value=value.tolist(): value)
+        constant = value.tolist()
+        model.add_channel(BodyChannel(body.name, name), lambda constant=constant: constant)
     result = BodyItems(-1, model.ground, -1, points)
     model.bodies[body.name] = result
     return result

@@ -9,8 +9,8 @@ through it, never by reaching into a method's parts.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import exudyn as exu
 import exudyn.itemInterface as eii
@@ -118,7 +118,7 @@ class Model:
         """Keep the first error raised inside a user function; the solver raises it after Exudyn returns."""
         self.failure = self.failure or exc
 
-    def assemble(self) -> "Model":
+    def assemble(self) -> Model:
         self.mbs.Assemble()
         return self
 

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import gc
 import math
+import platform
+import sys
 import time as _time
 
 import exudyn as exu
@@ -51,24 +53,12 @@ def _settings(integrator: str, step: float, start: float, end: float, spectral_r
     return settings, exu.DynamicSolverType.GeneralizedAlpha
 
 
-def integrate(model: Model, integrator: str, step: float, duration: float, output_step: float,
-              spectral_radius: float = 0.9, start: float = 0.0) -> RawHistory:
-    """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
-    grid of ``output_step`` (s). A stop condition (``model.stop_conditions``) may end it early, after a step it
-    samples; ``RawHistory.stopped_at`` then holds that time.
-
-    Raises
-    ------
-    SimulationError
-        When the state becomes NaN or infinite, a user function fails or the engine stops; the message gives the
-        simulation time and what to try.
-    """
-    mbs = model.mbs
-    settings, solver_type = _settings(integrator, step, start, duration, spectral_radius)
-    progress = {"steps": 0, "time": start, "bad": None, "stopped": None}
+def _pre_step_function(model: Model, progress: dict):
+    """Exudyn's pre-step hook: counts steps, runs the model's pre-step hooks, checks the state every CHECK_EVERY
+    steps; returning False stops the solver (the failure is raised after it returns)."""
     hooks = list(model.pre_step_hooks)
-    get_coordinates = mbs.systemData.GetODE2Coordinates
-    get_first_order = mbs.systemData.GetODE1Coordinates
+    get_coordinates = model.mbs.systemData.GetODE2Coordinates
+    get_first_order = model.mbs.systemData.GetODE1Coordinates
 
     def pre_step(mbs_, t):
         progress["steps"] += 1
@@ -84,18 +74,20 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
             progress["bad"] = t
             return False
         return True
+    return pre_step
 
-    # Sample the channels at the first step on or past each output time (within half a step): Exudyn's own sensor
-    # clock anchors each write to the last one and drifts off the grid (seen: 55.4102 s for 55.41 s at 2e-4 s).
-    readers = list(model.channels.items())
-    keys = [key for key, _ in readers]
-    reads = [read for _, read in readers]
+
+def _post_step_function(model: Model, step: float, end: float, output_step: float, progress: dict):
+    """Exudyn's post-step hook: runs the model's post-step hooks and stop conditions and samples every channel at
+    the first step on or past each output time (within half a step; Exudyn's own sensor clock anchors each write
+    to the last one and drifts off the grid: seen 55.4102 s for 55.41 s at 2e-4 s). Returns the hook and the
+    sample times and rows it fills."""
+    reads = list(model.channels.values())
     rows: list = []
     times: list = []
-    next_sample = [start]
+    next_sample = [progress["time"]]
     post_hooks = list(model.post_step_hooks)
     stop_conditions = list(model.stop_conditions)
-
     count = model.post_step_count
 
     def post_step(mbs_, t):
@@ -106,7 +98,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
             for hook in post_hooks:
                 hook(mbs_, t)
             stop = any([condition(t) for condition in stop_conditions])
-            if stop or t >= next_sample[0] - 0.5 * step or t >= duration - 0.5 * step:
+            if stop or t >= next_sample[0] - 0.5 * step or t >= end - 0.5 * step:
                 rows.append([read() for read in reads])
                 times.append(t)
                 next_sample[0] = (round(t / output_step) + 1) * output_step
@@ -117,9 +109,11 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
             model.record_failure(exc)
             return False
         return True
+    return post_step, times, rows
 
-    mbs.SetPreStepUserFunction(pre_step)
-    mbs.SetPostStepUserFunction(post_step)
+
+def _solve(model: Model, settings, solver_type, progress: dict, integrator: str, step: float) -> float:
+    """Run Exudyn's solver; returns the wall time (s). Errors raised in user functions come out as ours."""
     console = exu.config.printToConsole
     exu.config.printToConsole = False  # the exception below carries the engine's message
     # Pause Python's cyclic garbage collector during the solve (as timeit does): the per-stage user functions make
@@ -130,7 +124,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     gc.disable()
     started = _time.perf_counter()
     try:
-        mbs.SolveDynamic(settings, solverType=solver_type, showHints=False)
+        model.mbs.SolveDynamic(settings, solverType=solver_type, showHints=False)
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
         if model.failure is not None:
             raise _user_error(model.failure, progress["time"]) from None
@@ -143,13 +137,34 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
         if collector_was_enabled:
             gc.enable()
         exu.config.printToConsole = console
+    return wall
+
+
+def integrate(model: Model, integrator: str, step: float, duration: float, output_step: float,
+              spectral_radius: float = 0.9, start: float = 0.0) -> RawHistory:
+    """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
+    grid of ``output_step`` (s). A stop condition (``model.stop_conditions``) may end it early, after a step it
+    samples; ``RawHistory.stopped_at`` then holds that time.
+
+    Raises
+    ------
+    SimulationError
+        When the state becomes NaN or infinite, a user function fails or the engine stops; the message gives the
+        simulation time and what to try.
+    """
+    settings, solver_type = _settings(integrator, step, start, duration, spectral_radius)
+    progress = {"steps": 0, "time": start, "bad": None, "stopped": None}
+    model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress))
+    post_step, times, rows = _post_step_function(model, step, duration, output_step, progress)
+    model.mbs.SetPostStepUserFunction(post_step)
+    wall = _solve(model, settings, solver_type, progress, integrator, step)
     if model.failure is not None:
         raise _user_error(model.failure, progress["time"])
     if progress["bad"] is not None:
         raise SimulationError(
             f"the state became NaN or infinite near t = {progress['bad']:.4f} s with the {integrator} integrator "
             f"at step {step:g} s: try a smaller step", progress["bad"])
-    samples = {key: [row[i] for row in rows] for i, key in enumerate(keys)}
+    samples = {key: [row[i] for row in rows] for i, key in enumerate(model.channels)}
     raw = RawHistory.from_samples(times, samples, progress["steps"], wall)
     raw.stopped_at = progress["stopped"]
     return raw
@@ -163,3 +178,10 @@ def _user_error(failure: Exception, time: float) -> Exception:
     if isinstance(failure, OutsideAtmosphereError):
         return SimulationError(str(failure), time)
     return SimulationError(f"a user function failed at t = {time:.4f} s: {failure!r}", time)
+
+
+def versions() -> dict:
+    """Versions of this package and the libraries the numbers depend on (for result files)."""
+    from .._version import __version__
+    return {"pchute_exudyn": __version__, "exudyn": exu.__version__, "numpy": np.__version__,
+            "python": sys.version.split()[0], "platform": platform.platform()}

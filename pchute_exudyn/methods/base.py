@@ -61,7 +61,7 @@ class Method:
         self.options = self.Options() if options is None else options
 
     @classmethod
-    def configure(cls, case: Case, values: dict | None = None) -> "Method":
+    def configure(cls, case: Case, values: dict | None = None) -> Method:
         """The method with the case's options for it, overridden by ``values`` (validated: OptionError)."""
         base = case.simulation.options.get(cls.name)
         return cls(make_options(cls.Options, values or {}, base))

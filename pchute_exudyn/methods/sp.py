@@ -7,8 +7,8 @@ import math
 from dataclasses import dataclass
 
 from ..case.method_table import OptionError
-from ..errors import InputError
 from ..engine.sp import SPConfluence, build_sp_model
+from ..errors import InputError
 from ..physics.linearization import sp_step_limit
 from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS
 from .base import Method, StepLimit, line_arrays, option_field

@@ -256,7 +256,7 @@ class Wind:
     north: tuple
 
     @classmethod
-    def constant(cls, east: float, north: float) -> "Wind":
+    def constant(cls, east: float, north: float) -> Wind:
         return cls((), (float(east),), (float(north),))
 
     def at(self, altitude: float):

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .kinematics import body_point
+
 
 @dataclass(frozen=True)
 class Placement:
@@ -45,11 +47,8 @@ def line_stretch_placement(vehicle_position, vehicle_attitude, vehicle_velocity,
     riser_point : array_like (3,)
         Riser attach point on the canopy, canopy body axes (m); its x is along the canopy axis.
     """
-    a = np.asarray(vehicle_attitude, float)
-    arm = a @ np.asarray(deploy_point, float)
-    confluence = np.asarray(vehicle_position, float) + arm
-    omega = a @ np.asarray(vehicle_angular_velocity, float)
-    confluence_velocity = np.asarray(vehicle_velocity, float) + np.cross(omega, arm)
+    confluence, confluence_velocity = body_point(vehicle_position, vehicle_attitude, vehicle_velocity,
+                                                 vehicle_angular_velocity, deploy_point)
     speed = np.linalg.norm(air_velocity)
     x_axis = np.asarray(air_velocity, float) / speed if speed > 0 else np.array([0.0, 0.0, -1.0])
     up = np.array([0.0, 0.0, 1.0])

@@ -98,6 +98,39 @@ def _is_regular(k_bar) -> bool:
     return eigenvalues[0] > 1e-9 * max(eigenvalues[2], 1e-300)
 
 
+def _descent_step(attach, free_length, stiffness, r, state, mu: float, scale: float):
+    """One damped Newton step on U from ``r`` (``state``: stiffness_forces there): Newton on the regularised Hessian
+    K_bar + mu I with an Armijo line search, mu raised tenfold until a step is accepted. Returns the new point, its
+    state and mu, or None when no step is found."""
+    force, potential, k_bar, _ = state
+    for _ in range(60):
+        solved = solve_symmetric(k_bar[0] + mu, k_bar[1], k_bar[2], k_bar[3] + mu, k_bar[4], k_bar[5] + mu,
+                                 *force)   # Newton on U: -grad U = F, Hessian K_bar (+ mu I)
+        if solved is None:
+            mu *= 10.0
+            continue
+        step = solved[0]
+        slope = force[0] * step[0] + force[1] * step[1] + force[2] * step[2]   # -(dU/dt) at t = 0
+        # U carries round-off of ~1e-10 of itself (lengths from coordinates kilometres from the origin): once
+        # the decrease a step promises is below that, judge the step by the force residual instead
+        resolved = slope > 1e-9 * potential
+        residual = force[0] ** 2 + force[1] ** 2 + force[2] ** 2
+        t = 1.0
+        while t > 1e-10:
+            trial = (r[0] + t * step[0], r[1] + t * step[1], r[2] + t * step[2])
+            trial_state = stiffness_forces(attach, trial, free_length, stiffness)
+            if resolved:
+                accepted = trial_state[1] <= potential - 1e-4 * t * slope
+            else:
+                f = trial_state[0]
+                accepted = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] < residual
+            if accepted:
+                return trial, trial_state, max(mu * (0.3 if t == 1.0 else 1.0), 1e-12 * scale)
+            t *= 0.5
+        mu *= 10.0
+    return None
+
+
 def equilibrium_point(attach_position, free_length, stiffness, guess=None, tolerance: float = 1e-9,
                       max_iterations: int = 100, require_unique: bool = False) -> Equilibrium:
     """Solve Eq. 2.9 for the confluence position by damped Newton on the convex potential U.
@@ -138,38 +171,10 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     while math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2) > tolerance * scale \
             and iterations < max_iterations:
         iterations += 1
-        for _ in range(60):
-            solved = solve_symmetric(k_bar[0] + mu, k_bar[1], k_bar[2], k_bar[3] + mu, k_bar[4], k_bar[5] + mu,
-                                     *force)   # Newton on U: -grad U = F, Hessian K_bar (+ mu I)
-            if solved is None:
-                mu *= 10.0
-                continue
-            step = solved[0]
-            slope = force[0] * step[0] + force[1] * step[1] + force[2] * step[2]   # -(dU/dt) at t = 0
-            # U carries round-off of ~1e-10 of itself (lengths from coordinates kilometres from the origin): once
-            # the decrease a step promises is below that, judge the step by the force residual instead
-            resolved = slope > 1e-9 * potential
-            residual = force[0] ** 2 + force[1] ** 2 + force[2] ** 2
-            t, accepted = 1.0, False
-            while t > 1e-10:
-                trial = (r[0] + t * step[0], r[1] + t * step[1], r[2] + t * step[2])
-                trial_state = stiffness_forces(attach, trial, free_length, stiffness)
-                if resolved:
-                    accepted = trial_state[1] <= potential - 1e-4 * t * slope
-                else:
-                    f = trial_state[0]
-                    accepted = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] < residual
-                if accepted:
-                    break
-                t *= 0.5
-            if accepted:
-                r = trial
-                force, potential, k_bar, taut = trial_state
-                mu = max(mu * (0.3 if t == 1.0 else 1.0), 1e-12 * scale)
-                break
-            mu *= 10.0
-        else:
+        stepped = _descent_step(attach, free_length, stiffness, r, (force, potential, k_bar, taut), mu, scale)
+        if stepped is None:
             break
+        r, (force, potential, k_bar, taut), mu = stepped
     residual = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
     unique = _is_regular(k_bar)
     if require_unique and not unique:

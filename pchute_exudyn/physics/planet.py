@@ -175,7 +175,7 @@ class StartFrame:
         Geodetic latitude and longitude of the start point (deg).
     """
 
-    planet: "Planet | FlatPlanet"
+    planet: Planet | FlatPlanet
     latitude_deg: float
     longitude_deg: float
     origin: np.ndarray = field(init=False, repr=False)

@@ -176,6 +176,61 @@ def _next_active_set(lines, active, velocity, visited) -> bool:
     return True
 
 
+def _assemble(attach_position, attach_velocity, confluence_position, free_length, stiffness, damping, forced,
+              rate: float, b0: tuple):
+    """One pass over the lines: their geometry, and alpha (Eq. 3.11, six entries a00 a01 a02 a11 a12 a22) and b
+    (Eq. 3.10) summed over the active ones (``forced``, else the stretched ones), on top of the mass term's ``rate``
+    and ``b0``. Geometry and assembly share the loop: the force rule's extra passes repeat it rather than keep a
+    second one. Returns alpha, b, the lines as (nx, ny, nz, stretch, attach velocity along n, K, C), the directions
+    and the active flags."""
+    cx, cy, cz = confluence_position
+    a00 = a11 = a22 = rate
+    a01 = a02 = a12 = 0.0
+    bx, by, bz = b0
+    lines, directions, active = [], [], []
+    for (px, py, pz), (vx, vy, vz), l0, k, c, on in zip(attach_position, attach_velocity, free_length, stiffness,
+                                                        damping, forced or repeat(None)):
+        dx, dy, dz = px - cx, py - cy, pz - cz
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        nx, ny, nz = dx / length, dy / length, dz / length
+        stretch, vn = length - l0, vx * nx + vy * ny + vz * nz
+        directions.append((nx, ny, nz))
+        lines.append((nx, ny, nz, stretch, vn, k, c))
+        taut = stretch > 0.0 if on is None else on
+        active.append(taut)
+        if taut:
+            cnx, cny = c * nx, c * ny
+            a00 += cnx * nx
+            a01 += cnx * ny
+            a02 += cnx * nz
+            a11 += cny * ny
+            a12 += cny * nz
+            a22 += c * nz * nz
+            f = k * stretch + c * vn
+            bx += f * nx
+            by += f * ny
+            bz += f * nz
+    return (a00, a01, a02, a11, a12, a22), (bx, by, bz), lines, directions, active
+
+
+def _solve_balance(alpha: tuple, b: tuple, active: list, rate: float, previous_velocity, kappa_max: float):
+    """Velocity (m/s), C_c (N s/m) and kappa of Eq. 3.10 for an assembled alpha and b: C_c = 0 with every line
+    taut and alpha regular, else the smallest C_c meeting kappa_max (Eq. 3.13); every line slack and no mass term:
+    the previous velocity (C_c = 0, kappa = 0)."""
+    v0x, v0y, v0z = previous_velocity
+    if True not in active and rate == 0.0:
+        return (v0x, v0y, v0z), 0.0, 0.0
+    a00, a01, a02, a11, a12, a22 = alpha
+    bx, by, bz = b
+    solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if False not in active else None
+    if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
+        return solved[0], 0.0, solved[1]
+    c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
+    velocity, kappa = solve_symmetric(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
+                                      bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
+    return velocity, c_c, kappa
+
+
 def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity,
                         free_length, stiffness, damping, kappa_max: float = 5.0,
                         slack_rule: str = "stretch", mass_term: MassTerm | None = None) -> SPSolution:
@@ -201,58 +256,17 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
     -------
     SPSolution
     """
-    cx, cy, cz = confluence_position
     if mass_term is None:
-        rate = bx = by = bz = 0.0
+        rate, b0 = 0.0, (0.0, 0.0, 0.0)
     else:
         rate, (rx, ry, rz), (gx, gy, gz) = mass_term
-        bx, by, bz = gx + rate * rx, gy + rate * ry, gz + rate * rz
-    b0x, b0y, b0z = bx, by, bz
-    v0x, v0y, v0z = previous_velocity
+        b0 = (gx + rate * rx, gy + rate * ry, gz + rate * rz)
     forced = None    # the force rule's active set, once a pass has found the last one inconsistent
     visited = None   # the force rule's active sets seen so far
     while True:
-        # geometry of every line, assembling alpha and b over the active ones (first pass: the stretched ones);
-        # only the force rule makes further passes, and they repeat the geometry rather than keep a second loop
-        a00 = a11 = a22 = rate
-        a01 = a02 = a12 = 0.0
-        bx, by, bz = b0x, b0y, b0z
-        lines = []       # (nx, ny, nz, stretch, attach velocity along n, K, C)
-        directions = []
-        active = []
-        for (px, py, pz), (vx, vy, vz), l0, k, c, on in zip(attach_position, attach_velocity, free_length, stiffness,
-                                                            damping, forced or repeat(None)):
-            dx, dy, dz = px - cx, py - cy, pz - cz
-            length = math.sqrt(dx * dx + dy * dy + dz * dz)
-            nx, ny, nz = dx / length, dy / length, dz / length
-            stretch, vn = length - l0, vx * nx + vy * ny + vz * nz
-            directions.append((nx, ny, nz))
-            lines.append((nx, ny, nz, stretch, vn, k, c))
-            taut = stretch > 0.0 if on is None else on
-            active.append(taut)
-            if taut:
-                cnx, cny = c * nx, c * ny
-                a00 += cnx * nx
-                a01 += cnx * ny
-                a02 += cnx * nz
-                a11 += cny * ny
-                a12 += cny * nz
-                a22 += c * nz * nz
-                f = k * stretch + c * vn
-                bx += f * nx
-                by += f * ny
-                bz += f * nz
-        if True not in active and rate == 0.0:
-            velocity, c_c, kappa = (v0x, v0y, v0z), 0.0, 0.0
-        else:
-            solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if False not in active else None
-            if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
-                c_c = 0.0
-                velocity, kappa = solved
-            else:  # a slack line, or alpha (near-)singular: the smallest C_c that conditions it (Eq. 3.13)
-                c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
-                velocity, kappa = solve_symmetric(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
-                                                  bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
+        alpha, b, lines, directions, active = _assemble(attach_position, attach_velocity, confluence_position,
+                                                        free_length, stiffness, damping, forced, rate, b0)
+        velocity, c_c, kappa = _solve_balance(alpha, b, active, rate, previous_velocity, kappa_max)
         if slack_rule != "force":
             break
         if visited is None:

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..compare import compare_results
 from ..case.method_table import METHODS, option_names
+from ..compare import compare_results
 from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir
 from ..plotting import new_figure, save_figure

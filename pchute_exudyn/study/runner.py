@@ -142,6 +142,21 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
     failed = sum(1 for i in done if store.records[i].get("status") != "ok")
     bar = _progress(len(runs), len(done), failed) if progress else None
     started = time.perf_counter()
+    try:
+        executed, failed = _record_as_they_finish(executor, pending, store, bar, failed)
+    finally:
+        store.write_table()
+        if bar is not None:
+            bar.close()
+        if owned:
+            executor.shutdown(wait=True, cancel_futures=True)
+    return {"planned": len(runs), "skipped": len(done), "executed": executed, "failed": failed,
+            "wall_time": time.perf_counter() - started, "folder": str(out)}
+
+
+def _record_as_they_finish(executor: Executor, pending: list, store: StudyStore, bar, failed: int) -> tuple:
+    """Submit ``pending`` runs and record each as it finishes; returns (runs executed, failed so far). Ctrl-C cancels
+    what has not started."""
     executed = 0
     futures = {}
     try:
@@ -165,14 +180,7 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
         for future in futures:
             future.cancel()
         raise
-    finally:
-        store.write_table()
-        if bar is not None:
-            bar.close()
-        if owned:
-            executor.shutdown(wait=True, cancel_futures=True)
-    return {"planned": len(runs), "skipped": len(done), "executed": executed, "failed": failed,
-            "wall_time": time.perf_counter() - started, "folder": str(out)}
+    return executed, failed
 
 
 def _progress(total: int, initial: int, failed: int):

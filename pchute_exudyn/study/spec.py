@@ -109,7 +109,8 @@ class Configuration:
     @property
     def label(self) -> str:
         parts = [self.method or "case method", self.integrator or "", f"{self.step:g}" if self.step else ""]
-        parts += [f"{name} {value:g}" if isinstance(value, float) else f"{name} {value}" for name, value in self.options]
+        parts += [f"{name} {value:g}" if isinstance(value, float) else f"{name} {value}"
+                  for name, value in self.options]
         return " ".join(p for p in parts if p)
 
 

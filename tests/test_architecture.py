@@ -1,0 +1,82 @@
+"""The architecture is checked, not promised: import-linter's layer contracts, ruff, short functions, and no method
+name compared outside the method table."""
+
+import ast
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "pchute_exudyn"
+MAX_FUNCTION_LINES = 60
+
+
+def _tool(name: str) -> str:
+    """A console script of this environment (next to the running Python), else from PATH."""
+    beside = Path(sys.executable).parent / name
+    found = str(beside) if beside.exists() else shutil.which(name)
+    if found is None:
+        pytest.fail(f"{name} is not installed: install the test extra (pip install -e '.[test]')")
+    return found
+
+
+def _lint_imports(root: Path) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    return subprocess.run([_tool("lint-imports"), "--config", str(root / "pyproject.toml"), "--no-cache"],
+                          cwd=root, env=env, capture_output=True, text=True, timeout=300)
+
+
+def test_the_import_contracts_hold():
+    run = _lint_imports(ROOT)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_ruff_finds_nothing():
+    run = subprocess.run([sys.executable, "-m", "ruff", "check", "--no-cache", str(ROOT)], cwd=ROOT,
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+@pytest.mark.parametrize("module, violation", [
+    ("physics/lines.py", "from ..engine import model  # noqa\n"),          # physics reaching up to the engine
+    ("engine/model.py", "from .. import simulation  # noqa\n"),           # the engine reaching up
+    ("simulation.py", "import exudyn  # noqa\n"),                          # Exudyn outside the engine
+])
+def test_a_crossed_layer_breaks_the_contracts(tmp_path, module, violation):
+    shutil.copytree(PACKAGE, tmp_path / "pchute_exudyn", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
+    target = tmp_path / "pchute_exudyn" / module
+    target.write_text(target.read_text() + "\n" + violation)
+    run = _lint_imports(tmp_path)
+    assert run.returncode != 0 and "BROKEN" in run.stdout.upper(), run.stdout + run.stderr
+
+
+def _functions():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                yield path.relative_to(ROOT), node.name, node.end_lineno - node.lineno + 1
+
+
+def test_every_function_reads_at_once():
+    long = sorted(((n, f"{p}:{name}") for p, name, n in _functions() if n >= MAX_FUNCTION_LINES), reverse=True)
+    assert not long, f"functions of {MAX_FUNCTION_LINES} lines or more: {long}"
+
+
+METHOD_COMPARISON = re.compile(r"""(==|!=|\bin\b|\bis\b)\s*\(?\s*["'](full|sp|equilibrium)["']"""
+                               r"""|["'](full|sp|equilibrium)["']\s*(==|!=)""")
+
+
+def test_no_method_name_is_compared_outside_the_method_table():
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for number, line in enumerate(path.read_text().splitlines(), start=1):
+            if METHOD_COMPARISON.search(line):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert not found, "method names compared outside the table:\n" + "\n".join(found)
