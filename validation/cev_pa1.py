@@ -3,7 +3,7 @@ the thesis's figures.
 
 Run:  python validation/cev_pa1.py
 
-Runs `cases/cev_pa1.toml` (the representative model of shared/models/cev_pa1.md) with the full-mass model (RK4 at
+Runs `cases/cev_pa1.toml` (the representative model of docs/models/cev_pa1.md) with the full-mass model (RK4 at
 the thesis's 5e-4 s; implicit at 1e-2 s), SP at 1e-2 s with the confluence mass to first order (the case's setting,
 both slack rules) and massless (order 0, the thesis's Eq. 3.10), SP order 1 at 2e-3 s (convergence) and the
 equilibrium method at 1e-2 s, one after the other in one process, plus a diagnostic full-mass run with both
@@ -209,7 +209,7 @@ def main(argv=None) -> int:
     text = "\n".join([
         "# Orion/CEV Pad Abort 1: full mass against singular perturbation",
         "",
-        "`python validation/cev_pa1.py`; model `cases/cev_pa1.toml` (shared/models/cev_pa1.md: representative values,",
+        "`python validation/cev_pa1.py`; model `cases/cev_pa1.toml` (docs/models/cev_pa1.md: representative values,",
         "not flight data). Times from tower jettison. Runs one after the other in one process; "
         f"Exudyn {v['exudyn']}, pchute-exudyn {v['pchute_exudyn']}, {v['platform']}.",
         "",

@@ -172,7 +172,7 @@ def main(argv=None) -> int:
     text = "\n".join([
         "# Thesis chapter 2 reproduced: the simple confluence model",
         "",
-        "`python validation/chapter2.py`; model `cases/simple/simple.toml` (shared/models/simple.md). The thesis's",
+        "`python validation/chapter2.py`; model `cases/simple/simple.toml` (docs/models/simple.md). The thesis's",
         "h = 36.2161 m is its construction \"0.3 m above a system with all lines at free-stretch length\", sqrt(35) + 30.3",
         "= 36.216080 m, rounded; with the unrounded value every printed digit of Table 2.2 is reproduced, with the rounded",
         "one (simple.md) everything agrees within 0.004%.",

@@ -54,7 +54,7 @@ def add_fixed_body(model: Model, case: Case, body: Body) -> BodyItems:
                         ("rotation", state.attitude.ravel()), ("angular_velocity", np.zeros(3))):
         constant = value.tolist()
         model.add_channel(BodyChannel(body.name, name), lambda constant=constant: constant)
-    result = BodyItems(-1, model.ground, -1, points)
+    result = BodyItems(-1, model.ground, points)
     model.bodies[body.name] = result
     return result
 
@@ -75,7 +75,7 @@ def add_body(model: Model, case: Case, body: Body, state: BodyState | None = Non
     points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=list(p)))
               for name, p in body.points.items()}
     add_gravity(model, case, obj, center, body.mass)
-    result = BodyItems(node, obj, center, points)
+    result = BodyItems(node, obj, points)
     for name, kind in (("position", OV.Position), ("velocity", OV.Velocity), ("rotation", OV.RotationMatrix),
                        ("angular_velocity", OV.AngularVelocityLocal)):
         model.add_channel(BodyChannel(body.name, name), node_reader(mbs, node, kind))

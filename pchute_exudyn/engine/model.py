@@ -32,7 +32,6 @@ class BodyItems:
 
     node: int
     object: int
-    center_marker: int
     point_markers: dict
 
 

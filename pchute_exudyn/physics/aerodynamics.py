@@ -1,7 +1,7 @@
 """Body aerodynamics: constant axial coefficient, tabulated normal coefficient, force at the aerodynamic centre.
 
-Force law (``shared/models/mer.md``, "Parachute aerodynamics"), for air-relative velocity V of the aerodynamic
-centre and body +x axis e (unit, inertial components)::
+Force law (``docs/models/mer.md``, "Parachute aerodynamics"), for air-relative velocity V of the aerodynamic centre
+and body +x axis e (unit, inertial components)::
 
     q = 1/2 rho |V|^2,     alpha = angle(V, e) in [0, 180] deg,     alpha' = min(alpha, 180 - alpha)
     V_perp = V - (V.e) e

@@ -71,7 +71,7 @@ class Atmosphere:
 
 @dataclass(frozen=True)
 class MarsGRC(Atmosphere):
-    """NASA Glenn Research Center's Mars atmosphere (``shared/models/mer.md``, "Atmosphere").
+    """NASA Glenn Research Center's Mars atmosphere (``docs/models/mer.md``, "Atmosphere").
 
     T [deg C] = -31 - 0.000998 h below 7000 m, -23.4 - 0.00222 h above; p [kPa] = 0.699 exp(-0.00009 h);
     rho [kg/m^3] = p / (0.1921 (T + 273.1)), with h the geodetic altitude in m.
@@ -160,7 +160,6 @@ US76_P0 = 101325.0                # Pa, sea-level pressure
 # (base geopotential altitude m', lapse rate K/m') of the standard's seven layers, up to 84 852 m'
 US76_LAYERS = ((0.0, -0.0065), (11000.0, 0.0), (20000.0, 0.001), (32000.0, 0.0028),
                (47000.0, 0.0), (51000.0, -0.0028), (71000.0, -0.002))
-US76_TOP = 84852.0                # m', geopotential top of the last layer (86 km geometric)
 
 
 def _us76_layer_table():
@@ -191,7 +190,7 @@ _US76_BASES = tuple(row[0] for row in _US76)
 @dataclass(frozen=True)
 class US76(Atmosphere):
     """U.S. Standard Atmosphere 1976 (NOAA-S/T 76-1562, NOAA/NASA/USAF, 1976), part 1 (the seven layers of the
-    lower atmosphere, to 86 km geometric), ``shared/models/cev_pa1.md``; the first layer extended down to -5 km.
+    lower atmosphere, to 86 km geometric), ``docs/models/cev_pa1.md``; the first layer extended down to -5 km.
 
     The layers are defined on geopotential altitude H = r0 h / (r0 + h) (m'), r0 = 6 356 766 m, from the geometric
     (geodetic) altitude h (m). In layer b with base H_b, base temperature T_b and lapse rate L_b (K/m': -6.5, 0, +1,
@@ -202,7 +201,6 @@ class US76(Atmosphere):
     The layer base values are computed once, at import; ``density`` uses plain floats.
 
     Outside -5 000 to 86 000 m geometric altitude the methods raise :class:`OutsideAtmosphereError`.
-    (The class keeps its historical name; it now covers the whole lower atmosphere of the standard.)
     """
 
     name = "us76"
@@ -213,7 +211,7 @@ class US76(Atmosphere):
         """(geopotential altitude m', layer row) for geometric ``altitude`` (m), after the range check."""
         if not (self.floor <= altitude <= self.ceiling):
             raise OutsideAtmosphereError(altitude, self.floor, self.ceiling, "US76 atmosphere")
-        geopotential = US76_R0 * altitude / (US76_R0 + altitude)
+        geopotential = self.geopotential_altitude(altitude)
         i = bisect_right(_US76_BASES, geopotential) - 1
         return geopotential, _US76[i if i > 0 else 0]
 
@@ -232,7 +230,7 @@ class US76(Atmosphere):
 
     def density(self, altitude: float) -> float:
         """Density (kg/m^3) at geometric (geodetic) ``altitude`` (m)."""
-        # floor, ceiling and r0 inlined: this runs at every solver stage (about 0.18 us a call)
+        # the range check and geopotential_altitude inlined: this runs at every solver stage (about 0.18 us a call)
         if not (-5000.0 <= altitude <= 86000.0):
             raise OutsideAtmosphereError(altitude, self.floor, self.ceiling, "US76 atmosphere")
         geopotential = 6356766.0 * altitude / (6356766.0 + altitude)

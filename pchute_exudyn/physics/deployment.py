@@ -1,4 +1,4 @@
-"""Placing a parachute system at line stretch (``shared/models/cev_pa1.md``, "Deployment at line stretch").
+"""Placing a parachute system at line stretch (``docs/models/cev_pa1.md``, "Deployment at line stretch").
 
 At deployment the confluence is put at a point of the vehicle where every bridle is at free length; the canopy body
 is put downstream of it along the vehicle's air-relative velocity, with the riser at free length and its +x axis

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .lines import line_geometry
 from .small_linalg import solve_symmetric, symmetric_eigenvalues
 
 
@@ -63,19 +64,15 @@ class Equilibrium:
 def stiffness_forces(attach_position, position, free_length, stiffness):
     """Force sum F (N), potential U (J), tangent stiffness K_bar = -dF/dr (N/m, six entries a00, a01, a02, a11,
     a12, a22; ``linearization.line_stiffness`` summed) and taut flags at ``position``. Plain floats."""
-    cx, cy, cz = position
     fx = fy = fz = potential = 0.0
     a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
     taut = []
-    for (px, py, pz), l0, k in zip(attach_position, free_length, stiffness):
-        dx, dy, dz = px - cx, py - cy, pz - cz
-        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+    for (length, nx, ny, nz), l0, k in zip(line_geometry(attach_position, position), free_length, stiffness):
         stretch = length - l0
         if stretch <= 0.0 or k == 0.0:
             taut.append(stretch > 0.0)
             continue
         taut.append(True)
-        nx, ny, nz = dx / length, dy / length, dz / length
         f = k * stretch
         fx += f * nx
         fy += f * ny
@@ -195,15 +192,12 @@ def equilibrium_velocity(attach_position, attach_velocity, position, free_length
     regular : bool
         False where K_bar was singular.
     """
-    cx, cy, cz = position
     bx = by = bz = 0.0
     a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
-    for (px, py, pz), (vx, vy, vz), l0, k in zip(attach_position, attach_velocity, free_length, stiffness):
-        dx, dy, dz = px - cx, py - cy, pz - cz
-        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+    for (length, nx, ny, nz), (vx, vy, vz), l0, k in zip(line_geometry(attach_position, position), attach_velocity,
+                                                         free_length, stiffness):
         if length <= l0 or k == 0.0:
             continue
-        nx, ny, nz = dx / length, dy / length, dz / length
         ratio = l0 / length
         kr, ki = k * ratio, k * (1.0 - ratio)
         along = kr * (vx * nx + vy * ny + vz * nz)

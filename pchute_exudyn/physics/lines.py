@@ -1,4 +1,4 @@
-"""Tension-only elastic lines (thesis Eqs. 1.6-1.7; ``shared/models/mer.md``, "Lines").
+"""Tension-only elastic lines (thesis Eqs. 1.6-1.7; ``docs/models/conventions.md``, "Line law and sign convention").
 
 Sign convention (the only place it is defined)::
 
@@ -68,26 +68,34 @@ def tension(stretch: float, length_rate: float, stiffness: float, damping: float
     return value if value > 0.0 else 0.0
 
 
+def line_geometry(attach_position, confluence_position) -> list:
+    """Length L (m) and unit vector n = (r_i - r_c) / L of each line, as (L, nx, ny, nz) in plain floats: the one
+    home of the line geometry for the per-stage kernels (SP, equilibrium point, the line law)."""
+    cx, cy, cz = confluence_position
+    geometry = []
+    for px, py, pz in attach_position:
+        dx, dy, dz = px - cx, py - cy, pz - cz
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        geometry.append((length, dx / length, dy / length, dz / length))
+    return geometry
+
+
 def line_tensions(attach_position, attach_velocity, confluence_position, confluence_velocity, free_length,
                   stiffness, damping) -> tuple[tuple, tuple]:
     """Tensions T (N) and unit vectors n (confluence -> attach point) of a system's lines in plain floats (the
     per-stage form of ``line_states``): sequences of (x, y, z) in m and m/s, and per-line L0 (m), K (N/m), C (N s/m).
     """
-    cx, cy, cz = confluence_position
     wx, wy, wz = confluence_velocity
     tensions, directions = [], []
-    for (px, py, pz), (vx, vy, vz), l0, k, c in zip(attach_position, attach_velocity, free_length, stiffness,
-                                                    damping):
-        dx, dy, dz = px - cx, py - cy, pz - cz
-        length = math.sqrt(dx * dx + dy * dy + dz * dz)
-        nx, ny, nz = dx / length, dy / length, dz / length
+    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c in zip(line_geometry(attach_position, confluence_position),
+                                                            attach_velocity, free_length, stiffness, damping):
         directions.append((nx, ny, nz))
         tensions.append(tension(length - l0, (vx - wx) * nx + (vy - wy) * ny + (vz - wz) * nz, k, c))
     return tuple(tensions), tuple(directions)
 
 
 def tension_magnitude(length, length_rate, free_length, stiffness, damping):
-    """Tension-only line law (Eq. 1.6 with the clip of ``mer.md``).
+    """Tension-only line law (Eq. 1.6 with the clip of ``docs/models/conventions.md``).
 
     Parameters
     ----------

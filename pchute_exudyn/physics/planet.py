@@ -1,6 +1,6 @@
 """Planet: an ellipsoid of revolution with spherical (point-mass) gravity, and the start-point frame.
 
-Frames (``shared/models/mer.md``, "Frames"):
+Frames (``docs/models/conventions.md``, "Frames, altitude and gravity"):
 
 * planet-centred inertial frame: X through latitude 0 / longitude 0, Z through the north pole, Y completes it.
   With a rotating planet (Omega != 0) this frame coincides with the planet-fixed one at t = 0.

@@ -1,5 +1,5 @@
-"""Singular-perturbation (SP) confluence velocity (thesis chapter 3, Eqs. 3.1-3.13; ``mer.md`` "Singular-perturbation
-details").
+"""Singular-perturbation (SP) confluence velocity (thesis chapter 3, Eqs. 3.1-3.13; ``docs/models/mer.md``,
+"Singular-perturbation details").
 
 As the confluence mass goes to zero its equation of motion becomes a balance of the line forces (Eq. 3.1). Solving the
 balance for the confluence velocity v (Eqs. 3.4-3.11), with a confluence damping force -C_c (v - v0) (Eq. 3.7) that
@@ -44,7 +44,7 @@ import math
 from itertools import repeat
 from typing import NamedTuple
 
-from .lines import tension
+from .lines import line_geometry, tension
 from .small_linalg import solve_symmetric, symmetric_eigenvalues  # noqa: F401  (re-exported)
 
 SLACK_RULES = ("stretch", "force")
@@ -149,7 +149,7 @@ def minimum_damping(eigenvalues, kappa_max: float) -> float:
 def _next_active_set(lines, active, velocity, visited) -> bool:
     """Force rule: update ``active`` in place toward consistency; False when it is consistent (or would cycle).
 
-    Every taut line that pushes is dropped at once (mer.md: "any taut line whose ... tension comes out negative");
+    Every taut line that pushes is dropped at once (docs/models/mer.md: a taut line whose tension comes out negative);
     when none does, every stretched line left out that would pull is taken back. Changing lines together keeps
     symmetric configurations symmetric (one-at-a-time picks one of equal bridles by index and starts a swing).
     """
@@ -178,21 +178,17 @@ def _next_active_set(lines, active, velocity, visited) -> bool:
 
 def _assemble(attach_position, attach_velocity, confluence_position, free_length, stiffness, damping, forced,
               rate: float, b0: tuple):
-    """One pass over the lines: their geometry, and alpha (Eq. 3.11, six entries a00 a01 a02 a11 a12 a22) and b
-    (Eq. 3.10) summed over the active ones (``forced``, else the stretched ones), on top of the mass term's ``rate``
-    and ``b0``. Geometry and assembly share the loop: the force rule's extra passes repeat it rather than keep a
-    second one. Returns alpha, b, the lines as (nx, ny, nz, stretch, attach velocity along n, K, C), the directions
-    and the active flags."""
-    cx, cy, cz = confluence_position
+    """One pass over the lines: their geometry (``lines.line_geometry``), and alpha (Eq. 3.11, six entries a00 a01
+    a02 a11 a12 a22) and b (Eq. 3.10) summed over the active ones (``forced``, else the stretched ones), on top of the
+    mass term's ``rate`` and ``b0``; the force rule's extra passes repeat it. Returns alpha, b, the lines as (nx, ny,
+    nz, stretch, attach velocity along n, K, C), the directions and the active flags."""
     a00 = a11 = a22 = rate
     a01 = a02 = a12 = 0.0
     bx, by, bz = b0
     lines, directions, active = [], [], []
-    for (px, py, pz), (vx, vy, vz), l0, k, c, on in zip(attach_position, attach_velocity, free_length, stiffness,
-                                                        damping, forced or repeat(None)):
-        dx, dy, dz = px - cx, py - cy, pz - cz
-        length = math.sqrt(dx * dx + dy * dy + dz * dz)
-        nx, ny, nz = dx / length, dy / length, dz / length
+    geometry = line_geometry(attach_position, confluence_position)
+    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c, on in zip(geometry, attach_velocity, free_length, stiffness,
+                                                                damping, forced or repeat(None)):
         stretch, vn = length - l0, vx * nx + vy * ny + vz * nz
         directions.append((nx, ny, nz))
         lines.append((nx, ny, nz, stretch, vn, k, c))

@@ -25,7 +25,6 @@ from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
-OUTCOME_COLUMNS = ["status", "error", "wall_time", "steps"]
 
 
 class StudyStore:
