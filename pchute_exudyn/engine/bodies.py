@@ -147,32 +147,26 @@ class PointConfluence(Confluence):
         model.confluences[system_name] = self
 
 
-def _body_reader(model: Model, body: Body, center: tuple, marker: int):
-    """A reader of the aerodynamic centre's position, velocity and the body's rotation (row-major) at the current
-    stage: from the stage's snapshot when the model keeps one, else three engine calls."""
-    snapshot, name = model.snapshot, body.name
-    if snapshot is not None:
-        def from_snapshot():
-            state = snapshot.state[name]
-            position, velocity = point_motion(state, center)
-            return position, velocity, state[2]
-        return from_snapshot
+def _engine_reader(model: Model, body: Body, marker: int):
+    """A reader of the aerodynamic centre's position and velocity (marker ``marker``) and the body's rotation
+    (row-major) from the engine at the current stage: three engine calls."""
     mbs = model.mbs
     get_marker, get_node = mbs.GetMarkerOutput, mbs.GetNodeOutput
-    node = model.bodies[name].node
+    node = model.bodies[body.name].node
 
-    def from_engine():
+    def read():
         return (get_marker(marker, OV.Position, CURRENT).tolist(), get_marker(marker, OV.Velocity, CURRENT).tolist(),
                 get_node(node, OV.RotationMatrix, CURRENT).tolist())
-    return from_engine
+    return read
 
 
 def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0):
     """The body's aerodynamic force as a load at its aerodynamic centre, evaluated at every solver stage; returns
     the load's user function (or None for a body without aerodynamics).
 
-    A Python load user function (no symbolic function can read the state); the state comes from ``_body_reader``
-    and the rest is plain floats (``physics``). The velocity is taken relative to the air (planet rotation and wind,
+    A Python load user function (no symbolic function can read the state): the state comes from the stage's body
+    snapshot when the model keeps one (no engine call), else from three engine calls; the rest is plain floats
+    (``physics``). The velocity is taken relative to the air (planet rotation and wind,
     ``physics.air``); ``schedule`` (a drag-area schedule) scales the coefficients by its fraction at the time since
     ``deployed_at`` (s).
     """
@@ -182,14 +176,20 @@ def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deploy
     mbs = model.mbs
     marker = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=model.bodies[body.name].object,
                                                   localPosition=list(aero.center)))
-    read = _body_reader(model, body, tuple(aero.center), marker)
+    snapshot, name, center = model.snapshot, body.name, tuple(aero.center)
+    read = _engine_reader(model, body, marker)
     altitude, density = case.start.altitude_scalar, case.atmosphere.density
     air = AirMotion(case.start, case.wind)
     still = air.still
     area, axial, normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
 
     def aerodynamic_load(mbs_, t, load_vector):
-        (x, y, z), (vx, vy, vz), r = read()
+        if snapshot is not None:   # the stage's right-hand side has read the bodies already
+            state = snapshot.state[name]
+            (x, y, z), (vx, vy, vz) = point_motion(state, center)
+            r = state[2]
+        else:
+            (x, y, z), (vx, vy, vz), r = read()
         try:
             h = altitude(x, y, z)
             rho = density(h)

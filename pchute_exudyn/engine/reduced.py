@@ -11,6 +11,8 @@ right-hand side once more at the end-of-step state, which the post-step work and
 
 from __future__ import annotations
 
+from functools import partial
+
 import exudyn.itemInterface as eii
 import numpy as np
 
@@ -154,15 +156,19 @@ class ReducedConfluence(Confluence):
     def position(self) -> list:
         return self.current().position
 
+    def position_reader(self):
+        """The position channel's reader (a subclass may serve it more directly)."""
+        return self.position
+
     def velocity(self) -> list:
         return self.current().velocity
 
     def add_channels(self, case: Case) -> None:
         """Output channels: confluence position and velocity, the line tensions and the method's ``OUTPUTS``."""
         name = self.system.name
-        self.model.add_channel(ConfluenceChannel(name, "position"), self.position)
+        self.model.add_channel(ConfluenceChannel(name, "position"), self.position_reader())
         self.model.add_channel(ConfluenceChannel(name, "velocity"), self.velocity)
         for i, line in enumerate(self.system.lines):
             self.model.add_channel(TensionChannel(name, line.name), lambda i=i: self.current().tensions[i])
         for output, (unit, value) in self.OUTPUTS.items():
-            self.model.add_channel(MethodChannel(name, output, unit), lambda value=value: value(self))
+            self.model.add_channel(MethodChannel(name, output, unit), partial(value, self))

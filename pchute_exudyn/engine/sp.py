@@ -88,6 +88,9 @@ class SPConfluence(ReducedConfluence):
         """The ODE1 coordinates of ``current()``'s solution: the confluence position (m)."""
         return self.current_coordinates()
 
+    def position_reader(self):
+        return self.current_coordinates
+
     def state_position(self) -> list:
         return np.asarray(self._get_node(self.node, OV.Coordinates, CURRENT))[:3]
 
