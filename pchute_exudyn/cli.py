@@ -13,6 +13,7 @@ from .errors import InputError, PchuteError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130   # 128 + SIGINT, as shells report an interrupted command
 
 
 class _Parser(argparse.ArgumentParser):
@@ -47,6 +48,8 @@ def _add_run(subparsers) -> None:
                           "matches every entry (main.lines.*.damping=0); [i] indexes arrays (vehicle.inertia[0]=250)")
     _add_method_options(run)
     run.add_argument("--no-plot", action="store_true", help="do not write overview.png")
+    run.add_argument("--quiet", action="store_true",
+                     help="no progress line (it is shown only on a terminal anyway); the one-line summary remains")
     run.set_defaults(func=_run)
 
 
@@ -88,6 +91,7 @@ def _method_options(args, method_class) -> dict:
 def _run(args) -> int:
     from .case import load_case
     from .io import ensure_writable_dir
+    from .progress import TerminalProgress
     from .simulation import resolve_method, resolve_run, simulate
 
     case = load_case(args.case, args.overrides)
@@ -95,15 +99,31 @@ def _run(args) -> int:
     plan = resolve_run(case, method_class, args.integrator, args.dt, args.t_end, _method_options(args, method_class))
     method, integrator, step = method_class.name, plan.integrator, plan.step
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
+    created = not out.exists()
     ensure_writable_dir(out)  # fail before a long run, not after it
-    result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options)
-    result.save(out, plot=not args.no_plot)
+    progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
+    try:
+        result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options,
+                          progress=progress)
+        result.save(out, plot=not args.no_plot)
+    except BaseException:
+        if created and out.is_dir() and not any(out.iterdir()):   # leave no empty folder behind
+            out.rmdir()
+        raise
+    finally:
+        if progress is not None:
+            progress.close()
+    _print_run(result, out)
+    return 0
+
+
+def _print_run(result, out: Path) -> None:
+    """The run's one-line summary."""
     s, f = result.summary, result.summary["final"]
     ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"
-    print(f"{s['case']}: {method}/{integrator} step {step:g} s, {ending} {f['time']:.2f} s in {s['wall_time']:.2f} s "
-          f"of wall time ({s['steps']} steps); final {s['vehicle']} altitude {f['vehicle_altitude']:.2f} m, "
-          f"east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}")
-    return 0
+    print(f"{s['case']}: {s['method']}/{s['integrator']} step {s['step']:g} s, {ending} {f['time']:.2f} s in "
+          f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
+          f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}")
 
 
 def _add_compare(subparsers) -> None:
@@ -229,7 +249,7 @@ def _study(args) -> int:
     except KeyboardInterrupt:
         print(f"pchute study: interrupted; finished runs are recorded in {out}: rerun the same command to resume",
               file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     finally:
         if close is not None:
             close()
@@ -267,9 +287,9 @@ def main(argv=None) -> int:
     except PchuteError as exc:
         print(f"pchute {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
-    except KeyboardInterrupt:
-        print(f"pchute {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:   # Ctrl-C: not an error; a run says where it stopped (errors.Interrupted)
+        print(f"pchute {args.command}: {exc or 'interrupted'}", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

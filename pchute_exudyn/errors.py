@@ -58,3 +58,12 @@ class SimulationError(PchuteError):
     def __init__(self, message: str, time: float | None = None):
         self.time = time
         super().__init__(message)
+
+
+class Interrupted(KeyboardInterrupt):
+    """The user interrupted a run (Ctrl-C, SIGINT): not an error of the model. ``time`` (s) is the simulation time
+    the run had reached; nothing of the run is written."""
+
+    def __init__(self, time: float, end: float):
+        self.time, self.end = time, end
+        super().__init__(f"interrupted at t = {time:.3f} s of {end:g} s; no result files were written")

@@ -13,7 +13,7 @@ from .case.method_table import METHODS, OptionError
 from .case.model import Case
 from .engine.bodies import Touchdown
 from .engine.solver import integrate, versions
-from .errors import InputError, SimulationError
+from .errors import InputError, Interrupted, SimulationError
 from .methods.base import Method, unstable_step_message
 from .outputs import check_history, concatenate, derive_columns
 from .phases import boundaries, initial_states, next_phase
@@ -113,7 +113,7 @@ def add_step_monitor(model, method: Method, step: float, interval: float = MONIT
     model.add_pre_step(monitor)
 
 
-def _run_phase(case: Case, plan: RunPlan, phase, output_step: float):
+def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None):
     """Build and integrate one phase; returns the model, its checked history and its touchdown (or None)."""
     model = plan.method.build(case, phase)
     if plan.integrator == "rk4" and model.systems and plan.method.step_limited:
@@ -122,14 +122,17 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float):
     if case.simulation.ground_altitude is not None:
         touchdown = Touchdown(model, case, case.simulation.ground_altitude)
         model.add_stop_condition(touchdown)
-    raw = integrate(model, plan.integrator, plan.step, phase.end, output_step, case.simulation.spectral_radius,
-                    start=phase.start)
+    try:
+        raw = integrate(model, plan.integrator, plan.step, phase.end, output_step, case.simulation.spectral_radius,
+                        start=phase.start, report=report)
+    except Interrupted as exc:   # say how far the whole run got, not the phase
+        raise Interrupted(exc.time, plan.duration) from None
     check_history(case, raw, plan.step)
     return model, raw, touchdown
 
 
-def run(case: Case, plan: RunPlan):
-    """Integrate ``case`` phase by phase as ``plan`` says.
+def run(case: Case, plan: RunPlan, report=None):
+    """Integrate ``case`` phase by phase as ``plan`` says; ``report`` receives the simulation time (s) as it goes.
 
     Returns the checked engine history of the whole run, the method's facts and the event log.
     """
@@ -140,7 +143,7 @@ def run(case: Case, plan: RunPlan):
     for start, end in zip(times, times[1:]):
         phase = next_phase(case, start, end, body_states, confluence_states)
         events.extend(phase.events)
-        model, raw, touchdown = _run_phase(case, plan, phase, output_step)
+        model, raw, touchdown = _run_phase(case, plan, phase, output_step, report)
         histories.append(raw)
         merge_facts(facts, model.facts())
         if touchdown is not None and touchdown.crossing is not None:
@@ -180,7 +183,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
 
 
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
-             duration: float | None = None, *, options=None, **option_values) -> Result:
+             duration: float | None = None, *, options=None, progress=None, **option_values) -> Result:
     """Simulate ``case``.
 
     Parameters
@@ -198,6 +201,8 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         Simulated time (s); default from the case.
     options : Options object of the method, optional
         The method's options as a whole (e.g. ``SPOptions(kappa_max=10)``).
+    progress : callable, optional
+        Receives the simulation time (s) every few steps (the command line draws ``progress.TerminalProgress``).
     **option_values
         Or single options by name, on top of the case's (None: the case's): SP ``kappa_max`` (-, > 3),
         ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass ``line_law`` ("symbolic", "python").
@@ -209,12 +214,14 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     Raises
     ------
     InputError, SimulationError
+    Interrupted
+        On Ctrl-C (a KeyboardInterrupt saying the time reached); nothing of the run is returned.
     """
     option_values = {name: value for name, value in option_values.items() if value is not None}
     if options is not None and option_values:
         raise InputError("give the method's options either as an Options object or by name, not both")
     plan = resolve_run(case, method, integrator, step, duration, options if options is not None else option_values)
-    raw, facts, events = run(case, plan)
+    raw, facts, events = run(case, plan, progress)
     columns, units = derive_columns(case, raw)
     summary = summarize(case, plan, raw, facts, events, columns, units)
     return Result(columns, units, summary.to_dict(), run_summary=summary)

@@ -80,3 +80,11 @@ def test_no_method_name_is_compared_outside_the_method_table():
             if METHOD_COMPARISON.search(line):
                 found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
     assert not found, "method names compared outside the table:\n" + "\n".join(found)
+
+
+def test_default_output_folders_are_ignored_by_git():
+    if not (ROOT / ".git").exists() or shutil.which("git") is None:
+        pytest.skip("not a git checkout")
+    paths = ["results/case1_full_rk4/summary.json", "studies/mer/runs.csv"]
+    run = subprocess.run(["git", "check-ignore", *paths], cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert run.stdout.split() == paths

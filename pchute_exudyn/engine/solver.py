@@ -15,13 +15,15 @@ from __future__ import annotations
 import gc
 import math
 import platform
+import signal
 import sys
+import threading
 import time as _time
 
 import exudyn as exu
 import numpy as np
 
-from ..errors import PchuteError, SimulationError
+from ..errors import Interrupted, PchuteError, SimulationError
 from ..physics.atmosphere import OutsideAtmosphereError
 from ..state import RawHistory
 from .model import Model
@@ -63,6 +65,8 @@ def _pre_step_function(model: Model, progress: dict):
     def pre_step(mbs_, t):
         progress["steps"] += 1
         progress["time"] = t
+        if progress["interrupted"]:   # Ctrl-C: stop before this step (see _interrupt_flag)
+            return False
         try:
             for hook in hooks:
                 hook(mbs_, t)
@@ -77,7 +81,11 @@ def _pre_step_function(model: Model, progress: dict):
     return pre_step
 
 
-def _post_step_function(model: Model, step: float, end: float, output_step: float, progress: dict):
+REPORT_EVERY = 100
+"""Steps between calls of a run's progress reporter (``integrate(report=...)``)."""
+
+
+def _post_step_function(model: Model, step: float, end: float, output_step: float, progress: dict, report=None):
     """Exudyn's post-step hook: runs the model's post-step hooks and stop conditions and samples every channel at
     the first step on or past each output time (within half a step; Exudyn's own sensor clock anchors each write
     to the last one and drifts off the grid: seen 55.4102 s for 55.41 s at 2e-4 s). Returns the hook and the
@@ -105,11 +113,37 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
             if stop:
                 progress["stopped"] = t
                 return False
+            if report is not None and count[0] % REPORT_EVERY == 0:
+                report(t)
         except Exception as exc:  # stop cleanly and raise it after the solver has returned
             model.record_failure(exc)
             return False
         return True
     return post_step, times, rows
+
+
+class _interrupt_flag:
+    """While a solve runs, SIGINT (Ctrl-C) sets ``progress["interrupted"]`` instead of raising inside an Exudyn user
+    function, where the engine would turn the KeyboardInterrupt into a failed user function and the run into a
+    reported divergence; the pre-step hook then stops the solver cleanly. Only in the main thread (where Python
+    delivers signals; a Dask worker's threads keep the default behaviour)."""
+
+    def __init__(self, progress: dict):
+        self.progress, self.previous = progress, None
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread() and \
+                signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            self.previous = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        self.progress["interrupted"] = True
+
+    def __exit__(self, *exc):
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
+        return False
 
 
 def _solve(model: Model, settings, solver_type, progress: dict, integrator: str, step: float) -> float:
@@ -124,7 +158,8 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
     gc.disable()
     started = _time.perf_counter()
     try:
-        model.mbs.SolveDynamic(settings, solverType=solver_type, showHints=False)
+        with _interrupt_flag(progress):
+            model.mbs.SolveDynamic(settings, solverType=solver_type, showHints=False)
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
         if model.failure is not None:
             raise _user_error(model.failure, progress["time"]) from None
@@ -141,10 +176,11 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
 
 
 def integrate(model: Model, integrator: str, step: float, duration: float, output_step: float,
-              spectral_radius: float = 0.9, start: float = 0.0) -> RawHistory:
+              spectral_radius: float = 0.9, start: float = 0.0, report=None) -> RawHistory:
     """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
     grid of ``output_step`` (s). A stop condition (``model.stop_conditions``) may end it early, after a step it
-    samples; ``RawHistory.stopped_at`` then holds that time.
+    samples; ``RawHistory.stopped_at`` then holds that time. ``report``, if given, receives the simulation time (s)
+    every REPORT_EVERY steps. Ctrl-C stops the solver after the step it is in and raises ``errors.Interrupted``.
 
     Raises
     ------
@@ -153,11 +189,13 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
         simulation time and what to try.
     """
     settings, solver_type = _settings(integrator, step, start, duration, spectral_radius)
-    progress = {"steps": 0, "time": start, "bad": None, "stopped": None}
+    progress = {"steps": 0, "time": start, "bad": None, "stopped": None, "interrupted": False}
     model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress))
-    post_step, times, rows = _post_step_function(model, step, duration, output_step, progress)
+    post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report)
     model.mbs.SetPostStepUserFunction(post_step)
     wall = _solve(model, settings, solver_type, progress, integrator, step)
+    if progress["interrupted"]:
+        raise Interrupted(progress["time"], duration)
     if model.failure is not None:
         raise _user_error(model.failure, progress["time"])
     if progress["bad"] is not None:
