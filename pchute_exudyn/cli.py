@@ -148,29 +148,38 @@ def _add_compare(subparsers) -> None:
 
 
 def _compare(args) -> int:
-    import json
 
     from .compare import compare_results
-    from .io import atomic_write_text, ensure_writable_dir
+    from .io import atomic_write_text, ensure_writable_dir, json_text
     from .plotting import plot_confluence_velocity_overlay, plot_tension_overlay, save_figure
     from .results import Result, parse_column_map
 
     if not (args.settle >= 0.0):
         raise InputError(f"--settle = {args.settle!r}: must be >= 0 (s)")
     out = ensure_writable_dir(args.out) if args.out else None
-    a = Result.load(args.a, parse_column_map(args.map_a))
-    b = Result.load(args.b, parse_column_map(args.column_map))
+    maps = {"--map-a": parse_column_map(args.map_a), "--map": parse_column_map(args.column_map)}
+    a = Result.load(args.a, maps["--map-a"])
+    b = Result.load(args.b, maps["--map"])
+    for flag, mapping, other, label in (("--map", maps["--map"], a, "A"), ("--map-a", maps["--map-a"], b, "B")):
+        for theirs, (ours, _) in mapping.items():
+            if ours not in other:   # a mistyped name of ours would silently drop that quantity from the comparison
+                raise InputError(f"{flag} {theirs}={ours}: {label} has no column {ours!r}; its columns are: "
+                                 f"{', '.join(other.names)}")
     vehicle = a.summary.get("vehicle", "vehicle")
     comparison = compare_results(a, b, args.a, args.b, args.settle, vehicle=vehicle)
     print(comparison.table(), end="")
     if out is not None:
-        atomic_write_text(out / "comparison.md", comparison.table())
-        atomic_write_text(out / "comparison.json", json.dumps(comparison.to_dict(), indent=2) + "\n")
+        written = [out / "comparison.md", out / "comparison.json"]
+        atomic_write_text(written[0], comparison.table())
+        atomic_write_text(written[1], json_text(comparison.to_dict(), indent=2) + "\n")
         labelled = {f"A: {args.a}": a, f"B: {args.b}": b}
         if comparison.lines:
-            save_figure(plot_tension_overlay(labelled, list(comparison.lines)), out / "tensions.png")
+            written.append(out / "tensions.png")
+            save_figure(plot_tension_overlay(labelled, list(comparison.lines)), written[-1])
         if comparison.confluence_velocity:
-            save_figure(plot_confluence_velocity_overlay(labelled), out / "confluence_velocity.png")
+            written.append(out / "confluence_velocity.png")
+            save_figure(plot_confluence_velocity_overlay(labelled), written[-1])
+        print(f"wrote {', '.join(path.name for path in written)} in {out}")
     return 0
 
 
@@ -191,13 +200,13 @@ def _add_linearize(subparsers) -> None:
 
 
 def _linearize(args) -> int:
-    import json
 
     from .case import load_case
+    from .io import json_text
     from .linear_report import format_report, linearization_report
 
     report = linearization_report(load_case(args.case, args.overrides), args.system, args.time)
-    print(json.dumps(report) if args.json else format_report(report))
+    print(json_text(report) if args.json else format_report(report))
     return 0
 
 

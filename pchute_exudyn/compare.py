@@ -83,6 +83,28 @@ def aligned(a: Result, b: Result, name: str, time: np.ndarray) -> tuple[np.ndarr
     return on(a), on(b)
 
 
+def check_comparable(result: Result, label: str, columns, absent_allowed: bool) -> None:
+    """Refuse a result whose time is not finite and strictly increasing, or whose ``columns`` hold infinite values
+    or, unless ``absent_allowed`` (this package's results, where NaN marks a system not present), NaN."""
+    time = result.time
+    bad = np.flatnonzero(~np.isfinite(time))
+    if len(bad):
+        raise InputError(f"{label}: time is not a finite number at sample {bad[0] + 1} ({float(time[bad[0]])})")
+    steps = np.flatnonzero(np.diff(time) <= 0.0)
+    if len(steps):
+        i = steps[0]
+        kind = "repeats" if time[i + 1] == time[i] else "goes back"
+        raise InputError(f"{label}: time {kind} at sample {i + 2} ({time[i + 1]:g} s after {time[i]:g} s); times "
+                         "must increase strictly")
+    for name in columns:
+        values = result[name]
+        wrong = np.isinf(values) if absent_allowed else ~np.isfinite(values)
+        if wrong.any():
+            i = int(np.argmax(wrong))
+            raise InputError(f"{label}: column {name} is {float(values[i])} at t = {time[i]:g} s; compared values must "
+                             "be finite numbers")
+
+
 def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B", settle_time: float = 2.0,
                     vehicle: str = "vehicle", confluence: str = "confluence") -> Comparison:
     """Compare result ``b`` against result ``a`` (see the module docstring).
@@ -90,8 +112,11 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     Raises
     ------
     InputError
-        When the results share no time span or no column besides ``time``.
+        When the results share no time span or no column besides ``time``, or a time or compared column is bad
+        (``check_comparable``).
     """
+    for result, label in ((a, label_a), (b, label_b)):
+        check_comparable(result, label, [], absent_allowed=True)
     start, end = max(a.time[0], b.time[0]), min(a.time[-1], b.time[-1])
     if not end > start:
         raise InputError(f"{label_a} ({a.time[0]:g} to {a.time[-1]:g} s) and {label_b} ({b.time[0]:g} to "
@@ -101,6 +126,8 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
         raise InputError(f"{label_a} and {label_b} share no column besides 'time' ({label_a}: "
                          f"{', '.join(a.names[1:6])}...; {label_b}: {', '.join(b.names[1:6])}...); "
                          "rename columns with a column map (--map THEIRS=OURS)")
+    for result, label in ((a, label_a), (b, label_b)):
+        check_comparable(result, label, common, absent_allowed=bool(result.summary))
     inside = (a.time >= start - 1e-9) & (a.time <= end + 1e-9)
     time = a.time[inside]
     comparison = Comparison(label_a, label_b, time, settle_time, common=common)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+import math
 import os
 import tempfile
 from contextlib import contextmanager
@@ -50,3 +52,23 @@ def ensure_writable_dir(path) -> Path:
         reason = exc.strerror or type(exc).__name__
         raise InputError(f"output folder {str(path)!r} cannot be written: {reason}") from None
     return path
+
+
+def _finite(value):
+    """``value`` with every non-finite float (NaN, inf) replaced by None, recursively; numpy scalars as Python's."""
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(item) for item in value]
+    if hasattr(value, "item") and not isinstance(value, (str, bytes)):   # numpy scalar
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def json_text(data, indent: int | None = None) -> str:
+    """Strict JSON (RFC 8259 has no NaN or Infinity): non-finite numbers are written as null, so that every parser
+    reads the file. In summaries and reports a null number means "not defined here" (a system not present, no
+    sample)."""
+    return json.dumps(_finite(data), indent=indent, allow_nan=False)

@@ -14,12 +14,13 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 from pathlib import Path
 
 import numpy as np
 
 from .errors import InputError
-from .io import atomic_write_text, atomic_writer, ensure_writable_dir
+from .io import atomic_write_text, atomic_writer, ensure_writable_dir, json_text
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
 
@@ -100,9 +101,9 @@ class Result:
             np.savetxt(buffer, table, delimiter=",", fmt="%.12g")
             atomic_write_text(paths["csv"], buffer.getvalue())
         with atomic_writer(paths["npz"], "wb") as handle:
-            np.savez_compressed(handle, **self.columns, units=json.dumps(self.units),
-                                summary=json.dumps(self.summary))
-        atomic_write_text(paths["summary"], json.dumps(self.summary, indent=2) + "\n")
+            np.savez_compressed(handle, **self.columns, units=json_text(self.units),
+                                summary=json_text(self.summary))
+        atomic_write_text(paths["summary"], json_text(self.summary, indent=2) + "\n")
         if plot:
             from .plotting import save_figure
             paths["plot"] = folder / PLOT_NAME
@@ -149,6 +150,9 @@ def parse_column_map(entries) -> dict:
             scale = float(factor) if star else 1.0
         except ValueError:
             raise InputError(f"column map entry {entry!r}: the factor {factor!r} is not a number") from None
+        if not (math.isfinite(scale) and scale != 0.0):
+            raise InputError(f"column map entry {entry!r}: the factor must be a finite, non-zero number, not "
+                             f"{factor.strip()}")
         mapping[theirs.strip()] = (ours.strip(), scale)
     return mapping
 

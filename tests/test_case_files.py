@@ -96,6 +96,12 @@ def _write(tmp_path, text, name="case.toml"):
     ("[planet]\npolar_radius = 4e6\n", "planet.polar_radius", "must be <= equatorial_radius"),
     ("[bodies.parachute.aerodynamics.normal_coefficient]\nalpha_deg = [0.0, 45.0]\nvalue = [0.0, 0.1]\n",
      "normal_coefficient.alpha_deg", "from 0 to 90"),
+    ("[systems.main.lines.riser]\nattach = \"vehicle.bridle1\"\n", "systems.main.lines",
+     "every line attaches to body 'vehicle': the system would join that body to itself"),
+    ("[bodies.bag]\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n[bodies.bag.points]\np = [0.0, 0.0, 0.0]\n"
+     "[bodies.bag.initial]\naltitude = 8390.0\n[systems.main]\ncanopy = \"parachute\"\n"
+     + "".join(f"[systems.main.lines.bridle{i}]\nattach = \"bag.p\"\n" for i in (1, 2, 3)),
+     "systems.main.canopy", "canopy 'parachute' is not connected to the vehicle 'vehicle'"),
 ])
 def test_bad_fields_name_file_field_value_and_rule(tmp_path, text, field, message):
     path = _write(tmp_path, text)

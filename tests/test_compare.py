@@ -56,6 +56,8 @@ def test_compare_cli_writes_table_and_plots(pair, tmp_path, capsys):
     assert main(args) == 0
     printed = capsys.readouterr().out
     assert "| final vehicle altitude | +0.5 m |" in printed
+    assert f"wrote comparison.md, comparison.json, tensions.png, confluence_velocity.png in {tmp_path / 'cmp'}" \
+        in printed
     for name in ("comparison.md", "comparison.json", "tensions.png", "confluence_velocity.png"):
         assert (tmp_path / "cmp" / name).is_file()
 
@@ -78,3 +80,38 @@ def test_compare_errors(pair, tmp_path, capsys):
         assert main(args) == 1
         err = capsys.readouterr().err
         assert expected in err and len(err.strip().splitlines()) == 1, err
+
+
+def _bad_copy(tmp_path, name, change):
+    t = np.linspace(0.0, 10.0, 101)
+    columns = {"time": t, "vehicle_altitude": 1000.0 - t, "tension_riser": 100.0 + t}
+    change(columns)
+    return write_csv(tmp_path / name, columns)
+
+
+def _set(column, index, value):
+    def change(columns):
+        columns[column] = columns[column].copy()
+        columns[column][index] = value
+    return change
+
+
+@pytest.mark.parametrize("change, extra, expected", [
+    (_set("time", 50, 2.0), [], "time goes back at sample 51 (2 s after 4.9 s)"),
+    (_set("time", 50, 4.9), [], "time repeats at sample 51"),
+    (_set("time", 7, np.nan), [], "time is not a finite number at sample 8"),
+    (_set("tension_riser", 20, np.nan), [], "column tension_riser is nan at t = 2 s"),
+    (_set("vehicle_altitude", 30, np.inf), [], "column vehicle_altitude is inf at t = 3 s"),
+    (lambda c: None, ["--map", "tension_riser=tension_riser*nan"], "the factor must be a finite, non-zero number"),
+    (lambda c: None, ["--map", "tension_riser=tension_riser*inf"], "the factor must be a finite, non-zero number"),
+    (lambda c: None, ["--map", "tension_riser=tension_riser*0"], "the factor must be a finite, non-zero number"),
+    (lambda c: None, ["--map", "tension_riser=tension_risr"], "--map tension_riser=tension_risr: A has no column "
+                                                              "'tension_risr'"),
+    (lambda c: None, ["--map-a", "vehicle_altitude=altitude"], "--map-a vehicle_altitude=altitude: B has no column "
+                                                               "'altitude'"),
+])
+def test_compare_refuses_bad_input(pair, tmp_path, capsys, change, extra, expected):
+    bad = _bad_copy(tmp_path, "bad.csv", change)
+    assert main(["compare", pair[0], bad, *extra]) == 1
+    err = capsys.readouterr().err
+    assert expected in err and len(err.strip().splitlines()) == 1, err

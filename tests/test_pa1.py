@@ -1,5 +1,6 @@
 """Orion PA1: Earth, US76, wind, sequential deployment at line stretch, cut-away, reefing, touchdown."""
 
+import json
 import math
 
 import numpy as np
@@ -218,3 +219,15 @@ def test_sp_order1_follows_the_capsule_rocking_that_massless_sp_drifts_from(pa1_
     worst = max(np.abs(np.interp(pa1_implicit.time[open_], pa1_sp.time, pa1_sp[n]) - pa1_implicit[n][open_]).max()
                 for n in ("tension_main_bridle1", "tension_main_bridle2", "tension_main_bridle3"))
     assert worst < 500.0                                                                  # measured 207 N (order 0: 3.5 kN)
+
+
+def test_summary_json_is_strict_json_with_null_for_absent_values(pa1_sp, tmp_path):
+    def refuse(constant):
+        raise ValueError(f"non-standard JSON constant {constant}")
+
+    paths = pa1_sp.save(tmp_path / "pa1", plot=False, csv=False)
+    summary = json.loads(paths["summary"].read_text(), parse_constant=refuse)
+    assert summary["final"]["drogue_confluence_altitude"] is None      # the drogue system was cut away at 9.5 s
+    assert summary["final"]["main_confluence_altitude"] > 1000.0
+    with np.load(paths["npz"]) as data:
+        json.loads(str(data["summary"]), parse_constant=refuse)

@@ -630,6 +630,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     simulation_table = top.table("simulation")
     simulation = _read_simulation(simulation_table)
     _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
+    _check_connections(system_tables, bodies, systems, vehicle)
     top.allowed.append("extends")
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
@@ -675,6 +676,21 @@ def _check_events(top, body_tables, system_tables, simulation_table, bodies, sys
     if ground is not None and ground >= bodies[vehicle].initial.altitude:
         raise simulation_table.error("ground_altitude", f"must be below the vehicle's start altitude "
                                                         f"({bodies[vehicle].initial.altitude:g} m)", ground)
+
+
+def _check_connections(system_tables, bodies, systems, vehicle) -> None:
+    """A system must join different bodies: lines that all end on one free body tie it to itself (its canopy would
+    fall free), and a system with a canopy must hang it from the vehicle."""
+    for name, system in systems.items():
+        attached = {line.body for line in system.lines}
+        if len(attached) == 1 and not bodies[next(iter(attached))].fixed:
+            raise system_tables[name].error("lines", f"every line attaches to body '{next(iter(attached))}': the "
+                                                     "system would join that body to itself; attach its lines to two "
+                                                     "bodies (e.g. bridles to the vehicle, a riser to the canopy)")
+        if system.canopy is not None and vehicle not in attached:
+            raise system_tables[name].error("canopy", f"canopy '{system.canopy}' is not connected to the vehicle "
+                                                      f"'{vehicle}': no line of the system attaches to it",
+                                            system.canopy)
 
 
 def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:

@@ -9,7 +9,6 @@ reference, ``errors.csv`` and ``error_vs_wall_time.png``.
 from __future__ import annotations
 
 import csv
-import json
 import math
 import sys
 from pathlib import Path
@@ -19,7 +18,7 @@ import numpy as np
 from ..case.method_table import METHODS, option_names
 from ..compare import compare_results
 from ..errors import InputError
-from ..io import atomic_write_text, ensure_writable_dir
+from ..io import atomic_write_text, ensure_writable_dir, json_text
 from ..plotting import new_figure, save_figure
 from ..results import Result
 
@@ -155,7 +154,7 @@ def study_report(folder) -> dict:
     outputs = [o for o in MAIN_OUTPUTS if any(isinstance(r.get(o), float) for r in ok)] + \
         sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
     stats = percentiles(ok, outputs)
-    atomic_write_text(out / "percentiles.json", json.dumps(stats, indent=2) + "\n")
+    atomic_write_text(out / "percentiles.json", json_text(stats, indent=2) + "\n")
     paths = {"percentiles": out / "percentiles.json"}
     if ok and outputs:
         paths["histograms"] = _plot_histograms(ok, outputs[:8], stats, f"{title}: {len(ok)} runs", out)

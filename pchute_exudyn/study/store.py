@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 from ..errors import InputError
-from ..io import atomic_write_text, ensure_writable_dir
+from ..io import atomic_write_text, ensure_writable_dir, json_text
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
 
@@ -79,7 +79,7 @@ class StudyStore:
 
     def record(self, record: dict) -> None:
         """Append one finished run to disk at once, then refresh the table (at most once a second)."""
-        line = json.dumps(record, default=_plain) + "\n"
+        line = json_text(record) + "\n"
         with open(self.folder / "runs.jsonl", "a", encoding="utf-8") as handle:
             handle.write(line)
             handle.flush()
@@ -110,12 +110,6 @@ class StudyStore:
         for row in rows:
             writer.writerow({k: _cell(v) for k, v in row.items()})
         return buffer.getvalue()
-
-
-def _plain(value):
-    if hasattr(value, "item"):
-        return value.item()
-    raise TypeError(f"not JSON serialisable: {value!r}")
 
 
 def _cell(value):
