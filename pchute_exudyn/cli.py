@@ -48,6 +48,8 @@ def _add_run(subparsers) -> None:
                           "matches every entry (main.lines.*.damping=0); [i] indexes arrays (vehicle.inertia[0]=250)")
     _add_method_options(run)
     run.add_argument("--no-plot", action="store_true", help="do not write overview.png")
+    run.add_argument("--overwrite", action="store_true",
+                     help="replace the result already in --out (by default an earlier result is not replaced)")
     run.add_argument("--quiet", action="store_true",
                      help="no progress line (it is shown only on a terminal anyway); the one-line summary remains")
     run.set_defaults(func=_run)
@@ -90,7 +92,7 @@ def _method_options(args, method_class) -> dict:
 
 def _run(args) -> int:
     from .case import load_case
-    from .io import ensure_writable_dir
+    from .io import check_result_folder
     from .progress import TerminalProgress
     from .simulation import resolve_method, resolve_run, simulate
 
@@ -99,20 +101,15 @@ def _run(args) -> int:
     plan = resolve_run(case, method_class, args.integrator, args.dt, args.t_end, _method_options(args, method_class))
     method, integrator, step = method_class.name, plan.integrator, plan.step
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
-    created = not out.exists()
-    ensure_writable_dir(out)  # fail before a long run, not after it
+    check_result_folder(out, args.overwrite)  # fail before a long run, not after it; nothing is created yet
     progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
     try:
         result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options,
                           progress=progress)
-        result.save(out, plot=not args.no_plot)
-    except BaseException:
-        if created and out.is_dir() and not any(out.iterdir()):   # leave no empty folder behind
-            out.rmdir()
-        raise
     finally:
         if progress is not None:
             progress.close()
+    result.save(out, plot=not args.no_plot, overwrite=args.overwrite)
     _print_run(result, out)
     return 0
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import shutil
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -72,3 +73,51 @@ def json_text(data, indent: int | None = None) -> str:
     reads the file. In summaries and reports a null number means "not defined here" (a system not present, no
     sample)."""
     return json.dumps(_finite(data), indent=indent, allow_nan=False)
+
+
+RESULT_MARKER = "summary.json"
+"""The file that makes a folder a result folder (one run's files)."""
+
+
+def check_result_folder(folder, overwrite: bool = False) -> Path:
+    """Check that a run's files may go to ``folder``: absent, empty, or (with ``overwrite``) an earlier result
+    folder, under a writable folder. InputError otherwise. Nothing is created."""
+    folder = Path(folder)
+    if folder.exists():
+        if not folder.is_dir():
+            raise InputError(f"output folder {str(folder)!r} is a file; choose another --out")
+        if any(folder.iterdir()):
+            if not (folder / RESULT_MARKER).is_file():
+                raise InputError(f"output folder {str(folder)!r} is not empty and holds no result; choose another "
+                                 "--out (a result folder holds exactly one run's files)")
+            if not overwrite:
+                raise InputError(f"output folder {str(folder)!r} holds an earlier result; pass --overwrite to "
+                                 "replace it, or choose another --out")
+    existing = folder.absolute().parent
+    while not existing.exists():
+        existing = existing.parent
+    if not (existing.is_dir() and os.access(existing, os.W_OK | os.X_OK)):
+        raise InputError(f"output folder {str(folder)!r} cannot be written: {str(existing)!r} is not a writable folder")
+    return folder
+
+
+@contextmanager
+def staged_folder(folder):
+    """A fresh hidden folder beside ``folder`` to write a run's files into; on success it replaces ``folder`` (an
+    earlier folder is moved aside and deleted), so ``folder`` holds exactly those files; on error it vanishes."""
+    folder = Path(folder)
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.", suffix=".tmp"))
+    try:
+        os.chmod(staging, 0o777 & ~_UMASK)
+        yield staging
+        old = None
+        if folder.exists():
+            old = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.", suffix=".old"))
+            os.replace(folder, old / "previous")
+        os.replace(staging, folder)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise

@@ -29,21 +29,42 @@ def attach_state(case: Case, system, time: float):
     from .simulation import resolve_run, run
     step = case.simulation.default_step(FullMass.name, "implicit") or 1e-3
     raw, _, _ = run(case, resolve_run(case, FullMass, "implicit", min(step, time), time))
+    if raw.stopped_at is not None:
+        raise InputError(f"--time = {time:g} s: the vehicle touches down at t = {raw.stopped_at:.2f} s, before it")
     positions, _ = attach_points(case, raw, system)
     return positions[-1], raw.confluences[system.name]["position"][-1], float(raw.time[-1])
 
 
-def linearization_report(case: Case, system_name: str | None = None, time: float = 0.0) -> dict:
-    """The report as plain data (see the module docstring); lengths m, damping N s/m, stiffness N/m, times s."""
+def _presence(system) -> str:
+    """When a system is present in a run, in words."""
+    start = f"from {system.deploy_time:g} s" if system.deploy_time is not None else "from the start"
+    return f"{system.name} {start}" + (f" to {system.cutaway_time:g} s" if system.cutaway_time is not None else "")
+
+
+def system_at(case: Case, system_name: str | None, time: float):
+    """The system to linearise at ``time`` (s): the named one, or the first present then; InputError when the time
+    is outside the run or the system is not present then (after its deployment, before its cut-away)."""
     if not case.systems:
         raise InputError("the case has no parachute system to linearise")
-    if system_name is None:
-        system_name = next(iter(case.systems))
-    if system_name not in case.systems:
+    if not (0.0 <= time <= case.simulation.duration):
+        raise InputError(f"--time = {time!r}: must be within the case's run, 0 to {case.simulation.duration:g} s")
+    if system_name is not None and system_name not in case.systems:
         raise InputError(f"unknown system {system_name!r}; systems are: {', '.join(case.systems)}")
-    if not (time >= 0.0):
-        raise InputError(f"--time = {time!r}: must be >= 0 (s)")
-    system = case.systems[system_name]
+    candidates = [case.systems[system_name]] if system_name is not None else list(case.systems.values())
+    for system in candidates:
+        deployed = system.deploy_time is None or system.deploy_time < time
+        if deployed and (system.cutaway_time is None or time < system.cutaway_time):
+            return system
+    which = f"system {system_name!r} is not" if system_name is not None else "no parachute system is"
+    presence = "; ".join(_presence(system) for system in case.systems.values())
+    raise InputError(f"--time = {time:g} s: {which} present then ({presence}); pass a --time after a deployment "
+                     "and before its cut-away")
+
+
+def linearization_report(case: Case, system_name: str | None = None, time: float = 0.0) -> dict:
+    """The report as plain data (see the module docstring); lengths m, damping N s/m, stiffness N/m, times s."""
+    system = system_at(case, system_name, time)
+    system_name = system.name
     attach, guess, at_time = attach_state(case, system, time)
     lines = system.lines
     free_length = [l.free_length for l in lines]

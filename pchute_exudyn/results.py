@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .io import atomic_write_text, atomic_writer, ensure_writable_dir, json_text
+from .io import atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
 
@@ -87,10 +87,19 @@ class Result:
 
     # -- files ---------------------------------------------------------------------------------------------------
 
-    def save(self, folder, plot: bool = True, csv: bool = True) -> dict:
-        """Write the result files into ``folder`` (created if needed); returns their paths. ``csv=False`` keeps
-        the time histories in ``result.npz`` only (a study's many runs)."""
-        folder = ensure_writable_dir(folder)
+    def save(self, folder, plot: bool = True, csv: bool = True, overwrite: bool = False) -> dict:
+        """Write the result files into ``folder``; returns their paths. ``csv=False`` keeps the time histories in
+        ``result.npz`` only (a study's many runs).
+
+        The files are written into a fresh folder beside ``folder`` that then takes its place, so ``folder`` holds
+        exactly this run's files. ``folder`` may be absent or empty; an earlier result folder is replaced only with
+        ``overwrite``; any other non-empty folder is refused (InputError)."""
+        folder = check_result_folder(folder, overwrite)
+        with staged_folder(folder) as staging:
+            written = self._write(staging, plot, csv)
+        return {key: folder / path.name for key, path in written.items()}
+
+    def _write(self, folder: Path, plot: bool, csv: bool) -> dict:
         paths = {"npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
         if csv:
             paths["csv"] = folder / CSV_NAME

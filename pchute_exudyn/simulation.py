@@ -24,6 +24,12 @@ MONITOR_INTERVAL = 0.1
 """Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
 moves with the line loads, over seconds; a check costs about 0.25 ms). At least MONITOR_STEPS steps apart."""
 MONITOR_STEPS = 100
+MAX_STEPS = 2**31 - 1
+"""Steps the engine can count in one run (its step counter is a 32-bit integer)."""
+MAX_OUTPUT_BYTES = 4e9
+"""Largest memory (bytes) the sampled histories of one run may need; beyond it a run is refused before it starts."""
+BYTES_PER_SAMPLE_VALUE = 40
+"""Memory per sampled value while a run collects it (a Python float in a row list, then its array entry)."""
 
 
 @dataclass(frozen=True)
@@ -87,7 +93,24 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     step = _check_number("step", step, "--dt")
     if step > duration:
         raise InputError(f"step (--dt) = {step:g} s: must not exceed the duration ({duration:g} s)")
+    _check_size(case, step, duration)
     return RunPlan(resolved, integrator, step, duration)
+
+
+def _check_size(case: Case, step: float, duration: float) -> None:
+    """Refuse, before any work, a run the engine cannot count or whose histories would not fit in memory."""
+    steps = duration / step
+    if steps > MAX_STEPS:
+        raise InputError(f"{duration:g} s at a step of {step:g} s is {steps:.3g} steps; the engine counts at most "
+                         f"{MAX_STEPS} in a run: shorten the run (--t-end) or lengthen the step (--dt)")
+    samples = min(duration / case.simulation.output_step, steps) + 1
+    values = 19 * len(case.bodies) + sum(9 + len(system.lines) for system in case.systems.values())
+    need = samples * values * BYTES_PER_SAMPLE_VALUE
+    if need > MAX_OUTPUT_BYTES:
+        raise InputError(f"{duration:g} s sampled every {case.simulation.output_step:g} s is {samples:.3g} samples "
+                         f"of {values} values, about {need / 1e9:.0f} GB: more than the {MAX_OUTPUT_BYTES / 1e9:g} GB "
+                         "a run may hold; raise simulation.output_step (--set simulation.output_step=...) or "
+                         "shorten the run")
 
 
 def add_step_monitor(model, method: Method, step: float, interval: float = MONITOR_INTERVAL) -> None:

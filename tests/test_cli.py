@@ -12,6 +12,7 @@ from pchute_exudyn.cli import main
 
 from .conftest import MER, ROOT
 
+PA1 = str(ROOT / "cases" / "cev_pa1.toml")
 CASE1 = str(MER / "case1.toml")
 
 
@@ -96,6 +97,17 @@ def _bad_case(tmp_path, text):
     (lambda tmp: ["run", CASE1, "--method", "sp", "--integrator", "implicit"], "rk4 only"),
     (lambda tmp: ["run", CASE1, "--method", "sp", "--set", "main.lines.*.damping=0"], "every line has zero damping"),
     (lambda tmp: ["run", CASE1, "--method", "sp", "--slack-rule", "loose"], "invalid choice: 'loose'"),
+    (lambda tmp: ["run", CASE1, "--method", "sp", "--t-end", "1e9"], "is 1e+11 steps; the engine counts at most "
+                                                                    "2147483647"),
+    (lambda tmp: ["run", CASE1, "--dt", "1e-12", "--t-end", "1e-2"], "is 1e+10 steps"),
+    (lambda tmp: ["run", CASE1, "--method", "sp", "--t-end", "1e6"], "more than the 4 GB a run may hold"),
+    (lambda tmp: ["run", CASE1, "--method", "full", "--sp-order", "1"], "--sp-order is an option of the sp method"),
+    (lambda tmp: ["linearize", PA1], "--time = 0 s: no parachute system is present then (drogue from 3.5 s to 9.5 s; "
+                                     "main from 9.5 s)"),
+    (lambda tmp: ["linearize", PA1, "--time", "15", "--system", "drogue"], "system 'drogue' is not present then"),
+    (lambda tmp: ["linearize", PA1, "--time", "1e6"], "must be within the case's run, 0 to 200 s"),
+    (lambda tmp: ["linearize", PA1, "--time", "nan"], "must be within the case's run"),
+    (lambda tmp: ["linearize", PA1, "--time", "15", "--system", "reserve"], "unknown system 'reserve'"),
 ])
 def test_user_mistakes_give_one_line_and_nonzero_exit(capsys, tmp_path, make_args, expected):
     args = make_args(tmp_path)
@@ -119,3 +131,22 @@ def test_console_script_entry_point():
     done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "--version"], capture_output=True, text=True,
                           cwd=ROOT)
     assert done.returncode == 0 and "pchute-exudyn" in done.stdout
+
+
+def test_a_result_folder_holds_exactly_one_runs_files(capsys, tmp_path):
+    out = tmp_path / "run"
+    first = ["run", CASE1, "--method", "sp", "--t-end", "1", "--out", str(out)]
+    assert run_cli(capsys, *first)[0] == 0
+    assert (out / "overview.png").is_file()
+    code, _, stderr = run_cli(capsys, *first[:-2], "--no-plot", "--out", str(out))
+    assert code == 1 and "holds an earlier result; pass --overwrite" in stderr
+    assert (out / "overview.png").is_file()                               # refused: the earlier result is intact
+    code, _, _ = run_cli(capsys, *first[:-2], "--no-plot", "--overwrite", "--out", str(out))
+    assert code == 0
+    assert sorted(p.name for p in out.iterdir()) == ["result.npz", "summary.json", "timeseries.csv"]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]    # no staging folder left beside it
+    other = tmp_path / "notes"
+    other.mkdir()
+    (other / "todo.txt").write_text("mine")
+    code, _, stderr = run_cli(capsys, *first[:-2], "--overwrite", "--out", str(other))
+    assert code == 1 and "is not empty and holds no result" in stderr and (other / "todo.txt").is_file()

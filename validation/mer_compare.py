@@ -69,7 +69,7 @@ def run_case(case_number: int, reuse: bool) -> dict:
         else:
             started = time.perf_counter()
             results[label] = pc.simulate(case, method, integrator, step, slack_rule=rule, order=order)
-            results[label].save(folder, plot=False)
+            results[label].save(folder, plot=False, overwrite=True)
             print(f"  case {case_number} {label:22s} {time.perf_counter() - started:7.2f} s", flush=True)
     return results
 

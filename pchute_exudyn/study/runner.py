@@ -50,7 +50,7 @@ def execute(run: RunSpec) -> dict:
         record["wall_time"] = result.summary["wall_time"]
         record["steps"] = result.summary["steps"]
         if run.history_dir is not None:
-            result.save(run.history_dir, plot=False, csv=False)
+            result.save(run.history_dir, plot=False, csv=False, overwrite=True)   # a retried run replaces its own
     except PchuteError as exc:
         record.update(status="failed", error=str(exc), wall_time=time.perf_counter() - started)
     except Exception as exc:  # a bug, not a user mistake: still recorded, the study goes on
