@@ -108,3 +108,14 @@ def test_result_round_trip_and_permissions(tmp_path):
         assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask
     with pytest.raises(KeyError, match="no column 'tension_x'"):
         result["tension_x"]
+
+
+def test_times_are_on_the_exact_grid_and_steps_are_counted_once(mer_case1):
+    sp = pc.simulate(mer_case1, "sp", "rk4", 1e-2, 300.0)   # 30 000 steps: the solver's time drifts by 1e-10 s
+    assert sp.summary["steps"] == 30000 and sp.summary["final"]["time"] == 300.0
+    grid = np.array([float(f"{k * 0.01:.15g}") for k in range(30001)])
+    assert np.array_equal(sp.time, grid)                     # 55.41, not 55.409999999997545
+    odd = pc.simulate(mer_case1, "full", "rk4", 3e-4, 0.05)  # a step that does not divide the output step
+    assert odd.summary["steps"] == 167
+    step = 0.05 / 167                                      # Exudyn divides the span evenly
+    np.testing.assert_array_equal(odd.time, [float(f"{n * step:.15g}") for n in (0, 33, 67, 100, 134, 167)])

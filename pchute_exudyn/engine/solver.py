@@ -32,6 +32,12 @@ CHECK_EVERY = 200
 """Steps between NaN/inf checks of the state (a check costs about 2 us; a full-mass MER RK4 step about 70 us)."""
 
 
+def solver_steps(start: float, end: float, step: float) -> int:
+    """Steps Exudyn takes from ``start`` to ``end`` (s) for a requested ``step`` (s): it divides the span evenly, so
+    its step is (end - start) / this number, within half a step of the requested one."""
+    return max(1, int(round((end - start) / step)))
+
+
 def _settings(integrator: str, step: float, start: float, end: float, spectral_radius: float):
     settings = exu.SimulationSettings()
     settings.solution.file.write = False
@@ -40,7 +46,7 @@ def _settings(integrator: str, step: float, start: float, end: float, spectral_r
     ti = settings.timeIntegration
     ti.startTime = start
     ti.endTime = end
-    ti.numberOfSteps = max(1, int(round((end - start) / step)))
+    ti.numberOfSteps = solver_steps(start, end, step)
     ti.verboseMode = 0
     ti.automaticStepSize = False
     if integrator == "rk4":
@@ -55,7 +61,7 @@ def _settings(integrator: str, step: float, start: float, end: float, spectral_r
     return settings, exu.DynamicSolverType.GeneralizedAlpha
 
 
-def _pre_step_function(model: Model, progress: dict):
+def _pre_step_function(model: Model, progress: dict, step: float):
     """Exudyn's pre-step hook: counts steps, runs the model's pre-step hooks, checks the state every CHECK_EVERY
     steps; returning False stops the solver (the failure is raised after it returns)."""
     hooks = list(model.pre_step_hooks)
@@ -63,7 +69,10 @@ def _pre_step_function(model: Model, progress: dict):
     get_first_order = model.mbs.systemData.GetODE1Coordinates
 
     def pre_step(mbs_, t):
-        progress["steps"] += 1
+        # t is the end time of the coming step; Exudyn's accumulated time can fall short of the end time by round-off
+        # (1e-10 s after 30 000 steps of 1e-2 s) and it then adds a step of that length: not counted
+        if t - progress["time"] > ROUND_OFF * step:
+            progress["steps"] += 1
         progress["time"] = t
         if progress["interrupted"]:   # Ctrl-C: stop before this step (see _interrupt_flag)
             return False
@@ -81,6 +90,24 @@ def _pre_step_function(model: Model, progress: dict):
     return pre_step
 
 
+ROUND_OFF = 1e-6
+"""Fraction of a step below which two times count as the same (Exudyn's accumulated time drifts by ~1e-10 s)."""
+
+
+def grid_time(t: float, start: float, step: float, output_step: float) -> float:
+    """The time (s) to record for a sample taken at solver time ``t``: the step's own time start + n step, and the
+    output grid's k output_step when it falls there, free of the solver's accumulated round-off and printed to 15
+    significant digits (55.41, not 55.409999999997545). A time off both (an implicit run's shortened step) is kept."""
+    steps = round((t - start) / step)
+    exact = start + steps * step
+    if abs(t - exact) > ROUND_OFF * step:
+        return t
+    k = round(exact / output_step)
+    if abs(exact - k * output_step) <= ROUND_OFF * step:
+        exact = k * output_step
+    return float(f"{exact:.15g}")
+
+
 REPORT_EVERY = 100
 """Steps between calls of a run's progress reporter (``integrate(report=...)``)."""
 
@@ -93,7 +120,8 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
     reads = list(model.channels.values())
     rows: list = []
     times: list = []
-    next_sample = [progress["time"]]
+    start = progress["time"]
+    next_sample = [start]
     post_hooks = list(model.post_step_hooks)
     stop_conditions = list(model.stop_conditions)
     count = model.post_step_count
@@ -108,7 +136,7 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
             stop = any([condition(t) for condition in stop_conditions])
             if stop or t >= next_sample[0] - 0.5 * step or t >= end - 0.5 * step:
                 rows.append([read() for read in reads])
-                times.append(t)
+                times.append(grid_time(t, start, step, output_step))
                 next_sample[0] = (round(t / output_step) + 1) * output_step
             if stop:
                 progress["stopped"] = t
@@ -189,8 +217,9 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
         simulation time and what to try.
     """
     settings, solver_type = _settings(integrator, step, start, duration, spectral_radius)
+    step = (duration - start) / solver_steps(start, duration, step)   # the step Exudyn takes
     progress = {"steps": 0, "time": start, "bad": None, "stopped": None, "interrupted": False}
-    model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress))
+    model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))
     post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report)
     model.mbs.SetPostStepUserFunction(post_step)
     wall = _solve(model, settings, solver_type, progress, integrator, step)
