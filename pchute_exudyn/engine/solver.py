@@ -191,10 +191,8 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
         if model.failure is not None:
             raise _user_error(model.failure, progress["time"]) from None
-        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise SimulationError(
-            f"the {integrator} integration stopped at t = {progress['time']:.4f} s ({detail}); the state most "
-            f"likely diverged: try a smaller step than {step:g} s", progress["time"]) from None
+        raise SimulationError(engine_stop_message(str(exc), integrator, step, progress["time"]),
+                              progress["time"]) from None
     finally:
         wall = _time.perf_counter() - started
         if collector_was_enabled:
@@ -235,6 +233,21 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     raw = RawHistory.from_samples(times, samples, progress["steps"], wall)
     raw.stopped_at = progress["stopped"]
     return raw
+
+
+def engine_stop_message(engine_text: str, integrator: str, step: float, time: float) -> str:
+    """The user's words for an engine that stopped at ``time`` (s) without a failure of ours: its own text names
+    C++ classes and options the user never sees, so it is read here and not repeated."""
+    where = f"the {integrator} integration stopped at t = {time:.4f} s"
+    if "ConnectorGravity" in engine_text and "length = 0" in engine_text:
+        cause = ("a body or confluence reached the planet's centre: the state blew up (a mass or inertia far too "
+                 "small for its lines, or a step far too large)")
+    elif integrator == "implicit":
+        cause = ("its Newton iteration failed even on halved steps: the model is too stiff for the step or its "
+                 "state blew up (check masses, inertias and line stiffnesses)")
+    else:
+        cause = "the state most likely diverged"
+    return f"{where}: {cause}; try a smaller step than {step:g} s, and check the case's masses and inertias"
 
 
 def _user_error(failure: Exception, time: float) -> Exception:

@@ -102,7 +102,10 @@ def line_arrays(system: ParachuteSystem) -> tuple[list, list, list]:
 def unstable_step_message(method: Method, step: float, limit: StepLimit, time: float) -> str:
     """The error text for an RK4 step beyond a confluence's stability limit."""
     suggestion = float(f"{0.9 * limit.step:.2g}")  # below the limit even after rounding
+    mode = limit.eigenvalue
+    mode_text = f"{mode.real:.4g} {'+' if mode.imag >= 0 else '-'} {abs(mode.imag):.4g}i" if mode.imag else \
+        f"{mode.real:.4g}"
     return (f"the RK4 step {step:g} s exceeds the stability limit of the {limit.system} confluence ({method.name} "
-            f"method) at t = {time:.3f} s ({limit.step:.3g} s, set by its fastest mode {limit.eigenvalue.real:.0f} "
-            f"1/s with every line taut): the results would be wrong. Use --dt {suggestion:g} or smaller"
-            f"{method.implicit_hint}")
+            f"method) at t = {time:.3f} s ({limit.step:.3g} s, set by its mode lambda = {mode_text} 1/s, counting "
+            f"every line as taut, the stiffest case): the results would be wrong. Use --dt {suggestion:g} or "
+            f"smaller{method.implicit_hint}")
