@@ -142,7 +142,7 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
     if plan.integrator == "rk4" and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
     touchdown = None
-    if case.simulation.ground_altitude is not None:
+    if case.simulation.ground_altitude is not None and not case.bodies[case.vehicle].fixed:
         touchdown = Touchdown(model, case, case.simulation.ground_altitude)
         model.add_stop_condition(touchdown)
     try:
@@ -199,6 +199,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         case=case.name, case_file=case.source, description=case.description, vehicle=case.vehicle,
         method=plan.method.name, integrator=plan.integrator, step=plan.step, duration=plan.duration,
         output_step=min(case.simulation.output_step, plan.duration),
+        ground_altitude=case.simulation.ground_altitude,
         end="touchdown" if events[-1].kind == "touchdown" else "duration", steps=raw.steps,
         wall_time=raw.wall_time, final=_final_values(case, columns), peak_tension=peaks, events=tuple(events),
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),

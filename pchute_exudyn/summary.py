@@ -113,6 +113,7 @@ class RunSummary:
     step: float
     duration: float
     output_step: float
+    ground_altitude: float | None   # m; None: the run flies on below the ground (stop_at_ground = false)
     end: str                 # "touchdown" or "duration"
     steps: int
     wall_time: float         # s
@@ -133,7 +134,8 @@ class RunSummary:
         return {"case": self.case, "case_file": self.case_file, "description": self.description,
                 "vehicle": self.vehicle, "method": self.method, "integrator": self.integrator, "step": self.step,
                 "duration": self.duration, **self.method_settings, **self.method_facts,
-                "output_step": self.output_step, "end": self.end, "steps": self.steps, "wall_time": self.wall_time,
+                "output_step": self.output_step, "ground_altitude": self.ground_altitude, "end": self.end,
+                "steps": self.steps, "wall_time": self.wall_time,
                 "steps_per_second": self.steps_per_second, "final": self.final, "peak_tension": self.peak_tension,
                 "events": [event.to_dict() for event in self.events], "units": self.units,
                 "versions": self.versions, "created": self.created}

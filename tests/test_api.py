@@ -111,7 +111,8 @@ def test_result_round_trip_and_permissions(tmp_path):
 
 
 def test_times_are_on_the_exact_grid_and_steps_are_counted_once(mer_case1):
-    sp = pc.simulate(mer_case1, "sp", "rk4", 1e-2, 300.0)   # 30 000 steps: the solver's time drifts by 1e-10 s
+    flying_on = pc.load_case(MER / "case1.toml", {"simulation.stop_at_ground": False})
+    sp = pc.simulate(flying_on, "sp", "rk4", 1e-2, 300.0)   # 30 000 steps: the solver's time drifts by 1e-10 s
     assert sp.summary["steps"] == 30000 and sp.summary["final"]["time"] == 300.0
     grid = np.array([float(f"{k * 0.01:.15g}") for k in range(30001)])
     assert np.array_equal(sp.time, grid)                     # 55.41, not 55.409999999997545
@@ -119,3 +120,14 @@ def test_times_are_on_the_exact_grid_and_steps_are_counted_once(mer_case1):
     assert odd.summary["steps"] == 167
     step = 0.05 / 167                                      # Exudyn divides the span evenly
     np.testing.assert_array_equal(odd.time, [float(f"{n * step:.15g}") for n in (0, 33, 67, 100, 134, 167)])
+
+
+def test_every_run_stops_at_the_ground_unless_the_case_flies_on(mer_case1):
+    landed = pc.simulate(mer_case1, "sp", "rk4", 1e-2, 300.0)
+    touchdown = [e for e in landed.summary["events"] if e["event"] == "touchdown"]
+    assert landed.summary["end"] == "touchdown" and landed.summary["ground_altitude"] == 0.0
+    assert 100.0 < touchdown[0]["time"] < 200.0 and abs(landed.final("vehicle_altitude")) < 1.0
+    flying_on = pc.load_case(MER / "case1.toml", {"simulation.stop_at_ground": False})
+    below = pc.simulate(flying_on, "sp", "rk4", 1e-2, 300.0)
+    assert below.summary["end"] == "duration" and below.summary["ground_altitude"] is None
+    assert below.final("vehicle_altitude") < -5000.0

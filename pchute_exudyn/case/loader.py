@@ -550,7 +550,8 @@ def _read_simulation(t: _Table) -> SimulationSettings:
                       integrator)
     spectral_radius = t.number("spectral_radius", "", 0.9, minimum=0.0, maximum=1.0)
     options = _read_method_options(t)
-    ground_altitude = t.number("ground_altitude", "m", None)
+    ground_altitude = t.number("ground_altitude", "m", 0.0)
+    stop_at_ground = t.boolean("stop_at_ground", True)
     rates = t._get("descent_rate_events", [], "m/s")
     if not isinstance(rates, list):
         raise t.error("descent_rate_events", "must be a list of descent rates > 0 (m/s)", rates)
@@ -559,7 +560,7 @@ def _read_simulation(t: _Table) -> SimulationSettings:
     steps = _read_steps(t, duration)
     t.finish()
     return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, options,
-                              ground_altitude, tuple(descent_rates))
+                              ground_altitude if stop_at_ground else None, tuple(descent_rates))
 
 
 def _read_atmosphere(t: _Table):
@@ -673,9 +674,10 @@ def _check_events(top, body_tables, system_tables, simulation_table, bodies, sys
                 body.initial is None and systems[canopies[name]].deploy_time is None:
             raise body_tables[name].error("initial", "required (only a canopy deployed at line stretch has none)")
     ground = simulation.ground_altitude
-    if ground is not None and ground >= bodies[vehicle].initial.altitude:
+    if ground is not None and not bodies[vehicle].fixed and ground >= bodies[vehicle].initial.altitude:
         raise simulation_table.error("ground_altitude", f"must be below the vehicle's start altitude "
-                                                        f"({bodies[vehicle].initial.altitude:g} m)", ground)
+                                                        f"({bodies[vehicle].initial.altitude:g} m; the default is the "
+                                                        "surface, 0 m; stop_at_ground = false flies on)", ground)
 
 
 def _check_connections(system_tables, bodies, systems, vehicle) -> None:

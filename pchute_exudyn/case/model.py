@@ -236,7 +236,8 @@ class SimulationSettings:
         The options the case sets per method (``[simulation.<method>]``), as each method's validated ``Options``
         object; a method missing here runs with its defaults.
     ground_altitude : float or None
-        Geodetic altitude of the ground (m): the run ends at touchdown, when the vehicle's centre of mass reaches it.
+        Geodetic altitude of the ground (m; default 0, the planet's reference surface): the run ends at touchdown,
+        when the vehicle's centre of mass reaches it. None when the case flies on (``stop_at_ground = false``).
     descent_rate_events : tuple of float
         Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
     """

@@ -7,6 +7,8 @@ inertial; see ``docs/models/conventions.md``. Exudyn's CamelCase API stays in th
 
 from __future__ import annotations
 
+import math
+
 import exudyn.itemInterface as eii
 import numpy as np
 
@@ -226,9 +228,19 @@ def add_bodies(model: Model, case: Case, snapshot: bool = False) -> None:
             loads[body.name] = add_aerodynamics(model, case, body, schedule, deployed)
 
 
+MAX_DESCENT_ACCELERATION = 30.0
+"""Bound on a vehicle's downward acceleration (m/s^2: three times Earth's gravity; a parachute only slows it)."""
+
+
 class Touchdown:
     """Stop condition: the vehicle's centre of mass reaches the ground altitude (m). Interpolates the crossing;
-    ``crossing`` then holds (time in s, ground-relative velocity in m/s at the step's end)."""
+    ``crossing`` then holds (time in s, ground-relative velocity in m/s at the step's end).
+
+    Every run has one (the ground is the surface unless the case flies on), so it checks cheaply: after a check at
+    height h above the ground descending at v, the vehicle cannot reach the ground before t_min, the root of
+    v t + a t^2 / 2 = h with a = MAX_DESCENT_ACCELERATION, and the next check waits half of that. Near the ground
+    that is every step, so the crossing is interpolated between consecutive steps, as if every step were checked.
+    """
 
     def __init__(self, model: Model, case: Case, ground_altitude: float):
         self.position = model.channels[BodyChannel(case.vehicle, "position")]
@@ -237,12 +249,17 @@ class Touchdown:
         self.altitude = case.start.altitude_scalar
         self.previous = None
         self.crossing = None
+        self.next_check = -math.inf
 
-    def __call__(self, t: float) -> bool:   # every step: plain floats
+    def __call__(self, t: float) -> bool:   # every step: a comparison, and plain floats when it checks
+        if t < self.next_check:
+            return False
         x, y, z = self.position()
         height = self.altitude(x, y, z)
         if height > self.ground:
             self.previous = (t, height)
+            down, a = -self.velocity()[2], MAX_DESCENT_ACCELERATION
+            self.next_check = t + 0.5 * (math.sqrt(down * down + 2.0 * a * (height - self.ground)) - down) / a
             return False
         w = 1.0
         if self.previous is not None and self.previous[1] > height:
