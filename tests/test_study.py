@@ -264,3 +264,35 @@ def test_changed_study_is_not_resumed_into_the_same_folder(tmp_path):
     changed = load_study(write_study(tmp_path, runs=3, duration=1.0))
     with pytest.raises(pc.InputError, match="differ"):
         run_study(changed, tmp_path / "s", workers=1, progress=False)
+
+
+def test_a_dask_worker_killed_mid_study_loses_and_duplicates_no_run(tmp_path):
+    """A real worker process is killed (SIGKILL) while the study runs: Dask reschedules its run, and every run is
+    recorded exactly once."""
+    import threading
+
+    from distributed import Client, LocalCluster
+
+    spec = load_study(write_study(tmp_path, runs=16, duration=30.0))
+    out = tmp_path / "killed"
+    killed = []
+
+    def kill_one_worker_when_runs_are_recording(client):
+        records = out / "runs.jsonl"
+        deadline = time.time() + 60
+        while time.time() < deadline and not (records.is_file() and len(records.read_text().splitlines()) >= 2):
+            time.sleep(0.05)
+        pid = next(iter(client.run(os.getpid).values()))
+        os.kill(pid, signal.SIGKILL)
+        killed.append(pid)
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster, set_as_default=False) as client:
+        killer = threading.Thread(target=kill_one_worker_when_runs_are_recording, args=(client,))
+        killer.start()
+        counts = run_study(spec, out, client.get_executor(pure=False), progress=False)
+        killer.join()
+    runs = [json.loads(line)["run"] for line in (out / "runs.jsonl").read_text().splitlines()]
+    assert killed and counts["executed"] == 16
+    assert sorted(runs) == list(range(16))                    # every run once: none lost, none twice
+    assert all(row["status"] == "ok" for row in table(out))
