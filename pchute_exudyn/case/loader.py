@@ -59,10 +59,11 @@ _KEY_PART = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
 # reading and merging files
 
 
-def read_toml(path: Path) -> dict:
-    """Parse one TOML file; a missing file or a syntax error becomes a CaseError naming the file."""
+def read_toml(path: Path, kind: str = "case") -> dict:
+    """Parse one TOML file (a ``kind`` file: case, study); a missing file or a syntax error becomes a CaseError
+    naming the file."""
     if not path.is_file():
-        raise CaseError(str(path), "", "case file not found" if not path.exists() else "not a file")
+        raise CaseError(str(path), "", f"{kind} file not found" if not path.exists() else "not a file")
     try:
         with path.open("rb") as handle:
             return tomllib.load(handle)

@@ -302,7 +302,7 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
 def load_study(path) -> StudySpec:
     """Read and validate a study file; every parameter key is checked against the base case(s)."""
     path = Path(path)
-    data = read_toml(path)
+    data = read_toml(path, "study")
     source = str(path)
     ctx = _Context(source, {})
     top = _Table(data, (), ctx)

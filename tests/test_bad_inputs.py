@@ -1,0 +1,196 @@
+"""A battery of bad inputs across `run`, `compare`, `linearize`, `study` and case files: each gives one line that
+names the problem, a non-zero exit, no traceback, and returns within 10 s.
+
+`python tests/test_bad_inputs.py` prints the inputs and the messages as a Markdown table.
+"""
+
+import contextlib
+import io
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+CASE1 = str(ROOT / "cases" / "mer" / "case1.toml")
+PA1 = str(ROOT / "cases" / "cev_pa1.toml")
+GOOD_CSV = "time,tension_riser,vehicle_altitude\n0,1,100\n1,2,99\n2,3,98\n"
+STUDY = """[study]
+case = "{case}"
+{extra}
+[[study.configurations]]
+method = "sp"
+steps = [1e-2]
+"""
+
+
+def _file(tmp: Path, name: str, text: str) -> str:
+    path = tmp / name
+    path.write_text(text)
+    return str(path)
+
+
+def _study(tmp: Path, extra: str = "", body: str = "") -> str:
+    return _file(tmp, "study.toml", STUDY.format(case=CASE1, extra=extra) + body)
+
+
+def _result_folder(tmp: Path) -> str:
+    folder = tmp / "earlier"
+    folder.mkdir()
+    (folder / "summary.json").write_text("{}")
+    (folder / "timeseries.csv").write_text(GOOD_CSV)
+    return str(folder)
+
+
+BATTERY = [
+    # run: the case file, the command line and overrides
+    ("missing case file", lambda t: ["run", str(t / "nope.toml")], "case file not found"),
+    ("malformed TOML", lambda t: ["run", _file(t, "bad.toml", "[case\nname = 1")], "malformed TOML"),
+    ("case not UTF-8", lambda t: ["run", _bytes(t)], "not UTF-8"),
+    ("unknown method", lambda t: ["run", CASE1, "--method", "magic"], "invalid choice: 'magic'"),
+    ("unknown integrator", lambda t: ["run", CASE1, "--integrator", "euler"], "invalid choice: 'euler'"),
+    ("zero step", lambda t: ["run", CASE1, "--dt", "0"], "step (--dt) = 0.0: must be a number > 0"),
+    ("NaN step", lambda t: ["run", CASE1, "--dt", "nan"], "step (--dt) = nan: must be a number > 0"),
+    ("negative duration", lambda t: ["run", CASE1, "--t-end", "-1"], "duration (--t-end) = -1.0: must be"),
+    ("infinite duration", lambda t: ["run", CASE1, "--t-end", "inf"], "duration (--t-end) = inf: must be"),
+    ("step longer than the run", lambda t: ["run", CASE1, "--dt", "5", "--t-end", "1"], "must not exceed the duration"),
+    ("negative mass", lambda t: ["run", CASE1, "--set", "vehicle.mass=-5"], "bodies.vehicle.mass = -5"),
+    ("absurdly small mass", lambda t: ["run", CASE1, "--method", "sp", "--t-end", "1", "--set", "vehicle.mass=1e-30",
+                                       "--out", str(t / "o")], "reached the planet's centre"),
+    ("mistyped key", lambda t: ["run", CASE1, "--set", "vehicle.masss=800"], "did you mean 'mass'"),
+    ("index out of range", lambda t: ["run", CASE1, "--set", "vehicle.inertia[5]=1"], "index out of range"),
+    ("override without '='", lambda t: ["run", CASE1, "--set", "vehicle.mass"], "must look like key=value"),
+    ("text for a number", lambda t: ["run", CASE1, "--set", "vehicle.mass=heavy"], "must be a number (kg)"),
+    ("SP without line damping", lambda t: ["run", CASE1, "--method", "sp", "--set", "main.lines.*.damping=0"],
+     "needs damping on every line"),
+    ("kappa_max of 3", lambda t: ["run", CASE1, "--method", "sp", "--kappa-max", "3"], "must be > 3"),
+    ("SP flag with full mass", lambda t: ["run", CASE1, "--method", "full", "--kappa-max", "7"],
+     "--kappa-max is an option of the sp method, not of --method full"),
+    ("SP with the implicit integrator", lambda t: ["run", CASE1, "--method", "sp", "--integrator", "implicit"],
+     "runs with --integrator rk4 only"),
+    ("more steps than the engine counts", lambda t: ["run", CASE1, "--method", "sp", "--t-end", "1e9"],
+     "the engine counts at most 2147483647"),
+    ("histories beyond memory", lambda t: ["run", CASE1, "--method", "sp", "--t-end", "1e6"],
+     "more than the 4 GB a run may hold"),
+    ("output folder under a file", lambda t: ["run", CASE1, "--out", _file(t, "f.txt", "x") + "/o"],
+     "cannot be written"),
+    ("output folder holding other files", lambda t: ["run", CASE1, "--out", _folder_with_notes(t)],
+     "is not empty and holds no result"),
+    ("earlier result without --overwrite", lambda t: ["run", CASE1, "--out", _result_folder(t)],
+     "holds an earlier result; pass --overwrite"),
+    ("unstable explicit step", lambda t: ["run", CASE1, "--dt", "1e-3", "--t-end", "1", "--out", str(t / "o")],
+     "exceeds the stability limit"),
+    ("ground above the start", lambda t: ["run", CASE1, "--set", "simulation.ground_altitude=9000"],
+     "simulation.ground_altitude = 9000.0: must be below the vehicle's start altitude"),
+    ("zero output step", lambda t: ["run", CASE1, "--set", "simulation.output_step=0"],
+     "simulation.output_step = 0: must be > 0"),
+    ("unknown atmosphere", lambda t: ["run", CASE1, "--set", "atmosphere.model=venus"], "must be one of: mars_grc"),
+    ("SP order 2", lambda t: ["run", CASE1, "--set", "simulation.sp.order=2"], "simulation.sp.order = 2: must be 0"),
+    ("unknown full-mass line law", lambda t: ["run", CASE1, "--set", "simulation.full.line_law=magic"],
+     "simulation.full.line_law = 'magic': must be one of: symbolic, python"),
+    ("system tied to one body", lambda t: ["run", CASE1, "--set", "main.lines.riser.attach=\"vehicle.bridle1\""],
+     "every line attaches to body 'vehicle'"),
+    ("unknown attach point", lambda t: ["run", CASE1, "--set", "main.lines.riser.attach=\"parachute.apex\""],
+     "has no point 'apex'"),
+    # compare
+    ("missing result", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), str(t / "none")], "result not found"),
+    ("no time column", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", "t,x\n0,1\n1,2\n")],
+     "no 'time' column"),
+    ("time going back", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV),
+                                   _file(t, "b.csv", GOOD_CSV.replace("2,3,98", "0.5,3,98"))], "time goes back"),
+    ("repeated time", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV),
+                                 _file(t, "b.csv", GOOD_CSV.replace("2,3,98", "1,3,98"))], "time repeats"),
+    ("NaN value", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV),
+                             _file(t, "b.csv", GOOD_CSV.replace("1,2,99", "1,nan,99"))],
+     "column tension_riser is nan at t = 1 s"),
+    ("non-numeric row", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV),
+                                   _file(t, "b.csv", GOOD_CSV + "3,x,97\n")], "row 5 is not numeric"),
+    ("NaN map factor", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV), "--map",
+                                  "tension_riser=tension_riser*nan"], "finite, non-zero number"),
+    ("mistyped map target", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
+                                       "--map", "tension_riser=tension_risr"], "A has no column 'tension_risr'"),
+    ("map entry without '='", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
+                                         "--map", "tension_riser"], "THEIRS=OURS"),
+    ("negative settling time", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
+                                          "--settle", "-1"], "--settle = -1.0: must be >= 0"),
+    # linearize
+    ("no system at the time", lambda t: ["linearize", PA1], "no parachute system is present then"),
+    ("time beyond the run", lambda t: ["linearize", PA1, "--time", "1e6"], "must be within the case's run"),
+    ("unknown system", lambda t: ["linearize", PA1, "--time", "20", "--system", "reserve"],
+     "unknown system 'reserve'"),
+    ("system cut away by then", lambda t: ["linearize", PA1, "--time", "20", "--system", "drogue"],
+     "system 'drogue' is not present then"),
+    # study
+    ("missing study file", lambda t: ["study", str(t / "none.toml")], "none.toml: study file not found"),
+    ("unknown study key", lambda t: ["study", _study(t, "speed = 2")], "unknown key"),
+    ("zero runs", lambda t: ["study", _study(t, "runs = 0")], "must be an integer >= 1"),
+    ("draws without a seed", lambda t: ["study", _study(t, body="[parameters.\"vehicle.mass\"]\n"
+                                                           "distribution = \"normal\"\nmean = 800.0\nstd = 5.0\n")],
+     "seed: required"),
+    ("option without its method", lambda t: ["study", _file(t, "s.toml", STUDY.format(case=CASE1, extra="")
+                                                            .replace('method = "sp"\n', "kappa_max = 7.0\n"))],
+     "needs the configuration's method"),
+    ("SP option out of range", lambda t: ["study", _file(t, "s.toml", STUDY.format(case=CASE1, extra="")
+                                                         + "kappa_max = 2.0\n")], "kappa_max = 2.0: must be > 3"),
+    ("option of another method", lambda t: ["study", _file(t, "s.toml", STUDY.format(case=CASE1, extra="")
+                                                           .replace('"sp"', '"full"') + "kappa_max = 7.0\n")],
+     "kappa_max = 7.0: not an option of this method; options are: line_law"),
+    ("parameter the case lacks", lambda t: ["study", _study(t, body="[parameters.\"vehicle.colour\"]\n"
+                                                                   "values = [1.0]\n")], "does not apply to case"),
+    ("zero workers", lambda t: ["study", _study(t), "--workers", "0"], "--workers = 0: must be >= 1"),
+    ("report of a folder that is no study", lambda t: ["study-report", str(t)], "no runs.csv"),
+]
+
+
+def _bytes(tmp: Path) -> str:
+    path = tmp / "latin1.toml"
+    path.write_bytes(b"[case]\nname = \"caf\xe9\"\n")
+    return str(path)
+
+
+def _folder_with_notes(tmp: Path) -> str:
+    folder = tmp / "notes"
+    folder.mkdir()
+    (folder / "todo.txt").write_text("mine")
+    return str(folder)
+
+
+def run_bad_input(make_args, tmp: Path) -> tuple:
+    """(exit code, standard error, seconds) of the command line on one bad input, in this process."""
+    from pchute_exudyn.cli import main
+
+    err = io.StringIO()
+    started = time.perf_counter()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        try:
+            code = main(make_args(tmp))
+        except SystemExit as exc:   # argparse's own one-line errors
+            code = exc.code
+    return code, err.getvalue(), time.perf_counter() - started
+
+
+@pytest.mark.parametrize("name, make_args, expected", BATTERY, ids=[entry[0] for entry in BATTERY])
+def test_bad_input_gives_one_line_and_a_nonzero_exit(tmp_path, name, make_args, expected):
+    code, err, seconds = run_bad_input(make_args, tmp_path)
+    assert code not in (0, None), err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    assert expected in err, err
+    assert seconds < 10.0
+
+
+def test_the_battery_is_large_and_distinct():
+    assert len(BATTERY) >= 40 and len({entry[0] for entry in BATTERY}) == len(BATTERY)
+    assert len({entry[2] for entry in BATTERY}) >= 40
+
+
+if __name__ == "__main__":   # the battery's messages as a table
+    import tempfile
+
+    print("| input | exit | seconds | message |\n|---|---|---|---|")
+    for name, make_args, _ in BATTERY:
+        with tempfile.TemporaryDirectory() as folder:
+            code, err, seconds = run_bad_input(make_args, Path(folder))
+        message = err.strip().replace("|", "\\|").replace(folder, "TMP")
+        print(f"| {name} | {code} | {seconds:.2f} | {message} |")
+    sys.exit(0)
