@@ -108,3 +108,11 @@ def test_ci_script_removes_its_environment_whether_it_passes_or_fails(tmp_path, 
                          timeout=60)
     assert run.returncode == outcome, run.stdout + run.stderr
     assert list(scratch.iterdir()) == []
+
+
+def test_readme_figures_match_the_committed_outputs():
+    """The README's test count, wall times and speed-ups are those `validation/readme_figures.py` derives from the
+    test suite and the committed validation outputs (rerun the validation script, then fix the README)."""
+    run = subprocess.run([sys.executable, str(ROOT / "validation" / "readme_figures.py"), "--check"], cwd=ROOT,
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
