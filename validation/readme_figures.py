@@ -2,10 +2,13 @@
 
 Run:  python validation/readme_figures.py            # print each README line these figures belong in
       python validation/readme_figures.py --check    # exit 1 and name every line the README does not hold
+      python validation/readme_figures.py --write    # put the lines into README.md (each replaces the line
+                                                     # that starts the same way, up to its first figure)
 
 Each figure comes from the output of the script named beside it in the README, which writes the file read here:
 `validation/benchmark_sp.py` (benchmark_sp.md), `validation/benchmark_full.py` (benchmark_full.md),
-`validation/cev_pa1.py` (cev_pa1/pa1.md), `validation/benchmark_study.py` (benchmark_study.md); the test count
+`validation/cev_pa1.py` (cev_pa1/pa1.md), `validation/benchmark_study.py` (benchmark_study.md),
+`validation/run_studies.py` (studies/step_method/report/errors.csv); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
 the check (tests/test_architecture.py), so a README that disagrees with the committed outputs fails CI.
 """
@@ -80,7 +83,11 @@ def pa1_lines() -> list:
               if cells[0].isdigit()]
     order1, order0 = [r[2] for r in rounds], [r[4] for r in rounds]
     medians = re.search(r"Median speed-up .*?: ([\d.]+)x \(order 1\), ([\d.]+)x \(order 0\)", text)
-    return [f"full-mass RK4 run is {min(order1):.1f}-{max(order1):.1f}x for order 1 and {min(order0):.1f}-"
+    agreement = table(OUT / "cev_pa1" / "pa1.md", "")
+    single = {label: agreement[label][-1] for label in ("full implicit 1e-2", "equilibrium 1e-2")}
+    return [f"| median speed-up over full RK4, 3 interleaved rounds | 1 | {single['full implicit 1e-2']} (single run) | "
+            f"{medians.group(1)}x | {medians.group(2)}x | {single['equilibrium 1e-2']} (single run) | "
+            "2.25x (80.57 vs 35.80 s) |",f"full-mass RK4 run is {min(order1):.1f}-{max(order1):.1f}x for order 1 and {min(order0):.1f}-"
             f"{max(order0):.1f}x for order 0 over the committed run's three rounds",
             f"(medians {medians.group(1)}x and {medians.group(2)}x): the 10x target holds, with a margin of a few per "
             "cent on this noisy 2-core machine."]
@@ -94,17 +101,74 @@ def study_lines() -> list:
             f"({two[3]}), Dask `LocalCluster` of 2 workers {float(dask[1]):.1f} s"]
 
 
+STEP_METHOD = {"full implicit 1e-3 s": "full implicit 0.001", "full implicit 1e-2 s": "full implicit 0.01",
+               "SP stretch 2e-3 s": "sp 0.002 stretch", "SP stretch 1e-2 s": "sp 0.01 stretch",
+               "SP force 1e-2 s": "sp 0.01 force", "equilibrium 1e-2 s": "equilibrium 0.01"}
+
+
+def step_method_lines() -> list:
+    """Wall-time ranges (s) over the three cases of the step and method study (`validation/run_studies.py`)."""
+    import csv
+
+    with open(OUT / "studies" / "step_method" / "report" / "errors.csv", newline="") as handle:
+        times = {}
+        for row in csv.DictReader(handle):
+            times.setdefault(row["configuration"], []).append(float(row["wall_time"]))
+
+    def span(configuration):
+        return f"{min(times[configuration]):.3g}-{max(times[configuration]):.3g}"
+    lines = [f"  | full RK4 2e-4 / 3e-4 s | {span('full rk4 0.0002')} / {span('full rk4 0.0003')} |"]
+    return lines + [f"  | {label} | {span(configuration)} |" for label, configuration in STEP_METHOD.items()]
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
-    return [count, *sp_lines(), *full_lines(), *pa1_lines(), *study_lines()]
+    return [count, *sp_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines()]
+
+
+def _key(line: str) -> str:
+    """The start of a line up to its first figure (a digit after the label): how --write finds its place."""
+    found = re.search(r"(?<=[\s(|])\d+(?:\.\d+)?(?:x|\b)(?![e-]\d)", line[3:] if line.startswith("3. ") else line)
+    return line[:found.start() + (3 if line.startswith("3. ") else 0)] if found else line
+
+
+_NUMBER = r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?x?"
+
+
+def _pattern(line: str) -> str:
+    """A regular expression for ``line`` with every figure after its key free to differ."""
+    key = _key(line)
+    parts = re.split(r"([-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?x?)", line[len(key):])
+    return re.escape(key) + "".join(re.escape(part) if i % 2 == 0 else _NUMBER for i, part in enumerate(parts))
+
+
+def write(lines: list) -> int:
+    """Put each line into README.md where the same text with other figures stands; exit 1 when one has no single
+    place."""
+    path = ROOT / "README.md"
+    readme = path.read_text()
+    homeless = []
+    for line in lines:
+        places = list(re.finditer(_pattern(line), readme))
+        if len(places) != 1:
+            homeless.append(line)
+            continue
+        readme = readme[:places[0].start()] + line + readme[places[0].end():]
+    path.write_text(readme)
+    for line in homeless:
+        print(f"no single place in README.md for: {line}", file=sys.stderr)
+    return 1 if homeless else 0
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="exit 1 when the README lacks one of the lines")
+    parser.add_argument("--write", action="store_true", help="put the lines into README.md")
     args = parser.parse_args(argv)
     lines = figures()
+    if args.write:
+        return write(lines)
     if not args.check:
         print("\n".join(lines))
         return 0

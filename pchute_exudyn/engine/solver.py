@@ -126,8 +126,10 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
     stop_conditions = list(model.stop_conditions)
     count = model.post_step_count
 
+    last = [None]   # solver time of the last sample (the recorded time is its grid value)
+
     def post_step(mbs_, t):
-        if times and t <= times[-1] + 0.5 * step:  # Exudyn calls this once more after the last step
+        if last[0] is not None and t <= last[0] + 0.5 * step:  # Exudyn calls this once more after the last step
             return True
         count[0] += 1
         try:
@@ -137,6 +139,7 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
             if stop or t >= next_sample[0] - 0.5 * step or t >= end - 0.5 * step:
                 rows.append([read() for read in reads])
                 times.append(grid_time(t, start, step, output_step))
+                last[0] = t
                 next_sample[0] = (round(t / output_step) + 1) * output_step
             if stop:
                 progress["stopped"] = t
