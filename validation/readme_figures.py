@@ -89,8 +89,9 @@ def pa1_lines() -> list:
             f"{medians.group(1)}x | {medians.group(2)}x | {single['equilibrium 1e-2']} (single run) | "
             "2.25x (80.57 vs 35.80 s) |",f"full-mass RK4 run is {min(order1):.1f}-{max(order1):.1f}x for order 1 and {min(order0):.1f}-"
             f"{max(order0):.1f}x for order 0 over the committed run's three rounds",
-            f"(medians {medians.group(1)}x and {medians.group(2)}x): the 10x target holds, with a margin of a few per "
-            "cent on this noisy 2-core machine."]
+            f"(medians {medians.group(1)}x and {medians.group(2)}x): " + (
+                "every round clears the 10x target on this noisy 2-core machine." if min(order1) >= 10.0 else
+                "the median clears the 10x target, though not every round on this noisy 2-core machine.")]
 
 
 def study_lines() -> list:
