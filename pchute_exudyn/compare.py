@@ -83,9 +83,8 @@ def aligned(a: Result, b: Result, name: str, time: np.ndarray) -> tuple[np.ndarr
     return on(a), on(b)
 
 
-def check_comparable(result: Result, label: str, columns, absent_allowed: bool) -> None:
-    """Refuse a result whose time is not finite and strictly increasing, or whose ``columns`` hold infinite values
-    or, unless ``absent_allowed`` (this package's results, where NaN marks a system not present), NaN."""
+def check_times(result: Result, label: str) -> None:
+    """Refuse a result whose time is not finite and strictly increasing."""
     time = result.time
     bad = np.flatnonzero(~np.isfinite(time))
     if len(bad):
@@ -96,13 +95,18 @@ def check_comparable(result: Result, label: str, columns, absent_allowed: bool) 
         kind = "repeats" if time[i + 1] == time[i] else "goes back"
         raise InputError(f"{label}: time {kind} at sample {i + 2} ({time[i + 1]:g} s after {time[i]:g} s); times "
                          "must increase strictly")
+
+
+def check_values(result: Result, label: str, columns) -> None:
+    """Refuse infinite values in ``columns``, and NaN unless the result is this package's own (a summary), where
+    NaN marks a system not present."""
     for name in columns:
         values = result[name]
-        wrong = np.isinf(values) if absent_allowed else ~np.isfinite(values)
+        wrong = np.isinf(values) if result.summary else ~np.isfinite(values)
         if wrong.any():
             i = int(np.argmax(wrong))
-            raise InputError(f"{label}: column {name} is {float(values[i])} at t = {time[i]:g} s; compared values must "
-                             "be finite numbers")
+            raise InputError(f"{label}: column {name} is {float(values[i])} at t = {result.time[i]:g} s; compared "
+                             "values must be finite numbers")
 
 
 def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B", settle_time: float = 2.0,
@@ -113,10 +117,10 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     ------
     InputError
         When the results share no time span or no column besides ``time``, or a time or compared column is bad
-        (``check_comparable``).
+        (``check_times``, ``check_values``).
     """
     for result, label in ((a, label_a), (b, label_b)):
-        check_comparable(result, label, [], absent_allowed=True)
+        check_times(result, label)
     start, end = max(a.time[0], b.time[0]), min(a.time[-1], b.time[-1])
     if not end > start:
         raise InputError(f"{label_a} ({a.time[0]:g} to {a.time[-1]:g} s) and {label_b} ({b.time[0]:g} to "
@@ -127,7 +131,7 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
                          f"{', '.join(a.names[1:6])}...; {label_b}: {', '.join(b.names[1:6])}...); "
                          "rename columns with a column map (--map THEIRS=OURS)")
     for result, label in ((a, label_a), (b, label_b)):
-        check_comparable(result, label, common, absent_allowed=bool(result.summary))
+        check_values(result, label, common)
     inside = (a.time >= start - 1e-9) & (a.time <= end + 1e-9)
     time = a.time[inside]
     comparison = Comparison(label_a, label_b, time, settle_time, common=common)
