@@ -28,7 +28,7 @@ def attach_state(case: Case, system, time: float):
         return attach, initial_confluence_state(case, system).position, 0.0
     from .simulation import resolve_run, run
     step = case.simulation.default_step(FullMass.name, "implicit") or 1e-3
-    raw, _, _ = run(case, resolve_run(case, FullMass, "implicit", min(step, time), time))
+    raw = run(case, resolve_run(case, FullMass, "implicit", min(step, time), time))[0]
     if raw.stopped_at is not None:
         raise InputError(f"--time = {time:g} s: the vehicle touches down at t = {raw.stopped_at:.2f} s, before it")
     positions, _ = attach_points(case, raw, system)

@@ -27,7 +27,7 @@ from .physics.air import AirMotion
 from .physics.kinematics import body_point, relative_to_body
 from .physics.lines import line_states
 from .physics.rotations import attitude_angles_deg, tilt_deg
-from .state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, RawHistory
+from .state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, ColumnChannel, RawHistory
 
 MAX_LINE_STRAIN = 1.0
 """A line stretched beyond (1 + MAX_LINE_STRAIN) times its free length means the integration diverged (parachute
@@ -158,6 +158,9 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             columns[key] = raw.tensions[(system.name, line.name)]
             units[key] = "N"
     for key, value in raw.method.items():
+        if isinstance(key, ColumnChannel):
+            columns[key.column], units[key.column] = value, key.unit
+            continue
         column = key.name if len(case.systems) == 1 else f"{key.system}_{key.name}"
         columns[column], units[column] = value, key.unit
     return columns, units
@@ -204,4 +207,4 @@ def line_tensions_from_states(case: Case, raw: RawHistory, system) -> np.ndarray
     lines = system.lines
     return line_states(positions, velocities, point["position"], point["velocity"],
                        np.array([l.free_length for l in lines]), np.array([l.stiffness for l in lines]),
-                       np.array([l.damping for l in lines])).tension
+                       np.array([l.damping for l in lines]), [l.load_elongation for l in lines]).tension

@@ -13,6 +13,7 @@ import numpy as np
 from .case.model import Case, ParachuteSystem
 from .physics.air import AirMotion
 from .physics.deployment import line_stretch_placement
+from .physics.inflation import InflationProgress, nominal_diameter
 from .state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
 from .summary import CutawayEvent, DeployEvent
 
@@ -70,8 +71,19 @@ def next_phase(case: Case, start: float, end: float, body_states: dict, confluen
     return phase
 
 
+def inflation_progress(case: Case) -> dict:
+    """A new ``InflationProgress`` for each system that opens by the fill-constant law: they live through a run's
+    phases (a later deployment or a cut-away of another system must not restart an opening)."""
+    return {name: InflationProgress(system.inflation,
+                                    nominal_diameter(case.bodies[system.canopy].aerodynamics.reference_area),
+                                    system.deploy_time or 0.0)
+            for name, system in case.systems.items() if system.inflation is not None}
+
+
 def initial_phase(case: Case) -> Phase:
     """The phase starting at t = 0 of ``case`` (what a model built without a phase holds)."""
     bodies, confluences = initial_states(case)
     end = boundaries(case, case.simulation.duration)[1]
-    return next_phase(case, 0.0, end, bodies, confluences)
+    phase = next_phase(case, 0.0, end, bodies, confluences)
+    phase.inflation = inflation_progress(case)
+    return phase

@@ -16,9 +16,17 @@ from .engine.solver import integrate, versions
 from .errors import InputError, Interrupted, SimulationError
 from .methods.base import Method, unstable_step_message
 from .outputs import check_history, concatenate, derive_columns
-from .phases import boundaries, initial_states, next_phase
+from .phases import boundaries, inflation_progress, initial_states, next_phase
 from .results import Result
-from .summary import RunSummary, StartEvent, TouchdownEvent, descent_rate_events, merge_facts
+from .summary import (
+    RunSummary,
+    StartEvent,
+    TouchdownEvent,
+    descent_rate_events,
+    merge_facts,
+    opening_events,
+    opening_loads,
+)
 
 MONITOR_INTERVAL = 0.1
 """Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
@@ -157,14 +165,17 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
 def run(case: Case, plan: RunPlan, report=None):
     """Integrate ``case`` phase by phase as ``plan`` says; ``report`` receives the simulation time (s) as it goes.
 
-    Returns the checked engine history of the whole run, the method's facts and the event log.
+    Returns the checked engine history of the whole run, the method's facts, the event log and the openings
+    (``physics.inflation.InflationProgress`` per system with an inflation).
     """
     output_step = min(case.simulation.output_step, plan.duration)
     body_states, confluence_states = initial_states(case)
     events, histories, facts = [StartEvent(0.0)], [], {}
     times = boundaries(case, plan.duration)
+    openings = inflation_progress(case)
     for start, end in zip(times, times[1:]):
         phase = next_phase(case, start, end, body_states, confluence_states)
+        phase.inflation = openings
         events.extend(phase.events)
         model, raw, touchdown = _run_phase(case, plan, phase, output_step, report)
         histories.append(raw)
@@ -173,7 +184,8 @@ def run(case: Case, plan: RunPlan, report=None):
             events.append(TouchdownEvent.from_crossing(*touchdown.crossing))
             break
         body_states, confluence_states = model.end_state()
-    return concatenate(case, histories), facts, events
+    raw = concatenate(case, histories)
+    return raw, facts, events + opening_events(openings, float(raw.time[-1])), openings
 
 
 def _final_values(case: Case, columns: dict) -> dict:
@@ -187,7 +199,8 @@ def _final_values(case: Case, columns: dict) -> dict:
                for label in labels for key in ("altitude", "east", "north") if f"{label}_{key}" in columns}}
 
 
-def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns: dict, units: dict) -> RunSummary:
+def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns: dict, units: dict,
+              openings: dict | None = None) -> RunSummary:
     """The typed summary of a finished run."""
     last_deployment = max([e.time for e in events if e.kind == "deploy"], default=0.0)
     events = sorted(events + descent_rate_events(case.simulation.descent_rate_events, columns["time"],
@@ -203,7 +216,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         end="touchdown" if events[-1].kind == "touchdown" else "duration", steps=raw.steps,
         wall_time=raw.wall_time, final=_final_values(case, columns), peak_tension=peaks, events=tuple(events),
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
-        method_settings=plan.method.settings(), method_facts=facts)
+        method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {})
 
 
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
@@ -245,7 +258,7 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     if options is not None and option_values:
         raise InputError("give the method's options either as an Options object or by name, not both")
     plan = resolve_run(case, method, integrator, step, duration, options if options is not None else option_values)
-    raw, facts, events = run(case, plan, progress)
+    raw, facts, events, openings = run(case, plan, progress)
     columns, units = derive_columns(case, raw)
-    summary = summarize(case, plan, raw, facts, events, columns, units)
+    summary = summarize(case, plan, raw, facts, events, columns, units, opening_loads(case, openings, columns))
     return Result(columns, units, summary.to_dict(), run_summary=summary)

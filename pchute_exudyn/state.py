@@ -50,6 +50,7 @@ class Phase:
     body_states: dict = field(default_factory=dict)
     confluence_states: dict = field(default_factory=dict)
     events: list = field(default_factory=list)
+    inflation: dict = field(default_factory=dict)   # system -> physics.inflation.InflationProgress (whole run)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -114,6 +115,13 @@ class MethodChannel(NamedTuple):
     unit: str
 
 
+class ColumnChannel(NamedTuple):
+    """A scalar output column named ``column`` as it is (e.g. ``parachute_apparent_mass_axial``), in ``unit``."""
+
+    column: str
+    unit: str
+
+
 BODY_QUANTITIES = ("position", "velocity", "rotation", "angular_velocity")
 CONFLUENCE_QUANTITIES = ("position", "velocity")
 
@@ -126,7 +134,7 @@ class RawHistory:
     bodies: dict = field(default_factory=dict)        # name -> {position, velocity, rotation, angular_velocity}
     confluences: dict = field(default_factory=dict)   # system -> {position, velocity}
     tensions: dict = field(default_factory=dict)      # (system, line) -> tension (N)
-    method: dict = field(default_factory=dict)        # MethodChannel -> history
+    method: dict = field(default_factory=dict)        # MethodChannel or ColumnChannel -> history
     steps: int = 0
     wall_time: float = 0.0
     stopped_at: float | None = None                   # time a stop condition (touchdown) ended the run

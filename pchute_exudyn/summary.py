@@ -4,6 +4,10 @@ Events, in time order in the summary (times in s from the start of the run):
 
 * ``start``: the run begins (t = 0);
 * ``deploy`` / ``cutaway``: a parachute system is placed at line stretch / leaves the model (``system``);
+* ``stage_start`` / ``disreef``: a system with an inflation (``physics.inflation``) starts its first stage at line
+  stretch / a later stage at its disreef time (``system``, ``stage`` from 1, the measured air ``speed`` in m/s and
+  the ``fill_time`` in s it gives);
+* ``fill_end``: a stage's fill ends (``system``, ``stage``);
 * ``descent_rate``: the vehicle's descent rate first falls through ``value`` (m/s) after the last deployment;
 * ``touchdown``: the vehicle's centre of mass reaches the ground altitude, with its ``speed``, ``vertical_speed``
   and ``horizontal_speed`` relative to the ground (m/s).
@@ -44,6 +48,61 @@ class DeployEvent(Event):
 class CutawayEvent(Event):
     system: str = ""
     kind: ClassVar[str] = "cutaway"
+
+
+@dataclass(frozen=True)
+class StageStartEvent(Event):
+    system: str = ""
+    stage: int = 1
+    speed: float = 0.0       # m/s, the canopy's air speed at the stage start
+    fill_time: float = 0.0   # s
+    kind: ClassVar[str] = "stage_start"
+
+
+@dataclass(frozen=True)
+class DisreefEvent(StageStartEvent):
+    kind: ClassVar[str] = "disreef"
+
+
+@dataclass(frozen=True)
+class FillEndEvent(Event):
+    system: str = ""
+    stage: int = 1
+    kind: ClassVar[str] = "fill_end"
+
+
+def opening_events(openings: dict, end: float) -> list:
+    """Stage starts, disreefs and fill ends (at or before ``end``, s) of each system's opening."""
+    events = []
+    for system, progress in openings.items():
+        for stage, fill_end, speed, fill in progress.fill_ends():
+            start = fill_end - fill
+            kind = StageStartEvent if stage == 1 else DisreefEvent
+            events.append(kind(start, system, stage, speed, fill))
+            if fill_end <= end:
+                events.append(FillEndEvent(fill_end, system, stage))
+    return events
+
+
+def opening_loads(case, openings: dict, columns: dict) -> dict:
+    """Per system with an opening, per stage: its window (s) and each of the system's lines' peak tension (N) in it
+    and when (s), from the sampled histories (resolution: the output step)."""
+    time = columns["time"]
+    loads = {}
+    for name, progress in openings.items():
+        system = case.systems[name]
+        stages = []
+        for stage, start, stop in progress.windows(float(time[-1]) + 1e-9):
+            inside = (time >= start - 1e-9) & (time < stop)
+            peaks = {}
+            for line in system.lines:
+                values = columns[f"tension_{case.line_label(system, line)}"][inside]
+                if len(values) and np.isfinite(values).any():
+                    k = int(np.nanargmax(values))
+                    peaks[line.name] = {"tension": float(values[k]), "time": float(time[inside][k])}
+            stages.append({"stage": stage, "start": start, "end": min(stop, float(time[-1])), "peaks": peaks})
+        loads[name] = stages
+    return loads
 
 
 @dataclass(frozen=True)
@@ -125,6 +184,7 @@ class RunSummary:
     created: str
     method_settings: dict = field(default_factory=dict)
     method_facts: dict = field(default_factory=dict)
+    opening_loads: dict = field(default_factory=dict)   # see ``opening_loads``; {} without inflations
 
     @property
     def steps_per_second(self) -> float | None:
@@ -137,5 +197,6 @@ class RunSummary:
                 "output_step": self.output_step, "ground_altitude": self.ground_altitude, "end": self.end,
                 "steps": self.steps, "wall_time": self.wall_time,
                 "steps_per_second": self.steps_per_second, "final": self.final, "peak_tension": self.peak_tension,
-                "events": [event.to_dict() for event in self.events], "units": self.units,
+                "events": [event.to_dict() for event in self.events],
+                **({"opening_loads": self.opening_loads} if self.opening_loads else {}), "units": self.units,
                 "versions": self.versions, "created": self.created}

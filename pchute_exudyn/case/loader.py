@@ -33,7 +33,10 @@ else:  # pragma: no cover
 
 from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
+from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import US76, MarsGRC, Wind
+from ..physics.inflation import Inflation, InflationError, InflationStage
+from ..physics.lines import LoadElongation, LoadElongationError
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from .method_table import INTEGRATORS, METHODS, OptionError, make_options
 from .model import (
@@ -437,8 +440,62 @@ def _read_body(name: str, t: _Table) -> Body:
                                   getattr(initial, moving[0]))
     aero_table = None if fixed else t.table("aerodynamics", None)
     aero = _read_aerodynamics(aero_table) if aero_table is not None else None
+    apparent_table = None if fixed else t.table("apparent_mass", None)
+    apparent = _read_apparent_mass(apparent_table) if apparent_table is not None else None
+    if apparent is not None and (aero is None or not aero.enabled):
+        raise t.error("apparent_mass", "needs the body's aerodynamics (its centre gives the air density)")
     t.finish()
-    return Body(name, mass, inertia, points, initial, aero, fixed)
+    return Body(name, mass, inertia, points, initial, aero, fixed, apparent)
+
+
+def _read_apparent_mass(t: _Table) -> ApparentMass | None:
+    """``[bodies.<name>.apparent_mass]``; None when switched off (``enabled = false``)."""
+    enabled = t.boolean("enabled", True)
+    values = (t.number("projected_radius", "m", above=0.0), t.number("axial", "", minimum=0.0),
+              t.number("lateral", "", minimum=0.0), t.number("rotational", "", minimum=0.0))
+    t.finish()
+    return ApparentMass(*values) if enabled else None
+
+
+def _read_load_elongation(t: _Table) -> LoadElongation:
+    """``load_elongation = { strain = [...], tension = [...] }`` of a line."""
+    strain = t.sequence("strain", "", min_length=2)
+    tension = t.vector("tension", "N", length=len(strain))
+    t.finish()
+    try:
+        return LoadElongation(strain, tension)
+    except LoadElongationError as exc:
+        raise t.error(exc.field, str(exc), exc.value) from None
+
+
+def _read_inflation(t: _Table) -> Inflation:
+    """``[systems.<name>.inflation]``: the fill-constant opening (stage columns as equal-length lists)."""
+    starts = t.sequence("stage_start", "s")
+    columns = {key: t.vector(key, "", length=len(starts)) for key in ("fraction", "fill_constant", "exponent")}
+    stages = tuple(InflationStage(start, *values) for start, *values in
+                   zip(starts, columns["fraction"], columns["fill_constant"], columns["exponent"]))
+    scalars = {key: t.number(key, unit, default) for key, unit, default in
+               (("initial_fraction", "", 0.0), ("overinflation", "", 1.0), ("overinflation_decay", "s", 0.0))}
+    t.finish()
+    try:
+        return Inflation(stages, **scalars)
+    except InflationError as exc:
+        raise t.error(exc.field, str(exc), exc.value) from None
+
+
+def _read_line(name: str, lt: _Table, bodies: dict) -> Line:
+    body, point = _read_body_point(lt, "attach", bodies, lt.string("attach"))
+    free_length = lt.number("free_length", "m", above=0.0)
+    table_data = lt.table("load_elongation", None)
+    table = _read_load_elongation(table_data) if table_data is not None else None
+    if table is not None and "stiffness" in lt.data:
+        raise lt.error("stiffness", "give stiffness or load_elongation, not both", lt.data["stiffness"])
+    # with a table, K is the table's initial tangent stiffness (for reports); the table gives the tension
+    stiffness = table.slopes()[0] / free_length if table is not None else lt.number("stiffness", "N/m", minimum=0.0)
+    line = Line(name, body, point, free_length=free_length, stiffness=stiffness,
+                damping=lt.number("damping", "N s/m", minimum=0.0), load_elongation=table)
+    lt.finish()
+    return line
 
 
 def _read_body_point(t: _Table, key: str, bodies: dict, text: str) -> tuple:
@@ -481,17 +538,14 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
         t.allowed.append("deploy_point")
     schedule_table = t.table("drag_area_schedule", None)
     schedule = _read_schedule(schedule_table) if schedule_table is not None else None
-    lines = []
+    inflation_table = t.table("inflation", None)
+    inflation = _read_inflation(inflation_table) if inflation_table is not None else None
+    if schedule is not None and inflation is not None:
+        raise t.error("inflation", "a system has a drag_area_schedule or an inflation, not both")
     line_tables = t.named_tables("lines")
     if not line_tables:
         raise t.error("lines", "a system needs at least one line")
-    for line_name, lt in line_tables.items():
-        body, point = _read_body_point(lt, "attach", bodies, lt.string("attach"))
-        lines.append(Line(line_name, body, point,
-                          free_length=lt.number("free_length", "m", above=0.0),
-                          stiffness=lt.number("stiffness", "N/m", minimum=0.0),
-                          damping=lt.number("damping", "N s/m", minimum=0.0)))
-        lt.finish()
+    lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
     if deploy_time is not None:
         missing = [key for key, value in (("canopy", canopy), ("deploy_point", deploy_point)) if value is None]
         if missing:
@@ -500,13 +554,14 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
     if cutaway_time is not None and cutaway_time <= (deploy_time or 0.0):
         raise t.error("cutaway_time", f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
                       cutaway_time)
-    if schedule is not None and (canopy is None or bodies[canopy].aerodynamics is None):
-        raise t.error("drag_area_schedule", "needs a canopy body with aerodynamics (canopy = \"<body>\")")
+    for key, value in (("drag_area_schedule", schedule), ("inflation", inflation)):
+        if value is not None and (canopy is None or bodies[canopy].aerodynamics is None):
+            raise t.error(key, "needs a canopy body with aerodynamics (canopy = \"<body>\")")
     if canopy is not None and canopy not in {line.body for line in lines}:
         raise t.error("canopy", f"no line of the system attaches to body '{canopy}'", canopy)
     t.finish()
     return ParachuteSystem(name, confluence, tuple(lines), canopy, deploy_time, deploy_point, cutaway_time,
-                           schedule)
+                           schedule, inflation)
 
 
 def _read_method_options(t: _Table) -> dict:

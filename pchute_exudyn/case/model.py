@@ -11,8 +11,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..physics.aerodynamics import CoefficientTable
+from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import Atmosphere
+from ..physics.inflation import Inflation
 from ..physics.interpolation import interpolate_held
+from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 
 
@@ -100,6 +103,8 @@ class Body:
     aerodynamics : Aerodynamics or None
     fixed : bool
         True for a body fixed to the ground (its points are anchors; thesis chapter 2's attach points).
+    apparent_mass : ApparentMass or None
+        The air the body carries (``physics.apparent_mass``); None: none.
     """
 
     name: str
@@ -109,6 +114,7 @@ class Body:
     initial: InitialState
     aerodynamics: Aerodynamics | None = None
     fixed: bool = False
+    apparent_mass: ApparentMass | None = None
 
 
 @dataclass(frozen=True)
@@ -128,6 +134,8 @@ class Line:
         K (N/m).
     damping : float
         C (N s/m).
+    load_elongation : LoadElongation or None
+        A measured tension-strain table replacing K (L - L0) (``physics.lines``); None: the linear law.
     """
 
     name: str
@@ -136,6 +144,7 @@ class Line:
     free_length: float
     stiffness: float
     damping: float
+    load_elongation: LoadElongation | None = None
 
 
 @dataclass(frozen=True)
@@ -197,6 +206,9 @@ class ParachuteSystem:
     drag_area_schedule : DragAreaSchedule or None
         Multiplies the canopy's aerodynamic coefficients, against time since deployment (since t = 0 if present
         from the start).
+    inflation : Inflation or None
+        Or the fill-constant opening with reefing stages (``physics.inflation``), from deployment (line stretch);
+        a system has at most one of the two.
     """
 
     name: str
@@ -207,6 +219,7 @@ class ParachuteSystem:
     deploy_point: tuple | None = None
     cutaway_time: float | None = None
     drag_area_schedule: DragAreaSchedule | None = None
+    inflation: Inflation | None = None
 
     def active_at(self, time: float) -> bool:
         """Whether the system acts at ``time`` (s): deployed and not yet cut away."""

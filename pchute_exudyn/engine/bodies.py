@@ -19,6 +19,7 @@ from ..physics.kinematics import point_motion
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
 from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
+from .canopy import add_apparent_mass, add_inflation_hooks
 from .model import CURRENT, OV, BodyItems, Confluence, Model
 
 
@@ -77,6 +78,7 @@ def add_body(model: Model, case: Case, body: Body, state: BodyState | None = Non
     points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=list(p)))
               for name, p in body.points.items()}
     add_gravity(model, case, obj, center, body.mass)
+    add_apparent_mass(model, case, body, node)
     result = BodyItems(node, obj, points)
     for name, kind in (("position", OV.Position), ("velocity", OV.Velocity), ("rotation", OV.RotationMatrix),
                        ("angular_velocity", OV.AngularVelocityLocal)):
@@ -206,7 +208,20 @@ def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deploy
 
     mbs.AddLoad(eii.LoadForceVector(markerNumber=marker, loadVectorUserFunction=aerodynamic_load,
                                     visualization=eii.VLoadForceVector(show=False)))
+    aerodynamic_load.air_speed = _air_speed_reader(read, air, altitude)
     return aerodynamic_load
+
+
+def _air_speed_reader(read, air: AirMotion, altitude):
+    """A reader of the aerodynamic centre's air speed (m/s) from the engine at run time ``time`` (s; a step's start
+    or end)."""
+    def speed(time: float) -> float:
+        (x, y, z), (vx, vy, vz), _ = read()
+        if not air.still:
+            wx, wy, wz = air(x, y, z, altitude(x, y, z), time)
+            vx, vy, vz = vx - wx, vy - wy, vz - wz
+        return math.sqrt(vx * vx + vy * vy + vz * vz)
+    return speed
 
 
 def add_bodies(model: Model, case: Case, snapshot: bool = False) -> None:
@@ -225,7 +240,11 @@ def add_bodies(model: Model, case: Case, snapshot: bool = False) -> None:
             system = case.canopy_system(body.name)
             schedule = system.drag_area_schedule if system is not None else None
             deployed = system.deploy_time if system is not None and system.deploy_time is not None else 0.0
+            if system is not None and system.inflation is not None:
+                schedule = phase.inflation[system.name]
             loads[body.name] = add_aerodynamics(model, case, body, schedule, deployed)
+            if system is not None and system.inflation is not None and loads[body.name] is not None:
+                add_inflation_hooks(model, system.name, schedule, loads[body.name].air_speed)
 
 
 MAX_DESCENT_ACCELERATION = 30.0

@@ -47,7 +47,7 @@ class EquilibriumConfluence(ReducedConfluence):
         self.max_iterations_used = 0
 
     def compute(self, t, q, positions, velocities):
-        solved = equilibrium_point(positions, self.free_length, self.stiffness, guess=self.guess)
+        solved = equilibrium_point(positions, self.free_length, self.stiffness, guess=self.guess, tables=self.tables)
         self.solves += 1
         self.iterations += solved.iterations
         self.max_iterations_used = max(self.max_iterations_used, solved.iterations)
@@ -63,9 +63,10 @@ class EquilibriumConfluence(ReducedConfluence):
                     "N): use --method sp or full", t)
         position = tuple(solved.position.tolist())
         self.guess = position
-        velocity, _ = equilibrium_velocity(positions, velocities, position, self.free_length, self.stiffness)
+        velocity, _ = equilibrium_velocity(positions, velocities, position, self.free_length, self.stiffness,
+                                           self.tables)
         tensions, directions = line_tensions(positions, velocities, position, velocity, self.free_length,
-                                             self.stiffness, self.damping)
+                                             self.stiffness, self.damping, self.tables)
         return EquilibriumSolution(position, tuple(velocity), tuple(tensions), tuple(directions), solved.iterations,
                                    solved.converged)
 

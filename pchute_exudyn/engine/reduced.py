@@ -36,6 +36,8 @@ class ReducedConfluence(Confluence):
         self.free_length = [line.free_length for line in system.lines]
         self.stiffness = [line.stiffness for line in system.lines]
         self.damping = [line.damping for line in system.lines]
+        tables = [line.load_elongation for line in system.lines]
+        self.tables = tables if any(table is not None for table in tables) else None   # None: the linear path
         self.markers = [model.bodies[line.body].point_markers[line.point] for line in system.lines]
         self.snapshot = model.snapshot
         fixed = {name for name, body in case.bodies.items() if body.fixed}

@@ -59,7 +59,7 @@ class SPConfluence(ReducedConfluence):
     def compute(self, t, q, positions, velocities):
         return confluence_velocity(positions, velocities, q, self.previous_velocity, self.free_length,
                                    self.stiffness, self.damping, self.kappa_max, self.slack_rule,
-                                   self.mass_term(t, q))
+                                   self.mass_term(t, q), self.tables)
 
     def derivative(self, solution) -> list:
         return list(solution.velocity)

@@ -10,8 +10,11 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import ClassVar
 
+import numpy as np
+
 from ..case.method_table import INTEGRATORS, NoOptions, OptionError, make_options
 from ..case.model import Case, ParachuteSystem
+from ..physics.lines import tangent_stiffness
 from ..state import Phase
 
 
@@ -93,10 +96,17 @@ class Method:
         return report() if report is not None else asdict(self.options)
 
 
-def line_arrays(system: ParachuteSystem) -> tuple[list, list, list]:
-    """Free lengths (m), stiffnesses (N/m) and damping constants (N s/m) of a system's lines."""
+def line_arrays(system: ParachuteSystem, attach_position=None, confluence_position=None) -> tuple[list, list, list]:
+    """Free lengths (m), stiffnesses (N/m) and damping constants (N s/m) of a system's lines; with the geometry
+    given, a line with a load-elongation table has its tangent stiffness there (``physics.lines``)."""
     lines = system.lines
-    return [line.free_length for line in lines], [line.stiffness for line in lines], [line.damping for line in lines]
+    stiffness = [line.stiffness for line in lines]
+    if attach_position is not None and any(line.load_elongation is not None for line in lines):
+        lengths = np.linalg.norm(np.asarray(attach_position, float) - np.asarray(confluence_position, float)[:3],
+                                 axis=-1)
+        stiffness = [tangent_stiffness(length - line.free_length, line.free_length, line.stiffness,
+                                       line.load_elongation) for length, line in zip(lengths, lines)]
+    return [line.free_length for line in lines], stiffness, [line.damping for line in lines]
 
 
 def unstable_step_message(method: Method, step: float, limit: StepLimit, time: float) -> str:

@@ -45,5 +45,5 @@ class FullMass(Method):
 
     def step_limit(self, system, attach_position, confluence_position) -> StepLimit:
         step, eigenvalue = full_mass_step_limit(system.confluence.mass, attach_position, confluence_position,
-                                                *line_arrays(system))
+                                                *line_arrays(system, attach_position, confluence_position))
         return StepLimit(system.name, step, eigenvalue)

@@ -80,5 +80,6 @@ class SingularPerturbation(Method):
         return build_sp_model(case, phase, self.options)
 
     def step_limit(self, system, attach_position, confluence_position) -> StepLimit:
-        step, eigenvalue = sp_step_limit(attach_position, confluence_position, *line_arrays(system))
+        step, eigenvalue = sp_step_limit(attach_position, confluence_position,
+                                         *line_arrays(system, attach_position, confluence_position))
         return StepLimit(system.name, step, eigenvalue)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from itertools import repeat
 
 import numpy as np
 
@@ -61,26 +62,40 @@ class Equilibrium:
     unique: bool
 
 
-def stiffness_forces(attach_position, position, free_length, stiffness):
+def line_terms(length: float, free_length: float, stiffness: float, table=None) -> tuple:
+    """A taut line's elastic tension f (N), energy (J) and the two parts of its tangent stiffness (N/m),
+    (f / L) I + (df/dL - f / L) n n^T: for the linear law K (1 - L0/L) and K L0/L; for a load-elongation table
+    (``physics.lines.LoadElongation``) T_table / L and slope / L0 - T_table / L."""
+    stretch = length - free_length
+    if table is None:
+        f = stiffness * stretch
+        ratio = free_length / length
+        return f, 0.5 * f * stretch, stiffness * (1.0 - ratio), stiffness * ratio
+    strain = stretch / free_length
+    f = table(strain)
+    return f, free_length * table.energy(strain), f / length, table.slope(strain) / free_length - f / length
+
+
+def stiffness_forces(attach_position, position, free_length, stiffness, tables=None):
     """Force sum F (N), potential U (J), tangent stiffness K_bar = -dF/dr (N/m, six entries a00, a01, a02, a11,
-    a12, a22; ``linearization.line_stiffness`` summed) and taut flags at ``position``. Plain floats."""
+    a12, a22; ``linearization.line_stiffness`` summed) and taut flags at ``position``. Plain floats; ``tables``:
+    per line, a load-elongation table replacing K (L - L0)."""
     fx = fy = fz = potential = 0.0
     a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
     taut = []
-    for (length, nx, ny, nz), l0, k in zip(line_geometry(attach_position, position), free_length, stiffness):
+    for (length, nx, ny, nz), l0, k, table in zip(line_geometry(attach_position, position), free_length, stiffness,
+                                                  tables or repeat(None)):
         stretch = length - l0
         if stretch <= 0.0 or k == 0.0:
             taut.append(stretch > 0.0)
             continue
         taut.append(True)
-        f = k * stretch
+        f, energy, line_iso, kr = line_terms(length, l0, k, table)
         fx += f * nx
         fy += f * ny
         fz += f * nz
-        potential += 0.5 * f * stretch
-        ratio = l0 / length
-        iso += k * (1.0 - ratio)
-        kr = k * ratio
+        potential += energy
+        iso += line_iso
         a00 += kr * nx * nx
         a01 += kr * nx * ny
         a02 += kr * nx * nz
@@ -95,7 +110,7 @@ def _is_regular(k_bar) -> bool:
     return eigenvalues[0] > 1e-9 * max(eigenvalues[2], 1e-300)
 
 
-def _descent_step(attach, free_length, stiffness, r, state, mu: float, scale: float):
+def _descent_step(attach, free_length, stiffness, tables, r, state, mu: float, scale: float):
     """One damped Newton step on U from ``r`` (``state``: stiffness_forces there): Newton on the regularised Hessian
     K_bar + mu I with an Armijo line search, mu raised tenfold until a step is accepted. Returns the new point, its
     state and mu, or None when no step is found."""
@@ -115,7 +130,7 @@ def _descent_step(attach, free_length, stiffness, r, state, mu: float, scale: fl
         t = 1.0
         while t > 1e-10:
             trial = (r[0] + t * step[0], r[1] + t * step[1], r[2] + t * step[2])
-            trial_state = stiffness_forces(attach, trial, free_length, stiffness)
+            trial_state = stiffness_forces(attach, trial, free_length, stiffness, tables)
             if resolved:
                 accepted = trial_state[1] <= potential - 1e-4 * t * slope
             else:
@@ -129,7 +144,7 @@ def _descent_step(attach, free_length, stiffness, r, state, mu: float, scale: fl
 
 
 def equilibrium_point(attach_position, free_length, stiffness, guess=None, tolerance: float = 1e-9,
-                      max_iterations: int = 100, require_unique: bool = False) -> Equilibrium:
+                      max_iterations: int = 100, require_unique: bool = False, tables=None) -> Equilibrium:
     """Solve Eq. 2.9 for the confluence position by damped Newton on the convex potential U.
 
     Parameters
@@ -145,6 +160,8 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     max_iterations : int
     require_unique : bool
         Raise NoEquilibriumError when the balance is not isolated (K_bar singular there).
+    tables : sequence of LoadElongation or None, optional
+        Per line, a load-elongation table whose tension (and slope) replace K (L - L0) (and K).
 
     Returns
     -------
@@ -162,13 +179,13 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     else:
         r = tuple(float(c) for c in guess)
     scale = sum(k * l0 for k, l0 in zip(stiffness, free_length))
-    force, potential, k_bar, taut = stiffness_forces(attach, r, free_length, stiffness)
+    force, potential, k_bar, taut = stiffness_forces(attach, r, free_length, stiffness, tables)
     mu = 1e-9 * scale / max(sum(free_length) / len(free_length), 1e-12)
     iterations = 0
     while math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2) > tolerance * scale \
             and iterations < max_iterations:
         iterations += 1
-        stepped = _descent_step(attach, free_length, stiffness, r, (force, potential, k_bar, taut), mu, scale)
+        stepped = _descent_step(attach, free_length, stiffness, tables, r, (force, potential, k_bar, taut), mu, scale)
         if stepped is None:
             break
         r, (force, potential, k_bar, taut), mu = stepped
@@ -179,7 +196,7 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     return Equilibrium(np.array(r), residual <= tolerance * scale, iterations, residual, np.array(taut), unique)
 
 
-def equilibrium_velocity(attach_position, attach_velocity, position, free_length, stiffness):
+def equilibrium_velocity(attach_position, attach_velocity, position, free_length, stiffness, tables=None):
     """Velocity of the equilibrium point (thesis Appendix B): K_bar v_eq = sum K_i_bar v_i.
 
     Differentiating F(r_eq, r_i) = 0 in time gives K_bar v_eq = sum_i K_i_bar v_i, with K_i_bar = K_i [(1 - L0/L) I +
@@ -194,12 +211,12 @@ def equilibrium_velocity(attach_position, attach_velocity, position, free_length
     """
     bx = by = bz = 0.0
     a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
-    for (length, nx, ny, nz), (vx, vy, vz), l0, k in zip(line_geometry(attach_position, position), attach_velocity,
-                                                         free_length, stiffness):
+    for (length, nx, ny, nz), (vx, vy, vz), l0, k, table in zip(line_geometry(attach_position, position),
+                                                                attach_velocity, free_length, stiffness,
+                                                                tables or repeat(None)):
         if length <= l0 or k == 0.0:
             continue
-        ratio = l0 / length
-        kr, ki = k * ratio, k * (1.0 - ratio)
+        _, _, ki, kr = line_terms(length, l0, k, table)
         along = kr * (vx * nx + vy * ny + vz * nz)
         bx += ki * vx + along * nx
         by += ki * vy + along * ny

@@ -12,6 +12,7 @@ dx = L n_x the term is K (L0/L) n_x n_y, as a finite difference of the line forc
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -98,11 +99,16 @@ def companion_matrix(mass, damping_matrix, stiffness_matrix) -> np.ndarray:
 
 def sp_eigenvalues(damping_matrix, stiffness_matrix) -> np.ndarray:
     """Eigenvalues (1/s) of the SP confluence's first-order dynamics dr/dt = v(r), Jacobian -C_bar^-1 K_bar (thesis
-    Eq. 3.10 linearised with C_c = 0); empty when C_bar is singular (no SP solve without confluence damping)."""
+    Eq. 3.10 linearised with C_c = 0). Where C_bar is singular (collinear lines) only its range is solved with
+    C_c = 0: the other directions move at the pace of the confluence damping C_c, which only slows them; empty when
+    C_bar is zero."""
     c = np.asarray(damping_matrix, float)
-    if np.linalg.matrix_rank(c) < c.shape[0]:
+    k = np.asarray(stiffness_matrix, float)
+    values, vectors = np.linalg.eigh(c)
+    kept = vectors[:, values > 1e-12 * max(values.max(), 0.0)] if values.max() > 0.0 else vectors[:, :0]
+    if kept.shape[1] == 0:
         return np.array([], dtype=complex)
-    return np.linalg.eigvals(-np.linalg.solve(c, np.asarray(stiffness_matrix, float)))
+    return np.linalg.eigvals(-np.linalg.solve(kept.T @ c @ kept, kept.T @ k @ kept))
 
 
 def modes(mass: float, damping_matrix, stiffness_matrix) -> Modes:
@@ -169,5 +175,7 @@ def sp_step_limit(attach_position, confluence_position, free_length, stiffness, 
     alpha through C_c, which only slows this mode."""
     c_bar, k_bar = _all_taut(attach_position, confluence_position, free_length, stiffness, damping)
     eigenvalues = sp_eigenvalues(c_bar, k_bar)
+    if len(eigenvalues) == 0:   # no damping at all: nothing to limit (the SP solve refuses such lines)
+        return math.inf, complex(0.0)
     fastest = eigenvalues[np.argmax(np.abs(eigenvalues))]
     return max_stable_step_rk4(eigenvalues), complex(fastest)

@@ -12,16 +12,113 @@ Sign convention (the only place it is defined)::
     taut  when L > L0:  T = max(0, K (L - L0) + C L_dot)      (tension positive, a line never pushes)
     slack when L <= L0: T = 0
 
-Everything here is pure numpy and broadcasts over any leading axes, so one call handles all lines of a
+A line may instead give its elastic tension as a measured load-elongation table (``LoadElongation``)::
+
+    taut  when L > L0:  T = max(0, T_table(eps) + C L_dot),   eps = (L - L0) / L0
+
+The array functions here are pure numpy and broadcast over any leading axes, so one call handles all lines of a
 system (shape ``(n_lines, 3)``) or all output samples at once (shape ``(n_samples, n_lines, 3)``).
 """
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
+from itertools import repeat
 
 import numpy as np
+
+
+class LoadElongationError(ValueError):
+    """A load-elongation table that is not a valid line law; ``field`` names the offending column."""
+
+    def __init__(self, field: str, value, message: str):
+        super().__init__(message)
+        self.field, self.value = field, value
+
+
+@dataclass(frozen=True)
+class LoadElongation:
+    """A line's measured load-elongation curve: elastic tension against strain.
+
+    Attributes
+    ----------
+    strain : tuple of float
+        Strain eps = (L - L0) / L0 (-), starting at 0 and strictly increasing.
+    tension : tuple of float
+        Elastic tension T_table (N) at each strain, starting at 0 and strictly increasing.
+
+    Linear between the points; beyond the last point the last segment's slope continues (a measured curve ends
+    before the line breaks, not where it stops stretching).
+    """
+
+    strain: tuple
+    tension: tuple
+
+    def __post_init__(self):
+        strain, tension = self.strain, self.tension
+        if len(strain) < 2 or len(tension) != len(strain):
+            raise LoadElongationError("strain", list(strain), "needs at least two points and as many tensions "
+                                                             "as strains")
+        if strain[0] != 0.0 or tension[0] != 0.0:
+            raise LoadElongationError("strain" if strain[0] != 0.0 else "tension",
+                                      [strain[0], tension[0]], "the table must start at (0, 0)")
+        for name, values in (("strain", strain), ("tension", tension)):
+            if any(b <= a for a, b in zip(values, values[1:])):
+                raise LoadElongationError(name, list(values), "must increase strictly")
+
+    def slopes(self) -> list:
+        """dT/d eps of each segment (N)."""
+        e, f = self.strain, self.tension
+        return [(f[i + 1] - f[i]) / (e[i + 1] - e[i]) for i in range(len(e) - 1)]
+
+    def _segment(self, strain: float) -> int:
+        return min(max(bisect.bisect_right(self.strain, strain) - 1, 0), len(self.strain) - 2)
+
+    def __call__(self, strain: float) -> float:
+        """T_table(eps) (N) for eps >= 0 (0 at eps <= 0)."""
+        if strain <= 0.0:
+            return 0.0
+        i = self._segment(strain)
+        e, f = self.strain, self.tension
+        return f[i] + (f[i + 1] - f[i]) / (e[i + 1] - e[i]) * (strain - e[i])
+
+    def slope(self, strain: float) -> float:
+        """dT_table/d eps (N) at ``strain``: the segment's slope (the first segment's at or below 0)."""
+        return self.slopes()[self._segment(strain)]
+
+    def strain_at(self, tension: float) -> float:
+        """The strain (-) at which T_table reaches ``tension`` (N, >= 0): the table's inverse."""
+        e, f = self.strain, self.tension
+        i = min(max(bisect.bisect_right(f, tension) - 1, 0), len(f) - 2)
+        return e[i] + (tension - f[i]) * (e[i + 1] - e[i]) / (f[i + 1] - f[i])
+
+    def hinges(self) -> tuple:
+        """The curve as T(eps) = s_0 eps + sum_j (s_j - s_(j-1)) max(0, eps - eps_j) for eps >= 0: ((eps_j,
+        slope change), ...) with eps_0 = 0 first. Exactly the piecewise-linear table with its last slope continued,
+        in a form that needs no search (the full-mass model's symbolic line law)."""
+        slopes = self.slopes()
+        return ((0.0, slopes[0]),) + tuple((self.strain[j], slopes[j] - slopes[j - 1])
+                                           for j in range(1, len(slopes)))
+
+    def energy(self, strain: float) -> float:
+        """Integral of T_table from 0 to ``strain`` (N, per unit L0): the line's elastic energy over L0."""
+        if strain <= 0.0:
+            return 0.0
+        return sum(change * 0.5 * (strain - corner) ** 2 for corner, change in self.hinges() if strain > corner)
+
+
+def elastic_tension(stretch: float, free_length: float, stiffness: float, table: LoadElongation | None) -> float:
+    """The elastic part of a taut line's tension (N) at ``stretch`` = L - L0 > 0 (m): K (L - L0), or the table's
+    T_table((L - L0) / L0)."""
+    return stiffness * stretch if table is None else table(stretch / free_length)
+
+
+def tangent_stiffness(stretch: float, free_length: float, stiffness: float, table: LoadElongation | None) -> float:
+    """d(elastic tension)/dL (N/m) at ``stretch`` (m): K, or the table's slope over L0 (its first segment's while
+    the line is slack)."""
+    return stiffness if table is None else table.slope(stretch / free_length) / free_length
 
 
 @dataclass(frozen=True)
@@ -57,14 +154,16 @@ class LineState:
         return -self.force_on_confluence()
 
 
-def tension(stretch: float, length_rate: float, stiffness: float, damping: float) -> float:
+def tension(stretch: float, length_rate: float, stiffness: float, damping: float, elastic: float | None = None
+            ) -> float:
     """The line law for one line in plain floats (per-stage user functions); same law as ``tension_magnitude``.
 
-    Parameters are the stretch L - L0 (m), dL/dt (m/s), K (N/m) and C (N s/m); returns T (N) >= 0.
+    Parameters are the stretch L - L0 (m), dL/dt (m/s), K (N/m) and C (N s/m); ``elastic``: the elastic tension
+    (N) when a load-elongation table gives it (``elastic_tension``), else K (L - L0). Returns T (N) >= 0.
     """
     if stretch <= 0.0:
         return 0.0
-    value = stiffness * stretch + damping * length_rate
+    value = (stiffness * stretch if elastic is None else elastic) + damping * length_rate
     return value if value > 0.0 else 0.0
 
 
@@ -81,20 +180,39 @@ def line_geometry(attach_position, confluence_position) -> list:
 
 
 def line_tensions(attach_position, attach_velocity, confluence_position, confluence_velocity, free_length,
-                  stiffness, damping) -> tuple[tuple, tuple]:
+                  stiffness, damping, tables=None) -> tuple[tuple, tuple]:
     """Tensions T (N) and unit vectors n (confluence -> attach point) of a system's lines in plain floats (the
-    per-stage form of ``line_states``): sequences of (x, y, z) in m and m/s, and per-line L0 (m), K (N/m), C (N s/m).
+    per-stage form of ``line_states``): sequences of (x, y, z) in m and m/s, and per-line L0 (m), K (N/m), C (N s/m)
+    and load-elongation tables (None: every line linear).
     """
     wx, wy, wz = confluence_velocity
     tensions, directions = [], []
-    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c in zip(line_geometry(attach_position, confluence_position),
-                                                            attach_velocity, free_length, stiffness, damping):
+    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c, table in zip(
+            line_geometry(attach_position, confluence_position), attach_velocity, free_length, stiffness, damping,
+            tables or repeat(None)):
         directions.append((nx, ny, nz))
-        tensions.append(tension(length - l0, (vx - wx) * nx + (vy - wy) * ny + (vz - wz) * nz, k, c))
+        stretch = length - l0
+        elastic = None if table is None or stretch <= 0.0 else table(stretch / l0)
+        tensions.append(tension(stretch, (vx - wx) * nx + (vy - wy) * ny + (vz - wz) * nz, k, c, elastic))
     return tuple(tensions), tuple(directions)
 
 
-def tension_magnitude(length, length_rate, free_length, stiffness, damping):
+def elastic_tensions(stretch, free_length, stiffness, tables=None) -> np.ndarray:
+    """Elastic tensions (N) of lines at ``stretch`` = L - L0 (m, shape (..., n_lines)) for L > L0: K (L - L0), or
+    T_table((L - L0) / L0) for a line with a table (``tables``: per line, None for a linear line)."""
+    stretch = np.asarray(stretch, dtype=float)
+    elastic = np.asarray(stiffness, float) * stretch
+    if tables is None or all(table is None for table in tables):
+        return elastic
+    elastic = np.array(np.broadcast_to(elastic, stretch.shape))
+    for j, (table, l0) in enumerate(zip(tables, np.broadcast_to(free_length, stretch.shape[-1:]))):
+        if table is not None:
+            strain = np.maximum(stretch[..., j] / l0, 0.0)
+            elastic[..., j] = sum(change * np.maximum(strain - corner, 0.0) for corner, change in table.hinges())
+    return elastic
+
+
+def tension_magnitude(length, length_rate, free_length, stiffness, damping, tables=None):
     """Tension-only line law (Eq. 1.6 with the clip of ``docs/models/conventions.md``).
 
     Parameters
@@ -109,6 +227,8 @@ def tension_magnitude(length, length_rate, free_length, stiffness, damping):
         Spring constant K (N/m).
     damping : array_like
         Damping constant C (N s/m).
+    tables : sequence of LoadElongation or None, optional
+        Per line (last axis), a load-elongation table replacing K (L - L0); None: every line linear.
 
     Returns
     -------
@@ -116,12 +236,13 @@ def tension_magnitude(length, length_rate, free_length, stiffness, damping):
         T = max(0, K (L - L0) + C dL/dt) where L > L0, and 0 where the line is slack (N).
     """
     length = np.asarray(length, dtype=float)
-    linear = stiffness * (length - free_length) + damping * np.asarray(length_rate, dtype=float)
+    linear = elastic_tensions(length - free_length, free_length, stiffness, tables) \
+        + damping * np.asarray(length_rate, dtype=float)
     return np.where(length > free_length, np.maximum(linear, 0.0), 0.0)
 
 
 def line_states(attach_position, attach_velocity, confluence_position, confluence_velocity,
-                free_length, stiffness, damping) -> LineState:
+                free_length, stiffness, damping, tables=None) -> LineState:
     """Evaluate lines from their attach points to a confluence (Eqs. 1.6-1.7).
 
     Parameters
@@ -132,6 +253,8 @@ def line_states(attach_position, attach_velocity, confluence_position, confluenc
         Inertial position (m) and velocity (m/s) of the confluence; broadcast against the lines.
     free_length, stiffness, damping : array_like, shape (n_lines,)
         L0 (m), K (N/m) and C (N s/m) of each line.
+    tables : sequence of LoadElongation or None, optional
+        Per line, a load-elongation table replacing K (L - L0).
 
     Returns
     -------
@@ -143,6 +266,6 @@ def line_states(attach_position, attach_velocity, confluence_position, confluenc
     with np.errstate(invalid="ignore", divide="ignore"):
         direction = np.where(length[..., None] > 0.0, rel / length[..., None], 0.0)
     length_rate = np.einsum("...i,...i->...", rel_v, direction)
-    tension = tension_magnitude(length, length_rate, free_length, stiffness, damping)
+    tension = tension_magnitude(length, length_rate, free_length, stiffness, damping, tables)
     return LineState(length=length, direction=direction, length_rate=length_rate, tension=tension,
                      taut=length > np.asarray(free_length))

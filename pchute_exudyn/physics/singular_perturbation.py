@@ -155,10 +155,10 @@ def _next_active_set(lines, active, velocity, visited) -> bool:
     """
     wx, wy, wz = velocity
     drop, take = [], []
-    for i, ((nx, ny, nz, stretch, vn, k, c), on) in enumerate(zip(lines, active)):
+    for i, ((nx, ny, nz, stretch, vn, elastic, c), on) in enumerate(zip(lines, active)):
         if stretch <= 0.0:
             continue
-        linear = k * stretch + c * (vn - wx * nx - wy * ny - wz * nz)
+        linear = elastic + c * (vn - wx * nx - wy * ny - wz * nz)
         if on and linear < 0.0:
             drop.append(i)
         elif not on and linear > 0.0:
@@ -176,22 +176,25 @@ def _next_active_set(lines, active, velocity, visited) -> bool:
     return True
 
 
-def _assemble(attach_position, attach_velocity, confluence_position, free_length, stiffness, damping, forced,
-              rate: float, b0: tuple):
+def _assemble(attach_position, attach_velocity, confluence_position, free_length, stiffness, damping, tables,
+              forced, rate: float, b0: tuple):
     """One pass over the lines: their geometry (``lines.line_geometry``), and alpha (Eq. 3.11, six entries a00 a01
     a02 a11 a12 a22) and b (Eq. 3.10) summed over the active ones (``forced``, else the stretched ones), on top of the
     mass term's ``rate`` and ``b0``; the force rule's extra passes repeat it. Returns alpha, b, the lines as (nx, ny,
-    nz, stretch, attach velocity along n, K, C), the directions and the active flags."""
+    nz, stretch, attach velocity along n, elastic tension, C), the directions and the active flags. The elastic
+    tension is K (L - L0), or a load-elongation table's T_table (``tables``; its slope enters nowhere here)."""
     a00 = a11 = a22 = rate
     a01 = a02 = a12 = 0.0
     bx, by, bz = b0
     lines, directions, active = [], [], []
     geometry = line_geometry(attach_position, confluence_position)
-    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c, on in zip(geometry, attach_velocity, free_length, stiffness,
-                                                                damping, forced or repeat(None)):
+    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c, table, on in zip(
+            geometry, attach_velocity, free_length, stiffness, damping, tables or repeat(None),
+            forced or repeat(None)):
         stretch, vn = length - l0, vx * nx + vy * ny + vz * nz
+        elastic = k * stretch if table is None else table(stretch / l0)
         directions.append((nx, ny, nz))
-        lines.append((nx, ny, nz, stretch, vn, k, c))
+        lines.append((nx, ny, nz, stretch, vn, elastic, c))
         taut = stretch > 0.0 if on is None else on
         active.append(taut)
         if taut:
@@ -202,7 +205,7 @@ def _assemble(attach_position, attach_velocity, confluence_position, free_length
             a11 += cny * ny
             a12 += cny * nz
             a22 += c * nz * nz
-            f = k * stretch + c * vn
+            f = elastic + c * vn
             bx += f * nx
             by += f * ny
             bz += f * nz
@@ -229,7 +232,8 @@ def _solve_balance(alpha: tuple, b: tuple, active: list, rate: float, previous_v
 
 def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity,
                         free_length, stiffness, damping, kappa_max: float = 5.0,
-                        slack_rule: str = "stretch", mass_term: MassTerm | None = None) -> SPSolution:
+                        slack_rule: str = "stretch", mass_term: MassTerm | None = None,
+                        tables=None) -> SPSolution:
     """SP confluence velocity (Eq. 3.10) with the minimal confluence damping of Eq. 3.13.
 
     Parameters
@@ -247,6 +251,8 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
     slack_rule : {"stretch", "force"}
     mass_term : MassTerm, optional
         The confluence mass to first order (see the module docstring); None for the massless balance of Eq. 3.10.
+    tables : sequence of LoadElongation or None, optional
+        Per line, a load-elongation table whose tension replaces K (L - L0); None: every line linear.
 
     Returns
     -------
@@ -261,7 +267,7 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
     visited = None   # the force rule's active sets seen so far
     while True:
         alpha, b, lines, directions, active = _assemble(attach_position, attach_velocity, confluence_position,
-                                                        free_length, stiffness, damping, forced, rate, b0)
+                                                        free_length, stiffness, damping, tables, forced, rate, b0)
         velocity, c_c, kappa = _solve_balance(alpha, b, active, rate, previous_velocity, kappa_max)
         if slack_rule != "force":
             break
@@ -271,5 +277,6 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
             break
         forced = active
     wx, wy, wz = velocity
-    tensions = [tension(stretch, vn - wx * nx - wy * ny - wz * nz, k, c) for nx, ny, nz, stretch, vn, k, c in lines]
+    tensions = [tension(stretch, vn - wx * nx - wy * ny - wz * nz, 0.0, c, elastic)
+                for nx, ny, nz, stretch, vn, elastic, c in lines]
     return SPSolution(velocity, c_c, kappa, tuple(active), tensions, directions)

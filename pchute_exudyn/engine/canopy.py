@@ -1,0 +1,98 @@
+"""Canopy physics as Exudyn items: the apparent mass of a body and the measured stage starts of an inflation.
+
+Apparent mass (``physics.apparent_mass``): an ``ObjectGenericODE2`` on the body's own rigid-body node adds R A_t R^T
+to the translational block of the system mass matrix and A_r to the rotational one (a Lie-group node's rotational
+velocity coordinates are the body-axis angular velocity), and the Kirchhoff velocity terms as its generalized force.
+The engine then solves (M + A) a = f at every stage with the current state: the apparent mass enters the equations
+exactly, with no acceleration carried from an earlier stage. Measured against closed forms and an independent
+integration of the body-axis equations in ``tests/test_canopy_physics.py``.
+"""
+
+from __future__ import annotations
+
+import exudyn.itemInterface as eii
+import numpy as np
+
+from ..case.model import Body, Case
+from ..physics.air import AirMotion
+from ..physics.apparent_mass import kirchhoff_terms, translational_mass_matrix
+from ..state import ColumnChannel
+from .model import CURRENT, OV, Model
+
+
+class ApparentMassTerms:
+    """The apparent mass of one body at the current stage: air density at its aerodynamic centre, the masses and
+    the Kirchhoff terms, from the node's current position and rotation and the solver's velocities."""
+
+    def __init__(self, model: Model, case: Case, body: Body, node: int):
+        self.apparent, self.node = body.apparent_mass, node
+        self.center = tuple(body.aerodynamics.center)
+        self.get = model.mbs.GetNodeOutput
+        self.altitude, self.density = case.start.altitude_scalar, case.atmosphere.density
+        self.air = AirMotion(case.start, case.wind)
+        self.model = model
+
+    def masses(self):
+        """(R row-major, CoM position, A_t diagonal, A_r diagonal) at the current state."""
+        get, node = self.get, self.node
+        x, y, z = get(node, OV.Position, CURRENT).tolist()
+        r = get(node, OV.RotationMatrix, CURRENT).tolist()
+        cx, cy, cz = self.center
+        try:
+            rho = self.density(self.altitude(x + r[0] * cx + r[1] * cy + r[2] * cz,
+                                             y + r[3] * cx + r[4] * cy + r[5] * cz,
+                                             z + r[6] * cx + r[7] * cy + r[8] * cz))
+        except Exception as exc:  # keep our own error (outside an atmosphere table) for the solver to raise
+            self.model.record_failure(exc)
+            raise
+        translational, rotational = self.apparent.masses(rho)
+        return r, (x, y, z), translational, rotational
+
+    def mass_matrix(self, mbs, t, item, q, q_t):
+        r, _, translational, rotational = self.masses()
+        matrix = np.zeros((6, 6))
+        matrix[:3, :3] = translational_mass_matrix(r, translational)
+        matrix[3, 3], matrix[4, 4], matrix[5, 5] = rotational
+        return matrix
+
+    def force(self, mbs, t, item, q, q_t):
+        r, (x, y, z), translational, rotational = self.masses()
+        vx, vy, vz, wx, wy, wz = q_t.tolist() if hasattr(q_t, "tolist") else q_t
+        if not self.air.still:
+            ax, ay, az = self.air(x, y, z, self.altitude(x, y, z), t)
+            vx, vy, vz = vx - ax, vy - ay, vz - az
+        force, moment = kirchhoff_terms(r, (vx, vy, vz), (wx, wy, wz), translational, rotational)
+        return [*force, *moment]
+
+
+def add_apparent_mass(model: Model, case: Case, body: Body, node: int) -> None:
+    """The body's apparent mass (when it has one) on its node, and its output channels (kg, kg, kg m^2)."""
+    if body.apparent_mass is None:
+        return
+    terms = ApparentMassTerms(model, case, body, node)
+    model.mbs.AddObject(eii.ObjectGenericODE2(
+        nodeNumbers=[node], massMatrix=np.zeros((6, 6)), massMatrixUserFunction=terms.mass_matrix,
+        forceUserFunction=terms.force, visualization=eii.VObjectGenericODE2(show=False)))
+    for index, name, unit in ((0, "apparent_mass_axial", "kg"), (1, "apparent_mass_lateral", "kg")):
+        model.add_channel(ColumnChannel(f"{body.name}_{name}", unit), lambda i=index: terms.masses()[2][i])
+    model.add_channel(ColumnChannel(f"{body.name}_apparent_inertia", "kg m^2"), lambda: terms.masses()[3][1])
+
+
+def add_inflation_hooks(model: Model, system_name: str, progress, speed_reader) -> None:
+    """Measure the canopy's air speed (``speed_reader(time)``, m/s) around each stage start of an opening
+    (``physics.inflation.InflationProgress``), and report the drag-area fraction (-) as a channel."""
+    last = [model.phase.start]
+
+    def before_step(mbs, t):   # t: the coming step's end; the state is still the step's start
+        if progress.due(t):
+            progress.begin(last[0], speed_reader(last[0]))
+
+    def after_step(mbs, t):
+        if progress.pending is not None:
+            progress.complete(t, speed_reader(t))
+        last[0] = t
+
+    model.add_pre_step(before_step)
+    model.add_post_step(after_step, first=True)
+    model.add_channel(ColumnChannel(f"{system_name}_drag_area_fraction", "-"),
+                      lambda: progress(model.mbs.systemData.GetTime() - progress.line_stretch))

@@ -1,0 +1,199 @@
+"""Canopy inflation and reefing from line stretch by the fill-constant law (``docs/models/canopy.md``, "Inflation and
+reefing").
+
+A system's drag-area fraction f (multiplying its canopy's C_A and C_N table) against the time s since line stretch,
+in stages i = 1..n (reefed stages, then the full canopy). Stage i starts at s_i (s_1 = 0) from the previous stage's
+fraction f_(i-1) (f_0, the initial fraction, for the first)::
+
+    t_f,i = n_i D_0 / V_i                          fill time: n_i the fill constant, D_0 = sqrt(4 S / pi) the nominal
+                                                   diameter, V_i the canopy's air speed at s_i (measured in the run)
+    f(s)  = f_(i-1) + (C_i f_i - f_(i-1)) ((s - s_i) / t_f,i)^e_i      during the fill (e_i the opening exponent)
+    f(s)  = f_i                                    after it; C_i = 1 but for the last stage, C_n = C_x >= 1
+                                                   (overinflation), where f then falls linearly from C_x f_n to f_n
+                                                   over the decay time t_k
+
+A stage that starts before the previous fill has ended starts from f_(i-1) all the same (the law's definition).
+Plain floats: the fraction is evaluated at every solver stage.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+class InflationError(ValueError):
+    """Invalid inflation input; ``field`` names it (``stages.<key>`` for a stage column)."""
+
+    def __init__(self, field: str, value, message: str):
+        super().__init__(message)
+        self.field, self.value = field, value
+
+
+@dataclass(frozen=True)
+class InflationStage:
+    """One stage of an opening.
+
+    Attributes
+    ----------
+    start : float
+        Time since line stretch at which the stage starts (s): 0 for the first, the disreef time for the others.
+    fraction : float
+        f_i, the stage's drag-area fraction once filled (-), in (0, 1].
+    fill_constant : float
+        n_i (-), > 0: the fill time is n_i D_0 / V_i.
+    exponent : float
+        e_i (-), > 0: the opening exponent.
+    """
+
+    start: float
+    fraction: float
+    fill_constant: float
+    exponent: float
+
+
+def _check(condition: bool, field: str, value, message: str) -> None:
+    if not condition:
+        raise InflationError(field, value, message)
+
+
+@dataclass(frozen=True)
+class Inflation:
+    """An opening by the fill-constant law (see the module docstring).
+
+    Attributes
+    ----------
+    stages : tuple of InflationStage
+        In order of their start times (the first at 0).
+    initial_fraction : float
+        f_0 (-), in [0, f_1): the fraction at line stretch.
+    overinflation : float
+        C_x (-), >= 1: the last stage fills to C_x f_n.
+    overinflation_decay : float
+        t_k (s), >= 0 (> 0 when C_x > 1): the time over which f falls back to f_n.
+    """
+
+    stages: tuple
+    initial_fraction: float = 0.0
+    overinflation: float = 1.0
+    overinflation_decay: float = 0.0
+
+    def __post_init__(self):
+        stages = self.stages
+        _check(len(stages) >= 1, "stages", [], "an inflation needs at least one stage")
+        starts = [stage.start for stage in stages]
+        _check(starts[0] == 0.0, "stage_start", starts, "the first stage starts at line stretch: 0 s")
+        _check(all(b > a for a, b in zip(starts, starts[1:])), "stage_start", starts,
+               "stages must start in order: strictly increasing times since line stretch (s)")
+        for key, name, test, allowed in (("fraction", "fraction", lambda v: 0.0 < v <= 1.0, "within (0, 1]"),
+                                         ("fill_constant", "fill_constant", lambda v: v > 0.0, "> 0"),
+                                         ("exponent", "exponent", lambda v: v > 0.0, "> 0")):
+            values = [getattr(stage, key) for stage in stages]
+            _check(all(math.isfinite(v) and test(v) for v in values), name, values, f"each must be {allowed}")
+        _check(0.0 <= self.initial_fraction < stages[0].fraction, "initial_fraction", self.initial_fraction,
+               f"must be >= 0 and below the first stage's fraction ({stages[0].fraction:g})")
+        _check(math.isfinite(self.overinflation) and self.overinflation >= 1.0, "overinflation",
+               self.overinflation, "must be >= 1 (C_x: 1 = no overinflation)")
+        decay = self.overinflation_decay
+        _check(math.isfinite(decay) and decay >= 0.0, "overinflation_decay", decay, "must be >= 0 (s)")
+        _check(self.overinflation == 1.0 or decay > 0.0, "overinflation_decay", decay,
+               "must be > 0 (s) when overinflation > 1")
+
+    def fill_time(self, stage: int, speed: float, nominal_diameter: float) -> float:
+        """t_f = n_i D_0 / V_i (s) of stage ``stage`` (0-based) at air speed ``speed`` (m/s), D_0 in m."""
+        return self.stages[stage].fill_constant * nominal_diameter / max(speed, 1e-9)
+
+    def stage_at(self, since: float) -> int:
+        """The stage (0-based) running at ``since`` (s since line stretch)."""
+        current = 0
+        for i, stage in enumerate(self.stages):
+            if stage.start <= since:
+                current = i
+        return current
+
+    def fraction(self, since: float, fill_times) -> float:
+        """f at ``since`` (s since line stretch) given each started stage's fill time (s; ``fill_times[i]``)."""
+        if since < 0.0:
+            return self.initial_fraction
+        i = self.stage_at(since)
+        stage = self.stages[i]
+        before = self.initial_fraction if i == 0 else self.stages[i - 1].fraction
+        last = i == len(self.stages) - 1
+        peak = stage.fraction * (self.overinflation if last else 1.0)
+        elapsed, fill = since - stage.start, fill_times[i]
+        if elapsed < fill:
+            return before + (peak - before) * (elapsed / fill) ** stage.exponent
+        decay = elapsed - fill
+        if last and decay < self.overinflation_decay:
+            return peak - (peak - stage.fraction) * decay / self.overinflation_decay
+        return stage.fraction
+
+
+def nominal_diameter(reference_area: float) -> float:
+    """D_0 = sqrt(4 S / pi) (m) from the canopy's reference area S (m^2)."""
+    return math.sqrt(4.0 * reference_area / math.pi)
+
+
+class InflationProgress:
+    """An opening as a run goes: the air speed measured at each stage start and the fill times it gives.
+
+    The engine measures the speed V_i at a stage start s_i from the states around it: ``begin`` at the start of the
+    step in which s_i falls (provisionally, V at the step start) and ``complete`` at its end (V_i interpolated
+    linearly to s_i). Pure floats, no engine: it outlives the models of a run's phases.
+
+    Parameters
+    ----------
+    inflation : Inflation
+    diameter : float
+        D_0 (m).
+    line_stretch : float
+        Run time (s) of line stretch (the system's deployment).
+    """
+
+    def __init__(self, inflation: Inflation, diameter: float, line_stretch: float):
+        self.inflation, self.diameter, self.line_stretch = inflation, diameter, line_stretch
+        self.speeds: list = []           # V_i (m/s) per started stage
+        self.fill_times: list = []       # t_f,i (s) per started stage
+        self.pending = None              # (run time, speed) at the start of the step where a stage starts
+
+    def __call__(self, since: float) -> float:
+        """The drag-area fraction at ``since`` (s since line stretch)."""
+        return self.inflation.fraction(since, self.fill_times)
+
+    def due(self, step_end: float) -> bool:
+        """Whether a stage not yet measured starts by ``step_end`` (run time, s)."""
+        started = len(self.speeds)
+        return started < len(self.inflation.stages) and \
+            self.line_stretch + self.inflation.stages[started].start <= step_end
+
+    def begin(self, time: float, speed: float) -> None:
+        """At the start ``time`` (s) of the step in which the next stage starts, with the air speed (m/s) then."""
+        self.pending = (time, speed)
+        self._set(speed)
+
+    def complete(self, time: float, speed: float) -> None:
+        """At the end ``time`` (s) of that step: V_i interpolated to the stage start."""
+        if self.pending is None:
+            return
+        start_time, start_speed = self.pending
+        stage_time = self.line_stretch + self.inflation.stages[len(self.speeds) - 1].start
+        w = (stage_time - start_time) / (time - start_time) if time > start_time else 1.0
+        self.speeds.pop()
+        self.fill_times.pop()
+        self._set(start_speed + min(max(w, 0.0), 1.0) * (speed - start_speed))
+        self.pending = None
+
+    def _set(self, speed: float) -> None:
+        self.speeds.append(speed)
+        self.fill_times.append(self.inflation.fill_time(len(self.speeds) - 1, speed, self.diameter))
+
+    def windows(self, end: float) -> list:
+        """(stage number from 1, start, end) in run time (s) of each stage started before ``end`` (s)."""
+        starts = [self.line_stretch + stage.start for stage in self.inflation.stages[:len(self.speeds)]]
+        return [(i + 1, start, min(stop, end)) for i, (start, stop) in enumerate(zip(starts, starts[1:] + [end]))
+                if start < end]
+
+    def fill_ends(self) -> list:
+        """(stage number from 1, run time of the fill's end (s), V_i (m/s), t_f,i (s)) of each started stage."""
+        return [(i + 1, self.line_stretch + self.inflation.stages[i].start + fill, speed, fill)
+                for i, (speed, fill) in enumerate(zip(self.speeds, self.fill_times))]
