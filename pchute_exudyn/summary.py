@@ -85,14 +85,17 @@ def opening_events(openings: dict, end: float) -> list:
 
 
 def opening_loads(case, openings: dict, columns: dict) -> dict:
-    """Per system with an opening, per stage: its window (s) and each of the system's lines' peak tension (N) in it
-    and when (s), from the sampled histories (resolution: the output step)."""
+    """Per system with an opening, per stage: its window (s: from the stage start to the next one, the cut-away or
+    the run's end) and each of the system's lines' peak tension (N) in it and when (s), from the sampled histories
+    (resolution: the output step)."""
     time = columns["time"]
     loads = {}
     for name, progress in openings.items():
         system = case.systems[name]
         stages = []
-        for stage, start, stop in progress.windows(float(time[-1]) + 1e-9):
+        end = float(time[-1]) + 1e-9 if system.cutaway_time is None else min(float(time[-1]) + 1e-9,
+                                                                               system.cutaway_time)
+        for stage, start, stop in progress.windows(end):
             inside = (time >= start - 1e-9) & (time < stop)
             peaks = {}
             for line in system.lines:

@@ -15,6 +15,10 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 CASE1 = str(ROOT / "cases" / "mer" / "case1.toml")
 PA1 = str(ROOT / "cases" / "cev_pa1.toml")
+PA1_INFLATION = str(ROOT / "cases" / "cev_pa1_inflation.toml")
+APPARENT = str(ROOT / "cases" / "mer" / "case1_apparent_mass.toml")
+MAIN_INFLATION = "systems.main.inflation."
+RISER_TABLE = "systems.main.lines.riser.load_elongation."
 GOOD_CSV = "time,tension_riser,vehicle_altitude\n0,1,100\n1,2,99\n2,3,98\n"
 STUDY = """[study]
 case = "{case}"
@@ -44,6 +48,38 @@ def _result_folder(tmp: Path) -> str:
 
 
 BATTERY = [
+    # canopy physics (docs/models/canopy.md): apparent mass, inflation, load-elongation tables
+    ("negative apparent-mass coefficient", lambda t: ["run", APPARENT, "--set", "parachute.apparent_mass.axial=-1"],
+     "bodies.parachute.apparent_mass.axial = -1"),
+    ("negative projected radius", lambda t: ["run", APPARENT, "--set",
+                                             "parachute.apparent_mass.projected_radius=-5.3"],
+     "bodies.parachute.apparent_mass.projected_radius = -5.3"),
+    ("zero projected radius", lambda t: ["run", APPARENT, "--set", "parachute.apparent_mass.projected_radius=0"],
+     "bodies.parachute.apparent_mass.projected_radius = 0"),
+    ("line table not starting at (0, 0)", lambda t: ["run", PA1_INFLATION, "--set", RISER_TABLE
+                                                     + "strain=[0.001, 0.01]", "--set", RISER_TABLE
+                                                     + "tension=[0.0, 7e4]"], "load_elongation.strain = [0.001, 0.01]"),
+    ("line table decreasing", lambda t: ["run", PA1_INFLATION, "--set", RISER_TABLE + "strain=[0.0, 0.01, 0.02]",
+                                         "--set", RISER_TABLE + "tension=[0.0, 7e4, 6e4]"],
+     "load_elongation.tension = [0.0, 70000.0, 60000.0]: must increase strictly"),
+    ("line table and stiffness", lambda t: ["run", PA1_INFLATION, "--set", "main.lines.riser.stiffness=6e5"],
+     "give stiffness or load_elongation, not both"),
+    ("stages out of order", lambda t: ["run", PA1_INFLATION, "--set", MAIN_INFLATION + "stage_start=[0.0, 16.0, 8.0]"],
+     "systems.main.inflation.stage_start = [0.0, 16.0, 8.0]: stages must start in order"),
+    ("first stage after line stretch", lambda t: ["run", PA1_INFLATION, "--set",
+                                                  MAIN_INFLATION + "stage_start=[1.0, 8.0, 16.0]"],
+     "inflation.stage_start = [1.0, 8.0, 16.0]: the first stage starts at line stretch"),
+    ("zero fill constant", lambda t: ["run", PA1_INFLATION, "--set", MAIN_INFLATION + "fill_constant=[1.13, 0, 0.52]"],
+     "systems.main.inflation.fill_constant = [1.13, 0.0, 0.52]: each must be > 0"),
+    ("overinflation below 1", lambda t: ["run", PA1_INFLATION, "--set", MAIN_INFLATION + "overinflation=0.9"],
+     "systems.main.inflation.overinflation = 0.9: must be >= 1"),
+    ("stage fraction above 1", lambda t: ["run", PA1_INFLATION, "--set", MAIN_INFLATION + "fraction=[0.08, 0.25, 1.5]"],
+     "inflation.fraction = [0.08, 0.25, 1.5]: each must be within (0, 1]"),
+    ("inflation and schedule", lambda t: ["run", PA1, "--set", MAIN_INFLATION + "stage_start=[0.0]", "--set",
+                                          MAIN_INFLATION + "fraction=[1.0]", "--set",
+                                          MAIN_INFLATION + "fill_constant=[2.0]", "--set",
+                                          MAIN_INFLATION + "exponent=[2.0]"],
+     "a drag_area_schedule or an inflation, not both"),
     # run: the case file, the command line and overrides
     ("missing case file", lambda t: ["run", str(t / "nope.toml")], "case file not found"),
     ("malformed TOML", lambda t: ["run", _file(t, "bad.toml", "[case\nname = 1")], "malformed TOML"),

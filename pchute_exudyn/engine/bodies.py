@@ -244,7 +244,7 @@ def add_bodies(model: Model, case: Case, snapshot: bool = False) -> None:
                 schedule = phase.inflation[system.name]
             loads[body.name] = add_aerodynamics(model, case, body, schedule, deployed)
             if system is not None and system.inflation is not None and loads[body.name] is not None:
-                add_inflation_hooks(model, system.name, schedule, loads[body.name].air_speed)
+                add_inflation_hooks(model, system.name, body.name, schedule, loads[body.name])
 
 
 MAX_DESCENT_ACCELERATION = 30.0

@@ -10,6 +10,8 @@ integration of the body-axis equations in ``tests/test_canopy_physics.py``.
 
 from __future__ import annotations
 
+import math
+
 import exudyn.itemInterface as eii
 import numpy as np
 
@@ -78,9 +80,12 @@ def add_apparent_mass(model: Model, case: Case, body: Body, node: int) -> None:
     model.add_channel(ColumnChannel(f"{body.name}_apparent_inertia", "kg m^2"), lambda: terms.masses()[3][1])
 
 
-def add_inflation_hooks(model: Model, system_name: str, progress, speed_reader) -> None:
-    """Measure the canopy's air speed (``speed_reader(time)``, m/s) around each stage start of an opening
-    (``physics.inflation.InflationProgress``), and report the drag-area fraction (-) as a channel."""
+def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, aerodynamic_load) -> None:
+    """Measure the canopy's air speed (``aerodynamic_load.air_speed(time)``, m/s) around each stage start of an
+    opening (``physics.inflation.InflationProgress``); report the drag-area fraction (-) and the magnitude of the
+    canopy's aerodynamic force (N) as channels."""
+    speed_reader = aerodynamic_load.air_speed
+    get_time = model.mbs.systemData.GetTime
     last = [model.phase.start]
 
     def before_step(mbs, t):   # t: the coming step's end; the state is still the step's start
@@ -95,4 +100,8 @@ def add_inflation_hooks(model: Model, system_name: str, progress, speed_reader) 
     model.add_pre_step(before_step)
     model.add_post_step(after_step, first=True)
     model.add_channel(ColumnChannel(f"{system_name}_drag_area_fraction", "-"),
-                      lambda: progress(model.mbs.systemData.GetTime() - progress.line_stretch))
+                      lambda: progress(get_time() - progress.line_stretch))
+    def force_magnitude():
+        fx, fy, fz = aerodynamic_load(model.mbs, get_time(), None)
+        return math.sqrt(fx * fx + fy * fy + fz * fz)
+    model.add_channel(ColumnChannel(f"{canopy}_aerodynamic_force", "N"), force_magnitude)

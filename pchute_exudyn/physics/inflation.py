@@ -112,7 +112,8 @@ class Inflation:
         return current
 
     def fraction(self, since: float, fill_times) -> float:
-        """f at ``since`` (s since line stretch) given each started stage's fill time (s; ``fill_times[i]``)."""
+        """f at ``since`` (s since line stretch) given each started stage's fill time (s; ``fill_times[i]``; a stage
+        without one yet holds f_(i-1), its value at its start)."""
         if since < 0.0:
             return self.initial_fraction
         i = self.stage_at(since)
@@ -120,6 +121,8 @@ class Inflation:
         before = self.initial_fraction if i == 0 else self.stages[i - 1].fraction
         last = i == len(self.stages) - 1
         peak = stage.fraction * (self.overinflation if last else 1.0)
+        if i >= len(fill_times):   # the stage's speed is not measured yet (the engine's start-up call): f_(i-1)
+            return before
         elapsed, fill = since - stage.start, fill_times[i]
         if elapsed < fill:
             return before + (peak - before) * (elapsed / fill) ** stage.exponent

@@ -62,8 +62,8 @@ class LoadElongation:
             raise LoadElongationError("strain", list(strain), "needs at least two points and as many tensions "
                                                              "as strains")
         if strain[0] != 0.0 or tension[0] != 0.0:
-            raise LoadElongationError("strain" if strain[0] != 0.0 else "tension",
-                                      [strain[0], tension[0]], "the table must start at (0, 0)")
+            name, values = ("strain", strain) if strain[0] != 0.0 else ("tension", tension)
+            raise LoadElongationError(name, list(values), "the table must start at (0, 0)")
         for name, values in (("strain", strain), ("tension", tension)):
             if any(b <= a for a, b in zip(values, values[1:])):
                 raise LoadElongationError(name, list(values), "must increase strictly")
