@@ -13,6 +13,7 @@ import numpy as np
 
 from .case.model import Case
 from .errors import InputError
+from .methods.base import line_arrays
 from .methods.full import FullMass
 from .outputs import attach_points
 from .physics.equilibrium import NoEquilibriumError, equilibrium_point
@@ -70,13 +71,15 @@ def linearization_report(case: Case, system_name: str | None = None, time: float
     free_length = [l.free_length for l in lines]
     stiffness = [l.stiffness for l in lines]
     damping = [l.damping for l in lines]
+    tables = [l.load_elongation for l in lines]
     try:
-        eq = equilibrium_point(attach, free_length, stiffness, guess=guess, require_unique=True)
+        eq = equilibrium_point(attach, free_length, stiffness, guess=guess, require_unique=True, tables=tables)
     except NoEquilibriumError as exc:
         raise InputError(f"no unique equilibrium point of the {system_name} confluence at t = {at_time:g} s: "
                          f"{exc.taut} of {exc.lines} lines are taut at the force balance and they do not pull "
                          "against each other in three dimensions (the stiffness matrix is singular); the confluence "
                          "can sit anywhere in a line or region") from None
+    stiffness = line_arrays(system, attach, eq.position)[1]   # a table line's tangent stiffness there
     c_bar, k_bar = linearize(attach, eq.position, free_length, stiffness, damping)
     found = modes(system.confluence.mass, c_bar, k_bar)
     sp_roots = sp_eigenvalues(c_bar, k_bar)

@@ -8,7 +8,8 @@ Run:  python validation/readme_figures.py            # print each README line th
 Each figure comes from the output of the script named beside it in the README, which writes the file read here:
 `validation/benchmark_sp.py` (benchmark_sp.md), `validation/benchmark_full.py` (benchmark_full.md),
 `validation/cev_pa1.py` (cev_pa1/pa1.md), `validation/benchmark_study.py` (benchmark_study.md),
-`validation/run_studies.py` (studies/step_method/report/errors.csv); the test count
+`validation/run_studies.py` (studies/step_method/report/errors.csv), `validation/canopy_checks.py`
+(canopy/closed_forms.json), `validation/canopy_effects.py` (canopy/effects.md); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
 the check (tests/test_architecture.py), so a README that disagrees with the committed outputs fails CI.
 """
@@ -122,10 +123,34 @@ def step_method_lines() -> list:
     return lines + [f"  | {label} | {span(configuration)} |" for label, configuration in STEP_METHOD.items()]
 
 
+def canopy_lines() -> list:
+    """The canopy physics: worst closed-form error per check, PA1 inflation SP against full mass, feature costs."""
+    import json
+
+    worst = {}
+    for row in json.loads((OUT / "canopy" / "closed_forms.json").read_text()):
+        old = worst.get(row["check"], (0.0, row["tolerance"]))
+        worst[row["check"]] = (max(old[0], row["relative_error"]), row["tolerance"])
+    lines = [f"| {check} | {error:.1e} | {tolerance:g} |" for check, (error, tolerance) in worst.items()]
+    effects = OUT / "canopy" / "effects.md"
+    text = effects.read_text()
+    ratio = re.search(r"full/SP median \*\*([\d.]+)x\*\*", text).group(1)
+    rows = table(effects, "")
+    touchdown = rows["touchdown time (s)"][3].split()[0]
+    peaks = " / ".join(rows[f"main riser peak, stage {i} (N, at s)"][3].split()[0] for i in (1, 2, 3))
+    lines += [f"| touchdown time, SP - full mass (s) | {touchdown} |",
+              f"| main riser peak of each stage, SP against full mass (%) | {peaks} |",
+              f"| engine solve time, full mass RK4 / SP, median of 3 rounds | {ratio}x |"]
+    lines += [f"| {label} | {rows[label][3]} |" for label in rows if label.startswith(("apparent mass, MER",
+                                                                                      "inflation + riser table"))]
+    return lines
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
-    return [count, *sp_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines()]
+    return [count, *sp_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
+            *canopy_lines()]
 
 
 def _key(line: str) -> str:

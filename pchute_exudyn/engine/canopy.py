@@ -33,11 +33,15 @@ class ApparentMassTerms:
         self.altitude, self.density = case.start.altitude_scalar, case.atmosphere.density
         self.air = AirMotion(case.start, case.wind)
         self.model = model
+        self.cached = None   # (t, masses()) of the last user-function call
 
-    def masses(self):
-        """(R row-major, CoM position, A_t diagonal, A_r diagonal) at the current state."""
+    def masses(self, t=None):
+        """(R row-major, CoM position, A_t diagonal, A_r diagonal) at the current state; the user functions of one
+        stage (mass matrix, then forces) share one evaluation, keyed by time and position."""
         get, node = self.get, self.node
-        x, y, z = get(node, OV.Position, CURRENT).tolist()
+        x, y, z = position = get(node, OV.Position, CURRENT).tolist()
+        if t is not None and self.cached is not None and self.cached[0] == t and self.cached[1][1] == position:
+            return self.cached[1]
         r = get(node, OV.RotationMatrix, CURRENT).tolist()
         cx, cy, cz = self.center
         try:
@@ -48,17 +52,20 @@ class ApparentMassTerms:
             self.model.record_failure(exc)
             raise
         translational, rotational = self.apparent.masses(rho)
-        return r, (x, y, z), translational, rotational
+        values = (r, position, translational, rotational)
+        if t is not None:
+            self.cached = (t, values)
+        return values
 
     def mass_matrix(self, mbs, t, item, q, q_t):
-        r, _, translational, rotational = self.masses()
+        r, _, translational, rotational = self.masses(t)
         matrix = np.zeros((6, 6))
         matrix[:3, :3] = translational_mass_matrix(r, translational)
         matrix[3, 3], matrix[4, 4], matrix[5, 5] = rotational
         return matrix
 
     def force(self, mbs, t, item, q, q_t):
-        r, (x, y, z), translational, rotational = self.masses()
+        r, (x, y, z), translational, rotational = self.masses(t)
         vx, vy, vz, wx, wy, wz = q_t.tolist() if hasattr(q_t, "tolist") else q_t
         if not self.air.still:
             ax, ay, az = self.air(x, y, z, self.altitude(x, y, z), t)
@@ -89,7 +96,7 @@ def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, a
     last = [model.phase.start]
 
     def before_step(mbs, t):   # t: the coming step's end; the state is still the step's start
-        if progress.due(t):
+        if progress.pending is None and progress.due(t):   # (a retried, halved implicit step keeps its start)
             progress.begin(last[0], speed_reader(last[0]))
 
     def after_step(mbs, t):

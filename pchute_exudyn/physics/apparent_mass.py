@@ -109,7 +109,16 @@ def kirchhoff_terms(rotation, air_velocity, angular_velocity, translational, rot
 
 
 def translational_mass_matrix(rotation, translational) -> list:
-    """R A_t R^T (kg), the translational apparent mass in inertial axes, as 3 rows."""
+    """R A_t R^T (kg), the translational apparent mass in inertial axes, as 3 rows (symmetric)."""
     r = rotation
-    rows = ((r[0], r[1], r[2]), (r[3], r[4], r[5]), (r[6], r[7], r[8]))
-    return [[sum(rows[i][k] * translational[k] * rows[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
+    a, b, c = translational
+    r0, r1, r2 = a * r[0], b * r[1], c * r[2]   # row i of R A_t
+    r3, r4, r5 = a * r[3], b * r[4], c * r[5]
+    r6, r7, r8 = a * r[6], b * r[7], c * r[8]
+    m00 = r0 * r[0] + r1 * r[1] + r2 * r[2]
+    m01 = r0 * r[3] + r1 * r[4] + r2 * r[5]
+    m02 = r0 * r[6] + r1 * r[7] + r2 * r[8]
+    m11 = r3 * r[3] + r4 * r[4] + r5 * r[5]
+    m12 = r3 * r[6] + r4 * r[7] + r5 * r[8]
+    m22 = r6 * r[6] + r7 * r[7] + r8 * r[8]
+    return [[m00, m01, m02], [m01, m11, m12], [m02, m12, m22]]
