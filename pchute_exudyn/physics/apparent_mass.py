@@ -24,13 +24,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .invalid import InvalidField
 
-class ApparentMassError(ValueError):
+
+class ApparentMassError(InvalidField):
     """Invalid apparent-mass input; ``field`` names it."""
-
-    def __init__(self, field: str, value, message: str):
-        super().__init__(message)
-        self.field, self.value = field, value
 
 
 @dataclass(frozen=True)

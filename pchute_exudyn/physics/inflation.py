@@ -21,13 +21,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .invalid import InvalidField
 
-class InflationError(ValueError):
-    """Invalid inflation input; ``field`` names it (``stages.<key>`` for a stage column)."""
 
-    def __init__(self, field: str, value, message: str):
-        super().__init__(message)
-        self.field, self.value = field, value
+class InflationError(InvalidField):
+    """Invalid inflation input; ``field`` names its key (a stage column such as ``fill_constant`` for a stage)."""
 
 
 @dataclass(frozen=True)

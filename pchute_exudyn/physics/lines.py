@@ -29,13 +29,11 @@ from itertools import repeat
 
 import numpy as np
 
+from .invalid import InvalidField
 
-class LoadElongationError(ValueError):
+
+class LoadElongationError(InvalidField):
     """A load-elongation table that is not a valid line law; ``field`` names the offending column."""
-
-    def __init__(self, field: str, value, message: str):
-        super().__init__(message)
-        self.field, self.value = field, value
 
 
 @dataclass(frozen=True)
