@@ -147,9 +147,8 @@ def _spinning(case):
 REFERENCE = json.loads((ROOT / "tests" / "data" / "reference_runs.json").read_text())
 
 
-@pytest.mark.parametrize("name, case_file, method, integrator, duration",
-                         [run for run in reference_runs.RUNS if run[0] in
-                          {"mer1_sp_rk4", "mer3_equilibrium_rk4", "mer5_full_implicit", "mer6_sp_rk4", "pa1_sp"}])
+@pytest.mark.parametrize("name, case_file, method, integrator, duration", reference_runs.RUNS,
+                         ids=[run[0] for run in reference_runs.RUNS])
 def test_results_are_exactly_those_of_the_code_before_the_canopy_physics(name, case_file, method, integrator,
                                                                           duration):
     """tests/data/reference_runs.json was written by tests/reference_runs.py from commit 53493ef (before issue 13)."""
