@@ -240,11 +240,11 @@ def add_bodies(model: Model, case: Case, snapshot: bool = False) -> None:
             system = case.canopy_system(body.name)
             schedule = system.drag_area_schedule if system is not None else None
             deployed = system.deploy_time if system is not None and system.deploy_time is not None else 0.0
-            if system is not None and system.inflation is not None:
-                schedule = phase.inflation[system.name]
-            loads[body.name] = add_aerodynamics(model, case, body, schedule, deployed)
-            if system is not None and system.inflation is not None and loads[body.name] is not None:
-                add_inflation_hooks(model, system.name, body.name, schedule, loads[body.name])
+            opening = phase.inflation.get(system.name) if system is not None else None
+            loads[body.name] = add_aerodynamics(model, case, body, schedule if opening is None else opening,
+                                               deployed)
+            if opening is not None and loads[body.name] is not None:
+                add_inflation_hooks(model, system.name, body.name, opening, loads[body.name])
 
 
 MAX_DESCENT_ACCELERATION = 30.0

@@ -66,6 +66,7 @@ class ApparentMassTerms:
 
     def force(self, mbs, t, item, q, q_t):
         r, (x, y, z), translational, rotational = self.masses(t)
+        # the node's velocity (inertial) and body-axis angular velocity; Exudyn passes a list or an array
         vx, vy, vz, wx, wy, wz = q_t.tolist() if hasattr(q_t, "tolist") else q_t
         if not self.air.still:
             ax, ay, az = self.air(x, y, z, self.altitude(x, y, z), t)
@@ -108,6 +109,7 @@ def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, a
     model.add_post_step(after_step, first=True)
     model.add_channel(ColumnChannel(f"{system_name}_drag_area_fraction", "-"),
                       lambda: progress(get_time() - progress.line_stretch))
+
     def force_magnitude():
         fx, fy, fz = aerodynamic_load(model.mbs, get_time(), None)
         return math.sqrt(fx * fx + fy * fy + fz * fz)
