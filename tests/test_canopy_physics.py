@@ -209,5 +209,9 @@ def test_pa1_inflation_sp_matches_full_mass_and_is_faster(pa1_inflation):
     assert abs(touchdown["sp"] - touchdown["full"]) <= 0.2
     for a, b in zip(sp["opening_loads"]["main"], full["opening_loads"]["main"]):
         assert a["peaks"]["riser"]["tension"] == pytest.approx(b["peaks"]["riser"]["tension"], rel=0.03)
-    # the engine's solve times of the two runs, side by side in this process
-    assert full["wall_time"] / sp["wall_time"] >= 8.0, (full["wall_time"], sp["wall_time"])
+    # engine solve times side by side in this process, the best of repeated runs of each (best of 2 for full mass,
+    # of 3 for the 1 s SP run, which a scheduler hiccup on a loaded 2-core machine moves the most)
+    case = load_case(ROOT / "cases" / "cev_pa1_inflation.toml")
+    full_time = min(full["wall_time"], simulate(case, "full").summary["wall_time"])
+    sp_time = min([sp["wall_time"]] + [simulate(case, "sp").summary["wall_time"] for _ in range(2)])
+    assert full_time / sp_time >= 8.0, (full_time, sp_time)
