@@ -55,7 +55,7 @@ class FixedConfluence(Method):
 
     def build(self, case, phase):
         model = Model(case, phase)
-        add_bodies(model, case, snapshot=True)
+        add_bodies(model, case, reduced=True)
         for system in model.systems:
             PinnedConfluence(model, case, system, phase.confluence_states[system.name]).register(case)
         return model.assemble()

@@ -1,5 +1,5 @@
-"""Exudyn items every method shares: rigid bodies, spherical gravity, aerodynamic loads, the body snapshot,
-the full-mass confluence point and the touchdown stop condition.
+"""Exudyn items every method shares: rigid bodies, spherical gravity, aerodynamic loads (applied through the model's
+``engine.stage.Stage``), the full-mass confluence point and the touchdown stop condition.
 
 All coordinates are in the start frame (local east/north/up of the start point, origin on the ellipsoid), which is
 inertial; see ``docs/models/conventions.md``. Exudyn's CamelCase API stays in this package (``engine``).
@@ -15,12 +15,12 @@ import numpy as np
 from ..case.model import Body, Case
 from ..physics.aerodynamics import aerodynamic_force
 from ..physics.air import AirMotion
-from ..physics.kinematics import point_motion
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
 from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
 from .canopy import add_apparent_mass, add_inflation_hooks
 from .model import CURRENT, OV, BodyItems, Confluence, Model
+from .stage import Stage
 
 
 def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -> None:
@@ -87,45 +87,6 @@ def add_body(model: Model, case: Case, body: Body, state: BodyState | None = Non
     return result
 
 
-_SNAPSHOT_OUTPUTS = (OV.Position, OV.Velocity, OV.RotationMatrix, OV.AngularVelocity)
-
-
-class BodySnapshot:
-    """The free bodies' states read once per right-hand-side evaluation (4 engine calls per body), from which user
-    functions of the same stage compute any body point in plain floats instead of reading markers.
-
-    Only models whose stages start with an ODE1 right-hand side (SP, equilibrium point) use it: Exudyn evaluates that
-    before the loads of the stage, and once more at the end of each step, which makes the snapshot current for the
-    post-step sampling too.
-    """
-
-    def __init__(self, model: Model, names):
-        self.nodes = [(name, model.bodies[name].node) for name in names]
-        self.get = model.mbs.GetNodeOutput
-        self.state = {}
-
-    def refresh(self) -> None:
-        get, state = self.get, self.state
-        position, velocity, rotation, rate = _SNAPSHOT_OUTPUTS
-        for name, node in self.nodes:   # the configuration argument left at its default, Current: a little faster
-            state[name] = (get(node, position).tolist(), get(node, velocity).tolist(), get(node, rotation).tolist(),
-                           get(node, rate).tolist())
-
-    def serve_channels(self, model: Model) -> None:
-        """Serve the bodies' output channels from the snapshot (current at every post-step call)."""
-        for name, _ in self.nodes:
-            model.add_channel(BodyChannel(name, "position"), lambda name=name: self.state[name][0])
-            model.add_channel(BodyChannel(name, "velocity"), lambda name=name: self.state[name][1])
-            model.add_channel(BodyChannel(name, "rotation"), lambda name=name: self.state[name][2])
-            model.add_channel(BodyChannel(name, "angular_velocity"), lambda name=name: self.local_rate(name))
-
-    def local_rate(self, name: str) -> list:
-        """Angular velocity in body axes (rad/s): R^T w."""
-        _, _, r, w = self.state[name]
-        return [r[0] * w[0] + r[3] * w[1] + r[6] * w[2], r[1] * w[0] + r[4] * w[1] + r[7] * w[2],
-                r[2] * w[0] + r[5] * w[1] + r[8] * w[2]]
-
-
 def node_reader(mbs, node: int, kind):
     """A reader of one node output in the current configuration (as a list of floats, like every channel)."""
     get = mbs.GetNodeOutput
@@ -164,76 +125,73 @@ def _engine_reader(model: Model, body: Body, marker: int):
     return read
 
 
-def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0):
-    """The body's aerodynamic force as a load at its aerodynamic centre, evaluated at every solver stage; returns
-    the load's user function (or None for a body without aerodynamics).
+class BodyAerodynamics:
+    """A body's aerodynamic force at its aerodynamic centre (``physics.aerodynamics``), with the velocity taken
+    relative to the air (planet rotation and wind, ``physics.air``); ``schedule`` (a drag-area schedule or an
+    opening) scales the coefficients by its fraction at the time since ``deployed_at`` (s).
 
-    A Python load user function (no symbolic function can read the state): the state comes from the stage's body
-    snapshot when the model keeps one (no engine call), else from three engine calls; the rest is plain floats
-    (``physics``). The velocity is taken relative to the air (planet rotation and wind,
-    ``physics.air``); ``schedule`` (a drag-area schedule) scales the coefficients by its fraction at the time since
-    ``deployed_at`` (s).
+    The model's stage evaluates ``force`` at every solver stage from the stage's body states; calling the object
+    evaluates it alone at the engine's current state (three engine reads: outputs, tests).
     """
+
+    def __init__(self, model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0):
+        aero = body.aerodynamics
+        self.model, self.body, self.center = model, body.name, tuple(aero.center)
+        marker = model.mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=model.bodies[body.name].object,
+                                                            localPosition=list(aero.center)))
+        self.read = _engine_reader(model, body, marker)
+        self.altitude, self.density = case.start.altitude_scalar, case.atmosphere.density
+        self.air = AirMotion(case.start, case.wind)
+        self.area, self.axial, self.normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
+        self.schedule, self.deployed_at = schedule, deployed_at
+
+    def force(self, t: float, centre, axis) -> tuple:
+        """Force (N) at time ``t`` (s) for the centre's (x, y, z, vx, vy, vz) (m, m/s) and the body +x axis."""
+        x, y, z, vx, vy, vz = centre
+        h = self.altitude(x, y, z)
+        rho = self.density(h)
+        if not self.air.still:
+            wx, wy, wz = self.air(x, y, z, h, t)
+            vx, vy, vz = vx - wx, vy - wy, vz - wz
+        fraction = 1.0 if self.schedule is None else self.schedule(t - self.deployed_at)
+        return aerodynamic_force((vx, vy, vz), axis, rho, self.area, self.axial, self.normal, fraction)
+
+    def __call__(self, mbs, t: float, load=None) -> tuple:
+        (x, y, z), (vx, vy, vz), r = self.read()
+        return self.force(t, (x, y, z, vx, vy, vz), (r[0], r[3], r[6]))
+
+    def air_speed(self, time: float) -> float:
+        """The aerodynamic centre's air speed (m/s) from the engine at run time ``time`` (s; a step's start or
+        end)."""
+        (x, y, z), (vx, vy, vz), _ = self.read()
+        if not self.air.still:
+            wx, wy, wz = self.air(x, y, z, self.altitude(x, y, z), time)
+            vx, vy, vz = vx - wx, vy - wy, vz - wz
+        return math.sqrt(vx * vx + vy * vy + vz * vz)
+
+
+def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0):
+    """The body's aerodynamic load, applied through the model's stage; returns its ``BodyAerodynamics`` (None for
+    a body without aerodynamics)."""
     aero = body.aerodynamics
     if aero is None or not aero.enabled:
         return None
-    mbs = model.mbs
-    marker = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=model.bodies[body.name].object,
-                                                  localPosition=list(aero.center)))
-    snapshot, name, center = model.snapshot, body.name, tuple(aero.center)
-    read = _engine_reader(model, body, marker)
-    altitude, density = case.start.altitude_scalar, case.atmosphere.density
-    air = AirMotion(case.start, case.wind)
-    still = air.still
-    area, axial, normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
-
-    def aerodynamic_load(mbs_, t, load_vector):
-        if snapshot is not None:   # the stage's right-hand side has read the bodies already
-            state = snapshot.state[name]
-            (x, y, z), (vx, vy, vz) = point_motion(state, center)
-            r = state[2]
-        else:
-            (x, y, z), (vx, vy, vz), r = read()
-        try:
-            h = altitude(x, y, z)
-            rho = density(h)
-        except Exception as exc:  # keep our own error (e.g. outside an atmosphere table) for the solver to raise
-            model.record_failure(exc)
-            raise
-        if not still:
-            wx, wy, wz = air(x, y, z, h, t)
-            vx, vy, vz = vx - wx, vy - wy, vz - wz
-        fraction = 1.0 if schedule is None else schedule(t - deployed_at)
-        return list(aerodynamic_force((vx, vy, vz), (r[0], r[3], r[6]), rho, area, axial, normal, fraction))
-
-    mbs.AddLoad(eii.LoadForceVector(markerNumber=marker, loadVectorUserFunction=aerodynamic_load,
-                                    visualization=eii.VLoadForceVector(show=False)))
-    aerodynamic_load.air_speed = _air_speed_reader(read, air, altitude)
-    return aerodynamic_load
+    aerodynamics = BodyAerodynamics(model, case, body, schedule, deployed_at)
+    model.stage.add_aerodynamics(aerodynamics)
+    return aerodynamics
 
 
-def _air_speed_reader(read, air: AirMotion, altitude):
-    """A reader of the aerodynamic centre's air speed (m/s) from the engine at run time ``time`` (s; a step's start
-    or end)."""
-    def speed(time: float) -> float:
-        (x, y, z), (vx, vy, vz), _ = read()
-        if not air.still:
-            wx, wy, wz = air(x, y, z, altitude(x, y, z), time)
-            vx, vy, vz = vx - wx, vy - wy, vz - wz
-        return math.sqrt(vx * vx + vy * vy + vz * vz)
-    return speed
-
-
-def add_bodies(model: Model, case: Case, snapshot: bool = False) -> None:
-    """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics;
-    ``snapshot``: the model's right-hand side keeps a BodySnapshot that the loads and outputs read."""
+def add_bodies(model: Model, case: Case, reduced: bool = False) -> None:
+    """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics, and the
+    model's stage; ``reduced``: the model's right-hand side refreshes the stage's body states at every stage, and
+    the body channels read them."""
     phase = model.phase
     for body in case.bodies.values():
         if body.fixed or body.name in phase.bodies:
             add_body(model, case, body, phase.body_states.get(body.name))
-    if snapshot and phase.systems:   # refreshed by the systems' right-hand sides, so only when there are some
-        model.snapshot = BodySnapshot(model, phase.bodies)
-        model.snapshot.serve_channels(model)
+    model.stage = Stage(model, case)
+    if reduced and phase.systems:   # refreshed by the systems' right-hand sides, so only when there are some
+        model.stage.serve_channels()
     loads = model.aerodynamic_loads
     for body in case.bodies.values():
         if body.name in phase.bodies:

@@ -82,7 +82,7 @@ class EquilibriumConfluence(ReducedConfluence):
 def build_equilibrium_model(case: Case, phase: Phase) -> Model:
     """Build the equilibrium-point Exudyn model of ``case`` for one phase."""
     model = Model(case, phase)
-    add_bodies(model, case, snapshot=True)
+    add_bodies(model, case, reduced=True)
     for system in model.systems:
         EquilibriumConfluence(model, case, system, phase.confluence_states[system.name]).register(case)
     return model.assemble()

@@ -59,6 +59,9 @@ class Confluence:
         """Facts for the run summary (counts add up over phases: see ``summary.merge_facts``)."""
         return {}
 
+    def warm_up(self) -> None:
+        """Work to do before the timed solve (a reduced confluence solves at the start state)."""
+
 
 class Model:
     """A built Exudyn model of one phase of a run (see the module docstring).
@@ -85,8 +88,8 @@ class Model:
         self.post_step_hooks: list = []   # (mbs, t) after every step and once at the start
         self.stop_conditions: list = []   # (t) -> True ends the run after this step
         self.post_step_count = [0]        # bumped by the solver at every post-step call
-        self.snapshot = None              # engine.bodies.BodySnapshot of models with a right-hand side
-        self.aerodynamic_loads: dict = {}  # body -> its aerodynamic load user function (to evaluate it alone)
+        self.stage = None                 # engine.stage.Stage: body states and the Python-computed loads
+        self.aerodynamic_loads: dict = {}  # body -> its engine.bodies.BodyAerodynamics (to evaluate it alone)
         self.failure: Exception | None = None
         self._keep_alive: list = []       # symbolic user functions must outlive the solve
 
@@ -118,8 +121,20 @@ class Model:
         self.failure = self.failure or exc
 
     def assemble(self) -> Model:
+        if self.stage is not None:
+            self.stage.add_item()
         self.mbs.Assemble()
+        if self.stage is not None:
+            self.stage.assembled()
         return self
+
+    def warm_up(self) -> None:
+        """Before the timed solve: load the compiled kernels and make each confluence's first solve (at the start
+        state, which the first post-step call then reuses)."""
+        if self.stage is not None and self.stage.global_layout is not None:
+            self.stage.warm_up()
+        for confluence in self.confluences.values():
+            confluence.warm_up()
 
     # -- reading ----------------------------------------------------------------------------------------------------
 

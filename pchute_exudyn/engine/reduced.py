@@ -3,10 +3,10 @@
 The confluence's state is a ``NodeGenericODE1`` with an ``ObjectGenericODE1`` whose right-hand side solves the method
 (SP: its three coordinates are the confluence position and the right-hand side its velocity; equilibrium point: one
 dummy coordinate with zero derivative, there only so that the solve runs once per stage). The line forces reach the
-bodies as loads at the attach points. Exudyn's RK44 evaluates, in every stage, the ODE1 right-hand side before the
-loads, so the right-hand side solves once and the loads hand out its forces; after the last stage it evaluates the
-right-hand side once more at the end-of-step state, which the post-step work and the output sampling reuse
-(recomputing if the state differs).
+bodies as a generalized-force part of the model's stage (``engine.stage``). Exudyn's RK44 evaluates, in every stage,
+the ODE1 right-hand side before the ODE2 forces, so the right-hand side solves once (on the stage's body states) and
+the stage's force item hands out its forces; after the last stage it evaluates the right-hand side once more at the
+end-of-step state, which the post-step work and the output sampling reuse (recomputing if the state differs).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
-from ..physics.kinematics import point_motion
+from ..physics.kinematics import add_point_forces, point_motions
 from ..state import ConfluenceChannel, MethodChannel, TensionChannel
 from .model import CURRENT, OV, Confluence, Model
 
@@ -25,7 +25,8 @@ from .model import CURRENT, OV, Confluence, Model
 class ReducedConfluence(Confluence):
     """Base class: subclasses implement ``compute(t, q, positions, velocities)`` returning a solution with
     ``velocity``, ``tensions`` and ``directions``, and ``derivative(solution)`` for the ODE1 states; ``OUTPUTS``
-    names the quantities they report per system (name -> (unit, function of the confluence))."""
+    names the quantities they report per system (name -> (unit, function of the confluence)). A subclass with a
+    compiled stage kernel overrides ``solve_stage`` instead of ``compute``."""
 
     OUTPUTS: dict = {}
 
@@ -38,28 +39,23 @@ class ReducedConfluence(Confluence):
         self.damping = [line.damping for line in system.lines]
         tables = [line.load_elongation for line in system.lines]
         self.tables = tables if any(table is not None for table in tables) else None   # None: the linear path
-        self.markers = [model.bodies[line.body].point_markers[line.point] for line in system.lines]
-        self.snapshot = model.snapshot
-        fixed = {name for name, body in case.bodies.items() if body.fixed}
-        # attach points from the stage snapshot (free bodies) or their ground markers (fixed bodies)
-        self.points = [(line.body, tuple(case.bodies[line.body].points[line.point]), marker, line.body in fixed)
-                       for line, marker in zip(system.lines, self.markers)]
+        self.stage = model.stage
+        self.points = model.stage.points([(line.body, case.bodies[line.body].points[line.point])
+                                          for line in system.lines])
+        self.part = model.stage.add_part()                  # the lines' generalized forces on the bodies
+        self.attach_motion = np.zeros((len(system.lines), 6))
+        self.line_forces = np.zeros((len(system.lines), 3))
         self.node = mbs.AddNode(eii.NodeGenericODE1(referenceCoordinates=[0.0] * len(initial_states),
                                                     initialCoordinates=list(initial_states),
                                                     numberOfODE1Coordinates=len(initial_states)))
         mbs.AddObject(eii.ObjectGenericODE1(nodeNumbers=[self.node], rhsUserFunction=self._rhs))
-        self.forces = [[0.0, 0.0, 0.0] for _ in system.lines]
         self.solution = None
         self.solved_at = None       # (t, q) of self.solution
         self.solved_at_end = False  # self.solution is at an end-of-step state (nothing has changed since)
         self.calls_in_step = 0      # right-hand-side calls since the step began
         self._checked = -1          # post-step call in which self.solution was last confirmed current
-        self._get_marker = mbs.GetMarkerOutput
         self._get_node = mbs.GetNodeOutput
         self._get_time = mbs.systemData.GetTime
-        for i, marker in enumerate(self.markers):
-            mbs.AddLoad(eii.LoadForceVector(markerNumber=marker, loadVectorUserFunction=self._load(i),
-                                            visualization=eii.VLoadForceVector(show=False)))
 
     def compute(self, t, q, positions, velocities):  # pragma: no cover - interface
         raise NotImplementedError
@@ -75,7 +71,8 @@ class ReducedConfluence(Confluence):
         self.calls_in_step = 0
 
     def confirm(self, mbs, t):
-        """Post-step hook, before any other: make the solution (and the body snapshot) current for the step's end.
+        """Post-step hook, before any other: make the solution (and the stage's body states) current for the step's
+        end.
 
         The right-hand side's last call in a step is at the end-of-step state and time, and nothing changes the state
         between it and this hook, so a solve marked ``at_end`` at time ``t`` is current without reading the state
@@ -93,24 +90,24 @@ class ReducedConfluence(Confluence):
         self.add_channels(case)
 
     def solve(self, t, q, at_end: bool = False):
-        """Solve at the current attach-point states and ODE1 coordinates ``q``; stores forces, caches.
+        """Solve at the current stage's body states and ODE1 coordinates ``q``; writes the line forces, caches.
         ``at_end``: the state is an end-of-step one (post-step work, or the call after the last stage)."""
-        snapshot, get = self.snapshot, self._get_marker
-        snapshot.refresh()
-        state = snapshot.state
-        positions, velocities = [], []
-        for body, local, marker, fixed in self.points:
-            if fixed:
-                positions.append(get(marker, OV.Position, CURRENT).tolist())
-                velocities.append((0.0, 0.0, 0.0))
-                continue
-            position, velocity = point_motion(state[body], local)
-            positions.append(position)
-            velocities.append(velocity)
-        solution = self.compute(t, q, positions, velocities)
-        for force, t_i, (nx, ny, nz) in zip(self.forces, solution.tensions, solution.directions):
-            force[0], force[1], force[2] = -t_i * nx, -t_i * ny, -t_i * nz   # on the body: -T n
+        self.stage.refresh()
+        solution = self.solve_stage(t, q)
         self.solution, self.solved_at, self.solved_at_end = solution, (t, q), at_end
+        return solution
+
+    def solve_stage(self, t, q):
+        """The method's solve on the stage's body states: attach points, ``compute``, the forces -T n on the
+        bodies into ``part``."""
+        states, motion = self.stage.states, self.attach_motion
+        point_motions(states, self.points, motion)
+        solution = self.compute(t, q, motion[:, :3].tolist(), motion[:, 3:].tolist())
+        forces = self.line_forces
+        for i, (t_i, (nx, ny, nz)) in enumerate(zip(solution.tensions, solution.directions)):
+            forces[i] = -t_i * nx, -t_i * ny, -t_i * nz   # on the body: -T n
+        self.part.fill(0.0)
+        add_point_forces(states, self.points, forces, self.part)
         return solution
 
     def acceleration(self):
@@ -134,10 +131,6 @@ class ReducedConfluence(Confluence):
             self.model.record_failure(exc)
             raise
 
-    def _load(self, i):
-        force = self.forces[i]
-        return lambda mbs, t, load: force
-
     def current(self):
         """The solution at the current (end-of-step) state, reusing the last right-hand side when it matches;
         checked once per post-step call (``model.post_step_count``), then served as it is."""
@@ -146,9 +139,16 @@ class ReducedConfluence(Confluence):
         t = self._get_time()
         q = np.atleast_1d(self._get_node(self.node, OV.Coordinates, CURRENT)).tolist()
         if not (self.solved_at_end and self.solved_at == (t, q)):
+            self.stage.stale = True   # the state may differ from the last stage's
             self.solve(t, q, at_end=True)
         self._checked = self.model.post_step_count[0]
         return self.solution
+
+    def warm_up(self) -> None:
+        """A solve at the phase start (the first post-step call reuses it when the state matches)."""
+        q = np.atleast_1d(self._get_node(self.node, OV.Coordinates, CURRENT)).tolist()
+        self.stage.stale = True
+        self.solve(self.model.phase.start, q, at_end=True)
 
     def current_coordinates(self) -> list:
         """The ODE1 coordinates of ``current()``'s solution."""
@@ -165,12 +165,16 @@ class ReducedConfluence(Confluence):
     def velocity(self) -> list:
         return self.current().velocity
 
+    def tension_reader(self, i: int):
+        """The reader of line ``i``'s tension channel (N)."""
+        return lambda: self.current().tensions[i]
+
     def add_channels(self, case: Case) -> None:
         """Output channels: confluence position and velocity, the line tensions and the method's ``OUTPUTS``."""
         name = self.system.name
         self.model.add_channel(ConfluenceChannel(name, "position"), self.position_reader())
         self.model.add_channel(ConfluenceChannel(name, "velocity"), self.velocity)
         for i, line in enumerate(self.system.lines):
-            self.model.add_channel(TensionChannel(name, line.name), lambda i=i: self.current().tensions[i])
+            self.model.add_channel(TensionChannel(name, line.name), self.tension_reader(i))
         for output, (unit, value) in self.OUTPUTS.items():
             self.model.add_channel(MethodChannel(name, output, unit), partial(value, self))

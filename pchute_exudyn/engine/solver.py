@@ -135,7 +135,9 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
         try:
             for hook in post_hooks:
                 hook(mbs_, t)
-            stop = any([condition(t) for condition in stop_conditions])
+            stop = False
+            for condition in stop_conditions:
+                stop = condition(t) or stop
             if stop or t >= next_sample[0] - 0.5 * step or t >= end - 0.5 * step:
                 rows.append([read() for read in reads])
                 times.append(grid_time(t, start, step, output_step))
@@ -223,6 +225,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))
     post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report)
     model.mbs.SetPostStepUserFunction(post_step)
+    model.warm_up()
     wall = _solve(model, settings, solver_type, progress, integrator, step)
     if progress["interrupted"]:
         raise Interrupted(progress["time"], duration)

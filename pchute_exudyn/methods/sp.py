@@ -14,43 +14,73 @@ from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS
 from .base import Method, StepLimit, line_arrays, option_field
 
 
+PRESETS = {"accurate": {"kappa_max": 10.0, "order": 1}, "thesis": {"kappa_max": 5.0, "order": 0}}
+"""SP presets: kappa_max and the confluence-mass order they stand for. ``thesis``: the thesis's settings (Eq. 3.10,
+kappa_max = 5). ``accurate`` (the default): the confluence mass to first order, which removes the error of the
+massless balance where the confluence swings with a body (MER cases 5-6, PA1's rocking capsule), and kappa_max = 10,
+which halves the artificial confluence damping while a line is slack (MER cases 3-4): at most 1.3 N of tension error
+after 2 s in every MER case at 1e-2 s, against 82 N with the thesis's settings, at the same cost
+(validation/output/benchmark_sp.md). kappa_max = 20 is as accurate at 1e-2 s but not at 2e-2 s."""
+
+
 @dataclass(frozen=True)
 class SPOptions:
     """Options of the SP method (``[simulation.sp]`` in a case file).
 
     Attributes
     ----------
-    kappa_max : float
-        Largest condition number of alpha (Eq. 3.13) accepted while a line is slack (-, > 3; the thesis used 5).
+    preset : {"accurate", "thesis"}
+        The kappa_max and order to use where they are not given (``PRESETS``).
+    kappa_max : float or None
+        Largest condition number of alpha (Eq. 3.13) accepted while a line is slack (-, > 3; the thesis used 5);
+        None: the preset's.
     slack_rule : {"stretch", "force"}
         stretch: a line is slack when L <= L0 (the thesis); force: also when its tension would push (active set).
-    order : {0, 1}
+    order : {0, 1} or None
         Order in the confluence mass: 0 drops it (Eq. 3.10, the thesis), 1 keeps its weight and inertia to first
-        order.
+        order; None: the preset's.
     """
 
-    kappa_max: float = option_field(5.0, "--kappa-max", float, "largest condition number of alpha (thesis Eq. "
-                                    "3.13) while a line is slack, > 3")
+    preset: str = option_field("accurate", "--sp-preset", str, "kappa_max and order unless given: thesis = 5 and 0 "
+                               "(the thesis's settings), accurate = 10 and 1 (the default)", tuple(PRESETS))
+    kappa_max: float | None = option_field(None, "--kappa-max", float, "largest condition number of alpha (thesis "
+                                           "Eq. 3.13) while a line is slack, > 3 (default: the preset's)")
     slack_rule: str = option_field("stretch", "--slack-rule", str, "when a line counts as slack: stretch = L <= L0 "
                                    "(the thesis), force = its tension would push (active set)", SLACK_RULES)
-    order: int = option_field(0, "--sp-order", int, "0 = massless confluence (Eq. 3.10, the thesis), 1 = its "
-                              "weight and inertia kept to first order", SP_ORDERS)
+    order: int | None = option_field(None, "--sp-order", int, "0 = massless confluence (Eq. 3.10, the thesis), 1 = "
+                                     "its weight and inertia kept to first order (default: the preset's)", SP_ORDERS)
 
     def __post_init__(self):
+        if self.preset not in PRESETS:
+            raise OptionError("preset", self.preset, f"must be one of: {', '.join(PRESETS)}")
         kappa = self.kappa_max
-        if isinstance(kappa, bool) or not isinstance(kappa, (int, float)) or not (math.isfinite(kappa) and kappa > 3):
-            raise OptionError("kappa_max", kappa, "must be > 3 (the Frobenius condition number of Eq. 3.13 "
-                                                  "is at least 3 for any 3x3 matrix; the thesis used 5)")
+        if kappa is not None:
+            if isinstance(kappa, bool) or not isinstance(kappa, (int, float)) or \
+                    not (math.isfinite(kappa) and kappa > 3):
+                raise OptionError("kappa_max", kappa, "must be > 3 (the Frobenius condition number of Eq. 3.13 "
+                                                      "is at least 3 for any 3x3 matrix; the thesis used 5)")
+            object.__setattr__(self, "kappa_max", float(kappa))
         if self.slack_rule not in SLACK_RULES:
             raise OptionError("slack_rule", self.slack_rule, f"must be one of: {', '.join(SLACK_RULES)}")
-        if isinstance(self.order, bool) or self.order not in SP_ORDERS:
-            raise OptionError("order", self.order, "must be 0 (the massless balance of Eq. 3.10, the thesis) or 1 "
-                                                   "(the confluence mass kept to first order)")
-        object.__setattr__(self, "kappa_max", float(kappa))
-        object.__setattr__(self, "order", int(self.order))
+        if self.order is not None:
+            if isinstance(self.order, bool) or self.order not in SP_ORDERS:
+                raise OptionError("order", self.order, "must be 0 (the massless balance of Eq. 3.10, the thesis) or "
+                                                       "1 (the confluence mass kept to first order)")
+            object.__setattr__(self, "order", int(self.order))
+
+    @property
+    def effective_kappa_max(self) -> float:
+        """kappa_max in effect (-): the given one, else the preset's."""
+        return PRESETS[self.preset]["kappa_max"] if self.kappa_max is None else self.kappa_max
+
+    @property
+    def effective_order(self) -> int:
+        """The confluence-mass order in effect: the given one, else the preset's."""
+        return PRESETS[self.preset]["order"] if self.order is None else self.order
 
     def summary(self) -> dict:
-        return {"kappa_max": self.kappa_max, "slack_rule": self.slack_rule, "sp_order": self.order}
+        return {"sp_preset": self.preset, "kappa_max": self.effective_kappa_max, "slack_rule": self.slack_rule,
+                "sp_order": self.effective_order}
 
 
 class SingularPerturbation(Method):

@@ -1,27 +1,89 @@
-"""Rigid-body point kinematics: the one home of r_p = r + R p and v_p = v + w x (R p).
+"""Rigid-body point kinematics: the one home of r_p = r + R p and v_p = v + w x (R p), and of a point force's
+generalized force on a rotation-vector body node.
 
 ``R`` maps body axes to the start frame (an attitude matrix), ``p`` is a point in body axes relative to the centre of
-mass (m), ``w`` the angular velocity. Two forms of the same formula: ``point_motion`` in plain floats for the
-per-stage user functions (a function call on lists is cheaper there than any numpy call), and ``body_point`` in numpy
-for whole histories (any leading axes). The tests check that they agree.
+mass (m), ``w`` the angular velocity. Two forms of the same formula: compiled kernels on a stage's body states
+(``body_states``, ``point_motions``) for the per-stage user functions, and ``body_point`` in numpy for whole
+histories (any leading axes). The tests check that they agree.
+
+A stage's body states are rows of STATE_COLUMNS = 21 floats: position (m), attitude matrix R row-major, velocity
+(m/s), angular velocity in start-frame components (rad/s), angular velocity in body axes (rad/s). A body's
+generalized force on its node (Exudyn's ``NodeRigidBodyRotVecLG``, whose velocity coordinates are the velocity and
+the body-axis angular velocity) is the force (N, start frame) and the moment about the centre of mass in body axes
+(N m).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .compiled import kernel
+from .rotations import rotation_from_vector
 
-def point_motion(body_state, local) -> tuple:
-    """Position (m) and velocity (m/s) of the body point ``local`` (body axes, m), start-frame components.
+STATE_COLUMNS = 21
+POINT_COLUMNS = 5
+"""Columns of a point layout row: body (index into the states), point in body axes (m), and the body's first
+generalized-force index (-1: a fixed body, which takes none)."""
 
-    ``body_state`` is (position, velocity, rotation matrix row-major as 9 floats, angular velocity in start-frame
-    components), each a sequence of floats. Plain floats in and out.
-    """
-    x, v, r, w = body_state
-    lx, ly, lz = local
-    ax, ay, az = r[0] * lx + r[1] * ly + r[2] * lz, r[3] * lx + r[4] * ly + r[5] * lz, r[6] * lx + r[7] * ly + r[8] * lz
-    return ((x[0] + ax, x[1] + ay, x[2] + az),
-            (v[0] + w[1] * az - w[2] * ay, v[1] + w[2] * ax - w[0] * az, v[2] + w[0] * ay - w[1] * ax))
+
+@kernel
+def body_states(q, q_t, bodies, states):
+    """Fill ``states`` (one row per body, see the module doc) from node coordinates: ``bodies`` rows are (index of
+    the node's first coordinate in ``q`` and ``q_t``, or -1 for a fixed body whose row is left as it is; reference
+    position (m); reference rotation vector (rad)). The position is reference + q, the attitude the rotation vector
+    reference + q (Lie-group node), the angular velocity R times the body-axis rate in ``q_t``."""
+    for b in range(bodies.shape[0]):
+        k = int(bodies[b, 0])
+        if k < 0:
+            continue
+        row = states[b]
+        for i in range(3):
+            row[i] = bodies[b, 1 + i] + q[k + i]
+            row[12 + i] = q_t[k + i]
+        rotation_from_vector(bodies[b, 4] + q[k + 3], bodies[b, 5] + q[k + 4], bodies[b, 6] + q[k + 5], row[3:12])
+        wx, wy, wz = q_t[k + 3], q_t[k + 4], q_t[k + 5]
+        row[18], row[19], row[20] = wx, wy, wz
+        for i in range(3):
+            row[15 + i] = row[3 + 3 * i] * wx + row[4 + 3 * i] * wy + row[5 + 3 * i] * wz
+
+
+@kernel
+def point_motions(states, points, motion):
+    """Position (m) and velocity (m/s) of body points into ``motion`` rows (x, y, z, vx, vy, vz): ``points`` rows
+    as POINT_COLUMNS."""
+    for j in range(points.shape[0]):
+        row = states[int(points[j, 0])]
+        lx, ly, lz = points[j, 1], points[j, 2], points[j, 3]
+        ax = row[3] * lx + row[4] * ly + row[5] * lz
+        ay = row[6] * lx + row[7] * ly + row[8] * lz
+        az = row[9] * lx + row[10] * ly + row[11] * lz
+        wx, wy, wz = row[15], row[16], row[17]
+        motion[j, 0], motion[j, 1], motion[j, 2] = row[0] + ax, row[1] + ay, row[2] + az
+        motion[j, 3] = row[12] + wy * az - wz * ay
+        motion[j, 4] = row[13] + wz * ax - wx * az
+        motion[j, 5] = row[14] + wx * ay - wy * ax
+
+
+@kernel
+def add_point_forces(states, points, forces, generalized):
+    """Add the generalized forces of point forces ``forces`` (N, start frame, one row per point) to
+    ``generalized``: the force, and the body-axis moment p x (R^T F) about the centre of mass (N m)."""
+    for j in range(points.shape[0]):
+        k = int(points[j, 4])
+        if k < 0:
+            continue
+        row = states[int(points[j, 0])]
+        fx, fy, fz = forces[j, 0], forces[j, 1], forces[j, 2]
+        bx = row[3] * fx + row[6] * fy + row[9] * fz   # R^T F
+        by = row[4] * fx + row[7] * fy + row[10] * fz
+        bz = row[5] * fx + row[8] * fy + row[11] * fz
+        lx, ly, lz = points[j, 1], points[j, 2], points[j, 3]
+        generalized[k] += fx
+        generalized[k + 1] += fy
+        generalized[k + 2] += fz
+        generalized[k + 3] += ly * bz - lz * by
+        generalized[k + 4] += lz * bx - lx * bz
+        generalized[k + 5] += lx * by - ly * bx
 
 
 def body_point(position, rotation, velocity=None, angular_velocity_local=None, local=(0.0, 0.0, 0.0)):

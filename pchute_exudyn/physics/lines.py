@@ -29,6 +29,7 @@ from itertools import repeat
 
 import numpy as np
 
+from .compiled import kernel
 from .invalid import InvalidField
 
 
@@ -76,11 +77,11 @@ class LoadElongation:
 
     def __call__(self, strain: float) -> float:
         """T_table(eps) (N) for eps >= 0 (0 at eps <= 0)."""
-        if strain <= 0.0:
-            return 0.0
-        i = self._segment(strain)
-        e, f = self.strain, self.tension
-        return f[i] + (f[i + 1] - f[i]) / (e[i + 1] - e[i]) * (strain - e[i])
+        return table_tension(self.points(), len(self.strain), strain)
+
+    def points(self) -> np.ndarray:
+        """The table as an array (n_points, 2) of (strain, tension): the compiled kernels' form."""
+        return np.array([self.strain, self.tension], float).T.copy()
 
     def slope(self, strain: float) -> float:
         """dT_table/d eps (N) at ``strain``: the segment's slope (the first segment's at or below 0)."""
@@ -105,6 +106,33 @@ class LoadElongation:
         if strain <= 0.0:
             return 0.0
         return sum(change * 0.5 * (strain - corner) ** 2 for corner, change in self.hinges() if strain > corner)
+
+
+@kernel
+def table_tension(points, count, strain):
+    """T_table(eps) (N) of a load-elongation table given as ``points`` (rows of strain, tension; the first
+    ``count`` rows used): linear between points, the last slope continued, 0 at eps <= 0."""
+    if strain <= 0.0:
+        return 0.0
+    i = 0   # the segment: the last point at or below the strain, at most the second to last
+    while i < count - 2 and points[i + 1, 0] <= strain:
+        i += 1
+    e0, e1, f0, f1 = points[i, 0], points[i + 1, 0], points[i, 1], points[i + 1, 1]
+    return f0 + (f1 - f0) / (e1 - e0) * (strain - e0)
+
+
+def pack_tables(tables) -> tuple[np.ndarray, np.ndarray]:
+    """Per-line tables (LoadElongation or None) as the compiled kernels take them: points (n_lines, m, 2), zero
+    padded, and the number of points of each line (0: a linear line, K (L - L0))."""
+    tables = list(tables)
+    size = max([len(t.strain) for t in tables if t is not None], default=2)
+    points = np.zeros((len(tables), size, 2))
+    counts = np.zeros(len(tables), np.int64)
+    for j, table in enumerate(tables):
+        if table is not None:
+            counts[j] = len(table.strain)
+            points[j, :counts[j]] = table.points()
+    return points, counts
 
 
 def elastic_tension(stretch: float, free_length: float, stiffness: float, table: LoadElongation | None) -> float:

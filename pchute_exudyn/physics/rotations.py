@@ -16,7 +16,11 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+from .compiled import kernel
 
 DESCENT_FRAME = np.array([[0.0, 1.0, 0.0],
                           [0.0, 0.0, -1.0],
@@ -75,3 +79,27 @@ def rotation_vector(matrix) -> np.ndarray:
         return angle * axis
     axis = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]]) / (2.0 * np.sin(angle))
     return angle * axis
+
+
+@kernel
+def rotation_from_vector(vx, vy, vz, out):
+    """Attitude matrix of the rotation vector (vx, vy, vz) (rad; axis times angle), row-major into ``out`` (9):
+    Rodrigues' formula R = I + (sin a / a) K + ((1 - cos a) / a^2) K^2, K the cross-product matrix of the vector
+    (Taylor series below 1e-4 rad, exact there to round-off). The inverse of ``rotation_vector``."""
+    angle2 = vx * vx + vy * vy + vz * vz
+    if angle2 < 1e-8:
+        s = 1.0 - angle2 / 6.0
+        c = 0.5 - angle2 / 24.0
+    else:
+        angle = math.sqrt(angle2)
+        s = math.sin(angle) / angle
+        c = (1.0 - math.cos(angle)) / angle2
+    out[0] = 1.0 - c * (vy * vy + vz * vz)
+    out[1] = -s * vz + c * vx * vy
+    out[2] = s * vy + c * vx * vz
+    out[3] = s * vz + c * vx * vy
+    out[4] = 1.0 - c * (vx * vx + vz * vz)
+    out[5] = -s * vx + c * vy * vz
+    out[6] = -s * vy + c * vx * vz
+    out[7] = s * vx + c * vy * vz
+    out[8] = 1.0 - c * (vx * vx + vy * vy)

@@ -35,17 +35,21 @@ unconditionally stable, where an explicit, lagged m_c a_c is not once m_c / tau 
 C_c is still the smallest value meeting kappa_max for the sum, and with every line slack the confluence falls freely
 (v = v_r + tau g). As m_c -> 0 it is the massless solve again.
 
-Plain floats throughout (about 7 us a call for four taut lines): it runs at every solver stage.
+Compiled (``compiled.kernel``; under 1 us a call for four taut lines): it runs at every solver stage. The force
+rule tries at most MAX_ACTIVE_SETS active sets per solve (two or three in practice).
 """
 
 from __future__ import annotations
 
 import math
-from itertools import repeat
 from typing import NamedTuple
 
-from .lines import line_geometry, tension
-from .small_linalg import solve_symmetric, symmetric_eigenvalues  # noqa: F401  (re-exported)
+import numpy as np
+
+from .compiled import kernel
+from .kinematics import POINT_COLUMNS, add_point_forces, point_motions
+from .lines import pack_tables, table_tension
+from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
 
 SLACK_RULES = ("stretch", "force")
 SP_ORDERS = (0, 1)
@@ -54,6 +58,9 @@ SP_ORDERS = (0, 1)
 SINGULAR = 1e-12
 """Relative singularity test: alpha counts as singular when its condition number exceeds 1/SINGULAR (its smallest
 eigenvalue is below about SINGULAR times its largest) or its determinant is not positive."""
+
+MAX_ACTIVE_SETS = 64
+"""Active sets the force rule tries in one solve before it keeps the last (a set seen before ends it sooner)."""
 
 
 class MassTerm(NamedTuple):
@@ -76,7 +83,7 @@ class MassTerm(NamedTuple):
 
 
 class SPSolution(NamedTuple):
-    """Result of one SP solve (a named tuple: it is made at every solver stage).
+    """Result of one SP solve.
 
     Attributes
     ----------
@@ -102,35 +109,37 @@ class SPSolution(NamedTuple):
     directions: list
 
 
+@kernel
+def _condition_number(m0, m1, m2, damping):
+    x0, x1, x2 = m0 + damping, m1 + damping, m2 + damping
+    if min(x0, x1, x2) <= 0.0:
+        return math.inf
+    return math.sqrt((x0 * x0 + x1 * x1 + x2 * x2) * (1.0 / (x0 * x0) + 1.0 / (x1 * x1) + 1.0 / (x2 * x2)))
+
+
 def condition_number(eigenvalues, damping: float = 0.0) -> float:
     """kappa = sqrt(sum x^2 sum x^-2) (Eq. 3.13) for alpha with eigenvalues ``eigenvalues`` + ``damping``."""
-    xs = [mu + damping for mu in eigenvalues]
-    if min(xs) <= 0.0:
-        return math.inf
-    return math.sqrt(sum(x * x for x in xs) * sum(1.0 / (x * x) for x in xs))
+    return _condition_number(*(float(mu) for mu in eigenvalues), float(damping))
 
 
-def minimum_damping(eigenvalues, kappa_max: float) -> float:
-    """Smallest C_c >= 0 with condition_number(eigenvalues, C_c) <= kappa_max (N s/m); eigenvalues >= 0.
-
-    Exact for the given eigenvalues; with eigenvalues from ``symmetric_eigenvalues`` of a (near-)singular alpha,
-    kappa recomputed from alpha itself can exceed kappa_max by a few parts in 1e9 (eigenvalue round-off).
-    """
-    mus = [max(mu, 0.0) for mu in eigenvalues]
-    mu_max = max(mus)
+@kernel
+def _minimum_damping(m0, m1, m2, kappa_max):
+    """``minimum_damping`` for three eigenvalues; -1 when alpha is zero."""
+    m0, m1, m2 = max(m0, 0.0), max(m1, 0.0), max(m2, 0.0)
+    mu_max = max(m0, m1, m2)
     if mu_max <= 0.0:
-        raise ValueError("alpha is zero: no taut line has damping")
-    if min(mus) > SINGULAR * mu_max and condition_number(mus) <= kappa_max:
+        return -1.0
+    if min(m0, m1, m2) > SINGULAR * mu_max and _condition_number(m0, m1, m2, 0.0) <= kappa_max:
         return 0.0
     target = kappa_max * kappa_max
     lo, hi = 0.0, 3.0 * mu_max / (kappa_max - 3.0)
     c = hi
     for _ in range(100):
-        xs = [mu + c for mu in mus]
-        s1 = sum(xs)
-        s2 = sum(x * x for x in xs)
-        sm2 = sum(1.0 / (x * x) for x in xs)
-        sm3 = sum(1.0 / (x * x * x) for x in xs)
+        x0, x1, x2 = m0 + c, m1 + c, m2 + c
+        s1 = x0 + x1 + x2
+        s2 = x0 * x0 + x1 * x1 + x2 * x2
+        sm2 = 1.0 / (x0 * x0) + 1.0 / (x1 * x1) + 1.0 / (x2 * x2)
+        sm3 = 1.0 / (x0 * x0 * x0) + 1.0 / (x1 * x1 * x1) + 1.0 / (x2 * x2 * x2)
         f = s2 * sm2 - target
         if f > 0.0:
             lo = c
@@ -146,58 +155,42 @@ def minimum_damping(eigenvalues, kappa_max: float) -> float:
     return hi  # the bracket's upper end: kappa(hi) <= kappa_max holds exactly
 
 
-def _next_active_set(lines, active, velocity, visited) -> bool:
-    """Force rule: update ``active`` in place toward consistency; False when it is consistent (or would cycle).
+def minimum_damping(eigenvalues, kappa_max: float) -> float:
+    """Smallest C_c >= 0 with condition_number(eigenvalues, C_c) <= kappa_max (N s/m); three eigenvalues >= 0.
 
-    Every taut line that pushes is dropped at once (docs/models/mer.md: a taut line whose tension comes out negative);
-    when none does, every stretched line left out that would pull is taken back. Changing lines together keeps
-    symmetric configurations symmetric (one-at-a-time picks one of equal bridles by index and starts a swing).
+    Exact for the given eigenvalues; with eigenvalues from ``symmetric_eigenvalues`` of a (near-)singular alpha,
+    kappa recomputed from alpha itself can exceed kappa_max by a few parts in 1e9 (eigenvalue round-off).
     """
-    wx, wy, wz = velocity
-    drop, take = [], []
-    for i, ((nx, ny, nz, stretch, vn, elastic, c), on) in enumerate(zip(lines, active)):
-        if stretch <= 0.0:
-            continue
-        linear = elastic + c * (vn - wx * nx - wy * ny - wz * nz)
-        if on and linear < 0.0:
-            drop.append(i)
-        elif not on and linear > 0.0:
-            take.append(i)
-    change = drop or take
-    if not change:
-        return False
-    candidate = list(active)
-    for i in change:
-        candidate[i] = not candidate[i]
-    if tuple(candidate) in visited:
-        return False
-    visited.add(tuple(candidate))
-    active[:] = candidate
-    return True
+    damping = _minimum_damping(*(float(mu) for mu in eigenvalues), float(kappa_max))
+    if damping < 0.0:
+        raise ValueError("alpha is zero: no taut line has damping")
+    return damping
 
 
-def _assemble(attach_position, attach_velocity, confluence_position, free_length, stiffness, damping, tables,
-              forced, rate: float, b0: tuple):
-    """One pass over the lines: their geometry (``lines.line_geometry``), and alpha (Eq. 3.11, six entries a00 a01
-    a02 a11 a12 a22) and b (Eq. 3.10) summed over the active ones (``forced``, else the stretched ones), on top of the
-    mass term's ``rate`` and ``b0``; the force rule's extra passes repeat it. Returns alpha, b, the lines as (nx, ny,
-    nz, stretch, attach velocity along n, elastic tension, C), the directions and the active flags. The elastic
-    tension is K (L - L0), or a load-elongation table's T_table (``tables``; its slope enters nowhere here)."""
+@kernel
+def _assemble(attach, attach_velocity, confluence, lines, tables, table_counts, active, forced, rate, b0,
+              geometry):
+    """One pass over the lines: their geometry into ``geometry`` (rows nx, ny, nz, stretch, attach velocity along n,
+    elastic tension), and alpha (Eq. 3.11, six entries a00 a01 a02 a11 a12 a22) and b (Eq. 3.10) summed over the
+    active lines, on top of the mass term's ``rate`` and ``b0``. ``forced``: ``active`` holds the force rule's set;
+    else the stretched lines are marked active. The elastic tension is K (L - L0), or the line's table T_table."""
     a00 = a11 = a22 = rate
     a01 = a02 = a12 = 0.0
-    bx, by, bz = b0
-    lines, directions, active = [], [], []
-    geometry = line_geometry(attach_position, confluence_position)
-    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c, table, on in zip(
-            geometry, attach_velocity, free_length, stiffness, damping, tables or repeat(None),
-            forced or repeat(None)):
-        stretch, vn = length - l0, vx * nx + vy * ny + vz * nz
-        elastic = k * stretch if table is None else table(stretch / l0)
-        directions.append((nx, ny, nz))
-        lines.append((nx, ny, nz, stretch, vn, elastic, c))
-        taut = stretch > 0.0 if on is None else on
-        active.append(taut)
-        if taut:
+    bx, by, bz = b0[0], b0[1], b0[2]
+    for i in range(attach.shape[0]):
+        dx, dy, dz = attach[i, 0] - confluence[0], attach[i, 1] - confluence[1], attach[i, 2] - confluence[2]
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        nx, ny, nz = dx / length, dy / length, dz / length
+        l0, k, c = lines[i, 0], lines[i, 1], lines[i, 2]
+        stretch = length - l0
+        vn = attach_velocity[i, 0] * nx + attach_velocity[i, 1] * ny + attach_velocity[i, 2] * nz
+        count = int(table_counts[i])
+        elastic = k * stretch if count == 0 else table_tension(tables[i], count, stretch / l0)
+        geometry[i, 0], geometry[i, 1], geometry[i, 2] = nx, ny, nz
+        geometry[i, 3], geometry[i, 4], geometry[i, 5] = stretch, vn, elastic
+        if not forced:
+            active[i] = stretch > 0.0
+        if active[i]:
             cnx, cny = c * nx, c * ny
             a00 += cnx * nx
             a01 += cnx * ny
@@ -209,32 +202,127 @@ def _assemble(attach_position, attach_velocity, confluence_position, free_length
             bx += f * nx
             by += f * ny
             bz += f * nz
-    return (a00, a01, a02, a11, a12, a22), (bx, by, bz), lines, directions, active
+    return a00, a01, a02, a11, a12, a22, bx, by, bz
 
 
-def _solve_balance(alpha: tuple, b: tuple, active: list, rate: float, previous_velocity, kappa_max: float):
+@kernel
+def _solve_balance(alpha_b, all_active, any_active, rate, previous_velocity, kappa_max):
     """Velocity (m/s), C_c (N s/m) and kappa of Eq. 3.10 for an assembled alpha and b: C_c = 0 with every line
     taut and alpha regular, else the smallest C_c meeting kappa_max (Eq. 3.13); every line slack and no mass term:
     the previous velocity (C_c = 0, kappa = 0)."""
-    v0x, v0y, v0z = previous_velocity
-    if True not in active and rate == 0.0:
-        return (v0x, v0y, v0z), 0.0, 0.0
-    a00, a01, a02, a11, a12, a22 = alpha
-    bx, by, bz = b
-    solved = solve_symmetric(a00, a01, a02, a11, a12, a22, bx, by, bz) if False not in active else None
-    if solved is not None and solved[1] < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
-        return solved[0], 0.0, solved[1]
-    c_c = minimum_damping(symmetric_eigenvalues(a00, a01, a02, a11, a12, a22), kappa_max)
-    velocity, kappa = solve_symmetric(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
-                                      bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
-    return velocity, c_c, kappa
+    v0x, v0y, v0z = previous_velocity[0], previous_velocity[1], previous_velocity[2]
+    if not any_active and rate == 0.0:
+        return v0x, v0y, v0z, 0.0, 0.0
+    a00, a01, a02, a11, a12, a22, bx, by, bz = alpha_b
+    if all_active:
+        x0, x1, x2, kappa = solve_symmetric_kernel(a00, a01, a02, a11, a12, a22, bx, by, bz)
+        if kappa >= 0.0 and kappa < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
+            return x0, x1, x2, 0.0, kappa
+    m0, m1, m2 = symmetric_eigenvalues(a00, a01, a02, a11, a12, a22)
+    c_c = _minimum_damping(m0, m1, m2, kappa_max)
+    x0, x1, x2, kappa = solve_symmetric_kernel(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
+                                               bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
+    return x0, x1, x2, c_c, kappa
+
+
+@kernel
+def _next_active_set(geometry, lines, active, velocity, visited, seen):
+    """Force rule: update ``active`` toward consistency; False when it is consistent (or would repeat a set).
+
+    Every taut line that pushes is dropped at once (docs/models/mer.md: a taut line whose tension comes out negative);
+    when none does, every stretched line left out that would pull is taken back. Changing lines together keeps
+    symmetric configurations symmetric (one-at-a-time picks one of equal bridles by index and starts a swing).
+    ``visited`` holds the ``seen`` sets tried so far as bit masks.
+    """
+    wx, wy, wz = velocity
+    drop = 0
+    take = 0
+    for i in range(geometry.shape[0]):
+        nx, ny, nz, stretch, vn, elastic = geometry[i, 0], geometry[i, 1], geometry[i, 2], geometry[i, 3], \
+            geometry[i, 4], geometry[i, 5]
+        if stretch <= 0.0:
+            continue
+        linear = elastic + lines[i, 2] * (vn - wx * nx - wy * ny - wz * nz)
+        if active[i] and linear < 0.0:
+            drop |= 1 << i
+        elif not active[i] and linear > 0.0:
+            take |= 1 << i
+    change = drop if drop else take
+    if not change:
+        return False
+    candidate = 0
+    for i in range(geometry.shape[0]):
+        if active[i] != bool(change >> i & 1):
+            candidate |= 1 << i
+    for j in range(seen):
+        if visited[j] == candidate:
+            return False
+    if seen >= visited.shape[0]:
+        return False
+    visited[seen] = candidate
+    for i in range(geometry.shape[0]):
+        active[i] = bool(candidate >> i & 1)
+    return True
+
+
+@kernel
+def _mask(active):
+    mask = 0
+    for i in range(active.shape[0]):
+        if active[i]:
+            mask |= 1 << i
+    return mask
+
+
+@kernel
+def solve_confluence(attach, attach_velocity, confluence, previous_velocity, lines, tables, table_counts,
+                     kappa_max, force_rule, rate, b0, tensions, directions, active):
+    """The SP solve (Eqs. 3.10-3.13) on arrays; the one home of the method, ``confluence_velocity`` wraps it.
+
+    Inputs: attach points (n, 3) in m and their velocities (n, 3) in m/s, the confluence position (3) in m and v0
+    (3) in m/s, per line (L0 in m, K in N/m, C in N s/m) as ``lines`` (n, 3), the tables (``lines.pack_tables``),
+    kappa_max, ``force_rule`` (the force slack rule, else stretch), the mass term's rate (N s/m) and b0 = m_c g +
+    rate v_r (N). Writes the tensions (n) in N, the unit vectors n (n, 3) and the lines counted taut (n); returns
+    (vx, vy, vz, C_c, kappa).
+    """
+    n = attach.shape[0]
+    geometry = np.empty((n, 6))
+    visited = np.empty(MAX_ACTIVE_SETS, np.int64)
+    seen = 0
+    forced = False
+    while True:
+        alpha_b = _assemble(attach, attach_velocity, confluence, lines, tables, table_counts, active, forced, rate,
+                            b0, geometry)
+        all_active, any_active = True, False
+        for i in range(n):
+            all_active = all_active and active[i]
+            any_active = any_active or active[i]
+        vx, vy, vz, c_c, kappa = _solve_balance(alpha_b, all_active, any_active, rate, previous_velocity,
+                                                kappa_max)
+        if not force_rule:
+            break
+        if seen == 0:
+            visited[0] = _mask(active)
+            seen = 1
+        if not _next_active_set(geometry, lines, active, (vx, vy, vz), visited, seen):
+            break
+        seen += 1
+        forced = True
+    for i in range(n):
+        nx, ny, nz, stretch, vn, elastic = geometry[i, 0], geometry[i, 1], geometry[i, 2], geometry[i, 3], \
+            geometry[i, 4], geometry[i, 5]
+        directions[i, 0], directions[i, 1], directions[i, 2] = nx, ny, nz
+        value = elastic + lines[i, 2] * (vn - vx * nx - vy * ny - vz * nz)   # lines.tension's law
+        tensions[i] = value if stretch > 0.0 and value > 0.0 else 0.0
+    return vx, vy, vz, c_c, kappa
 
 
 def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity,
                         free_length, stiffness, damping, kappa_max: float = 5.0,
                         slack_rule: str = "stretch", mass_term: MassTerm | None = None,
                         tables=None) -> SPSolution:
-    """SP confluence velocity (Eq. 3.10) with the minimal confluence damping of Eq. 3.13.
+    """SP confluence velocity (Eq. 3.10) with the minimal confluence damping of Eq. 3.13 (``solve_confluence``
+    for sequences of floats).
 
     Parameters
     ----------
@@ -258,25 +346,61 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
     -------
     SPSolution
     """
+    n = len(free_length)
     if mass_term is None:
         rate, b0 = 0.0, (0.0, 0.0, 0.0)
     else:
         rate, (rx, ry, rz), (gx, gy, gz) = mass_term
         b0 = (gx + rate * rx, gy + rate * ry, gz + rate * rz)
-    forced = None    # the force rule's active set, once a pass has found the last one inconsistent
-    visited = None   # the force rule's active sets seen so far
-    while True:
-        alpha, b, lines, directions, active = _assemble(attach_position, attach_velocity, confluence_position,
-                                                        free_length, stiffness, damping, tables, forced, rate, b0)
-        velocity, c_c, kappa = _solve_balance(alpha, b, active, rate, previous_velocity, kappa_max)
-        if slack_rule != "force":
-            break
-        if visited is None:
-            visited = {tuple(active)}
-        if not _next_active_set(lines, active, velocity, visited):
-            break
-        forced = active
-    wx, wy, wz = velocity
-    tensions = [tension(stretch, vn - wx * nx - wy * ny - wz * nz, 0.0, c, elastic)
-                for nx, ny, nz, stretch, vn, elastic, c in lines]
-    return SPSolution(velocity, c_c, kappa, tuple(active), tensions, directions)
+    table_points, table_counts = pack_tables(tables if tables is not None else [None] * n)
+    tensions, directions, active = np.empty(n), np.empty((n, 3)), np.zeros(n, np.bool_)
+    vx, vy, vz, c_c, kappa = solve_confluence(
+        np.asarray(attach_position, float).reshape(n, 3), np.asarray(attach_velocity, float).reshape(n, 3),
+        np.asarray(confluence_position, float)[:3], np.asarray(previous_velocity, float),
+        np.column_stack([free_length, stiffness, damping]).astype(float), table_points, table_counts,
+        float(kappa_max), slack_rule == "force", float(rate), np.asarray(b0, float), tensions, directions, active)
+    return SPSolution((vx, vy, vz), c_c, kappa, tuple(bool(a) for a in active), tensions.tolist(),
+                      [tuple(d) for d in directions.tolist()])
+
+
+STAGE_COLUMNS = 11
+"""Columns of ``sp_stage``'s per-line output: tension (N), n (3), taut (1 or 0), attach position (3, m) and velocity
+(3, m/s)."""
+
+
+@kernel
+def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0z, kappa_max, force_rule, rate,
+             b0x, b0y, b0z):
+    """One solver stage of an SP confluence: attach-point motion from the body states (``kinematics``), the SP
+    solve, and the lines' generalized forces -T n on the bodies into ``generalized`` (zeroed first).
+
+    ``states`` as in ``kinematics``; ``layout`` rows: the attach point (``kinematics.POINT_COLUMNS``), then L0
+    (m), K (N/m), C (N s/m) and the line's table points (0: linear); ``tables`` (n, m, 2) as
+    ``lines.pack_tables``; ``work`` (n, STAGE_COLUMNS) receives the lines. Scalars: the confluence position (m),
+    v0 (m/s), kappa_max, 1.0 for the force slack rule (else 0.0), the mass term's rate (N s/m) and b0 = m_c g +
+    rate v_r (N). Returns (vx, vy, vz, C_c, kappa, lines counted taut). Scalars travel as separate floats: a
+    tuple argument costs numba's dispatcher a microsecond more.
+    """
+    n = layout.shape[0]
+    points = layout[:, :POINT_COLUMNS]
+    motion = np.empty((n, 6))
+    point_motions(states, points, motion)
+    tensions, directions, active = np.empty(n), np.empty((n, 3)), np.empty(n, np.bool_)
+    vx, vy, vz, c_c, kappa = solve_confluence(
+        motion[:, :3], motion[:, 3:], np.array([cx, cy, cz]), np.array([v0x, v0y, v0z]),
+        layout[:, POINT_COLUMNS:POINT_COLUMNS + 3], tables, layout[:, POINT_COLUMNS + 3], kappa_max,
+        force_rule > 0.0, rate, np.array([b0x, b0y, b0z]), tensions, directions, active)
+    forces = np.empty((n, 3))
+    taut = 0
+    for i in range(n):
+        taut += 1 if active[i] else 0
+        work[i, 0] = tensions[i]
+        work[i, 4] = 1.0 if active[i] else 0.0
+        for k in range(3):
+            work[i, 1 + k] = directions[i, k]
+            work[i, 5 + k] = motion[i, k]
+            work[i, 8 + k] = motion[i, 3 + k]
+            forces[i, k] = -tensions[i] * directions[i, k]   # on the body: -T n
+    generalized[:] = 0.0
+    add_point_forces(states, points, forces, generalized)
+    return vx, vy, vz, c_c, kappa, taut

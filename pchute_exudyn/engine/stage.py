@@ -1,0 +1,164 @@
+"""The per-stage fast path: every force computed in Python reaches the bodies through one Exudyn item.
+
+A model's ``Stage`` owns one ``ObjectGenericODE2`` over the free bodies' nodes whose force user function returns the
+generalized forces of the aerodynamic loads and of every reduced confluence's lines, summed: one crossing from the
+engine into Python per solver stage for all of them (a load user function per line and per body cost one crossing
+each, and the engine's marker work besides). Its arguments, the nodes' coordinates and velocities, give the body
+states (``physics.kinematics.body_states``) without any engine read.
+
+A reduced confluence's right-hand side (an ODE1 object, which Exudyn evaluates before the stage's ODE2 forces) needs
+the body states first: ``refresh`` reads the whole coordinate vectors in two engine calls, once per stage however
+many systems there are (the force user function marks the next right-hand side as a new stage).
+
+Generalized forces of a rotation-vector node: the force (N, start frame) and the body-axis moment (N m);
+``physics.kinematics``.
+"""
+
+from __future__ import annotations
+
+import exudyn.itemInterface as eii
+import numpy as np
+
+from ..case.model import Case
+from ..physics.kinematics import POINT_COLUMNS, STATE_COLUMNS, add_point_forces, body_states, point_motions
+from ..state import BodyChannel, initial_body_state
+from .model import Model
+
+BODY_COLUMNS = 7
+"""Columns of a body layout row: index of its first coordinate (-1: fixed), reference position, reference
+rotation vector."""
+
+
+class Stage:
+    """The bodies' states at the current solver stage and the one force item of the Python-computed loads.
+
+    Parameters
+    ----------
+    model : Model
+        With its bodies added (``engine.bodies.add_body``); the stage covers the phase's free bodies and the case's
+        fixed bodies (rows of constant state, no generalized force).
+    case : Case
+    """
+
+    def __init__(self, model: Model, case: Case):
+        self.model = model
+        names = [name for name, body in case.bodies.items() if body.fixed or name in model.phase.bodies]
+        self.row = {name: i for i, name in enumerate(names)}
+        self.free = [name for name in names if not case.bodies[name].fixed]
+        self.states = np.zeros((len(names), STATE_COLUMNS))
+        self.layout = np.full((len(names), BODY_COLUMNS), -1.0)   # from the force function's own arguments
+        self.global_layout = None                                  # from the whole coordinate vectors (refresh)
+        for name in names:
+            self._set_reference(case, name)
+        self.aerodynamics = []            # engine.bodies.BodyAerodynamics of the bodies with aerodynamics
+        self.parts = []                   # generalized-force arrays the reduced confluences write
+        self.generalized = np.zeros(6 * len(self.free))
+        self.stale = True                 # the next right-hand side is a new stage: refresh reads the state
+        system_data = model.mbs.systemData
+        self._read, self._read_t = system_data.GetODE2Coordinates, system_data.GetODE2Coordinates_t
+        self.aero_points = self.aero_motion = self.aero_forces = None
+        self.has_item = False
+
+    def _set_reference(self, case: Case, name: str) -> None:
+        items, row = self.model.bodies[name], self.row[name]
+        if case.bodies[name].fixed:   # its state is constant
+            state = initial_body_state(case, case.bodies[name])
+            self.states[row, :3], self.states[row, 3:12] = state.position, state.attitude.ravel()
+            return
+        reference = self.model.mbs.GetNodeParameter(items.node, "referenceCoordinates")
+        self.layout[row, 0] = 6 * self.free.index(name)
+        self.layout[row, 1:7] = np.asarray(reference, float)[:6]
+
+    def points(self, bodies_and_points) -> np.ndarray:
+        """A point layout (``physics.kinematics.POINT_COLUMNS``) of (body name, point in body axes) pairs."""
+        layout = np.zeros((len(bodies_and_points), POINT_COLUMNS))
+        for j, (name, local) in enumerate(bodies_and_points):
+            row = self.row[name]
+            layout[j, 0], layout[j, 1:4], layout[j, 4] = row, local, self.layout[row, 0]
+        return layout
+
+    def add_aerodynamics(self, aerodynamics) -> None:
+        """Apply a body's aerodynamic load (``engine.bodies.BodyAerodynamics``) through the stage."""
+        aerodynamics.row = self.row[aerodynamics.body]
+        self.aerodynamics.append(aerodynamics)
+        self.aero_points = self.points([(a.body, a.center) for a in self.aerodynamics])
+        self.aero_motion = np.zeros((len(self.aerodynamics), 6))
+        self.aero_forces = np.zeros((len(self.aerodynamics), 3))
+
+    def add_part(self) -> np.ndarray:
+        """A generalized-force array for a reduced confluence to write at every stage (summed into the forces)."""
+        part = np.zeros_like(self.generalized)
+        self.parts.append(part)
+        return part
+
+    def add_item(self) -> None:
+        """Add the force item (when anything needs it); call once every load and confluence is registered."""
+        if not self.free or not (self.aerodynamics or self.parts):
+            return
+        nodes = [self.model.bodies[name].node for name in self.free]
+        zero = np.zeros((len(self.generalized), len(self.generalized)))
+        self.model.mbs.AddObject(eii.ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=self.force,
+                                                       jacobianUserFunction=lambda *args: zero,
+                                                       visualization=eii.VObjectGenericODE2(show=False)))
+        self.has_item = True
+
+    def assembled(self) -> None:
+        """After Exudyn's Assemble: where each free body's coordinates sit in the system's coordinate vector."""
+        self.global_layout = self.layout.copy()
+        for name in self.free:
+            row = self.row[name]
+            self.global_layout[row, 0] = self.model.mbs.GetNodeODE2Index(self.model.bodies[name].node)
+
+    def warm_up(self) -> None:
+        """Load (or, on a machine's first run, compile) the stage's kernels before the timed solve: a refresh at the
+        start state and the point kernels on scratch arrays."""
+        self.stale = True
+        self.refresh()
+        if self.aerodynamics:
+            point_motions(self.states, self.aero_points, self.aero_motion)
+            add_point_forces(self.states, self.aero_points, np.zeros_like(self.aero_forces),
+                             np.zeros_like(self.generalized))
+        self.stale = True
+
+    def refresh(self) -> None:
+        """The body states at the current stage, read from the engine once per stage."""
+        if self.stale:
+            body_states(self._read(), self._read_t(), self.global_layout, self.states)
+            self.stale = False
+
+    def force(self, mbs, t, item, q, q_t):
+        """The force user function: aerodynamic loads at this stage's state plus every confluence's part."""
+        try:
+            generalized = self.generalized
+            if self.stale:   # no right-hand side has read this stage: the arguments are the state (lists)
+                body_states(np.array(q), np.array(q_t), self.layout, self.states)
+            parts = self.parts
+            if parts:
+                np.copyto(generalized, parts[0])
+                for part in parts[1:]:
+                    generalized += part
+            else:
+                generalized.fill(0.0)
+            if self.aerodynamics:
+                motion, forces, states = self.aero_motion, self.aero_forces, self.states
+                point_motions(states, self.aero_points, motion)
+                rows = states.tolist()
+                for k, (aero, centre) in enumerate(zip(self.aerodynamics, motion.tolist())):
+                    forces[k] = aero.force(t, centre, rows[aero.row][3:12:3])   # R's first column: body +x
+                add_point_forces(states, self.aero_points, forces, generalized)
+            self.stale = True
+            return generalized
+        except Exception as exc:  # keep our own error for the solver to report
+            self.model.record_failure(exc)
+            raise
+
+    def serve_channels(self) -> None:
+        """Serve the free bodies' output channels from the stage states (a reduced model's right-hand side makes
+        them current at the end of every step)."""
+        for name in self.free:
+            row = self.states[self.row[name]]
+            model = self.model
+            model.add_channel(BodyChannel(name, "position"), lambda row=row: row[0:3].tolist())
+            model.add_channel(BodyChannel(name, "velocity"), lambda row=row: row[12:15].tolist())
+            model.add_channel(BodyChannel(name, "rotation"), lambda row=row: row[3:12].tolist())
+            model.add_channel(BodyChannel(name, "angular_velocity"), lambda row=row: row[18:21].tolist())
