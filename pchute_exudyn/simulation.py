@@ -30,9 +30,10 @@ from .summary import (
 
 MONITOR_INTERVAL = 0.1
 """Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
-moves with the line loads, over seconds; a check costs about 0.25 ms). At least MONITOR_STEPS steps apart: 2.5 s at
-SP's 1e-2 s (a check every 100 steps was 4 % of a PA1 SP run once the stages got cheap, issue 14)."""
-MONITOR_STEPS = 250
+moves with the line loads, over seconds; a check costs about 0.3 ms). At least MONITOR_STEPS steps apart: 5 s at
+SP's 1e-2 s (a check every 100 steps was 4 % of a PA1 SP run once the stages got cheap, issue 14), 0.25 s at full
+mass's 5e-4 s."""
+MONITOR_STEPS = 500
 MAX_STEPS = 2**31 - 1
 """Steps the engine can count in one run (its step counter is a 32-bit integer)."""
 MAX_OUTPUT_BYTES = 4e9

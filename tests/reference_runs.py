@@ -17,6 +17,15 @@ RUNS = [(f"mer{c}_{method}_{integrator}", f"cases/mer/case{c}.toml", method, int
         for c in range(1, 7) for method, integrator in (("sp", "rk4"), ("equilibrium", "rk4"), ("full", "implicit"))]
 RUNS += [("pa1_sp", "cases/cev_pa1.toml", "sp", "rk4", None), ("pa1_full_implicit", "cases/cev_pa1.toml", "full",
                                                                 "implicit", 20.0)]
+# recorded from commit 6085d44 (issue 13's last, whose results are those of 53493ef) for issue 14's fast path
+RUNS += [("mer1_full_rk4", "cases/mer/case1.toml", "full", "rk4", 3.0),
+         ("mer4_full_rk4", "cases/mer/case4.toml", "full", "rk4", 3.0),
+         ("pa1_full_rk4", "cases/cev_pa1.toml", "full", "rk4", 12.0)]
+
+TOLERANCE = {"rk4": 1e-9, "implicit": 1e-7}
+"""Largest relative difference allowed from the recorded numbers. RK4 (the thesis's integrator, and SP): 1e-9, the
+round-off of the compiled kernels and the one force item grown over a run. Implicit: 1e-7, because round-off in
+the residual moves where Newton's iteration stops within its own tolerance (seen: 4.6e-9 in MER case 4)."""
 
 
 PINNED = {"pa1_sp": ["simulation.sp.kappa_max=5.0"]}

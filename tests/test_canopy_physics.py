@@ -156,14 +156,15 @@ def test_results_are_those_of_the_code_before_the_canopy_physics_and_the_fast_pa
     issue 14 compute the same formulas with round-off of their own)."""
     got = reference_runs.record(name, case_file, method, integrator, duration)
     worst, where = reference_runs.largest_difference(got, REFERENCE[name])
-    assert worst <= 1e-9, f"{where}: relative difference {worst:.3g}"
+    assert worst <= reference_runs.TOLERANCE[integrator], f"{where}: relative difference {worst:.3g}"
 
 
 @pytest.mark.parametrize("method, integrator", [("sp", "rk4"), ("full", "implicit")])
 def test_apparent_mass_switched_off_is_the_case_without_it(method, integrator):
     off = reference_runs.record("off", "cases/mer/case1_apparent_mass.toml", method, integrator, 10.0,
                                 ["parachute.apparent_mass.enabled=false"])
-    assert off == REFERENCE[f"mer1_{method}_{integrator}"]
+    worst, where = reference_runs.largest_difference(off, REFERENCE[f"mer1_{method}_{integrator}"])
+    assert worst <= reference_runs.TOLERANCE[integrator], f"{where}: relative difference {worst:.3g}"
 
 
 def test_apparent_mass_changes_the_mer_descent():

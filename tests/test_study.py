@@ -210,7 +210,7 @@ values = [2.0, 5.0, 10.0]
     assert runs[0].values == {} and runs[0].overrides() == {}
     assert [r.values["simulation.sp.kappa_max"] for r in runs[1:]] == [2.0, 5.0, 10.0]
     assert all(r.reference_run == 0 for r in runs[1:])
-    assert pc.load_case(runs[0].case_file, runs[0].overrides()).simulation.options["sp"].kappa_max == 5.0
+    assert pc.load_case(runs[0].case_file, runs[0].overrides()).simulation.options["sp"].effective_kappa_max == 5.0
 
 
 @pytest.mark.parametrize("snippet, message", [

@@ -1,38 +1,45 @@
-"""A massless confluence as Exudyn items: the common part of the SP and equilibrium-point methods.
+"""A massless confluence in the model's stage: the common part of the SP and equilibrium-point methods.
 
-The confluence's state is a ``NodeGenericODE1`` with an ``ObjectGenericODE1`` whose right-hand side solves the method
-(SP: its three coordinates are the confluence position and the right-hand side its velocity; equilibrium point: one
-dummy coordinate with zero derivative, there only so that the solve runs once per stage). The line forces reach the
-bodies as a generalized-force part of the model's stage (``engine.stage``). Exudyn's RK44 evaluates, in every stage,
-the ODE1 right-hand side before the ODE2 forces, so the right-hand side solves once (on the stage's body states) and
-the stage's force item hands out its forces; after the last stage it evaluates the right-hand side once more at the
-end-of-step state, which the post-step work and the output sampling reuse (recomputing if the state differs).
+Each solver stage, the model's stage force item (``engine.stage``) hands every reduced confluence the stage's body
+states (from the item's own arguments: no engine read) and the confluence solves its method there, writing the line
+forces on the bodies as a generalized-force part: one crossing from the engine into Python per stage for the whole
+model. A confluence with states of its own (SP: the confluence position) integrates them itself, with the classical
+RK4 tableau in step with Exudyn's RK44 stages (stage k sits at t_n + c_k h with c = 0, 1/2, 1/2, 1): its stage
+coordinates are q_n + h a_k k_(k-1) and its step q_(n+1) = q_n + h (k_1 + 2 k_2 + 2 k_3 + k_4) / 6, exactly what
+Exudyn does with first-order (ODE1) coordinates, without the ODE1 right-hand side's own crossing and its two engine
+reads of the body state at every stage (issue 14: a third of an SP step). The post-step hook completes the step and
+solves once at the end-of-step state, which the outputs and the next step's first stage reuse.
+
+Only RK4 drives these confluences (the methods refuse the implicit integrator, whose Newton iterations are not
+stages).
 """
 
 from __future__ import annotations
 
 from functools import partial
 
-import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.kinematics import add_point_forces, point_motions
 from ..state import ConfluenceChannel, MethodChannel, TensionChannel
-from .model import CURRENT, OV, Confluence, Model
+from .model import Confluence, Model
+
+RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
+"""a_k of the classical RK4 tableau: stage k's coordinates are q_n + h a_k k_(k-1) (stage 1: q_n)."""
+RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
 
 class ReducedConfluence(Confluence):
     """Base class: subclasses implement ``compute(t, q, positions, velocities)`` returning a solution with
-    ``velocity``, ``tensions`` and ``directions``, and ``derivative(solution)`` for the ODE1 states; ``OUTPUTS``
-    names the quantities they report per system (name -> (unit, function of the confluence)). A subclass with a
-    compiled stage kernel overrides ``solve_stage`` instead of ``compute``."""
+    ``velocity``, ``tensions`` and ``directions``, and ``derivative(solution)`` for their own states q (none for the
+    equilibrium point); ``OUTPUTS`` names the quantities they report per system (name -> (unit, function of the
+    confluence)). A subclass with a compiled stage kernel overrides ``solve_stage`` instead of ``compute``."""
 
     OUTPUTS: dict = {}
 
     def __init__(self, model: Model, case: Case, system: ParachuteSystem, initial_states: list):
-        """``initial_states``: the ODE1 coordinates at the phase start."""
-        mbs = model.mbs
+        """``initial_states``: the confluence's own coordinates at the phase start (empty: none)."""
         self.model, self.system = model, system
         self.free_length = [line.free_length for line in system.lines]
         self.stiffness = [line.stiffness for line in system.lines]
@@ -45,17 +52,12 @@ class ReducedConfluence(Confluence):
         self.part = model.stage.add_part()                  # the lines' generalized forces on the bodies
         self.attach_motion = np.zeros((len(system.lines), 6))
         self.line_forces = np.zeros((len(system.lines), 3))
-        self.node = mbs.AddNode(eii.NodeGenericODE1(referenceCoordinates=[0.0] * len(initial_states),
-                                                    initialCoordinates=list(initial_states),
-                                                    numberOfODE1Coordinates=len(initial_states)))
-        mbs.AddObject(eii.ObjectGenericODE1(nodeNumbers=[self.node], rhsUserFunction=self._rhs))
-        self.solution = None
-        self.solved_at = None       # (t, q) of self.solution
-        self.solved_at_end = False  # self.solution is at an end-of-step state (nothing has changed since)
-        self.calls_in_step = 0      # right-hand-side calls since the step began
-        self._checked = -1          # post-step call in which self.solution was last confirmed current
-        self._get_node = mbs.GetNodeOutput
-        self._get_time = mbs.systemData.GetTime
+        self.coordinates = [float(x) for x in initial_states]   # q_n, at the start of the step under way
+        self.step_start = model.phase.start                     # t_n (s)
+        self.step_size = 0.0                                    # h (s) of the step under way
+        self.slopes: list = []                                  # the derivatives of its stages so far
+        self.solution = None                                    # the solve at the last end of step
+        model.stage.add_confluence(self)
 
     def compute(self, t, q, positions, velocities):  # pragma: no cover - interface
         raise NotImplementedError
@@ -63,39 +65,44 @@ class ReducedConfluence(Confluence):
     def derivative(self, solution) -> list:  # pragma: no cover - interface
         raise NotImplementedError
 
-    STAGES = 4
-    """Right-hand-side calls per RK44 step; Exudyn makes one more at the end-of-step state."""
-
-    def new_step(self, mbs, t):
-        """Pre-step hook."""
-        self.calls_in_step = 0
-
-    def confirm(self, mbs, t):
-        """Post-step hook, before any other: make the solution (and the stage's body states) current for the step's
-        end.
-
-        The right-hand side's last call in a step is at the end-of-step state and time, and nothing changes the state
-        between it and this hook, so a solve marked ``at_end`` at time ``t`` is current without reading the state
-        back (reading the ODE1 coordinates inside the solver costs several microseconds)."""
-        if self.solved_at_end and self.solved_at[0] == t:
-            self._checked = self.model.post_step_count[0]
-        else:
-            self.current()
-
     def register(self, case: Case) -> None:
         """Hook this confluence into the solver's per-step work and the model's channels."""
         self.model.add_pre_step(self.new_step)
-        self.model.add_post_step(self.confirm, first=True)
+        self.model.add_post_step(self.advance, first=True)
         self.model.confluences[self.system.name] = self
         self.add_channels(case)
 
-    def solve(self, t, q, at_end: bool = False):
-        """Solve at the current stage's body states and ODE1 coordinates ``q``; writes the line forces, caches.
-        ``at_end``: the state is an end-of-step one (post-step work, or the call after the last stage)."""
-        self.stage.refresh()
-        solution = self.solve_stage(t, q)
-        self.solution, self.solved_at, self.solved_at_end = solution, (t, q), at_end
-        return solution
+    def new_step(self, mbs, t):
+        """Pre-step hook (``t``: the end time of the coming step)."""
+        self.slopes = []
+        self.step_size = t - self.step_start
+
+    def stage_solve(self, t: float) -> None:
+        """The solve at the current RK stage (called by the stage force item, the body states already current)."""
+        index = len(self.slopes)
+        if index == 0 and self.solution is not None and self.reusable(self.solution):
+            solution = self.solution   # stage 1 is the end-of-step state solved by ``advance``; its part stands
+        else:
+            q = self.coordinates
+            if 0 < index < 4:
+                step = RK4_STAGE_FRACTIONS[index] * self.step_size
+                q = [x + step * k for x, k in zip(q, self.slopes[-1])]
+            solution = self.solve_stage(t, q)
+        if index < 4:
+            self.slopes.append(self.derivative(solution))
+
+    def advance(self, mbs, t):
+        """Post-step hook, before any other: complete the step's RK4 update of the confluence's own coordinates and
+        solve at the end-of-step state (the stage's body states read from the engine: ``Stage.refresh``)."""
+        if len(self.slopes) == 4:
+            h = self.step_size
+            self.coordinates = [x + h * (RK4_WEIGHTS[0] * k1 + RK4_WEIGHTS[1] * k2 + RK4_WEIGHTS[2] * k3
+                                         + RK4_WEIGHTS[3] * k4) for x, k1, k2, k3, k4 in zip(self.coordinates,
+                                                                                          *self.slopes)]
+            self.step_start = t
+        self.slopes = []
+        self.stage.refresh(t)
+        self.solution = self.solve_stage(t, self.coordinates)
 
     def solve_stage(self, t, q):
         """The method's solve on the stage's body states: attach points, ``compute``, the forces -T n on the
@@ -119,41 +126,13 @@ class ReducedConfluence(Confluence):
         method updates between steps); subclasses refine this."""
         return True
 
-    def _rhs(self, mbs, t, item, q):
-        try:
-            self.calls_in_step += 1   # q: a new list at every call (Exudyn converts the coordinates)
-            # the first stage of a step sees exactly the end-of-step state solved last: reuse that solve
-            if self.calls_in_step == 1 and self.solved_at_end and self.solved_at == (t, q) \
-                    and self.reusable(self.solution):
-                return self.derivative(self.solution)
-            return self.derivative(self.solve(t, q, at_end=self.calls_in_step > self.STAGES))
-        except Exception as exc:  # keep our own error for the solver to report
-            self.model.record_failure(exc)
-            raise
-
     def current(self):
-        """The solution at the current (end-of-step) state, reusing the last right-hand side when it matches;
-        checked once per post-step call (``model.post_step_count``), then served as it is."""
-        if self._checked == self.model.post_step_count[0]:
-            return self.solution
-        t = self._get_time()
-        q = np.atleast_1d(self._get_node(self.node, OV.Coordinates, CURRENT)).tolist()
-        if not (self.solved_at_end and self.solved_at == (t, q)):
-            self.stage.stale = True   # the state may differ from the last stage's
-            self.solve(t, q, at_end=True)
-        self._checked = self.model.post_step_count[0]
+        """The solution at the end of the last step (made by ``advance`` before any other post-step work)."""
         return self.solution
 
     def warm_up(self) -> None:
-        """A solve at the phase start (the first post-step call reuses it when the state matches)."""
-        q = np.atleast_1d(self._get_node(self.node, OV.Coordinates, CURRENT)).tolist()
-        self.stage.stale = True
-        self.solve(self.model.phase.start, q, at_end=True)
-
-    def current_coordinates(self) -> list:
-        """The ODE1 coordinates of ``current()``'s solution."""
-        self.current()
-        return self.solved_at[1]
+        """The solve at the phase start (the first post-step call, before any step, repeats it)."""
+        self.advance(None, self.model.phase.start)
 
     def position(self) -> list:
         return self.current().position

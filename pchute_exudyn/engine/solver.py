@@ -140,7 +140,7 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
                 stop = condition(t) or stop
             if stop or t >= next_sample[0] - 0.5 * step or t >= end - 0.5 * step:
                 rows.append([read() for read in reads])
-                times.append(grid_time(t, start, step, output_step))
+                times.append(t)   # solver time; grid_time after the run
                 last[0] = t
                 next_sample[0] = (round(t / output_step) + 1) * output_step
             if stop:
@@ -236,6 +236,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
             f"the state became NaN or infinite near t = {progress['bad']:.4f} s with the {integrator} integrator "
             f"at step {step:g} s: try a smaller step", progress["bad"])
     samples = {key: [row[i] for row in rows] for i, key in enumerate(model.channels)}
+    times = [grid_time(t, start, step, output_step) for t in times]
     raw = RawHistory.from_samples(times, samples, progress["steps"], wall)
     raw.stopped_at = progress["stopped"]
     return raw

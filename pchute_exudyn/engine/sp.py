@@ -1,9 +1,9 @@
 """The singular-perturbation model (thesis chapter 3): the confluence position as three first-order states whose
-derivative is the SP velocity of ``physics.singular_perturbation`` (see ``engine.reduced`` for the Exudyn side).
+derivative is the SP velocity of ``physics.singular_perturbation``, solved by the compiled stage kernel ``sp_stage``
+inside the model's stage force item and integrated in step with Exudyn's RK4 stages (``engine.reduced``).
 
 v0, the confluence velocity at the end of the previous step, is held through each step's stages and updated after
-the step (from the end-of-step solution Exudyn computes anyway); the first step uses the case's initial confluence
-velocity.
+the step (from the end-of-step solve); the first step uses the case's initial confluence velocity.
 
 Order 1 (the confluence mass to first order): the reference velocity of a solve at time t is the latest end-of-step
 velocity from before t, so the backward difference spans the stage's part of the step (h/2 or h) and, at a step's
@@ -20,10 +20,10 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.lines import pack_tables
-from ..physics.singular_perturbation import STAGE_COLUMNS, MassTerm, sp_stage
+from ..physics.singular_perturbation import MEMORY_ROWS, STAGE_COLUMNS, sp_end_of_step, sp_rk_stage
 from ..state import ConfluenceState, Phase
 from .bodies import add_bodies
-from .model import CURRENT, OV, Model
+from .model import Model
 from .reduced import ReducedConfluence
 
 
@@ -64,42 +64,47 @@ class SPConfluence(ReducedConfluence):
         super().__init__(model, case, system, state.position.tolist())
         self.kappa_max, self.slack_rule = options.effective_kappa_max, options.slack_rule
         self.order = options.effective_order
-        self.force_rule = 1.0 if options.slack_rule == "force" else 0.0
         self.table_points, counts = pack_tables(line.load_elongation for line in system.lines)
         self.layout = np.column_stack([self.points, self.free_length, self.stiffness, self.damping, counts])
         self.work = np.zeros((len(system.lines), STAGE_COLUMNS))
-        self.previous_velocity = tuple(state.velocity.tolist())   # v0 of the first step: the state's velocity
         self.start_time = start_time
-        self.mass = system.confluence.mass
-        self.gravity = case.start.gravity_scalar
         acceleration = state.acceleration
-        self.start_acceleration = (0.0, 0.0, 0.0) if acceleration is None else tuple(acceleration.tolist())
-        self.end_velocities = []   # the last two (t, end-of-step confluence velocity), for order 1
+        memory = self.memory = np.zeros((MEMORY_ROWS, 3))   # physics.singular_perturbation.MEMORY_ROWS
+        memory[0] = state.position
+        memory[5] = state.velocity                            # v0 of the first step: the state's velocity
+        memory[6] = system.confluence.mass, self.kappa_max, 1.0 if options.slack_rule == "force" else 0.0
+        mu, *vector = case.start.gravity_parameters()
+        memory[7], memory[8] = (float(self.order), mu, 0.0), vector
+        memory[12] = (0.0, 0.0, 0.0) if acceleration is None else acceleration
+        self.stage_index = 0
 
-    def mass_term(self, t, q) -> MassTerm | None:
-        """The order-1 inertia and weight for a solve at time ``t`` (s) and confluence position ``q`` (m)."""
-        if self.order == 0:
-            return None
-        m = self.mass
-        gx, gy, gz = self.gravity(*q)
-        for time, velocity in reversed(self.end_velocities):
-            if time < t:
-                return MassTerm(m / (t - time), velocity, (m * gx, m * gy, m * gz))
-        ax, ay, az = self.start_acceleration
-        return MassTerm(0.0, (0.0, 0.0, 0.0), (m * (gx - ax), m * (gy - ay), m * (gz - az)))
+    def new_step(self, mbs, t):
+        """Pre-step hook (``t``: the end time of the coming step)."""
+        self.stage_index = 0
+        self.step_size = t - self.step_start
 
-    def solve_stage(self, t, q):
-        """The compiled stage kernel: attach points, Eq. 3.10 with C_c, the line forces into ``part``."""
-        mass = self.mass_term(t, q)
-        rate, bx, by, bz = 0.0, 0.0, 0.0, 0.0
-        if mass is not None:
-            rate, (rx, ry, rz), (gx, gy, gz) = mass
-            bx, by, bz = gx + rate * rx, gy + rate * ry, gz + rate * rz
-        v0x, v0y, v0z = self.previous_velocity
-        vx, vy, vz, damping, kappa, taut = sp_stage(
-            self.stage.states, self.layout, self.table_points, self.work, self.part, q[0], q[1], q[2], v0x, v0y,
-            v0z, self.kappa_max, self.force_rule, rate, bx, by, bz)
-        return StageSolution((vx, vy, vz), damping, kappa, taut, self.work)
+    def stage_solve(self, t: float) -> None:
+        """The compiled SP solve at the current RK stage (``sp_rk_stage``); stage 1 is the end-of-step state that
+        ``advance`` solved, whose velocity (memory row 1) and line forces stand when the solve did not depend on the
+        v0 update since."""
+        index = self.stage_index
+        if index < 4 and not (index == 0 and self.reusable(self.solution)):
+            sp_rk_stage(self.stage.states, self.layout, self.table_points, self.work, self.part, self.memory, t,
+                        index, self.step_size)
+        self.stage_index = index + 1
+
+    def advance(self, mbs, t):
+        """Post-step hook, before any other: complete the step, solve at the end-of-step state (whose velocity is
+        the next step's k_1) and update v0 and order 1's record (``sp_end_of_step``)."""
+        completed = self.stage_index == 4
+        if completed:
+            self.step_start = t
+        self.stage_index = 0
+        self.stage.refresh(t)
+        vx, vy, vz, damping, kappa, taut = sp_end_of_step(self.stage.states, self.layout, self.table_points,
+                                                          self.work, self.part, self.memory, t, self.step_size,
+                                                          completed, self.start_time)
+        self.solution = StageSolution((vx, vy, vz), damping, kappa, taut, self.work)
 
     def tension_reader(self, i: int):
         work = self.work   # current after the post-step hook ``confirm``, which runs before the sampling
@@ -113,30 +118,22 @@ class SPConfluence(ReducedConfluence):
         # the v0 update between steps (order 1's reference velocity is the same for both calls: see the module doc)
         return solution.damping == 0.0 and solution.taut_count > 0
 
-    def end_step(self, mbs, t):
-        """Post-step hook: v0 for the next step is the velocity at the end of this one; order 1 records it."""
-        velocity = self.current().velocity
-        if t > self.start_time:
-            self.previous_velocity = velocity
-        if self.order == 1 and (not self.end_velocities or t > self.end_velocities[-1][0]):
-            self.end_velocities = [*self.end_velocities[-1:], (t, velocity)]
-
     def acceleration(self):
         """Mean confluence acceleration over the last step (m/s^2), or None before the first step ends."""
-        if len(self.end_velocities) < 2:
+        memory = self.memory
+        if memory[7, 2] < 2:
             return None
-        (t0, v0), (t1, v1) = self.end_velocities
-        return [(b - a) / (t1 - t0) for a, b in zip(v0, v1)]
+        return ((memory[10] - memory[11]) / (memory[9, 0] - memory[9, 1])).tolist()
 
     def position(self) -> list:
-        """The ODE1 coordinates of ``current()``'s solution: the confluence position (m)."""
-        return self.current_coordinates()
+        """The confluence position (m) at the end of the last step: the SP state."""
+        return self.memory[0].tolist()
 
     def position_reader(self):
-        return self.current_coordinates
+        return self.position
 
     def state_position(self) -> list:
-        return np.asarray(self._get_node(self.node, OV.Coordinates, CURRENT))[:3]
+        return self.memory[0].tolist()
 
 
 def build_sp_model(case: Case, phase: Phase, options) -> Model:
@@ -147,5 +144,4 @@ def build_sp_model(case: Case, phase: Phase, options) -> Model:
     for system in model.systems:
         sp = SPConfluence(model, case, system, phase.confluence_states[system.name], options, phase.start)
         sp.register(case)
-        model.add_post_step(sp.end_step)
     return model.assemble()

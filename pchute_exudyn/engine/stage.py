@@ -6,9 +6,9 @@ engine into Python per solver stage for all of them (a load user function per li
 each, and the engine's marker work besides). Its arguments, the nodes' coordinates and velocities, give the body
 states (``physics.kinematics.body_states``) without any engine read.
 
-A reduced confluence's right-hand side (an ODE1 object, which Exudyn evaluates before the stage's ODE2 forces) needs
-the body states first: ``refresh`` reads the whole coordinate vectors in two engine calls, once per stage however
-many systems there are (the force user function marks the next right-hand side as a new stage).
+The reduced confluences (SP, equilibrium point: ``engine.reduced``) solve inside the same user function, on those
+body states, before the forces are summed. After each step ``refresh`` reads the end-of-step state (two engine
+calls for the whole coordinate vectors) for their end-of-step solve and the outputs.
 
 Generalized forces of a rotation-vector node: the force (N, start frame) and the body-axis moment (N m);
 ``physics.kinematics``.
@@ -52,8 +52,10 @@ class Stage:
             self._set_reference(case, name)
         self.aerodynamics = []            # engine.bodies.BodyAerodynamics of the bodies with aerodynamics
         self.parts = []                   # generalized-force arrays the reduced confluences write
+        self.confluences = []             # engine.reduced.ReducedConfluence: solved at every stage
         self.generalized = np.zeros(6 * len(self.free))
-        self.stale = True                 # the next right-hand side is a new stage: refresh reads the state
+        self.refreshed = None             # (time, post-step call) of the last refresh
+        self.rows = self.states.tolist()  # the states at the last refresh, as lists
         system_data = model.mbs.systemData
         self._read, self._read_t = system_data.GetODE2Coordinates, system_data.GetODE2Coordinates_t
         self.aero_points = self.aero_motion = self.aero_forces = None
@@ -85,6 +87,10 @@ class Stage:
         self.aero_motion = np.zeros((len(self.aerodynamics), 6))
         self.aero_forces = np.zeros((len(self.aerodynamics), 3))
 
+    def add_confluence(self, confluence) -> None:
+        """Solve ``confluence`` (``engine.reduced``) at every stage, before the forces are summed."""
+        self.confluences.append(confluence)
+
     def add_part(self) -> np.ndarray:
         """A generalized-force array for a reduced confluence to write at every stage (summed into the forces)."""
         part = np.zeros_like(self.generalized)
@@ -110,28 +116,30 @@ class Stage:
             self.global_layout[row, 0] = self.model.mbs.GetNodeODE2Index(self.model.bodies[name].node)
 
     def warm_up(self) -> None:
-        """Load (or, on a machine's first run, compile) the stage's kernels before the timed solve: a refresh at the
-        start state and the point kernels on scratch arrays."""
-        self.stale = True
-        self.refresh()
+        """Load (or, on a machine's first run, compile) the stage's kernels before the timed solve: the body states
+        at the start and the point kernels on scratch arrays."""
+        body_states(np.array(self._read()), np.array(self._read_t()), self.global_layout, self.states)
         if self.aerodynamics:
             point_motions(self.states, self.aero_points, self.aero_motion)
             add_point_forces(self.states, self.aero_points, np.zeros_like(self.aero_forces),
                              np.zeros_like(self.generalized))
-        self.stale = True
 
-    def refresh(self) -> None:
-        """The body states at the current stage, read from the engine once per stage."""
-        if self.stale:
+    def refresh(self, t: float) -> None:
+        """The body states at the engine's current state (after a step, at time ``t`` in s): two engine reads,
+        once per post-step call however many confluences ask."""
+        key = (t, self.model.post_step_count[0])
+        if key != self.refreshed:
             body_states(self._read(), self._read_t(), self.global_layout, self.states)
-            self.stale = False
+            self.refreshed = key
+            self.rows = self.states.tolist()   # the body channels' values, as lists
 
     def force(self, mbs, t, item, q, q_t):
         """The force user function: aerodynamic loads at this stage's state plus every confluence's part."""
         try:
             generalized = self.generalized
-            if self.stale:   # no right-hand side has read this stage: the arguments are the state (lists)
-                body_states(np.array(q), np.array(q_t), self.layout, self.states)
+            body_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
+            for confluence in self.confluences:
+                confluence.stage_solve(t)
             parts = self.parts
             if parts:
                 np.copyto(generalized, parts[0])
@@ -146,19 +154,18 @@ class Stage:
                 for k, (aero, centre) in enumerate(zip(self.aerodynamics, motion.tolist())):
                     forces[k] = aero.force(t, centre, rows[aero.row][3:12:3])   # R's first column: body +x
                 add_point_forces(states, self.aero_points, forces, generalized)
-            self.stale = True
             return generalized
         except Exception as exc:  # keep our own error for the solver to report
             self.model.record_failure(exc)
             raise
 
     def serve_channels(self) -> None:
-        """Serve the free bodies' output channels from the stage states (a reduced model's right-hand side makes
-        them current at the end of every step)."""
+        """Serve the free bodies' output channels from the stage states (a reduced model's confluences refresh
+        them at the end of every step, before the outputs are sampled)."""
+        model = self.model
         for name in self.free:
-            row = self.states[self.row[name]]
-            model = self.model
-            model.add_channel(BodyChannel(name, "position"), lambda row=row: row[0:3].tolist())
-            model.add_channel(BodyChannel(name, "velocity"), lambda row=row: row[12:15].tolist())
-            model.add_channel(BodyChannel(name, "rotation"), lambda row=row: row[3:12].tolist())
-            model.add_channel(BodyChannel(name, "angular_velocity"), lambda row=row: row[18:21].tolist())
+            r = self.row[name]
+            model.add_channel(BodyChannel(name, "position"), lambda r=r: self.rows[r][0:3])
+            model.add_channel(BodyChannel(name, "velocity"), lambda r=r: self.rows[r][12:15])
+            model.add_channel(BodyChannel(name, "rotation"), lambda r=r: self.rows[r][3:12])
+            model.add_channel(BodyChannel(name, "angular_velocity"), lambda r=r: self.rows[r][18:21])

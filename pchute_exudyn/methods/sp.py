@@ -13,7 +13,6 @@ from ..physics.linearization import sp_step_limit
 from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS
 from .base import Method, StepLimit, line_arrays, option_field
 
-
 PRESETS = {"accurate": {"kappa_max": 10.0, "order": 1}, "thesis": {"kappa_max": 5.0, "order": 0}}
 """SP presets: kappa_max and the confluence-mass order they stand for. ``thesis``: the thesis's settings (Eq. 3.10,
 kappa_max = 5). ``accurate`` (the default): the confluence mass to first order, which removes the error of the

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .compiled import kernel
+
 
 def line_stiffness(stiffness, free_length, length, direction):
     """Tangent stiffness of each line, K [(1 - L0/L) I + (L0/L) n n^T] (N/m), shape (n_lines, 3, 3).
@@ -139,16 +141,24 @@ def max_stable_step_rk4(eigenvalues) -> float:
     for lam in np.atleast_1d(np.asarray(eigenvalues, dtype=complex)).tolist():
         if lam.real >= 0.0 or lam.imag < 0.0:  # conjugates share the limit of their partner
             continue
-        lo, hi = 0.0, 3.0 / abs(lam)
-        for _ in range(40):
-            mid = 0.5 * (lo + hi)
-            z = mid * lam
-            if abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))) <= 1.0:
-                lo = mid
-            else:
-                hi = mid
-        limit = min(limit, lo)
+        limit = min(limit, _stable_step_along(lam.real, lam.imag))
     return limit
+
+
+@kernel
+def _stable_step_along(real, imag):
+    """The largest h with |R(h lambda)| <= 1 for lambda = real + i imag (real < 0), by bisection (compiled: the
+    step monitor calls it for every mode)."""
+    lam = complex(real, imag)
+    lo, hi = 0.0, 3.0 / abs(lam)
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        z = mid * lam
+        if abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))) <= 1.0:
+            lo = mid
+        else:
+            hi = mid
+    return lo
 
 
 def _all_taut(attach_position, confluence_position, free_length, stiffness, damping):

@@ -19,6 +19,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .compiled import kernel
+
 _MATH = SimpleNamespace(sin=math.sin, cos=math.cos, atan2=math.atan2, hypot=math.hypot, sqrt=math.sqrt)
 _NUMPY = SimpleNamespace(sin=np.sin, cos=np.cos, atan2=np.arctan2, hypot=np.hypot, sqrt=np.sqrt)
 
@@ -250,13 +252,26 @@ class StartFrame:
 
     def gravity_scalar(self, x: float, y: float, z: float) -> tuple:
         """Gravitational acceleration (m/s^2, start-frame axes) at one start-frame position (m), in plain floats:
-        -mu r / |r|^3 with r from the planet centre, or the flat planet's uniform g."""
+        -mu r / |r|^3 with r from the planet centre, or the flat planet's uniform g (``gravity_acceleration``)."""
         mu, vector = self._gravity_plain
-        if mu == 0.0:
-            return vector
-        rx, ry, rz = x - vector[0], y - vector[1], z - vector[2]
-        scale = -mu / (rx * rx + ry * ry + rz * rz) ** 1.5
-        return rx * scale, ry * scale, rz * scale
+        return gravity_acceleration(mu, *vector, x, y, z)
+
+    def gravity_parameters(self) -> tuple:
+        """(mu in m^3/s^2, planet centre in m) or (0, uniform g in m/s^2): ``gravity_acceleration``'s first
+        arguments."""
+        mu, vector = self._gravity_plain
+        return mu, *vector
+
+
+@kernel
+def gravity_acceleration(mu, vx, vy, vz, x, y, z):
+    """Gravitational acceleration (m/s^2) at the start-frame point (x, y, z) (m): -mu r / |r|^3 with r from the
+    planet centre (vx, vy, vz) when mu (m^3/s^2) > 0, else the uniform (vx, vy, vz)."""
+    if mu == 0.0:
+        return vx, vy, vz
+    rx, ry, rz = x - vx, y - vy, z - vz
+    scale = -mu / (rx * rx + ry * ry + rz * rz) ** 1.5
+    return rx * scale, ry * scale, rz * scale
 
 
 def _rotate(vectors, axis_rate, time):

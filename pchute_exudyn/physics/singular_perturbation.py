@@ -49,6 +49,7 @@ import numpy as np
 from .compiled import kernel
 from .kinematics import POINT_COLUMNS, add_point_forces, point_motions
 from .lines import pack_tables, table_tension
+from .planet import gravity_acceleration
 from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
 
 SLACK_RULES = ("stretch", "force")
@@ -403,4 +404,82 @@ def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0
             forces[i, k] = -tensions[i] * directions[i, k]   # on the body: -T n
     generalized[:] = 0.0
     add_point_forces(states, points, forces, generalized)
+    return vx, vy, vz, c_c, kappa, taut
+
+
+MEMORY_ROWS = 13
+"""Rows (of 3 floats) of an SP confluence's memory for ``sp_rk_stage``:
+
+0 the confluence position q_n at the start of the step under way (m); 1-4 the stage velocities k_1 .. k_4 of the
+step (m/s; row 1 is also the end-of-step solve's velocity); 5 v0 (m/s); 6 (m_c in kg, kappa_max, 1 for the force
+slack rule else 0); 7 (order, gravity mu in m^3/s^2, number of recorded end-of-step velocities, at most 2); 8 the
+planet centre (m; mu > 0) or the uniform gravity (m/s^2; mu = 0); 9 (times of the newer and the older recorded
+end-of-step velocities in s, -); 10 and 11 those velocities (m/s); 12 the acceleration carried from the previous
+phase (m/s^2)."""
+
+RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
+"""a_k of the classical RK4 tableau (Exudyn's RK44): stage k's state is q_n + h a_k k_(k-1) (stage 1: q_n)."""
+RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
+
+
+@kernel
+def _mass_term(memory, t, qx, qy, qz):
+    """The order-1 mass term (``MassTerm``) as (rate, b0 x, y, z): the reference velocity is the latest recorded
+    end-of-step velocity from before ``t``; with none, the carried acceleration enters as a force."""
+    if memory[7, 0] < 0.5:
+        return 0.0, 0.0, 0.0, 0.0
+    m = memory[6, 0]
+    gx, gy, gz = gravity_acceleration(memory[7, 1], memory[8, 0], memory[8, 1], memory[8, 2], qx, qy, qz)
+    for j in range(int(memory[7, 2])):   # the newer first
+        time = memory[9, j]
+        if time < t:
+            rate, row = m / (t - time), 10 + j
+            return rate, m * gx + rate * memory[row, 0], m * gy + rate * memory[row, 1], m * gz + rate * memory[row, 2]
+    return 0.0, m * (gx - memory[12, 0]), m * (gy - memory[12, 1]), m * (gz - memory[12, 2])
+
+
+@kernel
+def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
+    """SP at RK4 stage ``index`` (0-3) of a step of ``h`` (s) at time ``t`` (s): the stage's confluence position
+    from ``memory`` (``MEMORY_ROWS``), the order-1 mass term when the memory asks for it, ``sp_stage``, and the
+    stage velocity into memory row index + 1. Returns (vx, vy, vz, C_c, kappa, lines counted taut)."""
+    qx, qy, qz = memory[0, 0], memory[0, 1], memory[0, 2]
+    if index > 0:
+        step = RK4_STAGE_FRACTIONS[index] * h
+        qx, qy, qz = qx + step * memory[index, 0], qy + step * memory[index, 1], qz + step * memory[index, 2]
+    rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
+    vx, vy, vz, c_c, kappa, taut = sp_stage(states, layout, tables, work, part, qx, qy, qz, memory[5, 0],
+                                            memory[5, 1], memory[5, 2], memory[6, 1], memory[6, 2], rate, bx, by,
+                                            bz)
+    memory[index + 1, 0], memory[index + 1, 1], memory[index + 1, 2] = vx, vy, vz
+    return vx, vy, vz, c_c, kappa, taut
+
+
+@kernel
+def rk4_update(memory, h):
+    """Complete an RK4 step of ``h`` (s): q_(n+1) = q_n + h (k_1 + 2 k_2 + 2 k_3 + k_4) / 6 into memory row 0."""
+    for i in range(3):
+        memory[0, i] = memory[0, i] + h * (RK4_WEIGHTS[0] * memory[1, i] + RK4_WEIGHTS[1] * memory[2, i]
+                                           + RK4_WEIGHTS[2] * memory[3, i] + RK4_WEIGHTS[3] * memory[4, i])
+
+
+@kernel
+def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, start_time):
+    """The SP work after a step of ``h`` (s) ending at ``t`` (s): the RK4 update when the step ``completed`` its
+    four stages, the solve at the end-of-step state (its velocity is the next step's k_1), then v0 for the next step
+    (after ``start_time``, the phase start: before it the case's initial velocity stands) and, for order 1, the
+    velocity recorded for the backward difference. Returns ``sp_rk_stage``'s (vx, vy, vz, C_c, kappa, taut)."""
+    if completed:
+        rk4_update(memory, h)
+    vx, vy, vz, c_c, kappa, taut = sp_rk_stage(states, layout, tables, work, part, memory, t, 0, 0.0)
+    if t > start_time:
+        memory[5, 0], memory[5, 1], memory[5, 2] = vx, vy, vz
+    count = int(memory[7, 2])
+    if memory[7, 0] > 0.5 and (count == 0 or t > memory[9, 0]):
+        memory[9, 1] = memory[9, 0]   # the newer becomes the older
+        for i in range(3):
+            memory[11, i] = memory[10, i]
+        memory[9, 0] = t
+        memory[10, 0], memory[10, 1], memory[10, 2] = vx, vy, vz
+        memory[7, 2] = min(count + 1, 2)
     return vx, vy, vz, c_c, kappa, taut
