@@ -1,19 +1,38 @@
-"""Speed of the singular-perturbation method against the full-mass model: MER case 1, side by side in one run.
+"""Speed of the singular-perturbation method against the full-mass model, side by side in one run, and where an SP
+stage's time goes.
 
-Run:  python validation/benchmark_sp.py [--duration 60] [--repeat 1]
+Run:  python validation/benchmark_sp.py [--repeat 3] [--duration 60] [--budget] [--before DIR]
 
-Times, one after the other in one process: full mass RK4 at 1e-4 s (the thesis's reference), full mass implicit at
-1e-2 s, and SP RK4 at 1e-2 s with each slack rule; prints wall times, ratios to the reference and accuracy against
-it, then profiles one SP run to show where its time per step goes (engine reads, SP kernel, aerodynamics, Exudyn's
-own work). Writes validation/output/benchmark_sp.md. With --repeat N each run is timed N times and the fastest kept.
+1. MER case 1 (``--duration`` s) and PA1 (to touchdown): full mass RK4 at the thesis's steps (1e-4 s, 5e-4 s), full
+   mass implicit at 1e-2 s, and SP at 1e-2 s with the thesis's settings and with the default (``accurate``)
+   preset, each timed ``--repeat`` times in interleaved rounds (median kept: this machine is noisy); speed-ups
+   against full RK4 and against full implicit, and each run's accuracy against the full RK4 run.
+2. First run on a machine: the whole process of ``pchute run cases/mer/case1.toml --method sp`` with an empty
+   numba cache (every kernel compiled) and again with the cache it left.
+3. ``--budget``: a sampling profile (py-spy, ``pip install py-spy``) of an MER case 1 SP run, shares turned into
+   microseconds per solver stage: Exudyn's own work, the crossings into Python (counted per stage, each priced by
+   a model whose user functions do nothing), engine reads, the SP kernel, aerodynamics, the rest of the stage's
+   Python, and the per-step hooks. ``--before DIR`` profiles the checkout in DIR the same way (the code before
+   issue 14: ``git worktree add DIR 6085d44``) for the before/after table.
+
+Writes validation/output/benchmark_sp.md (the budget section only with --budget).
 """
 
 from __future__ import annotations
 
 import argparse
-import cProfile
-import pstats
+import collections
+import math
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
 from pathlib import Path
+
+import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.compare import compare_results
@@ -21,86 +40,236 @@ from pchute_exudyn.io import atomic_write_text
 from pchute_exudyn.simulation import versions
 
 HERE = Path(__file__).resolve().parent
-RUNS = [("full", "rk4", 1e-4, None), ("full", "implicit", 1e-2, None), ("sp", "rk4", 1e-2, "stretch"),
-        ("sp", "rk4", 1e-2, "force")]
-# profile entries (function name as cProfile reports it) -> category; cumulative time of each
-CATEGORIES = {"confluence_velocity": "SP kernel (physics.singular_perturbation)",
-              "GetMarkerOutput": "engine reads of attach points and aero centre (GetMarkerOutput)",
-              "aerodynamic_load": "parachute aerodynamics user function (incl. its engine reads)",
-              "post_step": "post-step hook: v0 update and output sampling",
-              "pre_step": "pre-step hook: step monitor and NaN check"}
+ROOT = HERE.parent
+MER = ROOT / "cases" / "mer" / "case1.toml"
+PA1 = ROOT / "cases" / "cev_pa1.toml"
+FULL_OPEN = 27.5   # s: PA1's mains at full drag area (validation/cev_pa1.py)
+THESIS = {"preset": "thesis"}
+THESIS_PA1 = {"preset": "thesis", "order": 0}   # the PA1 case asks for order 1 itself
 
 
-def profile_sp(case, duration: float) -> list:
-    profiler = cProfile.Profile()
-    profiler.enable()
-    result = pc.simulate(case, "sp", "rk4", 1e-2, duration)
-    profiler.disable()
-    steps = result.summary["steps"]
-    stats = pstats.Stats(profiler).stats
-    totals = {}
-    for (_, _, name), (_, calls, tottime, cumtime, _) in stats.items():
-        # cProfile names built-ins "<built-in method exudyn.exudynCPP.GetMarkerOutput>"
-        key = name.removeprefix("<built-in method exudyn.exudynCPP.").removesuffix(">")
-        if key in CATEGORIES:
-            previous = totals.get(key, (0, 0.0))
-            totals[key] = (previous[0] + calls, previous[1] + (tottime if key == "GetMarkerOutput" else cumtime))
-        if key == "SolveSystem":
-            totals["SolveSystem"] = (calls, tottime)
-    rows = ["| per SP step (profiled, so slower than unprofiled) | calls per step | us per step |", "|---|---|---|"]
-    for name, label in list(CATEGORIES.items()) + [("SolveSystem", "Exudyn's own work (RK4 stages, bodies, "
-                                                                   "gravity; SolveSystem's own time)")]:
-        if name in totals:
-            calls, seconds = totals[name]
-            per_step = "-" if name == "SolveSystem" else f"{calls / steps:.1f}"
-            rows.append(f"| {label} | {per_step} | {seconds / steps * 1e6:.1f} |")
+def runs_of(case_name: str) -> list:
+    """(label, method, integrator, step, SP options) of one case's comparison, the reference first."""
+    full_step = 1e-4 if case_name == "mer" else 5e-4
+    thesis = THESIS if case_name == "mer" else THESIS_PA1
+    return [(f"full rk4 {full_step:g}", "full", "rk4", full_step, {}),
+            ("full implicit 0.01", "full", "implicit", 1e-2, {}),
+            ("sp thesis 0.01", "sp", "rk4", 1e-2, thesis),
+            ("sp accurate 0.01", "sp", "rk4", 1e-2, {"preset": "accurate", "order": 1, "kappa_max": 10.0}),
+            ("sp accurate 0.02", "sp", "rk4", 2e-2, {"preset": "accurate", "order": 1, "kappa_max": 10.0})]
+
+
+def timed_rounds(cases: dict, repeat: int, duration: float) -> dict:
+    """Every run of every case, ``repeat`` interleaved rounds; (case, label) -> (results of the last round, walls)."""
+    out = {}
+    for _ in range(repeat):
+        for name, case in cases.items():
+            for label, method, integrator, step, options in runs_of(name):
+                result = pc.simulate(case, method, integrator, step, duration if name == "mer" else None,
+                                     **options)
+                previous = out.get((name, label), (None, []))[1]
+                out[(name, label)] = (result, [*previous, result.summary["wall_time"]])
+                print(f"  {name} {label:22s} {result.summary['wall_time']:7.3f} s", flush=True)
+    return out
+
+
+def attitude_difference(reference, result) -> float:
+    """Largest capsule attitude-angle difference (deg) after the mains are fully open."""
+    m = (reference.time > FULL_OPEN) & (reference.time <= min(reference.time[-1], result.time[-1]))
+    return max(float(np.abs(np.interp(reference.time[m], result.time, result[c]) - reference[c][m]).max())
+               for c in ("capsule_yaw_deg", "capsule_pitch_deg", "capsule_roll_deg"))
+
+
+def speed_table(name: str, timed: dict) -> list:
+    labels = [run[0] for run in runs_of(name)]
+    reference, ref_walls = timed[(name, labels[0])]
+    implicit = statistics.median(timed[(name, "full implicit 0.01")][1])
+    ref_wall = statistics.median(ref_walls)
+    vehicle = "vehicle" if name == "mer" else "capsule"
+    head = ("| run | wall time (s), median | steps | speed-up over full RK4 | speed-up over full implicit 1e-2 | "
+            + ("final altitude diff (m) | max tension diff after 2 s (N) |" if name == "mer" else
+               "touchdown time diff (s) | max capsule attitude diff after 27.5 s (deg) | max tension diff after "
+               "27.5 s (N) |"))
+    rows = [head, "|---|---|---|---|---|---|---|"]
+    for label in labels:
+        result, walls = timed[(name, label)]
+        wall = statistics.median(walls)
+        if name == "mer":
+            tension = max(m["max_settled"] for m in compare_results(reference, result, settle_time=2.0).lines.values())
+            accuracy = (f"{result.final('vehicle_altitude') - reference.final('vehicle_altitude'):+.3f} | "
+                        f"{tension:.3g}")
+        else:
+            c = compare_results(reference, result, settle_time=FULL_OPEN, vehicle=vehicle,
+                                confluence="main_confluence")
+            tension = max(m["max_settled"] for m in c.lines.values() if math.isfinite(m["max_settled"]))
+            accuracy = (f"{result.time[-1] - reference.time[-1]:+.3f} | {attitude_difference(reference, result):.3f}"
+                        f" | {tension:.3g}")
+        rows.append(f"| {label} | {wall:.3f} | {result.summary['steps']} | {ref_wall / wall:.1f}x | "
+                    f"{implicit / wall:.2f}x | {accuracy} |")
     return rows
+
+
+def first_run() -> list:
+    """Whole-process time of ``pchute run`` on MER case 1 with SP, with an empty numba cache and then with it."""
+    cache = Path(tempfile.mkdtemp(prefix="pchute-numba-"))
+    out = Path(tempfile.mkdtemp(prefix="pchute-run-"))
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    times = []
+    try:
+        for _ in range(2):
+            started = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(MER), "--method", "sp", "--out",
+                            str(out / str(len(times)))], env=env, check=True, capture_output=True)
+            times.append(time.perf_counter() - started)
+    finally:
+        shutil.rmtree(cache, ignore_errors=True)
+        shutil.rmtree(out, ignore_errors=True)
+    return ["| `pchute run cases/mer/case1.toml --method sp`, whole process | wall time (s) |", "|---|---|",
+            f"| first run on a machine (empty numba cache: every kernel compiled) | {times[0]:.2f} |",
+            f"| later runs (kernels loaded from the cache) | {times[1]:.2f} |"]
+
+
+# -- the per-stage budget ---------------------------------------------------------------------------------------------
+
+CATEGORIES = [  # (label, function names as py-spy reports them; the first listed category of a stack wins)
+    ("engine reads of the state", ("Stage.refresh", "BodySnapshot.refresh", "GetMarkerOutput", "GetNodeOutput")),
+    ("SP kernel and its glue", ("SPConfluence.stage_solve", "SPConfluence.advance", "SPConfluence.compute",
+                                "confluence_velocity", "ReducedConfluence.solve", "ReducedConfluence._rhs")),
+    ("aerodynamics (Python physics: altitude, density, force)", ("BodyAerodynamics.force", "aerodynamic_load")),
+    ("stage force item: kinematics kernels, sums (Python side)", ("Stage.force",)),
+    ("post-step: outputs, v0 update", ("post_step",)),
+    ("pre-step: step monitor, NaN check", ("pre_step",)),
+]
+WORKLOAD = ("import pchute_exudyn as pc; case = pc.load_case({case!r}); pc.simulate(case, 'sp', 'rk4', 1e-2, 5.0)\n"
+            "for _ in range(4): print(pc.simulate(case, 'sp', 'rk4', 1e-2, {duration}).summary['wall_time'])")
+
+
+def profile(checkout: Path, duration: float) -> tuple[dict, float, int]:
+    """py-spy samples of SP runs of MER case 1 with the package in ``checkout``: category -> share of the solve,
+    the median wall time and the steps of a run."""
+    raw = Path(tempfile.mkdtemp(prefix="pchute-spy-")) / "raw.txt"
+    script = WORKLOAD.format(case=str(checkout / "cases" / "mer" / "case1.toml"), duration=duration)
+    done = subprocess.run(["py-spy", "record", "-r", "2000", "-f", "raw", "-o", str(raw), "--", sys.executable,
+                           "-c", script], env={**os.environ, "PYTHONPATH": str(checkout)}, capture_output=True,
+                          text=True, check=True)
+    walls = [float(line) for line in done.stdout.split()]
+    counts, total = collections.Counter(), 0
+    for line in raw.read_text().splitlines():
+        stack, n = line.rsplit(" ", 1)
+        frames = [f.split(" (")[0] for f in stack.split(";")]
+        if not any(f == "_solve" for f in frames) or "_compile_for_args" in stack:
+            continue
+        total += int(n)
+        counts[_category(frames)] += int(n)
+    shutil.rmtree(raw.parent, ignore_errors=True)
+    steps = round(duration / 1e-2)
+    return {k: v / total for k, v in counts.items()}, statistics.median(walls), steps
+
+
+def _category(frames: list) -> str:
+    for label, names in CATEGORIES:
+        if any(f.endswith(name) or f.split(".")[-1] == name for f in frames for name in names):
+            return label
+    return "Exudyn: its own work and the crossings"
+
+
+def crossing_cost() -> float:
+    """Microseconds per crossing from the engine into a Python user function that does nothing (a generic ODE2
+    force over two rigid bodies, RK4): measured against the same model without it."""
+    import exudyn as exu
+    import exudyn.itemInterface as eii
+
+    def solve(with_function: bool) -> float:
+        mbs = exu.SystemContainer().AddSystem()
+        nodes = []
+        for k in range(2):
+            node = mbs.AddNode(eii.NodeRigidBodyRotVecLG(referenceCoordinates=[0, 0, 10 * k, 0.1, 0.2, 0.3]))
+            mbs.AddObject(eii.ObjectRigidBody(nodeNumber=node, mass=10, inertia=[1, 2, 3, 0, 0, 0]))
+            nodes.append(node)
+        forces = np.zeros(12)
+        if with_function:
+            mbs.AddObject(eii.ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=lambda *args: forces))
+        mbs.Assemble()
+        settings = exu.SimulationSettings()
+        settings.timeIntegration.numberOfSteps, settings.timeIntegration.endTime = 20000, 1.0
+        settings.timeIntegration.explicit.computeEndOfStepAccelerations = False
+        settings.solution.file.write, settings.solution.sensors.active = False, False
+        settings.timeIntegration.verboseMode = 0
+        started = time.perf_counter()
+        mbs.SolveDynamic(settings, solverType=exu.DynamicSolverType.RK44, showHints=False)
+        return time.perf_counter() - started
+    base = min(solve(False) for _ in range(3))
+    return (min(solve(True) for _ in range(3)) - base) / (20000 * 4) * 1e6
+
+
+CROSSINGS = {"before": "6 (ODE1 right-hand side, 4 line loads, 1 aerodynamic load) + 1.25 (the end-of-step "
+                       "right-hand side, and the pre- and post-step hooks, per step / 4)",
+             "after": "1 (the stage force item) + 0.5 (the pre- and post-step hooks, per step / 4)"}
+CROSSING_COUNT = {"before": 7.25, "after": 1.5}
+
+
+def budget(duration: float, before: Path | None) -> list:
+    cost = crossing_cost()
+    profiles = {"after": profile(ROOT, duration)}
+    if before is not None:
+        profiles["before"] = profile(before, duration)
+    order = [k for k in ("before", "after") if k in profiles]
+    rows = ["| per RK4 stage (us) | " + " | ".join(order) + " |", "|---|" + "---|" * len(order)]
+    per_stage = {k: wall / (steps * 4) * 1e6 for k, (_, wall, steps) in profiles.items()}
+    labels = ["Exudyn: its own work"] + [label for label, _ in CATEGORIES]
+    for label in labels:
+        cells = []
+        for k in order:
+            shares = profiles[k][0]
+            if label == "Exudyn: its own work":
+                value = shares.get("Exudyn: its own work and the crossings", 0.0) * per_stage[k] \
+                    - CROSSING_COUNT[k] * cost
+            else:
+                value = shares.get(label, 0.0) * per_stage[k]
+            cells.append(f"{value:.1f}")
+        rows.append(f"| {label} | " + " | ".join(cells) + " |")
+    rows.append("| crossings into Python (count x " + f"{cost:.2f} us) | "
+                + " | ".join(f"{CROSSING_COUNT[k] * cost:.1f}" for k in order) + " |")
+    rows.append("| **total per stage** (wall time / 4 steps) | " + " | ".join(f"**{per_stage[k]:.1f}**"
+                                                                           for k in order) + " |")
+    notes = [f"Crossings per stage: before {CROSSINGS['before']}; after {CROSSINGS['after']}."]
+    return rows + [""] + notes
 
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=60.0, help="simulated time in s (default 60)")
-    parser.add_argument("--repeat", type=int, default=1, help="time each run this many times, keep the fastest")
+    parser.add_argument("--duration", type=float, default=60.0, help="MER simulated time in s (default 60)")
+    parser.add_argument("--repeat", type=int, default=3, help="interleaved rounds; the median is kept (default 3)")
+    parser.add_argument("--budget", action="store_true", help="add the per-stage budget (needs py-spy)")
+    parser.add_argument("--before", type=Path, default=None, help="a checkout of the code before, for the budget")
     parser.add_argument("--out", default=str(HERE / "output" / "benchmark_sp.md"))
     args = parser.parse_args(argv)
-    case = pc.load_case(HERE.parent / "cases" / "mer" / "case1.toml")
-    results = []
-    for method, integrator, step, rule in RUNS:
-        best = None
-        for _ in range(max(1, args.repeat)):
-            result = pc.simulate(case, method, integrator, step, args.duration, slack_rule=rule)
-            if best is None or result.summary["wall_time"] < best.summary["wall_time"]:
-                best = result
-        results.append((f"{method} {integrator} {step:g}" + (f" ({rule})" if rule else ""), best))
-        print(f"  {results[-1][0]:28s} {best.summary['wall_time']:8.2f} s", flush=True)
-    reference = results[0][1]
-    rows = ["| run | wall time (s) | steps | ratio to full RK4 1e-4 | speed-up | final altitude diff (m) | "
-            "max tension diff after 2 s (N) |", "|---|---|---|---|---|---|---|"]
-    for label, result in results:
-        wall = result.summary["wall_time"]
-        tension = max(m["max_settled"] for m in compare_results(reference, result, settle_time=2.0).lines.values())
-        rows.append(f"| {label} | {wall:.2f} | {result.summary['steps']} | {wall / reference.summary['wall_time']:.4f} "
-                    f"| {reference.summary['wall_time'] / wall:.1f}x | "
-                    f"{result.final('vehicle_altitude') - reference.final('vehicle_altitude'):+.3f} | {tension:.3g} |")
-    profile = profile_sp(case, min(args.duration, 20.0))
+    cases = {"mer": pc.load_case(MER), "pa1": pc.load_case(PA1)}
+    for case in cases.values():   # load the compiled kernels before any timing
+        pc.simulate(case, "sp", "rk4", 1e-2, 1.0)
+    timed = timed_rounds(cases, max(1, args.repeat), args.duration)
     v = versions()
-    text = "\n".join([
-        f"# Singular perturbation against full mass: MER case 1, {args.duration:g} s",
-        "",
-        f"`python validation/benchmark_sp.py` (one process, runs one after the other; fastest of {args.repeat}). "
-        f"Exudyn {v['exudyn']}, pchute-exudyn {v['pchute_exudyn']}, Python {v['python']}, {v['platform']}.",
-        "",
-        *rows,
-        "",
-        "Where an SP step's time goes (cProfile of a 20 s SP run at 1e-2 s; categories overlap where one calls "
-        "another):",
-        "",
-        *profile,
-        ""])
-    print(text)
+    text = ["# Singular perturbation against full mass: speed, side by side",
+            "",
+            f"`python validation/benchmark_sp.py --repeat {args.repeat}{' --budget' if args.budget else ''}` (one "
+            f"process, {args.repeat} interleaved rounds, medians). Exudyn {v['exudyn']}, pchute-exudyn "
+            f"{v['pchute_exudyn']}, Python {v['python']}, {v['platform']}. Accuracy against the full-mass RK4 run "
+            "of the same case. `sp thesis`: kappa_max 5, massless (order 0); `sp accurate`: the default preset, "
+            "kappa_max 10, the confluence mass to first order.",
+            "",
+            f"## MER case 1, {args.duration:g} s", "", *speed_table("mer", timed), "",
+            "## PA1 (Orion pad abort), to touchdown", "", *speed_table("pa1", timed), "",
+            "## First run", "", *first_run(), ""]
+    if args.budget:
+        text += ["## Where an SP stage's time goes (MER case 1, SP at 1e-2 s)", "",
+                 "py-spy samples of four SP runs (shares of the solve), turned into microseconds per RK4 stage with "
+                 "the run's median wall time; the crossings priced by a model whose force user function returns a "
+                 "constant (`crossing_cost`). A sample counts in the first category of its stack, in the order "
+                 "listed.", "", *budget(min(args.duration, 20.0), args.before), ""]
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out, text)
+    atomic_write_text(out, "\n".join(text))
+    print("\n".join(text))
 
 
 if __name__ == "__main__":

@@ -30,6 +30,13 @@ RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
 RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
 
+def step_size(model: Model, span: float) -> float:
+    """The step (s) Exudyn takes over ``span`` (the coming step's end time minus its start): the run's own step as
+    the engine holds it, unless the span is another (the short last step its accumulated time can need)."""
+    step = model.step
+    return step if step is not None and abs(span - step) <= 1e-6 * step else span
+
+
 class ReducedConfluence(Confluence):
     """Base class: subclasses implement ``compute(t, q, positions, velocities)`` returning a solution with
     ``velocity``, ``tensions`` and ``directions``, and ``derivative(solution)`` for their own states q (none for the
@@ -75,7 +82,7 @@ class ReducedConfluence(Confluence):
     def new_step(self, mbs, t):
         """Pre-step hook (``t``: the end time of the coming step)."""
         self.slopes = []
-        self.step_size = t - self.step_start
+        self.step_size = step_size(self.model, t - self.step_start)
 
     def stage_solve(self, t: float) -> None:
         """The solve at the current RK stage (called by the stage force item, the body states already current)."""
@@ -85,7 +92,7 @@ class ReducedConfluence(Confluence):
         else:
             q = self.coordinates
             if 0 < index < 4:
-                step = RK4_STAGE_FRACTIONS[index] * self.step_size
+                step = self.step_size * RK4_STAGE_FRACTIONS[index]
                 q = [x + step * k for x, k in zip(q, self.slopes[-1])]
             solution = self.solve_stage(t, q)
         if index < 4:
@@ -95,10 +102,11 @@ class ReducedConfluence(Confluence):
         """Post-step hook, before any other: complete the step's RK4 update of the confluence's own coordinates and
         solve at the end-of-step state (the stage's body states read from the engine: ``Stage.refresh``)."""
         if len(self.slopes) == 4:
-            h = self.step_size
-            self.coordinates = [x + h * (RK4_WEIGHTS[0] * k1 + RK4_WEIGHTS[1] * k2 + RK4_WEIGHTS[2] * k3
-                                         + RK4_WEIGHTS[3] * k4) for x, k1, k2, k3, k4 in zip(self.coordinates,
-                                                                                          *self.slopes)]
+            coordinates = self.coordinates
+            for weight, slope in zip(RK4_WEIGHTS, self.slopes):   # (h b_j) k_j term by term, as Exudyn adds them
+                factor = self.step_size * weight
+                coordinates = [x + factor * k for x, k in zip(coordinates, slope)]
+            self.coordinates = coordinates
             self.step_start = t
         self.slopes = []
         self.stage.refresh(t)

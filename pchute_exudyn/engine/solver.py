@@ -225,6 +225,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))
     post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report)
     model.mbs.SetPostStepUserFunction(post_step)
+    model.step = step
     model.warm_up()
     wall = _solve(model, settings, solver_type, progress, integrator, step)
     if progress["interrupted"]:

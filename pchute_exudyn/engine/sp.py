@@ -24,7 +24,7 @@ from ..physics.singular_perturbation import MEMORY_ROWS, STAGE_COLUMNS, sp_end_o
 from ..state import ConfluenceState, Phase
 from .bodies import add_bodies
 from .model import Model
-from .reduced import ReducedConfluence
+from .reduced import ReducedConfluence, step_size
 
 
 class StageSolution(NamedTuple):
@@ -81,7 +81,7 @@ class SPConfluence(ReducedConfluence):
     def new_step(self, mbs, t):
         """Pre-step hook (``t``: the end time of the coming step)."""
         self.stage_index = 0
-        self.step_size = t - self.step_start
+        self.step_size = step_size(self.model, t - self.step_start)
 
     def stage_solve(self, t: float) -> None:
         """The compiled SP solve at the current RK stage (``sp_rk_stage``); stage 1 is the end-of-step state that

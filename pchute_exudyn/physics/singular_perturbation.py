@@ -169,7 +169,7 @@ def minimum_damping(eigenvalues, kappa_max: float) -> float:
 
 
 @kernel
-def _assemble(attach, attach_velocity, confluence, lines, tables, table_counts, active, forced, rate, b0,
+def _assemble(attach, attach_velocity, cx, cy, cz, lines, tables, table_counts, active, forced, rate, b0x, b0y, b0z,
               geometry):
     """One pass over the lines: their geometry into ``geometry`` (rows nx, ny, nz, stretch, attach velocity along n,
     elastic tension), and alpha (Eq. 3.11, six entries a00 a01 a02 a11 a12 a22) and b (Eq. 3.10) summed over the
@@ -177,9 +177,9 @@ def _assemble(attach, attach_velocity, confluence, lines, tables, table_counts, 
     else the stretched lines are marked active. The elastic tension is K (L - L0), or the line's table T_table."""
     a00 = a11 = a22 = rate
     a01 = a02 = a12 = 0.0
-    bx, by, bz = b0[0], b0[1], b0[2]
+    bx, by, bz = b0x, b0y, b0z
     for i in range(attach.shape[0]):
-        dx, dy, dz = attach[i, 0] - confluence[0], attach[i, 1] - confluence[1], attach[i, 2] - confluence[2]
+        dx, dy, dz = attach[i, 0] - cx, attach[i, 1] - cy, attach[i, 2] - cz
         length = math.sqrt(dx * dx + dy * dy + dz * dz)
         nx, ny, nz = dx / length, dy / length, dz / length
         l0, k, c = lines[i, 0], lines[i, 1], lines[i, 2]
@@ -207,11 +207,10 @@ def _assemble(attach, attach_velocity, confluence, lines, tables, table_counts, 
 
 
 @kernel
-def _solve_balance(alpha_b, all_active, any_active, rate, previous_velocity, kappa_max):
+def _solve_balance(alpha_b, all_active, any_active, rate, v0x, v0y, v0z, kappa_max):
     """Velocity (m/s), C_c (N s/m) and kappa of Eq. 3.10 for an assembled alpha and b: C_c = 0 with every line
     taut and alpha regular, else the smallest C_c meeting kappa_max (Eq. 3.13); every line slack and no mass term:
     the previous velocity (C_c = 0, kappa = 0)."""
-    v0x, v0y, v0z = previous_velocity[0], previous_velocity[1], previous_velocity[2]
     if not any_active and rate == 0.0:
         return v0x, v0y, v0z, 0.0, 0.0
     a00, a01, a02, a11, a12, a22, bx, by, bz = alpha_b
@@ -276,30 +275,28 @@ def _mask(active):
 
 
 @kernel
-def solve_confluence(attach, attach_velocity, confluence, previous_velocity, lines, tables, table_counts,
-                     kappa_max, force_rule, rate, b0, tensions, directions, active):
+def solve_confluence(attach, attach_velocity, cx, cy, cz, v0x, v0y, v0z, lines, tables, table_counts, kappa_max,
+                     force_rule, rate, b0x, b0y, b0z, tensions, directions, active, geometry):
     """The SP solve (Eqs. 3.10-3.13) on arrays; the one home of the method, ``confluence_velocity`` wraps it.
 
-    Inputs: attach points (n, 3) in m and their velocities (n, 3) in m/s, the confluence position (3) in m and v0
-    (3) in m/s, per line (L0 in m, K in N/m, C in N s/m) as ``lines`` (n, 3), the tables (``lines.pack_tables``),
+    Inputs: attach points (n, 3) in m and their velocities (n, 3) in m/s, the confluence position in m and v0 in
+    m/s, per line (L0 in m, K in N/m, C in N s/m) as ``lines`` (n, 3), the tables (``lines.pack_tables``),
     kappa_max, ``force_rule`` (the force slack rule, else stretch), the mass term's rate (N s/m) and b0 = m_c g +
-    rate v_r (N). Writes the tensions (n) in N, the unit vectors n (n, 3) and the lines counted taut (n); returns
-    (vx, vy, vz, C_c, kappa).
+    rate v_r (N). Writes the tensions (n) in N, the unit vectors n (n, 3) and the lines counted taut (n), using
+    ``geometry`` (n, 6) as scratch; returns (vx, vy, vz, C_c, kappa). Allocates only the force rule's record.
     """
     n = attach.shape[0]
-    geometry = np.empty((n, 6))
-    visited = np.empty(MAX_ACTIVE_SETS, np.int64)
+    visited = np.empty(MAX_ACTIVE_SETS if force_rule else 1, np.int64)
     seen = 0
     forced = False
     while True:
-        alpha_b = _assemble(attach, attach_velocity, confluence, lines, tables, table_counts, active, forced, rate,
-                            b0, geometry)
+        alpha_b = _assemble(attach, attach_velocity, cx, cy, cz, lines, tables, table_counts, active, forced, rate,
+                            b0x, b0y, b0z, geometry)
         all_active, any_active = True, False
         for i in range(n):
             all_active = all_active and active[i]
             any_active = any_active or active[i]
-        vx, vy, vz, c_c, kappa = _solve_balance(alpha_b, all_active, any_active, rate, previous_velocity,
-                                                kappa_max)
+        vx, vy, vz, c_c, kappa = _solve_balance(alpha_b, all_active, any_active, rate, v0x, v0y, v0z, kappa_max)
         if not force_rule:
             break
         if seen == 0:
@@ -355,18 +352,20 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
         b0 = (gx + rate * rx, gy + rate * ry, gz + rate * rz)
     table_points, table_counts = pack_tables(tables if tables is not None else [None] * n)
     tensions, directions, active = np.empty(n), np.empty((n, 3)), np.zeros(n, np.bool_)
+    cx, cy, cz = (float(x) for x in list(confluence_position)[:3])
+    v0x, v0y, v0z = (float(x) for x in previous_velocity)
     vx, vy, vz, c_c, kappa = solve_confluence(
         np.asarray(attach_position, float).reshape(n, 3), np.asarray(attach_velocity, float).reshape(n, 3),
-        np.asarray(confluence_position, float)[:3], np.asarray(previous_velocity, float),
-        np.column_stack([free_length, stiffness, damping]).astype(float), table_points, table_counts,
-        float(kappa_max), slack_rule == "force", float(rate), np.asarray(b0, float), tensions, directions, active)
+        cx, cy, cz, v0x, v0y, v0z, np.column_stack([free_length, stiffness, damping]).astype(float), table_points,
+        table_counts, float(kappa_max), slack_rule == "force", float(rate), *(float(b) for b in b0), tensions,
+        directions, active, np.empty((n, 6)))
     return SPSolution((vx, vy, vz), c_c, kappa, tuple(bool(a) for a in active), tensions.tolist(),
                       [tuple(d) for d in directions.tolist()])
 
 
-STAGE_COLUMNS = 11
-"""Columns of ``sp_stage``'s per-line output: tension (N), n (3), taut (1 or 0), attach position (3, m) and velocity
-(3, m/s)."""
+STAGE_COLUMNS = 20
+"""Columns of ``sp_stage``'s per-line work array: tension (N), n (3), taut (1 or 0), attach position (3, m) and
+velocity (3, m/s), the force on the body -T n (3, N), and the solve's scratch (6)."""
 
 
 @kernel
@@ -384,26 +383,20 @@ def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0
     """
     n = layout.shape[0]
     points = layout[:, :POINT_COLUMNS]
-    motion = np.empty((n, 6))
-    point_motions(states, points, motion)
-    tensions, directions, active = np.empty(n), np.empty((n, 3)), np.empty(n, np.bool_)
+    point_motions(states, points, work[:, 5:11])
+    active = np.empty(n, np.bool_)
     vx, vy, vz, c_c, kappa = solve_confluence(
-        motion[:, :3], motion[:, 3:], np.array([cx, cy, cz]), np.array([v0x, v0y, v0z]),
-        layout[:, POINT_COLUMNS:POINT_COLUMNS + 3], tables, layout[:, POINT_COLUMNS + 3], kappa_max,
-        force_rule > 0.0, rate, np.array([b0x, b0y, b0z]), tensions, directions, active)
-    forces = np.empty((n, 3))
+        work[:, 5:8], work[:, 8:11], cx, cy, cz, v0x, v0y, v0z, layout[:, POINT_COLUMNS:POINT_COLUMNS + 3], tables,
+        layout[:, POINT_COLUMNS + 3], kappa_max, force_rule > 0.0, rate, b0x, b0y, b0z, work[:, 0], work[:, 1:4],
+        active, work[:, 14:20])
     taut = 0
     for i in range(n):
         taut += 1 if active[i] else 0
-        work[i, 0] = tensions[i]
         work[i, 4] = 1.0 if active[i] else 0.0
         for k in range(3):
-            work[i, 1 + k] = directions[i, k]
-            work[i, 5 + k] = motion[i, k]
-            work[i, 8 + k] = motion[i, 3 + k]
-            forces[i, k] = -tensions[i] * directions[i, k]   # on the body: -T n
+            work[i, 11 + k] = -work[i, 0] * work[i, 1 + k]   # on the body: -T n
     generalized[:] = 0.0
-    add_point_forces(states, points, forces, generalized)
+    add_point_forces(states, points, work[:, 11:14], generalized)
     return vx, vy, vz, c_c, kappa, taut
 
 
@@ -445,7 +438,7 @@ def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
     stage velocity into memory row index + 1. Returns (vx, vy, vz, C_c, kappa, lines counted taut)."""
     qx, qy, qz = memory[0, 0], memory[0, 1], memory[0, 2]
     if index > 0:
-        step = RK4_STAGE_FRACTIONS[index] * h
+        step = h * RK4_STAGE_FRACTIONS[index]
         qx, qy, qz = qx + step * memory[index, 0], qy + step * memory[index, 1], qz + step * memory[index, 2]
     rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
     vx, vy, vz, c_c, kappa, taut = sp_stage(states, layout, tables, work, part, qx, qy, qz, memory[5, 0],
@@ -457,10 +450,12 @@ def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
 
 @kernel
 def rk4_update(memory, h):
-    """Complete an RK4 step of ``h`` (s): q_(n+1) = q_n + h (k_1 + 2 k_2 + 2 k_3 + k_4) / 6 into memory row 0."""
-    for i in range(3):
-        memory[0, i] = memory[0, i] + h * (RK4_WEIGHTS[0] * memory[1, i] + RK4_WEIGHTS[1] * memory[2, i]
-                                           + RK4_WEIGHTS[2] * memory[3, i] + RK4_WEIGHTS[3] * memory[4, i])
+    """Complete an RK4 step of ``h`` (s): q_(n+1) = q_n + h (k_1 + 2 k_2 + 2 k_3 + k_4) / 6 into memory row 0, added
+    term by term as (h b_j) k_j in Exudyn's own order, so that the result is the engine's to the last bit."""
+    for j in range(4):
+        factor = h * RK4_WEIGHTS[j]
+        for i in range(3):
+            memory[0, i] += factor * memory[1 + j, i]
 
 
 @kernel
