@@ -13,6 +13,10 @@ The confluence methods are classes in one table, ``pc.METHODS`` (name -> class),
 
 __version__ = "0.1.0"
 
+from . import _kernel_mode  # noqa: E402
+
+_kernel_mode.select()   # compiled or Python kernels, before physics is imported (see _kernel_mode)
+
 from . import methods  # noqa: E402,F401  (registers the built-in methods in METHODS)
 from .case import Case, load_case  # noqa: E402
 from .case.method_table import METHODS  # noqa: E402

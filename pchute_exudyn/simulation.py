@@ -9,6 +9,7 @@ from datetime import datetime, timezone
 
 import numpy as np
 
+from . import _kernel_mode
 from .case.method_table import METHODS, OptionError
 from .case.model import Case
 from .engine.bodies import Touchdown
@@ -143,6 +144,7 @@ def add_step_monitor(model, method: Method, step: float, interval: float = MONIT
             if step > limit.step:
                 raise SimulationError(unstable_step_message(method, step, limit, t - step), t - step)
 
+    monitor(model.mbs, model.phase.start + step)   # the check before the first step, before the timed solve
     model.add_pre_step(monitor)
 
 
@@ -243,8 +245,9 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     progress : callable, optional
         Receives the simulation time (s) every few steps (the command line draws ``progress.TerminalProgress``).
     **option_values
-        Or single options by name, on top of the case's (None: the case's): SP ``kappa_max`` (-, > 3),
-        ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass ``line_law`` ("symbolic", "python").
+        Or single options by name, on top of the case's (None: the case's): SP ``preset`` ("accurate",
+        "thesis"), ``kappa_max`` (-, > 3), ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass
+        ``line_law`` ("symbolic", "python").
 
     Returns
     -------
@@ -260,6 +263,7 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     if options is not None and option_values:
         raise InputError("give the method's options either as an Options object or by name, not both")
     plan = resolve_run(case, method, integrator, step, duration, options if options is not None else option_values)
+    _kernel_mode.start_background_compile()   # once per machine: the runs after this one get compiled kernels
     raw, facts, events, openings = run(case, plan, progress)
     columns, units = derive_columns(case, raw)
     summary = summarize(case, plan, raw, facts, events, columns, units, opening_loads(case, openings, columns))

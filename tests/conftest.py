@@ -1,10 +1,17 @@
-"""Shared fixtures: paths, and the expensive MER runs computed once per test session."""
+"""Shared fixtures: paths, and the expensive MER runs computed once per test session.
 
+The suite runs the kernels compiled (the first test to need one compiles it into numba's cache; its subprocesses
+inherit the setting); tests/test_fast_path.py runs the Python form and the automatic choice on purpose.
+"""
+
+import os
 from pathlib import Path
 
 import pytest
 
-import pchute_exudyn as pc
+os.environ.setdefault("PCHUTE_KERNELS", "compiled")
+
+import pchute_exudyn as pc  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 MER = ROOT / "cases" / "mer"

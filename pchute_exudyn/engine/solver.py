@@ -25,6 +25,7 @@ import numpy as np
 
 from ..errors import Interrupted, PchuteError, SimulationError
 from ..physics.atmosphere import OutsideAtmosphereError
+from ..physics.compiled import COMPILED
 from ..state import RawHistory
 from .model import Model
 
@@ -270,6 +271,9 @@ def _user_error(failure: Exception, time: float) -> Exception:
 
 def versions() -> dict:
     """Versions of this package and the libraries the numbers depend on (for result files)."""
+    import numba
+
     from .._version import __version__
     return {"pchute_exudyn": __version__, "exudyn": exu.__version__, "numpy": np.__version__,
+            "numba": numba.__version__, "kernels": "compiled" if COMPILED else "python",
             "python": sys.version.split()[0], "platform": platform.platform()}

@@ -93,6 +93,13 @@ class SPConfluence(ReducedConfluence):
                         index, self.step_size)
         self.stage_index = index + 1
 
+    def warm_up(self) -> None:
+        """The solve at the phase start, and the stage kernel called once the way the stages call it (numba compiles
+        a call from Python apart from the same function called inside another kernel)."""
+        super().warm_up()
+        sp_rk_stage(self.stage.states, self.layout, self.table_points, self.work, self.part, self.memory,
+                    self.model.phase.start, 0, 0.0)
+
     def advance(self, mbs, t):
         """Post-step hook, before any other: complete the step, solve at the end-of-step state (whose velocity is
         the next step's k_1) and update v0 and order 1's record (``sp_end_of_step``)."""

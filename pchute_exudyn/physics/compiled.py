@@ -6,17 +6,27 @@ loops) and decorated with ``kernel``. They are the only home of their formulas: 
 equilibrium method, histories) call the same compiled functions.
 
 Compiled code is cached on disk (numba's ``cache=True``: beside the module, or in the user's cache directory when
-the package directory is read-only), so only the first run on a machine pays for compilation
-(``validation/benchmark_sp.py`` measures it). No ``fastmath``: results are IEEE-exact like the Python they replace.
+the package directory is read-only). Until a machine's cache is complete the kernels run as the Python they are
+(``pchute_exudyn._kernel_mode``), so no run pays the several seconds of compilation
+(``validation/benchmark_sp.py`` measures both). No ``fastmath``: results are IEEE-exact like the Python they replace.
 numpy's error model: a division by zero gives inf or NaN as numpy does (the solver's NaN check stops such a run)
 instead of raising, which also spares every division a check.
 """
 
 from __future__ import annotations
 
+import os
+
 import numba
+
+COMPILED = os.environ.get("PCHUTE_KERNELS", "compiled") == "compiled"
+"""Whether the kernels run compiled: chosen by ``pchute_exudyn._kernel_mode`` before this import (the Python form
+on a machine whose kernels are not compiled yet, while a background process compiles them)."""
 
 
 def kernel(function):
-    """Compile ``function`` with numba (nopython mode, cached on disk, GIL released, numpy's error model)."""
+    """Compile ``function`` with numba (nopython mode, cached on disk, GIL released, numpy's error model); in the
+    Python mode, the function as it is."""
+    if not COMPILED:
+        return function
     return numba.njit(cache=True, nogil=True, error_model="numpy")(function)
