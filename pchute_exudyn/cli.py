@@ -72,8 +72,8 @@ def _add_method_options(parser) -> None:
         seen[flag] = method
         parser.add_argument(flag, type=f.metadata["parse"], choices=f.metadata["choices"], default=None,
                             dest=f"option_{method}_{f.name}", metavar=None if f.metadata["choices"] else "X",
-                            help=f"{method}: {f.metadata['help']}; default: the case's simulation.{method}.{f.name} "
-                                 f"({f.default})")
+                            help=f"{method}: {f.metadata['help']}; default: the case's simulation.{method}.{f.name}"
+                                 + ("" if f.default is None else f" ({f.default})"))
 
 
 def _method_options(args, method_class) -> dict:

@@ -190,3 +190,38 @@ def test_a_first_run_compiles_the_kernels_and_gives_the_cached_runs_results(tmp_
     assert summaries[0]["final"] == summaries[1]["final"]
     # the compilation happens before the timed solve: the cold run's solve is not slower than 0.5 s
     assert summaries[0]["wall_time"] < 0.5, summaries[0]["wall_time"]
+
+
+def _run(tmp_path, label, env, *extra):
+    out = tmp_path / label
+    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(MER / "case3.toml"), "--method", "sp",
+                           "--t-end", "3", "--no-plot", "--quiet", "--out", str(out), *extra], env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return json.loads((out / "summary.json").read_text()), np.load(out / "result.npz")
+
+
+def test_the_python_form_of_the_kernels_gives_the_compiled_results(tmp_path):
+    """The fallback (the kernels run as the Python they are written in) computes what the compiled kernels do."""
+    runs = {mode: _run(tmp_path, mode, {**os.environ, "PCHUTE_KERNELS": mode}) for mode in ("python", "compiled")}
+    assert [runs[m][0]["versions"]["kernels"] for m in ("python", "compiled")] == ["python", "compiled"]
+    for name in runs["compiled"][1].files:
+        if runs["compiled"][1][name].dtype.kind == "f":
+            np.testing.assert_allclose(runs["python"][1][name], runs["compiled"][1][name], rtol=1e-12, atol=1e-12)
+
+
+def test_a_machine_without_compiled_kernels_runs_their_python_form_and_compiles_them_for_the_next_run(tmp_path):
+    import time
+
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PCHUTE_KERNELS")}
+    env["NUMBA_CACHE_DIR"] = str(tmp_path / "cache")
+    first, _ = _run(tmp_path, "first", env)
+    assert first["versions"]["kernels"] == "python"
+    deadline = time.monotonic() + 240.0   # the background compile: about 7 s here, alone
+    while not list((tmp_path / "cache").glob("pchute_exudyn_kernels_*.ok")) and time.monotonic() < deadline:
+        time.sleep(0.5)
+    second, _ = _run(tmp_path, "second", env)
+    assert second["versions"]["kernels"] == "compiled"
+    assert not list((tmp_path / "cache").glob("*.compiling"))   # the compiler removed its lock
+    for key, value in first["final"].items():
+        assert second["final"][key] == pytest.approx(value, rel=1e-12, abs=1e-12)

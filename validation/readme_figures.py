@@ -47,21 +47,21 @@ def test_count() -> int:
 
 
 def sp_lines() -> list:
-    rows = table(OUT / "benchmark_sp.md", "full ") | table(OUT / "benchmark_sp.md", "sp ")
-    full, implicit = rows["full rk4 0.0001"], rows["full implicit 0.01"]
-    stretch, force = rows["sp rk4 0.01 (stretch)"], rows["sp rk4 0.01 (force)"]
-    reference = float(full[1])
-
-    def row(label, cells):
-        return (f"| {label} | {float(cells[1]):.2f} | {reference / float(cells[1]):.0f}x | {cells[5]} | "
-                f"{float(cells[6]):.2f} |")
-    return [f"`pchute run cases/mer/case1.toml --method sp` runs case 1 in {float(stretch[1]):.2f} s instead of "
-            f"{reference:.0f} s (RK4 at 1e-2 s instead of",
-            f"| full mass, RK4 1e-4 s (thesis reference) | {reference:.2f} | 1 | reference (4462.19 m) | reference |",
-            row("full mass, implicit 1e-2 s", implicit), row("SP, RK4 1e-2 s (stretch)", stretch),
-            row("SP, RK4 1e-2 s (force)", force),
-            f"  RK4 1e-4 s result within 1 cm in altitude and 1.2 N in tension at 1/{reference / float(implicit[1]):.0f}"
-            " of the cost (table below)."]
+    """The SP speed tables (MER case 1 and PA1) and the first-run costs, from benchmark_sp.md."""
+    path = OUT / "benchmark_sp.md"
+    rows = table(path, "mer ") | table(path, "pa1 ")
+    first = next(iter(table(path, "first run on a machine").values()))
+    later = next(iter(table(path, "later runs").values()))
+    lines = []
+    for case, reference in (("mer", "full rk4 0.0001"), ("pa1", "full rk4 0.0005")):
+        for label in (reference, "full implicit 0.01", "sp thesis 0.01", "sp accurate 0.01", "sp accurate 0.02"):
+            cells = rows[f"{case} {label}"]
+            lines.append(f"| {case} {label} | " + " | ".join(cells[1:2] + cells[3:]) + " |")
+    sp = rows["mer sp thesis 0.01"]
+    lines.append(f"`pchute run cases/mer/case1.toml --method sp` integrates case 1 in {float(sp[1]):.2f} s instead of "
+                 f"{float(rows['mer full rk4 0.0001'][1]):.0f} s (RK4 at 1e-2 s instead of")
+    lines.append(f"first run on a machine {float(first[1]):.1f} s, later runs {float(later[1]):.1f} s")
+    return lines
 
 
 def full_lines() -> list:

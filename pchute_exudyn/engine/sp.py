@@ -20,7 +20,13 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.lines import pack_tables
-from ..physics.singular_perturbation import MEMORY_ROWS, STAGE_COLUMNS, sp_end_of_step, sp_rk_stage
+from ..physics.singular_perturbation import (
+    MEMORY_ROWS,
+    STAGE_COLUMNS,
+    sp_end_of_step,
+    sp_rk_stage,
+    sp_rk_stage_with_bodies,
+)
 from ..state import ConfluenceState, Phase
 from .bodies import add_bodies
 from .model import Model
@@ -99,6 +105,20 @@ class SPConfluence(ReducedConfluence):
         super().warm_up()
         sp_rk_stage(self.stage.states, self.layout, self.table_points, self.work, self.part, self.memory,
                     self.model.phase.start, 0, 0.0)
+        stage = self.stage
+        if stage.fused is self:
+            q, q_t = np.array(stage._read()), np.array(stage._read_t())
+            sp_rk_stage_with_bodies(q, q_t, stage.global_layout, stage.states, self.layout, self.table_points,
+                                    self.work, self.part, self.memory, self.model.phase.start, 0, 0.0, True)
+
+    def stage_solve_with_bodies(self, t: float, q, q_t, bodies, states) -> None:
+        """``stage_solve`` with the stage's body kinematics in the same kernel call (the stage force item uses it
+        when this is the model's only confluence)."""
+        index, solution = self.stage_index, self.solution
+        solve = index < 4 and not (index == 0 and solution.damping == 0.0 and solution.taut_count > 0)
+        sp_rk_stage_with_bodies(q, q_t, bodies, states, self.layout, self.table_points, self.work, self.part,
+                                self.memory, t, index, self.step_size, solve)
+        self.stage_index = index + 1
 
     def advance(self, mbs, t):
         """Post-step hook, before any other: complete the step, solve at the end-of-step state (whose velocity is

@@ -53,6 +53,7 @@ class Stage:
         self.aerodynamics = []            # engine.bodies.BodyAerodynamics of the bodies with aerodynamics
         self.parts = []                   # generalized-force arrays the reduced confluences write
         self.confluences = []             # engine.reduced.ReducedConfluence: solved at every stage
+        self.fused = None                 # the only confluence, when it can solve with the kinematics in one call
         self.generalized = np.zeros(6 * len(self.free))
         self.refreshed = None             # (time, post-step call) of the last refresh
         self.rows = self.states.tolist()  # the states at the last refresh, as lists
@@ -101,6 +102,8 @@ class Stage:
         """Add the force item (when anything needs it); call once every load and confluence is registered."""
         if not self.free or not (self.aerodynamics or self.parts):
             return
+        if len(self.confluences) == 1 and hasattr(self.confluences[0], "stage_solve_with_bodies"):
+            self.fused = self.confluences[0]
         nodes = [self.model.bodies[name].node for name in self.free]
         zero = np.zeros((len(self.generalized), len(self.generalized)))
         self.model.mbs.AddObject(eii.ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=self.force,
@@ -137,9 +140,12 @@ class Stage:
         """The force user function: aerodynamic loads at this stage's state plus every confluence's part."""
         try:
             generalized = self.generalized
-            body_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
-            for confluence in self.confluences:
-                confluence.stage_solve(t)
+            if self.fused is not None:   # one SP confluence: the body kinematics and its solve in one kernel call
+                self.fused.stage_solve_with_bodies(t, np.array(q), np.array(q_t), self.layout, self.states)
+            else:
+                body_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
+                for confluence in self.confluences:
+                    confluence.stage_solve(t)
             parts = self.parts
             if parts:
                 np.copyto(generalized, parts[0])

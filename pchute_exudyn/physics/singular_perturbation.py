@@ -47,7 +47,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .compiled import kernel
-from .kinematics import POINT_COLUMNS, add_point_forces, point_motions
+from .kinematics import POINT_COLUMNS, add_point_forces, body_states, point_motions
 from .lines import pack_tables, table_tension
 from .planet import gravity_acceleration
 from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
@@ -478,3 +478,13 @@ def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, 
         memory[10, 0], memory[10, 1], memory[10, 2] = vx, vy, vz
         memory[7, 2] = min(count + 1, 2)
     return vx, vy, vz, c_c, kappa, taut
+
+
+@kernel
+def sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index, h, solve):
+    """``kinematics.body_states`` from the stage's node coordinates, then (when ``solve``) ``sp_rk_stage``: a model
+    with one SP confluence does a stage's kernel work in one call. Returns nothing (the stage velocity goes to
+    memory row index + 1)."""
+    body_states(q, q_t, bodies, states)
+    if solve:
+        sp_rk_stage(states, layout, tables, work, part, memory, t, index, h)
