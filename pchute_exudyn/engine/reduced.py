@@ -22,12 +22,9 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.kinematics import add_point_forces, point_motions
+from ..physics.singular_perturbation import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
 from ..state import ConfluenceChannel, MethodChannel, TensionChannel
 from .model import Confluence, Model
-
-RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
-"""a_k of the classical RK4 tableau: stage k's coordinates are q_n + h a_k k_(k-1) (stage 1: q_n)."""
-RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
 
 def step_size(model: Model, span: float) -> float:

@@ -8,7 +8,8 @@ from .base import Method
 
 
 class EquilibriumPoint(Method):
-    """No confluence dynamics, so no step limit of its own; RK4 only (its solve runs in the ODE1 right-hand side)."""
+    """No confluence dynamics, so no step limit of its own; RK4 only (its solve runs at every RK stage, in the
+    model's stage force item)."""
 
     name = "equilibrium"
     summary = "the confluence at the balance of the line stiffness forces (Raiszadeh, thesis Eq. 2.9)"
