@@ -17,7 +17,8 @@ RUNS = [(f"mer{c}_{method}_{integrator}", f"cases/mer/case{c}.toml", method, int
         for c in range(1, 7) for method, integrator in (("sp", "rk4"), ("equilibrium", "rk4"), ("full", "implicit"))]
 RUNS += [("pa1_sp", "cases/cev_pa1.toml", "sp", "rk4", None), ("pa1_full_implicit", "cases/cev_pa1.toml", "full",
                                                                 "implicit", 20.0)]
-# recorded from commit 6085d44 (issue 13's last, whose results are those of 53493ef) for issue 14's fast path
+# full-mass RK4 runs added for issue 14, also recorded from commit 53493ef (6085d44, the commit before issue 14,
+# gives the same numbers: checked when they were added)
 RUNS += [("mer1_full_rk4", "cases/mer/case1.toml", "full", "rk4", 3.0),
          ("mer4_full_rk4", "cases/mer/case4.toml", "full", "rk4", 3.0),
          ("pa1_full_rk4", "cases/cev_pa1.toml", "full", "rk4", 12.0)]
