@@ -36,9 +36,11 @@ PINNED = {"pa1_sp": ["simulation.sp.kappa_max=5.0"]}
 def record(name, case_file, method, integrator, duration, overrides=()) -> dict:
     """The run's final values, peak tensions and events, as plain JSON values."""
     from pchute_exudyn import load_case, simulate
+    from pchute_exudyn.io import _finite
     overrides = [*PINNED.get(name, []), *overrides]
     result = simulate(load_case(ROOT / case_file, list(overrides)), method, integrator, duration=duration)
     summary = result.summary
+    # NaN (a quantity absent at the end, e.g. a cut-away system) as None: strict JSON, as the result files write it
     return _finite({"final": summary["final"], "peak_tension": summary["peak_tension"], "events": summary["events"]})
 
 
@@ -67,15 +69,6 @@ def largest_difference(got: dict, want: dict) -> tuple[float, str]:
             (0.0 if value == expected else math.inf)
         worst = max(worst, (difference, path))
     return worst
-
-
-def _finite(value):
-    """NaN (a quantity absent at the end, e.g. a cut-away system) as None: strict JSON."""
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    return None if isinstance(value, float) and math.isnan(value) else value
 
 
 if __name__ == "__main__":

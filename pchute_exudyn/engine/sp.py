@@ -114,8 +114,8 @@ class SPConfluence(ReducedConfluence):
     def stage_solve_with_bodies(self, t: float, q, q_t, bodies, states) -> None:
         """``stage_solve`` with the stage's body kinematics in the same kernel call (the stage force item uses it
         when this is the model's only confluence)."""
-        index, solution = self.stage_index, self.solution
-        solve = index < 4 and not (index == 0 and solution.damping == 0.0 and solution.taut_count > 0)
+        index = self.stage_index
+        solve = index < 4 and not (index == 0 and self.reusable(self.solution))
         sp_rk_stage_with_bodies(q, q_t, bodies, states, self.layout, self.table_points, self.work, self.part,
                                 self.memory, t, index, self.step_size, solve)
         self.stage_index = index + 1
@@ -134,11 +134,8 @@ class SPConfluence(ReducedConfluence):
         self.solution = StageSolution((vx, vy, vz), damping, kappa, taut, self.work)
 
     def tension_reader(self, i: int):
-        work = self.work   # current after the post-step hook ``confirm``, which runs before the sampling
+        work = self.work   # current after the post-step hook ``advance``, which runs before the sampling
         return lambda: work[i, 0]
-
-    def derivative(self, solution) -> list:
-        return list(solution.velocity)
 
     def reusable(self, solution) -> bool:
         # v0 enters Eq. 3.10 only through C_c (and the all-slack case): without them the solve does not depend on
