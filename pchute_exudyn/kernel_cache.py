@@ -56,22 +56,7 @@ value = [0.0, 0.14, 0.0]
 mass = 0.15
 [systems.main.confluence.initial]
 altitude = 8001.2
-[systems.main.lines.a]
-attach = "probe.a"
-free_length = 0.7
-stiffness = 47000.0
-damping = 470.0
-[systems.main.lines.b]
-attach = "probe.b"
-free_length = 0.7
-stiffness = 47000.0
-damping = 470.0
-[systems.main.lines.c]
-attach = "probe.c"
-free_length = 0.7
-stiffness = 47000.0
-damping = 470.0
-[systems.main.lines.riser]
+{bridles}[systems.main.lines.riser]
 attach = "canopy.riser"
 free_length = 1.83
 damping = 600.0
@@ -79,6 +64,12 @@ load_elongation = { strain = [0.0, 0.01, 0.05], tension = [0.0, 1100.0, 9000.0] 
 [simulation]
 duration = 0.05
 output_step = 0.01
+"""
+BRIDLE = """[systems.main.lines.{name}]
+attach = "probe.{name}"
+free_length = 0.7
+stiffness = 47000.0
+damping = 470.0
 """
 
 
@@ -92,7 +83,7 @@ def compile_all() -> None:
 
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "warm.toml"
-        path.write_text(CASE)
+        path.write_text(CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc")))
         case = pc.load_case(path)
         for options in ({"order": 0}, {"order": 1}, {"slack_rule": "force"}):
             pc.simulate(case, "sp", "rk4", 1e-2, 0.05, **options)
