@@ -23,7 +23,6 @@ import numpy as np
 from .case.model import Case
 from .errors import SimulationError
 from .physics.aerodynamics import angle_of_attack_deg
-from .physics.air import AirMotion
 from .physics.kinematics import body_point, relative_to_body
 from .physics.lines import line_states
 from .physics.rotations import attitude_angles_deg, tilt_deg
@@ -138,10 +137,14 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             units[f"{name}_rate_{axis}"] = "rad/s"
         aero = case.bodies[name].aerodynamics
         if aero is not None and aero.enabled:
-            total, alpha, beta, pressure = _aero_columns(case, body, aero.center, raw.time)
+            total, alpha, beta, pressure, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
             for key, value, unit in (("angle_of_attack_deg", total, "deg"), ("alpha_deg", alpha, "deg"),
                                      ("beta_deg", beta, "deg"), ("dynamic_pressure", pressure, "Pa")):
                 columns[f"{name}_{key}"], units[f"{name}_{key}"] = value, unit
+            if wind is not None:   # the air's motion at the aerodynamic centre, relative to the ground
+                for kind, value in (("wind", wind), ("turbulence", turbulence)):
+                    for i, axis in enumerate(("east", "north", "up")):
+                        columns[f"{name}_{kind}_{axis}"], units[f"{name}_{kind}_{axis}"] = value[:, i], "m/s"
         if name != case.vehicle and not case.bodies[name].fixed and not case.bodies[case.vehicle].fixed:
             _relative_columns(name, raw.bodies[case.vehicle], body["position"], body["velocity"], columns, units)
     for system in case.systems.values():
@@ -168,17 +171,23 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
 
 def _aero_columns(case: Case, body: dict, center, time):
     """Total angle of attack, aerodynamic angles alpha and beta (deg) and dynamic pressure (Pa) from the velocity of
-    the aerodynamic centre relative to the air (planet rotation and wind); NaN where the body is absent."""
+    the aerodynamic centre relative to the air (planet rotation and wind); NaN where the body is absent. With a
+    moving air mass also the steady wind plus gusts and the turbulence there ((n, 3) east, north, up in m/s, relative
+    to the ground), else None for both."""
     rotation = body["rotation"]
     position, velocity = body_point(body["position"], rotation, body["velocity"], body["angular_velocity"], center)
-    air = AirMotion(case.start, case.wind)
+    air = case.air_motion()
     n = len(time)
     alpha, beta, total, pressure = (np.full(n, np.nan) for _ in range(4))
     present = np.flatnonzero(np.isfinite(position).all(axis=1))
     altitudes = np.full(n, np.nan)
     altitudes[present] = case.start.altitude(position[present])   # vectorised geodetic
+    wind = np.full((n, 3), np.nan) if air.moving else None
+    turbulence = np.full((n, 3), np.nan) if air.moving else None
     for i in present:
         altitude = float(altitudes[i])
+        if air.moving:
+            wind[i], turbulence[i] = air.local(altitude, float(time[i]))
         relative = velocity[i] - np.array(air(*position[i].tolist(), altitude, float(time[i])))
         total[i] = angle_of_attack_deg(relative, rotation[i][:, 0])
         u, v, w = rotation[i].T @ relative                    # body axes
@@ -186,7 +195,7 @@ def _aero_columns(case: Case, body: dict, center, time):
         alpha[i] = np.degrees(np.arctan2(w, u))
         beta[i] = np.degrees(np.arcsin(np.clip(v / speed, -1.0, 1.0))) if speed > 0 else 0.0
         pressure[i] = 0.5 * case.atmosphere.density(altitude) * speed * speed
-    return total, alpha, beta, pressure
+    return total, alpha, beta, pressure, wind, turbulence
 
 
 def _relative_columns(prefix: str, vehicle: dict, position, velocity, columns: dict, units: dict) -> None:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import numpy as np
 
 from .case.model import Case, ParachuteSystem
-from .physics.air import AirMotion
 from .physics.deployment import line_stretch_placement
 from .physics.inflation import InflationProgress, nominal_diameter
 from .state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
@@ -41,7 +40,7 @@ def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) 
     vehicle_name, point = system.deploy_point
     vehicle = body_states[vehicle_name]
     riser = next(line for line in system.lines if line.body == system.canopy)
-    air = AirMotion(case.start, case.wind)
+    air = case.air_motion()
     x, y, z = vehicle.position.tolist()
     altitude = float(case.start.altitude(vehicle.position))
     air_velocity = vehicle.velocity - np.array(air(x, y, z, altitude, time))

@@ -16,6 +16,9 @@ ROOT = Path(__file__).resolve().parents[1]
 CASE1 = str(ROOT / "cases" / "mer" / "case1.toml")
 PA1 = str(ROOT / "cases" / "cev_pa1.toml")
 PA1_INFLATION = str(ROOT / "cases" / "cev_pa1_inflation.toml")
+PA1_WINDS = str(ROOT / "cases" / "cev_pa1_winds.toml")
+TURBULENCE = "atmosphere.turbulence."
+GUST = "atmosphere.gusts[0]."
 APPARENT = str(ROOT / "cases" / "mer" / "case1_apparent_mass.toml")
 MAIN_INFLATION = "systems.main.inflation."
 RISER_TABLE = "systems.main.lines.riser.load_elongation."
@@ -39,6 +42,12 @@ def _study(tmp: Path, extra: str = "", body: str = "") -> str:
     return _file(tmp, "study.toml", STUDY.format(case=CASE1, extra=extra) + body)
 
 
+def _gusty(tmp: Path) -> str:
+    """PA1 in wind with one gust from the north (its keys then exist for --set)."""
+    return _file(tmp, "gust.toml", f'extends = "{Path(PA1_WINDS).as_posix()}"\n[[atmosphere.gusts]]\namplitude = 5.0\n'
+                                   'start = 40.0\nlength = 4.0\ndirection = [0.0, 1.0, 0.0]\n')
+
+
 def _result_folder(tmp: Path) -> str:
     folder = tmp / "earlier"
     folder.mkdir()
@@ -48,6 +57,32 @@ def _result_folder(tmp: Path) -> str:
 
 
 BATTERY = [
+    # winds, turbulence and gusts (docs/models/winds.md)
+    ("negative turbulence intensity", lambda t: ["run", CASE1, "--set", TURBULENCE + "seed=1", "--set",
+                                                 TURBULENCE + "sigma_u=-1", "--set", TURBULENCE + "sigma_v=1", "--set",
+                                                 TURBULENCE + "sigma_w=1"],
+     "atmosphere.turbulence.sigma_u = -1: must be >= 0 (m/s)"),
+    ("negative scale length", lambda t: ["run", CASE1, "--set", TURBULENCE + "seed=1", "--set",
+                                         TURBULENCE + "sigma_u=1", "--set", TURBULENCE + "sigma_v=1", "--set",
+                                         TURBULENCE + "sigma_w=1", "--set", TURBULENCE + "length_u=100", "--set",
+                                         TURBULENCE + "length_v=-50", "--set", TURBULENCE + "length_w=30"],
+     "atmosphere.turbulence.length_v = -50: must be > 0 (m)"),
+    ("negative wind at 6 m", lambda t: ["run", PA1_WINDS, "--set", TURBULENCE + "wind_speed_6m=-3"],
+     "atmosphere.turbulence.wind_speed_6m = -3: must be >= 0 (m/s)"),
+    ("seed not an integer", lambda t: ["run", PA1_WINDS, "--set", TURBULENCE + "seed=1.5"],
+     "atmosphere.turbulence.seed = 1.5: must be an integer >= 0"),
+    ("seed as text", lambda t: ["run", PA1_WINDS, "--set", TURBULENCE + "seed=lucky"],
+     "atmosphere.turbulence.seed = 'lucky': must be an integer >= 0"),
+    ("gust of zero length", lambda t: ["run", _gusty(t), "--set", GUST + "length=0"],
+     "atmosphere.gusts[0].length = 0: must be > 0 (s)"),
+    ("gust without a direction", lambda t: ["run", _gusty(t), "--set", GUST + "direction=[0, 0, 0]"],
+     "atmosphere.gusts[0].direction = [0, 0, 0]: must be a non-zero [east, north, up] vector"),
+    ("profile exponent above 1", lambda t: ["run", PA1_WINDS, "--set", "atmosphere.wind.exponent=1.5"],
+     "atmosphere.wind.exponent = 1.5: must be <= 1"),
+    ("profile exponent below 0", lambda t: ["run", PA1_WINDS, "--set", "atmosphere.wind.exponent=-0.2"],
+     "atmosphere.wind.exponent = -0.2: must be >= 0"),
+    ("wind by components and speed", lambda t: ["run", PA1_WINDS, "--set", "atmosphere.wind.east=3"],
+     "give either east and north or speed and from_deg, not both"),
     # canopy physics (docs/models/canopy.md): apparent mass, inflation, load-elongation tables
     ("negative apparent-mass coefficient", lambda t: ["run", APPARENT, "--set", "parachute.apparent_mass.axial=-1"],
      "bodies.parachute.apparent_mass.axial = -1"),

@@ -16,7 +16,7 @@ from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.report import study_report
 
 HERE = Path(__file__).resolve().parent
-STUDIES = ["step_method", "sp_presets", "kappa_max", "confluence_mass", "mer_monte_carlo"]
+STUDIES = ["step_method", "sp_presets", "kappa_max", "confluence_mass", "mer_monte_carlo", "pa1_footprint"]
 
 
 def main(argv=None) -> int:

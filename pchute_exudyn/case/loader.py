@@ -38,6 +38,7 @@ from ..physics.atmosphere import US76, MarsGRC, Wind
 from ..physics.inflation import Inflation, InflationError, InflationStage
 from ..physics.lines import LoadElongation, LoadElongationError
 from ..physics.planet import FlatPlanet, Planet, StartFrame
+from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
 from .method_table import INTEGRATORS, METHODS, OptionError, make_options
 from .model import (
     Aerodynamics,
@@ -619,7 +620,10 @@ def _read_simulation(t: _Table) -> SimulationSettings:
                               ground_altitude if stop_at_ground else None, tuple(descent_rates))
 
 
-def _read_atmosphere(t: _Table):
+def _read_atmosphere(t: _Table, ground_altitude: float, heading: tuple):
+    """``[atmosphere]``: the model, and the air's motion (``wind``, ``turbulence``, ``gusts``; docs/case-format.md).
+    ``ground_altitude`` (m) is the default ground of the power-law wind and the turbulence; ``heading`` orients the
+    turbulence where there is no mean wind."""
     model = t.string("model", choices=("mars_grc", "us76", "table"))
     if model == "table":
         atmosphere = read_atmosphere_table(t.string("file"))
@@ -627,19 +631,92 @@ def _read_atmosphere(t: _Table):
         atmosphere = US76()
     else:
         atmosphere = MarsGRC()
-    wind = None
     w = t.table("wind", None)
-    if w is not None:
-        if "altitude" in w.data:
-            altitude = w.sequence("altitude", "m", min_length=2)
-            if any(b <= a for a, b in zip(altitude, altitude[1:])):
-                raise w.error("altitude", "must be strictly increasing", list(altitude))
-            wind = Wind(altitude, w.vector("east", "m/s", len(altitude)), w.vector("north", "m/s", len(altitude)))
-        else:
-            wind = Wind.constant(w.number("east", "m/s", 0.0), w.number("north", "m/s", 0.0))
-        w.finish()
+    wind = _read_wind(w, ground_altitude) if w is not None else None
+    turbulence_table = t.table("turbulence", None)
+    turbulence = (_read_turbulence(turbulence_table, ground_altitude, heading) if turbulence_table is not None
+                  else None)
+    gusts = _read_gusts(t)
     t.finish()
-    return atmosphere, wind
+    return atmosphere, wind, turbulence, gusts
+
+
+def _read_direction_speed(w: _Table, speed_unit: str = "m/s") -> tuple:
+    """(east, north) from ``east``/``north`` or from ``speed``/``from_deg`` (the direction the wind comes from)."""
+    if "speed" in w.data or "from_deg" in w.data:
+        if "east" in w.data or "north" in w.data:
+            raise w.error("speed", "give either east and north or speed and from_deg, not both")
+        return wind_from_direction(w.number("speed", speed_unit, minimum=0.0), w.number("from_deg", "deg"))
+    return w.number("east", "m/s", 0.0), w.number("north", "m/s", 0.0)
+
+
+def _read_wind(w: _Table, ground_altitude: float):
+    profile = w.string("profile", "table" if "altitude" in w.data else "constant", ("constant", "table", "power_law"))
+    if profile == "table":
+        altitude = w.sequence("altitude", "m", min_length=2)
+        if any(b <= a for a, b in zip(altitude, altitude[1:])):
+            raise w.error("altitude", "must be strictly increasing", list(altitude))
+        wind = Wind(altitude, w.vector("east", "m/s", len(altitude)), w.vector("north", "m/s", len(altitude)))
+    elif profile == "constant":
+        wind = Wind.constant(*_read_direction_speed(w))
+    else:
+        east, north = _read_direction_speed(w)
+        wind = PowerLawWind(east, north, w.number("reference_height", "m", above=0.0),
+                            w.number("exponent", "", minimum=0.0, maximum=1.0),
+                            w.number("ground_altitude", "m", ground_altitude))
+    w.finish()
+    return wind
+
+
+def _read_integer(t: _Table, key: str, minimum: int = 0) -> int:
+    value = t._get(key, _REQUIRED, "")
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise t.error(key, f"must be an integer >= {minimum}", value)
+    return value
+
+
+def _read_turbulence(t: _Table, ground_altitude: float, heading: tuple) -> DrydenTurbulence:
+    t.string("model", "dryden", ("dryden",))
+    seed = _read_integer(t, "seed")
+    ground = t.number("ground_altitude", "m", ground_altitude)
+    if "wind_speed_6m" in t.data:
+        given = [k for k in ("sigma_u", "sigma_v", "sigma_w", "length_u", "length_v", "length_w") if k in t.data]
+        if given:
+            raise t.error(given[0], "give either wind_speed_6m (the low-altitude forms) or the intensities and "
+                                    "scale lengths, not both")
+        turbulence = DrydenTurbulence(seed, ground, wind_speed_6m=t.number("wind_speed_6m", "m/s", minimum=0.0),
+                                      heading=heading)
+    else:
+        sigma = [t.number(f"sigma_{c}", "m/s", minimum=0.0) for c in "uvw"]
+        length = [t.number(f"length_{c}", "m", above=0.0) for c in "uvw"]
+        turbulence = DrydenTurbulence(seed, ground, sigma, length, heading=heading)
+    t.finish()
+    return turbulence
+
+
+def _read_gusts(t: _Table) -> tuple:
+    raw = t._get("gusts", [], "")
+    if not isinstance(raw, list):
+        raise t.error("gusts", "must be an array of tables ([[atmosphere.gusts]])", raw)
+    gusts = []
+    for i, data in enumerate(raw):
+        g = _Table(data, t.path + ("gusts", i), t.ctx)
+        amplitude = g.number("amplitude", "m/s")
+        start = g.number("start", "s", minimum=0.0)
+        length = g.number("length", "s", above=0.0)
+        if "direction" in g.data:
+            if "from_deg" in g.data:
+                raise g.error("from_deg", "give either direction or from_deg, not both")
+            direction = np.array(g.vector("direction", ""), float)
+            if not np.linalg.norm(direction) > 0.0:
+                raise g.error("direction", "must be a non-zero [east, north, up] vector", g.data["direction"])
+            direction = tuple((direction / np.linalg.norm(direction)).tolist())
+        else:
+            east, north = wind_from_direction(1.0, g.number("from_deg", "deg"))
+            direction = (east, north, 0.0)
+        g.finish()
+        gusts.append(Gust(amplitude, start, length, direction))
+    return tuple(gusts)
 
 
 def build_case(data: dict, origins: dict, source: str) -> Case:
@@ -671,14 +748,13 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
                        s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
     s.finish()
     atmosphere_table = top.table("atmosphere", None)
-    atmosphere, wind = _read_atmosphere(atmosphere_table) if atmosphere_table is not None else (None, None)
 
     body_tables = top.named_tables("bodies")
     if not body_tables:
         raise top.error("bodies", "a case needs at least one body")
     bodies = {body_name: _read_body(body_name, bt) for body_name, bt in body_tables.items()}
     aerodynamic = [name for name, body in bodies.items() if body.aerodynamics is not None]
-    if atmosphere is None and aerodynamic:
+    if atmosphere_table is None and aerodynamic:
         raise top.error("atmosphere", f"required because body '{aerodynamic[0]}' has aerodynamics")
     if vehicle not in bodies:
         raise info.error("vehicle", f"must name a body; bodies are: {', '.join(bodies)}", vehicle)
@@ -686,13 +762,25 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     systems = {sys_name: _read_system(sys_name, st, bodies) for sys_name, st in system_tables.items()}
     simulation_table = top.table("simulation")
     simulation = _read_simulation(simulation_table)
+    atmosphere, wind, turbulence, gusts = None, None, None, ()
+    if atmosphere_table is not None:
+        ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
+        atmosphere, wind, turbulence, gusts = _read_atmosphere(atmosphere_table, ground, _heading(bodies[vehicle]))
     _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     _check_connections(system_tables, bodies, systems, vehicle)
     top.allowed.append("extends")
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
-                wind=wind)
+                wind=wind, turbulence=turbulence, gusts=gusts)
+
+
+def _heading(vehicle: Body) -> tuple:
+    """Unit (east, north) direction of the vehicle's initial horizontal velocity (east when it has none): where
+    turbulence's u points without a mean wind."""
+    east, north = vehicle.initial.velocity_east, vehicle.initial.velocity_north
+    speed = math.hypot(east, north)
+    return (east / speed, north / speed) if speed > 0.0 else (1.0, 0.0)
 
 
 def _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle) -> None:

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..physics.aerodynamics import CoefficientTable
+from ..physics.air import AirMotion
 from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import Atmosphere
 from ..physics.inflation import Inflation
@@ -284,8 +285,12 @@ class Case:
         Local east/north/up frame of the start point.
     atmosphere : Atmosphere or None
         None when no body has aerodynamics.
-    wind : Wind or None
-        Horizontal wind (physics.atmosphere.Wind); None for still air.
+    wind : Wind, PowerLawWind or None
+        Steady horizontal wind (``physics.atmosphere.Wind``, ``physics.wind.PowerLawWind``); None for still air.
+    turbulence : DrydenTurbulence or None
+        ``physics.wind.DrydenTurbulence``; None for none.
+    gusts : tuple of Gust
+        ``physics.wind.Gust`` pulses.
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -304,6 +309,12 @@ class Case:
     simulation: SimulationSettings
     vehicle: str
     wind: object = None
+    turbulence: object = None
+    gusts: tuple = ()
+
+    def air_motion(self) -> AirMotion:
+        """The air's motion (``physics.air.AirMotion``): planet rotation, steady wind, turbulence and gusts."""
+        return AirMotion(self.start, self.wind, self.turbulence, self.gusts)
 
     def canopy_system(self, body_name: str):
         """The system whose canopy ``body_name`` is, or None."""

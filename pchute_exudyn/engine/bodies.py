@@ -14,7 +14,6 @@ import numpy as np
 
 from ..case.model import Body, Case
 from ..physics.aerodynamics import aerodynamic_force
-from ..physics.air import AirMotion
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
 from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
@@ -141,7 +140,7 @@ class BodyAerodynamics:
                                                             localPosition=list(aero.center)))
         self.read = _engine_reader(model, body, marker)
         self.altitude, self.density = case.start.altitude_scalar, case.atmosphere.density
-        self.air = AirMotion(case.start, case.wind)
+        self.air = case.air_motion()
         self.area, self.axial, self.normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
         self.schedule, self.deployed_at = schedule, deployed_at
 

@@ -16,7 +16,6 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Body, Case
-from ..physics.air import AirMotion
 from ..physics.apparent_mass import kirchhoff_terms, translational_mass_matrix
 from ..state import ColumnChannel
 from .model import CURRENT, OV, Model
@@ -31,7 +30,7 @@ class ApparentMassTerms:
         self.center = tuple(body.aerodynamics.center)
         self.get = model.mbs.GetNodeOutput
         self.altitude, self.density = case.start.altitude_scalar, case.atmosphere.density
-        self.air = AirMotion(case.start, case.wind)
+        self.air = case.air_motion()
         self.model = model
         self.cached = None   # (t, masses()) of the last user-function call
 

@@ -1,10 +1,13 @@
 """The air's inertial velocity at a point: the planet's rotation carries it (omega x r) and the wind blows over the
-ground, its east/north components turning with the ground. Plain floats: it runs in per-stage user functions.
+ground: the steady wind, turbulence and gusts (``physics.wind``) in the start point's east/north/up axes, which turn
+with the ground. Plain floats: it runs in per-stage user functions.
 """
 
 from __future__ import annotations
 
 import math
+
+from .wind import gust_velocity
 
 
 class AirMotion:
@@ -13,27 +16,44 @@ class AirMotion:
     Parameters
     ----------
     start : physics.planet.StartFrame
-    wind : physics.atmosphere.Wind or None
+    wind : physics.atmosphere.Wind, physics.wind.PowerLawWind or None
+        The steady wind (its ``at(altitude)`` gives east, north in m/s).
+    turbulence : physics.wind.DrydenTurbulence or None
+    gusts : tuple of physics.wind.Gust
     """
 
-    def __init__(self, start, wind=None):
-        self.wind = wind
+    def __init__(self, start, wind=None, turbulence=None, gusts=()):
+        self.wind, self.turbulence, self.gusts = wind, turbulence, tuple(gusts)
+        self.moving = wind is not None or turbulence is not None or bool(self.gusts)
         self.omega = tuple(start.rotation_vector.tolist())
         self.center = tuple(start.planet_center.tolist())
         rate = start.planet.rotation_rate
         self.rate = rate
         self.axis = tuple((start.rotation_vector / rate).tolist()) if rate else (0.0, 0.0, 1.0)
-        self.still = wind is None and rate == 0.0
+        self.still = not self.moving and rate == 0.0
+
+    def local(self, altitude: float, time: float):
+        """(steady wind + gusts, turbulence) at geodetic ``altitude`` (m) and ``time`` (s): two (east, north, up)
+        triples (m/s) relative to the ground, in the start point's axes."""
+        east, north = self.wind.at(altitude) if self.wind is not None else (0.0, 0.0)
+        ge, gn, gu = gust_velocity(self.gusts, time)
+        turbulence = (self.turbulence.velocity(altitude, east, north) if self.turbulence is not None
+                      else (0.0, 0.0, 0.0))
+        return (east + ge, north + gn, gu), turbulence
 
     def __call__(self, x: float, y: float, z: float, altitude: float, time: float):
         """Air velocity at start-frame point (x, y, z) (m) of geodetic ``altitude`` (m) at ``time`` (s)."""
         vx = vy = vz = 0.0
-        if self.wind is not None:
-            vx, vy = self.wind.at(altitude)
+        if self.moving:
+            if self.turbulence is None and not self.gusts:
+                vx, vy = self.wind.at(altitude)   # the steady wind alone (as before turbulence and gusts)
+            else:
+                (vx, vy, vz), (tx, ty, tz) = self.local(altitude, time)
+                vx, vy, vz = vx + tx, vy + ty, vz + tz
             if self.rate:  # the ground's east/north axes have turned by omega t about the polar axis
                 kx, ky, kz = self.axis
                 c, s = math.cos(self.rate * time), math.sin(self.rate * time)
-                along = kx * vx + ky * vy
+                along = kx * vx + ky * vy + kz * vz
                 vx, vy, vz = (vx * c + (ky * vz - kz * vy) * s + kx * along * (1 - c),
                               vy * c + (kz * vx - kx * vz) * s + ky * along * (1 - c),
                               vz * c + (kx * vy - ky * vx) * s + kz * along * (1 - c))

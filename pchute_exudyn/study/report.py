@@ -2,8 +2,9 @@
 
 Writes into ``DIR/report/``: ``report.md`` (counts, percentiles, failed runs and their errors, errors against the
 reference), ``percentiles.json``, ``histograms.png``, ``scatter_<parameter>.png`` (outputs against each drawn input),
-``grid_<parameter>.png`` (outputs against each grid parameter, one line per configuration) and, when the study has a
-reference, ``errors.csv`` and ``error_vs_wall_time.png``.
+``grid_<parameter>.png`` (outputs against each grid parameter, one line per configuration), when runs touch down
+the landing footprint (``footprint.json``, ``footprint.png``, ``touchdown.png``: ``study.footprint``) and, when the
+study has a reference, ``errors.csv`` and ``error_vs_wall_time.png``.
 """
 
 from __future__ import annotations
@@ -21,6 +22,14 @@ from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir, json_text
 from ..plotting import new_figure, save_figure
 from ..results import Result
+from .footprint import (
+    MINIMUM_RUNS,
+    footprint_markdown,
+    footprint_statistics,
+    plot_footprint,
+    plot_touchdown_histograms,
+    touchdown_points,
+)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -147,7 +156,7 @@ def study_report(folder) -> dict:
     study = tomllib.loads((folder / "study.toml").read_text()) if (folder / "study.toml").is_file() else {}
     title = study.get("study", {}).get("name", folder.name)
     parameters = study.get("parameters", {})
-    drawn = [k for k, p in parameters.items() if "distribution" in p]
+    drawn = [k for k, p in parameters.items() if "distribution" in p and p["distribution"] != "seed"]
     grid = [k for k, p in parameters.items() if "distribution" not in p]
     out = ensure_writable_dir(folder / "report")
     ok = [r for r in rows if r.get("status") == "ok" and r.get("reference") != "True"]
@@ -165,6 +174,7 @@ def study_report(folder) -> dict:
     for key in grid:
         targets = [o for o in ("final_altitude", "final_lateral") if o in outputs] + tensions
         paths[f"grid {key}"] = _plot_grid(ok, key, targets, out / f"grid_{_safe(key)}.png")
+    footprint = _footprint(ok, outputs, title, out, paths)
     errors = reference_errors(folder, rows, grid) if any(r.get("reference") == "True" for r in rows) else []
     if errors:
         paths["errors"] = _write_errors(errors, out / "errors.csv")
@@ -172,9 +182,35 @@ def study_report(folder) -> dict:
         paths["error_vs_wall_time"] = out / "error_vs_wall_time.png"
         for key in grid:
             paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, out / f"error_vs_{_safe(key)}.png")
-    atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths))
+    atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths, footprint))
     paths["report"] = out / "report.md"
     return paths
+
+
+def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict) -> list:
+    """The landing footprint's files when at least MINIMUM_RUNS runs touched down; returns its report lines."""
+    points = touchdown_points(ok)
+    if len(points) < MINIMUM_RUNS:
+        return []
+    stats = footprint_statistics(points)
+    loads = [o for o in outputs if o.startswith("peak_tension_")]
+    landed = [r for r in ok if isinstance(r.get("touchdown_time"), float)]
+    rows = []
+    for name in ["touchdown_speed", "touchdown_time"] + loads:
+        values = np.array([r[name] for r in landed if isinstance(r.get(name), float)])
+        if len(values):
+            unit = {"touchdown_speed": "m/s", "touchdown_time": "s"}.get(name, "N")
+            rows.append((name, unit, {**{f"p{q}": float(np.percentile(values, q)) for q in (1, 5, 50, 95, 99)},
+                                      "max": float(values.max())}))
+    stats["percentiles"] = {name: {"unit": unit, **p} for name, unit, p in rows}
+    atomic_write_text(out / "footprint.json", json_text(stats, indent=2) + "\n")
+    paths["footprint data"] = out / "footprint.json"
+    plot_footprint(points, stats, f"{title}: touchdown points and dispersion ellipses", out / "footprint.png")
+    paths["footprint"] = out / "footprint.png"
+    heaviest = sorted(loads, key=lambda name: -stats["percentiles"][name]["p50"])[:5]   # the largest median peaks
+    plot_touchdown_histograms(landed, heaviest, f"{title}: {len(landed)} touchdowns", out / "touchdown.png")
+    paths["touchdown"] = out / "touchdown.png"
+    return footprint_markdown(stats, rows)
 
 
 def _plot_histograms(ok: list, shown: list, stats: dict, title: str, out: Path) -> Path:
@@ -251,7 +287,7 @@ def _write_errors(errors: list, path: Path) -> Path:
     return path
 
 
-def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, paths: dict) -> str:
+def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, paths: dict, footprint: list) -> str:
     failed = [r for r in rows if r.get("status") != "ok"]
     lines = [f"# Study report: {title}", "",
              f"{len(rows)} runs recorded: {len(rows) - len(failed)} ok, {len(failed)} failed "
@@ -260,6 +296,7 @@ def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, pat
     for name, s in stats.items():
         lines.append(f"| {name} | " + " | ".join(f"{s[k]:.6g}" for k in ("p1", "p50", "p99", "mean", "std", "min",
                                                                           "max")) + " |")
+    lines += footprint
     if errors:
         lines += ["", "Errors against the reference (each run against its reference run):", "",
                   "| case | configuration | " + "".join(f"{k} | " for k in grid) + "wall time (s) | final altitude "

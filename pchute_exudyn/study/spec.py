@@ -23,7 +23,7 @@ A study file is TOML::
 
     [parameters."vehicle.initial.velocity_east"]      # dotted case keys, as for --set
     distribution = "normal"                           # normal (mean, std), uniform (low, high),
-    mean = 0.0                                        # truncated_normal (mean, std, low, high)
+    mean = 0.0                                        # truncated_normal (mean, std, low, high), seed (none)
     std = 0.5
 
     [parameters."main.lines.*.stiffness"]
@@ -57,7 +57,9 @@ from ..case.method_table import INTEGRATORS, METHODS, OptionError, make_options
 from ..errors import CaseError
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
-                 "truncated_normal": ("mean", "std", "low", "high")}
+                 "truncated_normal": ("mean", "std", "low", "high"), "seed": ()}
+SEED_LIMIT = 2 ** 31
+"""A ``seed`` draw is an integer in [0, SEED_LIMIT) (a fresh seed per sample, e.g. for turbulence)."""
 
 
 @dataclass(frozen=True)
@@ -84,8 +86,10 @@ class Parameter:
     arguments: dict = field(default_factory=dict)
     relative: bool = False
 
-    def draw(self, rng: np.random.Generator) -> float:
+    def draw(self, rng: np.random.Generator) -> float | int:
         a = self.arguments
+        if self.distribution == "seed":
+            return int(rng.integers(0, SEED_LIMIT))
         if self.distribution == "normal":
             return float(rng.normal(a["mean"], a["std"]))
         if self.distribution == "uniform":
@@ -261,6 +265,8 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
             raise t.error("std", "must be > 0", arguments["std"])
         if "low" in arguments and not arguments["low"] < arguments["high"]:
             raise t.error("high", f"must be > low ({arguments['low']:g})", arguments["high"])
+        if name == "seed" and relative:
+            raise t.error("relative", "a seed cannot be relative", True)
         if name == "truncated_normal":
             from scipy.stats import norm
             mass = norm.cdf(arguments["high"], arguments["mean"], arguments["std"]) - \
@@ -358,7 +364,8 @@ def _check_parameters(spec: StudySpec, source: str) -> None:
     extra = {"simulation.duration": spec.duration} if spec.duration else {}
     for case in spec.cases:
         for p in spec.parameters:
-            candidates = p.values or (p.arguments.get("mean", p.arguments.get("low")),)
+            candidates = p.values or ((0,) if p.distribution == "seed" else
+                                      (p.arguments.get("mean", p.arguments.get("low")),))
             first = None
             for value in candidates:
                 try:

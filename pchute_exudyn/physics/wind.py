@@ -1,0 +1,242 @@
+"""Wind models beyond a constant or tabulated steady wind: a power-law profile over the ground, Dryden turbulence and
+"1 - cosine" discrete gusts (docs/models/canopy.md, "Winds"). Plain floats: they run in per-stage user functions.
+
+Conventions: east, north, up components (m/s) of the air's velocity relative to the ground in the start point's
+local axes; a direction given as ``from_deg`` is where the air comes from, clockwise from north (meteorological:
+270 deg is a west wind, blowing east).
+
+Turbulence is a frozen field along the height above the ground: a parachute descends through the air mass, so a
+component's correlation over a height step equals its correlation in time at the descent rate V over (height step)
+/ V (Taylor's hypothesis, vertical). The field is generated as filtered white noise on a uniform height grid, cell by
+cell upwards from the ground, from a seed alone: every method, step and machine sees the same air.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+FOOT = 0.3048
+"""m per ft (the MIL-F-8785C low-altitude formulas are written in feet)."""
+
+
+def wind_from_direction(speed: float, from_deg: float) -> tuple:
+    """(east, north) components (m/s) of a wind of ``speed`` (m/s) coming from ``from_deg`` (deg, clockwise from
+    north)."""
+    angle = math.radians(from_deg)
+    return -speed * math.sin(angle), -speed * math.cos(angle)
+
+
+@dataclass(frozen=True)
+class PowerLawWind:
+    """Steady wind w(h) = w_ref ((h - h_ground) / h_ref)^p above the ground and none below it.
+
+    Attributes
+    ----------
+    east, north : float
+        The wind at the reference height (m/s).
+    reference_height : float
+        h_ref, above the ground (m).
+    exponent : float
+        p (-), in [0, 1] (1/7 over open terrain).
+    ground_altitude : float
+        h_ground, geodetic (m).
+    """
+
+    east: float
+    north: float
+    reference_height: float
+    exponent: float
+    ground_altitude: float = 0.0
+
+    def at(self, altitude: float):
+        """(east, north) wind (m/s) at geodetic ``altitude`` (m)."""
+        height = altitude - self.ground_altitude
+        if height <= 0.0:
+            return 0.0, 0.0
+        factor = (height / self.reference_height) ** self.exponent
+        return self.east * factor, self.north * factor
+
+
+# -- Dryden turbulence --------------------------------------------------------------------------------------------
+
+def dryden_correlation(component: str, lag: float, length: float) -> float:
+    """Normalised autocorrelation R(lag) / sigma^2 of a Dryden component over separation ``lag`` for scale length
+    ``length`` (same unit): exp(-lag/L) for u, exp(-lag/L) (1 - lag / (2L)) for v and w."""
+    r = abs(lag) / length
+    return math.exp(-r) if component == "u" else math.exp(-r) * (1.0 - 0.5 * r)
+
+
+def low_altitude_scales(height: float, wind_speed_6m: float) -> tuple:
+    """(sigma_u, sigma_v, sigma_w) (m/s) and (L_u, L_v, L_w) (m) at ``height`` above the ground (m) from the wind
+    speed at 6 m (20 ft, m/s): MIL-F-8785C's low-altitude forms, sigma_w = 0.1 W20, sigma_u = sigma_v = sigma_w /
+    (0.177 + 0.000823 h)^0.4, L_w = h, L_u = L_v = h / (0.177 + 0.000823 h)^1.2 (h in ft), for 10 ft <= h <= 1000
+    ft. Below 10 ft they hold their 10-ft values. Above 1000 ft the scale lengths (then all 1000 ft) grow linearly
+    to 1750 ft at 2000 ft and stay there (the medium-altitude value); the intensities stay at 0.1 W20, the value
+    the forms reach at 1000 ft (the medium/high-altitude intensities need a probability of exceedance)."""
+    h = min(max(height / FOOT, 10.0), 1000.0)
+    base = 0.177 + 0.000823 * h
+    sigma_w = 0.1 * wind_speed_6m
+    sigma_uv = sigma_w / base ** 0.4
+    length_w, length_uv = h * FOOT, h / base ** 1.2 * FOOT
+    above = height / FOOT - 1000.0
+    if above > 0.0:
+        length_w = length_uv = (1000.0 + 750.0 * min(above / 1000.0, 1.0)) * FOOT
+    return (sigma_uv, sigma_uv, sigma_w), (length_uv, length_uv, length_w)
+
+
+CELLS_PER_LENGTH = 20
+"""Grid cells per smallest scale length (linear interpolation keeps >= 97.5 % of the variance between cells)."""
+BLOCK = 4096
+"""Cells generated at a time, each block from its own child seed (so a field extends upwards deterministically)."""
+
+
+class DrydenTurbulence:
+    """Dryden turbulence (MIL-F-8785C spectral forms) as a frozen field over the height above the ground.
+
+    Components: u along the mean wind's horizontal direction at that height (without wind: along ``heading``), v
+    horizontal to its left, w up. Each is a unit-variance process on a uniform height grid, scaled by its
+    intensity: u first order (correlation exp(-s/L)), v and w second order (exp(-s/L) (1 - s/(2L))), each
+    discretised exactly cell to cell (the correlation between grid points is the Dryden value for any cell size),
+    and linear between cells. Below the ground the field holds its ground value.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the white noise (>= 0).
+    ground_altitude : float
+        Geodetic altitude of the ground (m).
+    sigma : tuple of 3 float or None
+        Intensities sigma_u, sigma_v, sigma_w (m/s), constant with height; or None with ``wind_speed_6m``.
+    length : tuple of 3 float or None
+        Scale lengths L_u, L_v, L_w (m), with ``sigma``.
+    wind_speed_6m : float or None
+        Wind speed at 6 m (m/s): intensities and lengths from ``low_altitude_scales`` at each height.
+    heading : tuple of 2 float
+        Unit (east, north) direction of u where there is no mean wind.
+    """
+
+    def __init__(self, seed: int, ground_altitude: float = 0.0, sigma=None, length=None, wind_speed_6m=None,
+                 heading=(1.0, 0.0)):
+        self.seed, self.ground_altitude, self.heading = int(seed), float(ground_altitude), tuple(heading)
+        self.sigma = None if sigma is None else tuple(float(s) for s in sigma)
+        self.length = None if length is None else tuple(float(x) for x in length)
+        self.wind_speed_6m = wind_speed_6m
+        shortest = min(self.length) if self.length is not None else 10.0 * FOOT
+        self.cell = shortest / CELLS_PER_LENGTH      # m
+        self.values: list = [[], [], []]             # u, v, w at the cells (m/s)
+        self._state = None                           # (xi_u, z_v1, z_v2, z_w1, z_w2) after the last cell
+
+    def scales(self, height: float) -> tuple:
+        """(sigma_u, sigma_v, sigma_w) (m/s) and (L_u, L_v, L_w) (m) at ``height`` above the ground (m)."""
+        if self.sigma is not None:
+            return self.sigma, self.length
+        return low_altitude_scales(height, self.wind_speed_6m)
+
+    def _extend(self) -> None:
+        """Generate the next BLOCK cells from block k's own seed, continuing the recursions."""
+        k = len(self.values[0]) // BLOCK
+        noise = np.random.Generator(np.random.PCG64(np.random.SeedSequence([self.seed, k]))).standard_normal(
+            (BLOCK, 5)).tolist()
+        state = self._state if self._state is not None else noise[0]   # the stationary distribution: N(0, 1)
+        xu, v1, v2, w1, w2 = state
+        u_out, v_out, w_out = self.values
+        cell, fixed = self.cell, self.sigma is not None
+        sigma, length = self.scales(0.0) if fixed else (None, None)
+        for i, (n0, n1, n2, n3, n4) in enumerate(noise):
+            if not fixed:
+                sigma, length = self.scales((k * BLOCK + i) * cell)
+            if k or i:   # the first cell is the initial state itself
+                xu = _first_order(xu, cell / length[0], n0)
+                v1, v2 = _second_order(v1, v2, cell / length[1], n1, n2)
+                w1, w2 = _second_order(w1, w2, cell / length[2], n3, n4)
+            u_out.append(sigma[0] * xu)
+            v_out.append(sigma[1] * 0.5 * (v1 + SQRT3 * v2))
+            w_out.append(sigma[2] * 0.5 * (w1 + SQRT3 * w2))
+        self._state = (xu, v1, v2, w1, w2)
+
+    def components(self, altitude: float) -> tuple:
+        """(u, v, w) (m/s) at geodetic ``altitude`` (m)."""
+        position = max(altitude - self.ground_altitude, 0.0) / self.cell
+        i = int(position)
+        while i + 1 >= len(self.values[0]):
+            self._extend()
+        f = position - i
+        u, v, w = self.values
+        return (u[i] + f * (u[i + 1] - u[i]), v[i] + f * (v[i + 1] - v[i]), w[i] + f * (w[i + 1] - w[i]))
+
+    def velocity(self, altitude: float, mean_east: float, mean_north: float) -> tuple:
+        """(east, north, up) turbulence (m/s) at ``altitude`` (m) under a mean wind (m/s) that orients u and v."""
+        u, v, w = self.components(altitude)
+        speed = math.hypot(mean_east, mean_north)
+        ce, cn = (mean_east / speed, mean_north / speed) if speed > 1e-9 else self.heading
+        return u * ce - v * cn, u * cn + v * ce, w
+
+
+SQRT3 = math.sqrt(3.0)
+
+
+def _first_order(x: float, r: float, noise: float) -> float:
+    """One cell of a unit-variance first-order process (cell / L = ``r``): exact AR(1)."""
+    a = math.exp(-r)
+    return a * x + math.sqrt(1.0 - a * a) * noise
+
+
+def _second_order(z1: float, z2: float, r: float, n1: float, n2: float) -> tuple:
+    """One cell of the Dryden v/w shaping filter (1 + sqrt(3) L s) / (1 + L s)^2 in unit-covariance state
+    coordinates: z' = M z + chol(I - M M^T) n with M = exp(-r) [[1 + r, r], [-r, 1 - r]] (the filter's transition
+    over the cell, scaled by its stationary covariance diag(L^3/4, L/4)); the output (z1 + sqrt(3) z2) / 2 has unit
+    variance and correlation exp(-s/L) (1 - s/(2L))."""
+    e = math.exp(-r)
+    m11, m12, m21, m22 = e * (1.0 + r), e * r, -e * r, e * (1.0 - r)
+    q11 = 1.0 - m11 * m11 - m12 * m12
+    q12 = -(m11 * m21 + m12 * m22)
+    q22 = 1.0 - m21 * m21 - m22 * m22
+    l11 = math.sqrt(max(q11, 0.0))
+    l21 = q12 / l11 if l11 > 0.0 else 0.0
+    l22 = math.sqrt(max(q22 - l21 * l21, 0.0))
+    return m11 * z1 + m12 * z2 + l11 * n1, m21 * z1 + m22 * z2 + l21 * n1 + l22 * n2
+
+
+# -- discrete gusts -----------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Gust:
+    """A "1 - cosine" gust: (A/2) (1 - cos(2 pi (t - t0) / T)) for t0 <= t <= t0 + T along ``direction``.
+
+    Attributes
+    ----------
+    amplitude : float
+        A, the peak air speed (m/s).
+    start : float
+        t0 (s, run time).
+    length : float
+        T, the pulse's duration (s, > 0).
+    direction : tuple of 3 float
+        Unit (east, north, up) direction the air moves in.
+    """
+
+    amplitude: float
+    start: float
+    length: float
+    direction: tuple
+
+    def speed(self, time: float) -> float:
+        """The gust's air speed (m/s) at ``time`` (s)."""
+        phase = (time - self.start) / self.length
+        if not 0.0 <= phase <= 1.0:
+            return 0.0
+        return 0.5 * self.amplitude * (1.0 - math.cos(2.0 * math.pi * phase))
+
+
+def gust_velocity(gusts, time: float) -> tuple:
+    """(east, north, up) air velocity (m/s) of all ``gusts`` at ``time`` (s)."""
+    e = n = u = 0.0
+    for gust in gusts:
+        speed = gust.speed(time)
+        if speed:
+            de, dn, du = gust.direction
+            e, n, u = e + speed * de, n + speed * dn, u + speed * du
+    return e, n, u
