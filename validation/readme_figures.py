@@ -8,7 +8,8 @@ Run:  python validation/readme_figures.py            # print each README line th
 Each figure comes from the output of the script named beside it in the README, which writes the file read here:
 `validation/benchmark_sp.py` (benchmark_sp.md), `validation/benchmark_full.py` (benchmark_full.md),
 `validation/cev_pa1.py` (cev_pa1/pa1.md), `validation/benchmark_study.py` (benchmark_study.md),
-`validation/run_studies.py` (studies/step_method/report/errors.csv), `validation/canopy_checks.py`
+`validation/run_studies.py` (studies/step_method/report/errors.csv, studies/pa1_footprint/report/footprint.json),
+`validation/canopy_checks.py`
 (canopy/closed_forms.json), `validation/canopy_effects.py` (canopy/effects.md); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
 the check (tests/test_architecture.py), so a README that disagrees with the committed outputs fails CI.
@@ -190,11 +191,24 @@ def canopy_lines() -> list:
     return lines
 
 
+def footprint_lines() -> list:
+    """The PA1 landing footprint study's figures (`validation/run_studies.py pa1_footprint`)."""
+    import json
+
+    stats = json.loads((OUT / "studies" / "pa1_footprint" / "report" / "footprint.json").read_text())
+    speed, riser = stats["percentiles"]["touchdown_speed"], stats["percentiles"]["peak_tension_main_riser"]
+    return [f"  [report](validation/output/studies/pa1_footprint/report/report.md)): mean touchdown point "
+            f"{stats['mean_east']:.0f} m east and {stats['mean_north']:.0f} m north of the start, principal standard "
+            f"deviations {stats['sigma_major']:.0f} m and {stats['sigma_minor']:.0f} m, CEP "
+            f"{stats['miss_distance']['p50']:.0f} m; touchdown speed {speed['p50']:.1f} / {speed['p99']:.1f} m/s "
+            f"(50 / 99 %); peak main-riser load {riser['p50'] / 1e3:.1f} / {riser['p99'] / 1e3:.1f} kN (50 / 99 %)."]
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
-            *canopy_lines()]
+            *canopy_lines(), *footprint_lines()]
 
 
 def _key(line: str) -> str:
