@@ -275,6 +275,46 @@ def _study_report(args) -> int:
     return 0
 
 
+def _add_animate(subparsers) -> None:
+    animate = subparsers.add_parser(
+        "animate", help="3D animation of a finished run (GIF, or MP4 with imageio-ffmpeg)",
+        description="Draw a finished run from its result folder (never rerunning it): the bodies with their "
+                    "attitudes at their sizes, every line coloured by its tension (grey dashed while slack), the "
+                    "confluence, the followed body's trail, the clock and the tensions. Works without a display.")
+    animate.add_argument("folder", help="result folder of `pchute run`")
+    animate.add_argument("--out", default=None, metavar="FILE", help="FILE.gif or FILE.mp4 (default "
+                         "FOLDER/animation.gif; MP4 needs `pip install imageio-ffmpeg`)")
+    animate.add_argument("--speed", type=float, default=1.0, metavar="X",
+                         help="seconds of run per second of animation (default 1)")
+    animate.add_argument("--follow", default=None, metavar="BODY", help="body at the centre (default the vehicle)")
+    animate.add_argument("--from", dest="start", type=float, default=None, metavar="T",
+                         help="first run time drawn, s (default the run's start)")
+    animate.add_argument("--to", dest="end", type=float, default=None, metavar="T",
+                         help="last run time drawn, s (default the run's end)")
+    animate.add_argument("--compare", default=None, metavar="OTHER_DIR",
+                         help="another run's result folder, drawn over it in orange (e.g. full mass and SP)")
+    animate.add_argument("--quiet", action="store_true", help="no progress line")
+    animate.set_defaults(func=_animate)
+
+
+def _animate(args) -> int:
+    from .animation import Animation, Run
+    from .progress import TerminalProgress
+
+    run = Run.load(args.folder)
+    other = Run.load(args.compare) if args.compare else None
+    animation = Animation(run, other, args.follow, args.start, args.end, args.speed)
+    out = Path(args.out) if args.out else Path(args.folder) / "animation.gif"
+    progress = None
+    if TerminalProgress.wanted(args.quiet):
+        progress = TerminalProgress(animation.end)
+    path = animation.save(out, progress)
+    if progress is not None:
+        progress.close()
+    print(f"{len(animation.times)} frames of {animation.start:g} s to {animation.end:g} s -> {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``pchute`` argument parser."""
     parser = _Parser(prog="pchute", description="Multibody parachute descent simulation on the Exudyn engine.")
@@ -285,6 +325,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_compare(subparsers)
     _add_linearize(subparsers)
     _add_study(subparsers)
+    _add_animate(subparsers)
     return parser
 
 

@@ -80,6 +80,50 @@ def attach_points(case: Case, raw: RawHistory, system) -> tuple[np.ndarray, np.n
     return np.stack(positions, axis=1), np.stack(velocities, axis=1)
 
 
+def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
+    """What an animation draws, from the sampled states: arrays in the start frame (x east, y north, z up from the
+    start point on the ellipsoid, m; NaN where absent) and a JSON-able description of the bodies and lines.
+
+    Arrays: ``<body>/position`` (n, 3), ``<body>/rotation`` (n, 3, 3: body axes to start frame),
+    ``<system>/confluence`` (n, 3) and ``<system>/<line>`` (n, 3), the line's attach point on its body. The
+    description gives each body's role (vehicle, canopy or body) and drawn diameter (m: from its aerodynamic reference
+    area, else twice its points' largest distance from the centre of mass), the canopy's apex direction in body axes
+    (away from its attach points), the body-axes points its lines attach to (m), and each system's confluence label
+    and lines (body, tension column)."""
+    arrays, bodies, systems = {}, {}, {}
+    canopies = {system.canopy: system.name for system in case.systems.values() if system.canopy}
+    for name, body in case.bodies.items():
+        arrays[f"{name}/position"] = raw.bodies[name]["position"]
+        arrays[f"{name}/rotation"] = raw.bodies[name]["rotation"]
+        points = np.array(list(body.points.values()), float).reshape(-1, 3)
+        if body.aerodynamics is not None:
+            diameter = float(np.sqrt(4.0 * body.aerodynamics.reference_area / np.pi))
+        else:
+            diameter = float(2.0 * np.linalg.norm(points, axis=1).max()) if len(points) else 1.0
+        apex = -points.mean(axis=0) if len(points) else np.array([-1.0, 0.0, 0.0])
+        apex = apex / np.linalg.norm(apex) if np.linalg.norm(apex) > 0 else np.array([-1.0, 0.0, 0.0])
+        canopy = name in canopies or (name != case.vehicle and body.aerodynamics is not None)
+        attached = sorted({line.point for system in case.systems.values() for line in system.lines
+                           if line.body == name})
+        bodies[name] = {"role": "vehicle" if name == case.vehicle else "canopy" if canopy else "body",
+                        "diameter": diameter, "apex": apex.tolist(), "fixed": body.fixed,
+                        "line_points": [list(map(float, body.points[point])) for point in attached]}
+    for system in case.systems.values():
+        if system.name not in raw.confluences:
+            continue
+        arrays[f"{system.name}/confluence"] = raw.confluences[system.name]["position"]
+        positions, _ = attach_points(case, raw, system)
+        lines = []
+        for i, line in enumerate(system.lines):
+            arrays[f"{system.name}/{line.name}"] = positions[:, i]
+            lines.append({"name": line.name, "body": line.body,
+                          "tension": f"tension_{case.line_label(system, line)}"})
+        systems[system.name] = {"confluence": case.confluence_label(system), "canopy": system.canopy, "lines": lines}
+    description = {"frame": "start frame: x east, y north, z up (m)", "vehicle": case.vehicle, "bodies": bodies,
+                   "systems": systems}
+    return arrays, description
+
+
 def check_history(case: Case, raw: RawHistory, step: float) -> None:
     """Raise SimulationError if any sample is NaN/inf or a line is torn (strain > MAX_LINE_STRAIN)."""
     arrays = [raw.time] + [a for b in raw.bodies.values() for a in b.values()] \

@@ -3,7 +3,8 @@
 Files written by :meth:`Result.save` (each atomically):
 
 * ``timeseries.csv``: a header row of column names, first column ``time`` (s), then one row per sample;
-* ``result.npz``: the same arrays plus ``units`` and ``summary`` (JSON strings);
+* ``result.npz``: the same arrays plus ``units`` and ``summary`` (JSON strings), and the scene an animation draws
+  (``scene/<name>`` arrays and ``scene`` JSON: ``outputs.scene``), when the run made one;
 * ``summary.json``: case, method, integrator, step, duration, steps, wall time, final vehicle state, peak tensions,
   column units and the versions of this package, Exudyn, numpy and Python;
 * ``overview.png``: line tensions and vehicle altitude against time.
@@ -23,6 +24,22 @@ from .errors import InputError
 from .io import atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
+SCENE = "scene"
+"""Key of the scene description in ``result.npz``; its arrays are ``scene/<name>``."""
+
+
+def load_scene(folder) -> tuple[np.ndarray, dict, dict]:
+    """Sample times (s), scene arrays and description from a result folder's ``result.npz`` (InputError when the
+    folder has none: a result saved before scenes were stored, a study's scalar record, or a CSV)."""
+    path = Path(folder) / NPZ_NAME
+    if not path.is_file():
+        raise InputError(f"{folder}: no {NPZ_NAME}: not a result folder of `pchute run`")
+    with np.load(path) as data:
+        if SCENE not in data.files:
+            raise InputError(f"{folder}: {NPZ_NAME} holds no scene (body attitudes and attach points); rerun the case "
+                             "with this version to animate it")
+        arrays = {k[len(SCENE) + 1:]: data[k] for k in data.files if k.startswith(SCENE + "/")}
+        return data["time"], arrays, json.loads(str(data[SCENE]))
 
 
 class Result:
@@ -38,15 +55,19 @@ class Result:
         Run metadata (see the module docstring), as ``summary.json`` holds it.
     run_summary : summary.RunSummary, optional
         The same as a typed object, for a result just simulated (None for one loaded from files).
+    scene : (dict, dict), optional
+        Arrays and description of the bodies and lines in the start frame (``outputs.scene``), for animations.
     """
 
-    def __init__(self, columns: dict, units: dict | None = None, summary: dict | None = None, run_summary=None):
+    def __init__(self, columns: dict, units: dict | None = None, summary: dict | None = None, run_summary=None,
+                 scene=None):
         if "time" not in columns:
             raise InputError("a result needs a 'time' column")
         self.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
         self.units = dict(units or {})
         self.summary = dict(summary or {})
         self.run_summary = run_summary
+        self.scene_arrays, self.scene = scene if scene is not None else ({}, None)
 
     @property
     def time(self) -> np.ndarray:
@@ -109,9 +130,12 @@ class Result:
             buffer.write(",".join(names) + "\n")
             np.savetxt(buffer, table, delimiter=",", fmt="%.12g")
             atomic_write_text(paths["csv"], buffer.getvalue())
+        scene = {f"{SCENE}/{k}": v for k, v in self.scene_arrays.items()}
+        if self.scene is not None:
+            scene[SCENE] = json_text(self.scene)
         with atomic_writer(paths["npz"], "wb") as handle:
             np.savez_compressed(handle, **self.columns, units=json_text(self.units),
-                                summary=json_text(self.summary))
+                                summary=json_text(self.summary), **scene)
         atomic_write_text(paths["summary"], json_text(self.summary, indent=2) + "\n")
         if plot:
             from .plotting import save_figure
@@ -133,7 +157,8 @@ class Result:
                 summary = json.loads((path / SUMMARY_NAME).read_text())
             if not (path / CSV_NAME).is_file() and (path / NPZ_NAME).is_file():
                 with np.load(path / NPZ_NAME) as data:
-                    columns = {k: data[k] for k in data.files if k not in ("units", "summary")}
+                    columns = {k: data[k] for k in data.files if k not in ("units", "summary", SCENE)
+                               and not k.startswith(SCENE + "/")}
                     units = json.loads(str(data["units"])) if "units" in data.files else {}
                 return cls(map_columns(columns, column_map or {}, path), units, summary)
             path = path / CSV_NAME

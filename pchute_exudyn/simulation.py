@@ -16,7 +16,7 @@ from .engine.bodies import Touchdown
 from .engine.solver import integrate, versions
 from .errors import InputError, Interrupted, SimulationError
 from .methods.base import Method, unstable_step_message
-from .outputs import check_history, concatenate, derive_columns
+from .outputs import check_history, concatenate, derive_columns, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase
 from .results import Result
 from .summary import (
@@ -267,4 +267,4 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     raw, facts, events, openings = run(case, plan, progress)
     columns, units = derive_columns(case, raw)
     summary = summarize(case, plan, raw, facts, events, columns, units, opening_loads(case, openings, columns))
-    return Result(columns, units, summary.to_dict(), run_summary=summary)
+    return Result(columns, units, summary.to_dict(), run_summary=summary, scene=scene(case, raw))

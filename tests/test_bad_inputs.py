@@ -48,6 +48,24 @@ def _gusty(tmp: Path) -> str:
                                    'start = 40.0\nlength = 4.0\ndirection = [0.0, 1.0, 0.0]\n')
 
 
+def _sceneless(tmp: Path) -> str:
+    """A result saved without the scene an animation needs (as by a version before it was stored)."""
+    from pchute_exudyn.results import Result
+    folder = tmp / "old"
+    Result({"time": [0.0, 1.0], "tension_riser": [1.0, 2.0]}, {"time": "s", "tension_riser": "N"}).save(folder,
+                                                                                                     plot=False)
+    return str(folder)
+
+
+def _short_run(tmp: Path) -> str:
+    """A 0.2-s SP run of MER case 1, saved (once per test's folder)."""
+    folder = tmp / "short"
+    if not folder.is_dir():
+        import pchute_exudyn as pc
+        pc.simulate(pc.load_case(CASE1), "sp", "rk4", 1e-2, duration=0.2).save(folder, plot=False)
+    return str(folder)
+
+
 def _result_folder(tmp: Path) -> str:
     folder = tmp / "earlier"
     folder.mkdir()
@@ -57,6 +75,19 @@ def _result_folder(tmp: Path) -> str:
 
 
 BATTERY = [
+    # animate
+    ("animate a folder without a scene", lambda t: ["animate", _result_folder(t)],
+     "no result.npz: not a result folder of `pchute run`"),
+    ("animate a result without a scene", lambda t: ["animate", _sceneless(t)],
+     "result.npz holds no scene (body attitudes and attach points); rerun the case with this version"),
+    ("animate an empty window", lambda t: ["animate", _short_run(t), "--from", "5", "--to", "9"],
+     "the time window 5 s to 9 s is empty: the run spans 0 s to 0.2 s"),
+    ("animate a reversed window", lambda t: ["animate", _short_run(t), "--from", "0.15", "--to", "0.1"],
+     "the time window 0.15 s to 0.1 s is empty"),
+    ("animate an unknown body", lambda t: ["animate", _short_run(t), "--follow", "rover"],
+     "--follow rover: no such body; the bodies are: vehicle, parachute"),
+    ("animate to a PNG", lambda t: ["animate", _short_run(t), "--out", str(t / "a.png")],
+     "write a .gif or an .mp4 file"),
     # winds, turbulence and gusts (docs/models/winds.md)
     ("negative turbulence intensity", lambda t: ["run", CASE1, "--set", TURBULENCE + "seed=1", "--set",
                                                  TURBULENCE + "sigma_u=-1", "--set", TURBULENCE + "sigma_v=1", "--set",
