@@ -48,6 +48,10 @@ def _add_run(subparsers) -> None:
                           "matches every entry (main.lines.*.damping=0); [i] indexes arrays (vehicle.inertia[0]=250)")
     _add_method_options(run)
     run.add_argument("--no-plot", action="store_true", help="do not write overview.png")
+    run.add_argument("--exudyn-solution", action="store_true",
+                     help="also write Exudyn's own solution file of each phase (exudyn_solution_phase<k>.txt, every "
+                          "output step) for scripts that open Exudyn's viewer on the phase model; `pchute view` and "
+                          "`pchute animate` need neither")
     run.add_argument("--overwrite", action="store_true",
                      help="replace the result already in --out (by default an earlier result is not replaced)")
     run.add_argument("--quiet", action="store_true",
@@ -108,7 +112,7 @@ def _run(args) -> int:
               "while a background process compiles them for the next runs", file=sys.stderr)
     try:
         result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options,
-                          progress=progress)
+                          progress=progress, engine_solution=args.exudyn_solution)
     finally:
         if progress is not None:
             progress.close()
@@ -315,6 +319,23 @@ def _animate(args) -> int:
     return 0
 
 
+def _add_view(subparsers) -> None:
+    view = subparsers.add_parser(
+        "view", help="replay a finished run in Exudyn's SolutionViewer (needs a display)",
+        description="Replay a run from its result folder in Exudyn's interactive SolutionViewer: a display model "
+                    "of its bodies, confluences and lines driven by the stored scene. Needs a display; without one "
+                    "use `pchute animate`.")
+    view.add_argument("folder", help="result folder of `pchute run`")
+    view.set_defaults(func=_view)
+
+
+def _view(args) -> int:
+    from .view import view
+
+    view(args.folder)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``pchute`` argument parser."""
     parser = _Parser(prog="pchute", description="Multibody parachute descent simulation on the Exudyn engine.")
@@ -326,6 +347,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_linearize(subparsers)
     _add_study(subparsers)
     _add_animate(subparsers)
+    _add_view(subparsers)
     return parser
 
 

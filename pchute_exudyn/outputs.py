@@ -86,28 +86,13 @@ def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
 
     Arrays: ``<body>/position`` (n, 3), ``<body>/rotation`` (n, 3, 3: body axes to start frame),
     ``<system>/confluence`` (n, 3) and ``<system>/<line>`` (n, 3), the line's attach point on its body. The
-    description gives each body's role (vehicle, canopy or body) and drawn diameter (m: from its aerodynamic reference
-    area, else twice its points' largest distance from the centre of mass), the canopy's apex direction in body axes
-    (away from its attach points), the body-axes points its lines attach to (m), and each system's confluence label
-    and lines (body, tension column)."""
+    description gives each body's drawing (``Case.drawing``: role, diameter, apex, line points) and each system's
+    confluence label and lines (body, its point in body axes in m, tension column)."""
     arrays, bodies, systems = {}, {}, {}
-    canopies = {system.canopy: system.name for system in case.systems.values() if system.canopy}
-    for name, body in case.bodies.items():
+    for name in case.bodies:
         arrays[f"{name}/position"] = raw.bodies[name]["position"]
         arrays[f"{name}/rotation"] = raw.bodies[name]["rotation"]
-        points = np.array(list(body.points.values()), float).reshape(-1, 3)
-        if body.aerodynamics is not None:
-            diameter = float(np.sqrt(4.0 * body.aerodynamics.reference_area / np.pi))
-        else:
-            diameter = float(2.0 * np.linalg.norm(points, axis=1).max()) if len(points) else 1.0
-        apex = -points.mean(axis=0) if len(points) else np.array([-1.0, 0.0, 0.0])
-        apex = apex / np.linalg.norm(apex) if np.linalg.norm(apex) > 0 else np.array([-1.0, 0.0, 0.0])
-        canopy = name in canopies or (name != case.vehicle and body.aerodynamics is not None)
-        attached = sorted({line.point for system in case.systems.values() for line in system.lines
-                           if line.body == name})
-        bodies[name] = {"role": "vehicle" if name == case.vehicle else "canopy" if canopy else "body",
-                        "diameter": diameter, "apex": apex.tolist(), "fixed": body.fixed,
-                        "line_points": [list(map(float, body.points[point])) for point in attached]}
+        bodies[name] = case.drawing(name)
     for system in case.systems.values():
         if system.name not in raw.confluences:
             continue
@@ -116,8 +101,8 @@ def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
         lines = []
         for i, line in enumerate(system.lines):
             arrays[f"{system.name}/{line.name}"] = positions[:, i]
-            lines.append({"name": line.name, "body": line.body,
-                          "tension": f"tension_{case.line_label(system, line)}"})
+            lines.append({"name": line.name, "body": line.body, "tension": f"tension_{case.line_label(system, line)}",
+                          "point": list(map(float, case.bodies[line.body].points[line.point]))})
         systems[system.name] = {"confluence": case.confluence_label(system), "canopy": system.canopy, "lines": lines}
     description = {"frame": "start frame: x east, y north, z up (m)", "vehicle": case.vehicle, "bodies": bodies,
                    "systems": systems}

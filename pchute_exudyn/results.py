@@ -7,6 +7,8 @@ Files written by :meth:`Result.save` (each atomically):
   (``scene/<name>`` arrays and ``scene`` JSON: ``outputs.scene``), when the run made one;
 * ``summary.json``: case, method, integrator, step, duration, steps, wall time, final vehicle state, peak tensions,
   column units and the versions of this package, Exudyn, numpy and Python;
+* ``exudyn_solution_phase<k>.txt``: Exudyn's own solution file of each phase, when the run kept them
+  (``simulate(engine_solution=True)``, ``pchute run --exudyn-solution``);
 * ``overview.png``: line tensions and vehicle altitude against time.
 """
 
@@ -57,10 +59,12 @@ class Result:
         The same as a typed object, for a result just simulated (None for one loaded from files).
     scene : (dict, dict), optional
         Arrays and description of the bodies and lines in the start frame (``outputs.scene``), for animations.
+    attachments : dict of str to str, optional
+        Further text files of the run (Exudyn's own solution files), saved beside the others under their names.
     """
 
     def __init__(self, columns: dict, units: dict | None = None, summary: dict | None = None, run_summary=None,
-                 scene=None):
+                 scene=None, attachments=None):
         if "time" not in columns:
             raise InputError("a result needs a 'time' column")
         self.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
@@ -68,6 +72,7 @@ class Result:
         self.summary = dict(summary or {})
         self.run_summary = run_summary
         self.scene_arrays, self.scene = scene if scene is not None else ({}, None)
+        self.attachments = dict(attachments or {})
 
     @property
     def time(self) -> np.ndarray:
@@ -137,6 +142,9 @@ class Result:
             np.savez_compressed(handle, **self.columns, units=json_text(self.units),
                                 summary=json_text(self.summary), **scene)
         atomic_write_text(paths["summary"], json_text(self.summary, indent=2) + "\n")
+        for name, text in self.attachments.items():
+            paths[name] = folder / name
+            atomic_write_text(paths[name], text)
         if plot:
             from .plotting import save_figure
             paths["plot"] = folder / PLOT_NAME

@@ -4,8 +4,10 @@ phase by phase, integrate, check, and name the outputs."""
 from __future__ import annotations
 
 import math
+import tempfile
 from dataclasses import dataclass, fields
 from datetime import datetime, timezone
+from pathlib import Path
 
 import numpy as np
 
@@ -148,7 +150,7 @@ def add_step_monitor(model, method: Method, step: float, interval: float = MONIT
     model.add_pre_step(monitor)
 
 
-def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None):
+def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None, solution_file=None):
     """Build and integrate one phase; returns the model, its checked history and its touchdown (or None)."""
     model = plan.method.build(case, phase)
     if plan.integrator == "rk4" and model.systems and plan.method.step_limited:
@@ -159,15 +161,16 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
         model.add_stop_condition(touchdown)
     try:
         raw = integrate(model, plan.integrator, plan.step, phase.end, output_step, case.simulation.spectral_radius,
-                        start=phase.start, report=report)
+                        start=phase.start, report=report, solution_file=solution_file)
     except Interrupted as exc:   # say how far the whole run got, not the phase
         raise Interrupted(exc.time, plan.duration) from None
     check_history(case, raw, plan.step)
     return model, raw, touchdown
 
 
-def run(case: Case, plan: RunPlan, report=None):
-    """Integrate ``case`` phase by phase as ``plan`` says; ``report`` receives the simulation time (s) as it goes.
+def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
+    """Integrate ``case`` phase by phase as ``plan`` says; ``report`` receives the simulation time (s) as it goes;
+    with ``solution_folder`` Exudyn writes each phase's solution file there (``ENGINE_SOLUTION``).
 
     Returns the checked engine history of the whole run, the method's facts, the event log and the openings
     (``physics.inflation.InflationProgress`` per system with an inflation).
@@ -177,11 +180,12 @@ def run(case: Case, plan: RunPlan, report=None):
     events, histories, facts = [StartEvent(0.0)], [], {}
     times = boundaries(case, plan.duration)
     openings = inflation_progress(case)
-    for start, end in zip(times, times[1:]):
+    for number, (start, end) in enumerate(zip(times, times[1:])):
         phase = next_phase(case, start, end, body_states, confluence_states)
         phase.inflation = openings
         events.extend(phase.events)
-        model, raw, touchdown = _run_phase(case, plan, phase, output_step, report)
+        solution_file = None if solution_folder is None else Path(solution_folder) / ENGINE_SOLUTION.format(number)
+        model, raw, touchdown = _run_phase(case, plan, phase, output_step, report, solution_file)
         histories.append(raw)
         merge_facts(facts, model.facts())
         if touchdown is not None and touchdown.crossing is not None:
@@ -223,8 +227,14 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {})
 
 
+ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"
+"""Exudyn's own solution file of phase k (``simulate(engine_solution=True)``): the coordinates of that phase's
+model every output step, for scripts that rebuild the model and open Exudyn's viewer on it."""
+
+
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
-             duration: float | None = None, *, options=None, progress=None, **option_values) -> Result:
+             duration: float | None = None, *, options=None, progress=None, engine_solution: bool = False,
+             **option_values) -> Result:
     """Simulate ``case``.
 
     Parameters
@@ -244,6 +254,9 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         The method's options as a whole (e.g. ``SPOptions(kappa_max=10)``).
     progress : callable, optional
         Receives the simulation time (s) every few steps (the command line draws ``progress.TerminalProgress``).
+    engine_solution : bool
+        Also keep Exudyn's own solution file of each phase (``ENGINE_SOLUTION``), saved with the result. Writing it
+        is part of the timed solve.
     **option_values
         Or single options by name, on top of the case's (None: the case's): SP ``preset`` ("accurate",
         "thesis"), ``kappa_max`` (-, > 3), ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass
@@ -264,7 +277,10 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         raise InputError("give the method's options either as an Options object or by name, not both")
     plan = resolve_run(case, method, integrator, step, duration, options if options is not None else option_values)
     _kernel_mode.start_background_compile()   # once per machine: the runs after this one get compiled kernels
-    raw, facts, events, openings = run(case, plan, progress)
+    with tempfile.TemporaryDirectory() as folder:
+        raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)
+        attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
     columns, units = derive_columns(case, raw)
     summary = summarize(case, plan, raw, facts, events, columns, units, opening_loads(case, openings, columns))
-    return Result(columns, units, summary.to_dict(), run_summary=summary, scene=scene(case, raw))
+    return Result(columns, units, summary.to_dict(), run_summary=summary, scene=scene(case, raw),
+                  attachments=attachments)

@@ -83,3 +83,56 @@ def test_result_files_keep_the_scene(tmp_path):
     time, arrays, description = load_scene(tmp_path / "r")
     assert arrays["vehicle/rotation"].shape == (len(time), 3, 3)
     assert description["bodies"]["parachute"]["role"] == "canopy"
+
+
+def test_exudyn_viewer_replay_draws_the_stored_attach_points(tmp_path):
+    """`pchute view`'s display model and solution file (PA1 over its drogue and main phases): loaded back with
+    Exudyn's own reader and set into the model, every drawn attach point is where the result files put it."""
+    import exudyn as exu
+    from exudyn.utilities import LoadSolutionFile, SetSolutionState
+
+    from pchute_exudyn.view import prepare
+    folder = tmp_path / "pa1"
+    pc.simulate(pc.load_case(ROOT / "cases" / "cev_pa1.toml"), "sp", "rk4", 1e-2, duration=12.0).save(folder,
+                                                                                                     plot=False)
+    model = prepare(folder, tmp_path / "display.txt")
+    solution = LoadSolutionFile(str(tmp_path / "display.txt"), verbose=False)
+    time, arrays, _ = load_scene(folder)
+    assert solution["nRows"] == len(time)
+    checked = 0
+    for row in (50, 500, 1100):   # before the drogues, under them, under the mains (after 9.5 s)
+        SetSolutionState(model.mbs, solution, row, exu.ConfigurationType.Current)
+        for system, line in model.markers:
+            stored = arrays[f"{system}/{line}"][row]
+            if np.isfinite(stored).all():
+                assert model.attach_position(system, line) == pytest.approx(stored, abs=1e-5)
+                checked += 1
+    assert checked >= 12
+
+
+def test_view_without_a_display_is_a_one_line_error(mer_runs, monkeypatch, capsys):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr("sys.platform", "linux")
+    assert main(["view", str(mer_runs[0])]) != 0
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "no display" in err and "pchute animate" in err
+
+
+def test_a_run_can_keep_exudyns_own_solution_file(tmp_path):
+    """--exudyn-solution: the engine's file of each phase, beside the result; its vehicle coordinates (reference +
+    displacement) are the result's vehicle positions at the output times."""
+    from exudyn.utilities import LoadSolutionFile
+    case = pc.load_case(MER / "case1.toml")
+    result = pc.simulate(case, "sp", "rk4", 1e-2, duration=1.0, engine_solution=True)
+    result.save(tmp_path / "r", plot=False)
+    path = tmp_path / "r" / "exudyn_solution_phase0.txt"
+    solution = LoadSolutionFile(str(path), verbose=False)
+    data = solution["data"]
+    assert solution["nRows"] == 101 and data[:, 0] == pytest.approx(result.time, abs=1e-9)
+    stored = result.scene_arrays["vehicle/position"]
+    start = stored[0]
+    # the vehicle is the first node: its first three coordinates are its displacement from the start
+    assert data[:, 1:4] + start == pytest.approx(stored, abs=1e-6)
+    plain = pc.simulate(case, "sp", "rk4", 1e-2, duration=1.0)
+    assert not plain.attachments and np.array_equal(plain.columns["tension_riser"], result.columns["tension_riser"])

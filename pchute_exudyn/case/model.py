@@ -316,6 +316,27 @@ class Case:
         """The air's motion (``physics.air.AirMotion``): planet rotation, steady wind, turbulence and gusts."""
         return AirMotion(self.start, self.wind, self.turbulence, self.gusts)
 
+    def drawing(self, body_name: str) -> dict:
+        """How pictures draw body ``body_name`` (JSON-able): its role (vehicle, canopy or body), diameter (m: from
+        its aerodynamic reference area, else twice its points' largest distance from the centre of mass), a canopy's
+        apex direction in body axes (away from its points' mean, where its lines attach) and the body-axes points its
+        lines attach to (m)."""
+        body = self.bodies[body_name]
+        points = np.array(list(body.points.values()), float).reshape(-1, 3)
+        if body.aerodynamics is not None:
+            diameter = float(np.sqrt(4.0 * body.aerodynamics.reference_area / np.pi))
+        else:
+            diameter = float(2.0 * np.linalg.norm(points, axis=1).max()) if len(points) else 1.0
+        apex = -points.mean(axis=0) if len(points) else np.array([-1.0, 0.0, 0.0])
+        apex = apex / np.linalg.norm(apex) if np.linalg.norm(apex) > 0 else np.array([-1.0, 0.0, 0.0])
+        canopy = self.canopy_system(body_name) is not None or (body_name != self.vehicle
+                                                               and body.aerodynamics is not None)
+        attached = sorted({line.point for system in self.systems.values() for line in system.lines
+                           if line.body == body_name})
+        return {"role": "vehicle" if body_name == self.vehicle else "canopy" if canopy else "body",
+                "diameter": diameter, "apex": apex.tolist(), "fixed": body.fixed,
+                "line_points": [list(map(float, body.points[point])) for point in attached]}
+
     def canopy_system(self, body_name: str):
         """The system whose canopy ``body_name`` is, or None."""
         for system in self.systems.values():

@@ -18,6 +18,7 @@ from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
 from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
 from .canopy import add_apparent_mass, add_inflation_hooks
+from .display import body_graphics
 from .model import CURRENT, OV, BodyItems, Confluence, Model
 from .stage import Stage
 
@@ -72,7 +73,8 @@ def add_body(model: Model, case: Case, body: Body, state: BodyState | None = Non
         initialVelocities=state.velocity.tolist() + np.asarray(state.angular_velocity, float).tolist(),
         visualization=eii.VNodeRigidBodyRotVecLG(show=False)))
     obj = mbs.AddObject(eii.ObjectRigidBody(nodeNumber=node, mass=body.mass, inertia=_inertia6(body.inertia),
-                                            visualization=eii.VObjectRigidBody(show=False)))
+                                            visualization=eii.VObjectRigidBody(
+                                                graphicsData=body_graphics(case.drawing(body.name)))))
     center = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=[0.0, 0.0, 0.0]))
     points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=list(p)))
               for name, p in body.points.items()}
@@ -99,7 +101,7 @@ class PointConfluence(Confluence):
         mbs = model.mbs
         self.node = mbs.AddNode(eii.NodePoint(referenceCoordinates=state.position.tolist(),
                                               initialVelocities=state.velocity.tolist(),
-                                              visualization=eii.VNodePoint(show=False)))
+                                              visualization=eii.VNodePoint(show=True, drawSize=0.3)))
         obj = mbs.AddObject(eii.ObjectMassPoint(nodeNumber=self.node, mass=mass,
                                                 visualization=eii.VObjectMassPoint(show=False)))
         self.marker = mbs.AddMarker(eii.MarkerNodePosition(nodeNumber=self.node))

@@ -20,6 +20,7 @@ from .bodies import PointConfluence, add_bodies
 from .model import CURRENT, OV, Model
 
 esym = exu.symbolic
+LINE_COLOUR = [0.1, 0.1, 0.6, 1.0]   # lines in Exudyn's viewer
 
 
 def _tension_only_symbolic(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
@@ -99,6 +100,6 @@ def build_full_model(case: Case, phase: Phase, symbolic_line_law: bool = True) -
                 markerNumbers=[attach, confluence.marker], referenceLength=line.free_length,
                 stiffness=line.stiffness, damping=line.damping,
                 springForceUserFunction=_line_law(model, line, law, symbolic_line_law),
-                visualization=eii.VObjectConnectorSpringDamper(show=False)))
+                visualization=eii.VObjectConnectorSpringDamper(show=True, drawSize=0.05, color=LINE_COLOUR)))
             model.add_channel(TensionChannel(system.name, line.name), _force_reader(mbs, connector))
     return model.assemble()

@@ -39,9 +39,13 @@ def solver_steps(start: float, end: float, step: float) -> int:
     return max(1, int(round((end - start) / step)))
 
 
-def _settings(integrator: str, step: float, start: float, end: float, spectral_radius: float):
+def _settings(integrator: str, step: float, start: float, end: float, spectral_radius: float,
+              solution_file=None, output_step: float = 0.0):
     settings = exu.SimulationSettings()
-    settings.solution.file.write = False
+    settings.solution.file.write = solution_file is not None   # Exudyn's own solution file, for its viewer
+    if solution_file is not None:
+        settings.solution.file.name = str(solution_file)
+        settings.solution.file.writePeriod = output_step
     settings.solution.sensors.active = False  # outputs are sampled by the post-step hook, on an exact grid
     settings.show.statistics = False
     ti = settings.timeIntegration
@@ -208,11 +212,12 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
 
 
 def integrate(model: Model, integrator: str, step: float, duration: float, output_step: float,
-              spectral_radius: float = 0.9, start: float = 0.0, report=None) -> RawHistory:
+              spectral_radius: float = 0.9, start: float = 0.0, report=None, solution_file=None) -> RawHistory:
     """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
     grid of ``output_step`` (s). A stop condition (``model.stop_conditions``) may end it early, after a step it
     samples; ``RawHistory.stopped_at`` then holds that time. ``report``, if given, receives the simulation time (s)
     every REPORT_EVERY steps. Ctrl-C stops the solver after the step it is in and raises ``errors.Interrupted``.
+    ``solution_file``: a path for Exudyn's own solution file (coordinates every ``output_step``), for its viewer.
 
     Raises
     ------
@@ -220,7 +225,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
         When the state becomes NaN or infinite, a user function fails or the engine stops; the message gives the
         simulation time and what to try.
     """
-    settings, solver_type = _settings(integrator, step, start, duration, spectral_radius)
+    settings, solver_type = _settings(integrator, step, start, duration, spectral_radius, solution_file, output_step)
     step = (duration - start) / solver_steps(start, duration, step)   # the step Exudyn takes
     progress = {"steps": 0, "time": start, "bad": None, "stopped": None, "interrupted": False}
     model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))

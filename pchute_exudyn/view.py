@@ -1,0 +1,62 @@
+"""Replay a finished run in Exudyn's SolutionViewer (``pchute view``), from its result folder alone.
+
+The run's stored scene drives a display model (``engine.display``); its coordinates go to an Exudyn text solution
+file, which the viewer loads. The viewer needs a display: without one, ``pchute view`` stops with a one-line error
+(``pchute animate`` draws the same scene without a display).
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .engine.display import DisplayModel, open_viewer
+from .errors import InputError
+from .io import atomic_write_text
+from .results import load_scene
+
+SOLUTION_NAME = "display_solution.txt"
+
+
+def solution_text(time: np.ndarray, coordinates: np.ndarray) -> str:
+    """``coordinates`` (n, nODE2) at ``time`` (s) in Exudyn's text solution-file format (displacements only)."""
+    n = coordinates.shape[1]
+    # Exudyn's reader expects the written-coordinates line fifth, as the engine's own files have it
+    header = ["#Exudyn solution file written by pchute-exudyn", "#display model of a finished run",
+              "#columns contain: time, ODE2 displacements",
+              f"#number of system coordinates [nODE2, nODE1, nAlgebraic, nData] = [{n},0,0,0]",
+              f"#number of written coordinates [nODE2, nVel2, nAcc2, nODE1, nVel1, nAlgebraic, nData] = "
+              f"[{n},0,0,0,0,0,0]", f"#total columns exported  (excl. time) = {n}",
+              f"#number of time steps (planned) = {len(time)}", "#"]
+    buffer = io.StringIO()
+    buffer.write("\n".join(header) + "\n")
+    np.savetxt(buffer, np.column_stack([time, coordinates]), delimiter=",", fmt="%.10g")
+    return buffer.getvalue()
+
+
+def prepare(folder, solution_path) -> DisplayModel:
+    """The display model of result folder ``folder``, with its solution file written to ``solution_path``."""
+    time, arrays, description = load_scene(folder)
+    model = DisplayModel(description)
+    atomic_write_text(solution_path, solution_text(np.asarray(time, float), model.coordinates(arrays)))
+    return model
+
+
+def has_display() -> bool:
+    """Whether a window can open: always on Windows and macOS, on Linux only with an X11 or Wayland display."""
+    return not sys.platform.startswith("linux") or bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def view(folder) -> None:
+    """Open the run in result folder ``folder`` in Exudyn's SolutionViewer (InputError without a display)."""
+    if not has_display():
+        raise InputError("no display to open Exudyn's viewer in (DISPLAY is not set); `pchute animate "
+                         f"{folder}` draws the run into a GIF or MP4 without one")
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / SOLUTION_NAME
+        open_viewer(prepare(folder, path), path, f"pchute-exudyn: {folder}")
