@@ -1,7 +1,14 @@
-"""Figures of results. Object-oriented matplotlib (no pyplot state, no display needed); functions return figures."""
+"""Figures of results. Object-oriented matplotlib (no pyplot state, no display needed); functions return figures.
+
+Rules every figure here follows: axis labels carry their units; curves that are identical are drawn once with their
+labels merged ("bridle1 = bridle2"), and the others cycle through line styles so that one lying on another stays
+visible; an overlay of several results has a difference panel under each quantity (each result minus the first, on
+the first's times), so a 0.4 N difference shows even on a 3 kN scale.
+"""
 
 from __future__ import annotations
 
+import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
@@ -21,8 +28,7 @@ def plot_overview(result, title: str | None = None) -> Figure:
     figure, axes = new_figure(2, 1, sharex=True)
     top, bottom = axes[0, 0], axes[1, 0]
     time = result.time
-    for name in result.tension_names():
-        top.plot(time, result[name], label=name.removeprefix("tension_"), linewidth=0.9)
+    draw_curves(top, [(name.removeprefix("tension_"), time, result[name]) for name in result.tension_names()])
     top.set_ylabel("line tension (N)")
     if result.tension_names():
         top.legend(loc="best", fontsize="small")
@@ -61,16 +67,61 @@ def plot_confluence_velocity_overlay(results: dict, prefix: str = "confluence", 
 
 
 def _overlay(results: dict, panels: list, title: str, size, t_max: float | None) -> Figure:
-    """One panel per (column, y label), every labelled result that has the column overlaid, up to ``t_max`` (s)."""
-    figure, axes = new_figure(len(panels), 1, size=size, sharex=True)
-    for ax, (name, ylabel) in zip(axes[:, 0], panels):
+    """Per (column, y label) a panel with every labelled result that has the column overlaid, up to ``t_max`` (s),
+    and, with two results or more, a difference panel under it: each result minus the first."""
+    rows = [(name, ylabel, kind) for name, ylabel in panels for kind in (("value", "difference")
+                                                                         if len(results) > 1 else ("value",))]
+    ratios = [2.0 if kind == "value" else 1.0 for _, _, kind in rows]
+    figure, axes = new_figure(len(rows), 1, size=(size[0], size[1] * sum(ratios) / (2.0 * len(panels))),
+                              sharex=True, gridspec_kw={"height_ratios": ratios})
+    labels = list(results)
+    reference = results[labels[0]]
+    for ax, (name, ylabel, kind) in zip(axes[:, 0], rows):
+        curves = []
         for label, result in results.items():
-            if name in result:
-                mask = result.time <= (t_max if t_max is not None else result.time[-1])
-                ax.plot(result.time[mask], result[name][mask], label=label, linewidth=0.8)
-        ax.set_ylabel(ylabel)
+            if name not in result:
+                continue
+            mask = result.time <= (t_max if t_max is not None else result.time[-1])
+            if kind == "value":
+                curves.append((label, result.time[mask], result[name][mask]))
+            elif label != labels[0] and name in reference:
+                keep = reference.time <= (t_max if t_max is not None else reference.time[-1])
+                curves.append((f"{label} - {labels[0]}", reference.time[keep],
+                               difference_on(reference.time[keep], reference[name][keep], result.time, result[name])))
+        draw_curves(ax, curves)
+        unit = ylabel[ylabel.rfind("(") + 1:ylabel.rfind(")")] if "(" in ylabel else ""
+        ax.set_ylabel(ylabel if kind == "value" else f"difference ({unit})" if unit else "difference")
         ax.grid(True, alpha=0.3)
-    axes[0, 0].legend(loc="best", fontsize="small")
+        if kind == "difference" or len(results) > 1 and ax is axes[0, 0]:
+            ax.legend(loc="best", fontsize="x-small")
+    if len(results) == 1:
+        axes[0, 0].legend(loc="best", fontsize="small")
     axes[-1, 0].set_xlabel("time (s)")
     figure.suptitle(title)
     return figure
+
+
+STYLES = ("-", "--", "-.", ":")
+
+
+def draw_curves(ax, curves: list) -> None:
+    """Plot (label, x, y) curves on ``ax``: identical curves once, their labels joined by " = "; the rest in turn
+    solid, dashed, dash-dotted and dotted, so one lying on another stays visible."""
+    groups: list = []
+    for label, x, y in curves:
+        for group in groups:
+            if np.array_equal(group[1], x) and np.array_equal(group[2], y, equal_nan=True):
+                group[0].append(label)
+                break
+        else:
+            groups.append(([label], x, y))
+    for i, (group_labels, x, y) in enumerate(groups):
+        ax.plot(x, y, STYLES[i % len(STYLES)], label=" = ".join(group_labels), linewidth=0.9)
+
+
+def difference_on(time, reference, other_time, other) -> np.ndarray:
+    """``other`` (sampled at ``other_time``) minus ``reference`` on the reference's ``time`` (s); NaN outside the
+    other's time span or where either is absent."""
+    values = np.interp(time, other_time, other, left=np.nan, right=np.nan)
+    values[(time < other_time[0]) | (time > other_time[-1])] = np.nan
+    return values - reference

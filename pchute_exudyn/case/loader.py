@@ -255,6 +255,7 @@ class _Context:
     def __init__(self, top_source: str, origins: dict):
         self.top_source = top_source
         self.origins = origins
+        self.units: dict = {}   # dotted key -> unit of every number the case was asked for (Case.key_units)
 
     def source(self, path: tuple) -> str:
         for n in range(len(path), 0, -1):
@@ -277,6 +278,8 @@ class _Table:
 
     def _get(self, key: str, default: Any, unit: str):
         self.allowed.append(key)
+        if unit != "table":
+            self.ctx.units[_dotted(self.path + (key,))] = unit
         if key in self.data:
             return self.data[key]
         if default is _REQUIRED:
@@ -772,7 +775,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
-                wind=wind, turbulence=turbulence, gusts=gusts)
+                wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units))
 
 
 def _heading(vehicle: Body) -> tuple:

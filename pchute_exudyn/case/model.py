@@ -291,6 +291,8 @@ class Case:
         ``physics.wind.DrydenTurbulence``; None for none.
     gusts : tuple of Gust
         ``physics.wind.Gust`` pulses.
+    key_units : dict of str to str
+        The unit of every case key the loader read ("m/s", "" for a pure number), by full dotted key.
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -311,6 +313,17 @@ class Case:
     wind: object = None
     turbulence: object = None
     gusts: tuple = ()
+    key_units: dict = field(default_factory=dict)
+
+    def unit_of(self, key: str) -> str | None:
+        """The unit of ``key`` in override syntax (``main.lines.*.stiffness``, body and system names leading),
+        None when no key read matches."""
+        import fnmatch
+        pattern = key.replace("[", "[[]")
+        for full in self.key_units:
+            if fnmatch.fnmatchcase(full, pattern) or fnmatch.fnmatchcase(full, "*." + pattern):
+                return self.key_units[full]
+        return None
 
     def air_motion(self) -> AirMotion:
         """The air's motion (``physics.air.AirMotion``): planet rotation, steady wind, turbulence and gusts."""

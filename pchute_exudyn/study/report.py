@@ -10,6 +10,7 @@ study has a reference, ``errors.csv`` and ``error_vs_wall_time.png``.
 from __future__ import annotations
 
 import csv
+import json
 import math
 import sys
 from pathlib import Path
@@ -37,6 +38,22 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 PERCENTILES = (1, 50, 99)
+OUTPUT_UNITS = {"final_east": "m", "final_north": "m", "final_lateral": "m", "final_altitude": "m", "final_time": "s",
+                "touchdown_time": "s", "touchdown_speed": "m/s", "wall_time": "s", "steps": "count"}
+
+
+def output_label(name: str) -> str:
+    """An output column with its unit: 'peak_tension_riser (N)'."""
+    unit = "N" if name.startswith(("peak_tension_", "rms_tension_")) else OUTPUT_UNITS.get(name)
+    return f"{name} ({unit})" if unit else name
+
+
+def parameter_label(key: str, units: dict, relative: bool) -> str:
+    """A study parameter with its unit, or saying it multiplies the case's value."""
+    if relative:
+        return f"{key} (multiplier of the case's value)"
+    unit = units.get(key)
+    return f"{key} ({unit or '-'})" if unit is not None else key
 MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed")
 
 
@@ -158,6 +175,9 @@ def study_report(folder) -> dict:
     parameters = study.get("parameters", {})
     drawn = [k for k, p in parameters.items() if "distribution" in p and p["distribution"] != "seed"]
     grid = [k for k, p in parameters.items() if "distribution" not in p]
+    manifest = folder / "manifest.json"
+    units = json.loads(manifest.read_text()).get("parameter_units", {}) if manifest.is_file() else {}
+    labels = {k: parameter_label(k, units, bool(p.get("relative"))) for k, p in parameters.items()}
     out = ensure_writable_dir(folder / "report")
     ok = [r for r in rows if r.get("status") == "ok" and r.get("reference") != "True"]
     outputs = [o for o in MAIN_OUTPUTS if any(isinstance(r.get(o), float) for r in ok)] + \
@@ -170,10 +190,10 @@ def study_report(folder) -> dict:
     tensions = [o for o in outputs if o.startswith("peak_tension_")][:2]
     for key in drawn:
         targets = [o for o in ("final_lateral", "final_altitude", "touchdown_speed") if o in outputs] + tensions
-        paths[f"scatter {key}"] = _plot_scatter(ok, key, targets, out / f"scatter_{_safe(key)}.png")
+        paths[f"scatter {key}"] = _plot_scatter(ok, key, labels[key], targets, out / f"scatter_{_safe(key)}.png")
     for key in grid:
         targets = [o for o in ("final_altitude", "final_lateral") if o in outputs] + tensions
-        paths[f"grid {key}"] = _plot_grid(ok, key, targets, out / f"grid_{_safe(key)}.png")
+        paths[f"grid {key}"] = _plot_grid(ok, key, labels[key], targets, out / f"grid_{_safe(key)}.png")
     footprint = _footprint(ok, outputs, title, out, paths)
     errors = reference_errors(folder, rows, grid) if any(r.get("reference") == "True" for r in rows) else []
     if errors:
@@ -181,7 +201,8 @@ def study_report(folder) -> dict:
         _plot_error_against_cost(errors, out / "error_vs_wall_time.png")
         paths["error_vs_wall_time"] = out / "error_vs_wall_time.png"
         for key in grid:
-            paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, out / f"error_vs_{_safe(key)}.png")
+            paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, labels[key],
+                                                                     out / f"error_vs_{_safe(key)}.png")
     atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths, footprint))
     paths["report"] = out / "report.md"
     return paths
@@ -220,24 +241,25 @@ def _plot_histograms(ok: list, shown: list, stats: dict, title: str, out: Path) 
         ax.hist(values, bins=min(30, max(5, len(values) // 5)), color="tab:blue", alpha=0.8)
         for p in PERCENTILES:
             ax.axvline(stats[name][f"p{p}"], color="k", linewidth=0.8, linestyle=":" if p != 50 else "-")
-        ax.set_xlabel(name)
+        ax.set_xlabel(output_label(name))
+        ax.set_ylabel("runs")
     for ax in axes.ravel()[len(shown):]:
         ax.set_visible(False)
     return _finish(figure, None, f"{title} (dotted: 1st and 99th percentile, solid: median)", out / "histograms.png")
 
 
-def _plot_scatter(ok: list, key: str, targets: list, path: Path) -> Path:
+def _plot_scatter(ok: list, key: str, label: str, targets: list, path: Path) -> Path:
     """Outputs against a drawn input, one point per run."""
     figure, axes = new_figure(1, len(targets), size=(3.6 * len(targets), 3.4))
     for ax, name in zip(axes[0], targets):
         ax.plot([r[key] for r in ok], [r.get(name) for r in ok], ".", markersize=4)
-        ax.set_xlabel(key)
-        ax.set_ylabel(name)
+        ax.set_xlabel(label)
+        ax.set_ylabel(output_label(name))
         ax.grid(True, alpha=0.3)
     return _finish(figure, None, f"outputs against {key}", path)
 
 
-def _plot_grid(ok: list, key: str, targets: list, path: Path) -> Path:
+def _plot_grid(ok: list, key: str, label: str, targets: list, path: Path) -> Path:
     """Outputs against a grid parameter, one line per case and configuration."""
     figure, axes = new_figure(1, len(targets), size=(3.8 * len(targets), 3.4))
     for ax, name in zip(axes[0], targets):
@@ -246,13 +268,13 @@ def _plot_grid(ok: list, key: str, targets: list, path: Path) -> Path:
                             and isinstance(r.get(name), float) and isinstance(r.get(key), float))
             if points:
                 ax.plot(*zip(*points), "o-", label=f"{case} {configuration}", markersize=3)
-        ax.set_xlabel(key)
-        ax.set_ylabel(name)
+        ax.set_xlabel(label)
+        ax.set_ylabel(output_label(name))
         ax.grid(True, alpha=0.3)
     return _finish(figure, axes[0, 0], f"outputs against {key}", path)
 
 
-def _plot_error_against_parameter(errors: list, key: str, path: Path) -> Path:
+def _plot_error_against_parameter(errors: list, key: str, label: str, path: Path) -> Path:
     """Errors against the reference over a grid parameter, one line per case and configuration."""
     figure, axes = new_figure(1, 2, size=(12.0, 4.6))
     positive = all(isinstance(e.get(key), float) and e[key] > 0 for e in errors)
@@ -264,7 +286,7 @@ def _plot_error_against_parameter(errors: list, key: str, path: Path) -> Path:
                 ax.plot(*zip(*points), "o-", label=" ".join(group), markersize=4)
         ax.set_xscale("log" if positive else "linear")
         ax.set_yscale("log")
-        ax.set_xlabel(key)
+        ax.set_xlabel(label)
         ax.set_ylabel(f"{metric.replace('_', ' ')} against the reference ({unit})")
         ax.grid(True, which="both", alpha=0.3)
     return _finish(figure, axes[0, 1], f"error against {key}", path)

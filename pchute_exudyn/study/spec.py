@@ -164,6 +164,7 @@ class StudySpec:
     duration: float | None
     histories: bool
     text: str
+    parameter_units: dict = field(default_factory=dict)   # key -> unit ("" for none), for reports
 
     def samples(self) -> list:
         """(case file, grid values) of every sample, with its Monte Carlo index: the study's sample order."""
@@ -369,7 +370,10 @@ def _check_parameters(spec: StudySpec, source: str) -> None:
             first = None
             for value in candidates:
                 try:
-                    load_case(case, {p.key: Scale(value) if p.relative else value, **extra})
+                    loaded = load_case(case, {p.key: Scale(value) if p.relative else value, **extra})
+                    unit = loaded.unit_of(p.key)
+                    if unit is not None:
+                        spec.parameter_units[p.key] = unit
                     break
                 except CaseError as exc:
                     first = first or exc

@@ -43,17 +43,18 @@ class StudyStore:
         ensure_writable_dir(self.folder)
         manifest = self.folder / "manifest.json"
         fingerprint = self.spec.fingerprint()
-        if manifest.is_file():
-            saved = json.loads(manifest.read_text())
-            if saved.get("fingerprint") != fingerprint:
-                raise InputError(f"{self.folder} holds a study whose file, cases or inputs differ from "
-                                 f"{self.spec.source}: resume only the same study (use another --out)")
-        else:
+        saved = json.loads(manifest.read_text()) if manifest.is_file() else None
+        if saved is not None and saved.get("fingerprint") != fingerprint:
+            raise InputError(f"{self.folder} holds a study whose file, cases or inputs differ from "
+                             f"{self.spec.source}: resume only the same study (use another --out)")
+        if saved is None:
             atomic_write_text(self.folder / "study.toml", self.spec.text)
             atomic_write_text(self.folder / "inputs.csv", self._csv([self._input_row(r) for r in self.runs]))
+        if saved is None or "parameter_units" not in saved:   # (folders from before the units were kept)
             atomic_write_text(manifest, json.dumps({"name": self.spec.name, "fingerprint": fingerprint,
                                                     "runs": len(self.runs),
-                                                    "study_file": os.path.relpath(self.spec.source, self.folder)},
+                                                    "study_file": os.path.relpath(self.spec.source, self.folder),
+                                                    "parameter_units": self.spec.parameter_units},
                                                    indent=2) + "\n")
         self.records = self.load_records(self.folder)
 
