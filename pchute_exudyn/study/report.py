@@ -49,11 +49,13 @@ def output_label(name: str) -> str:
 
 
 def parameter_label(key: str, units: dict, relative: bool) -> str:
-    """A study parameter with its unit, or saying it multiplies the case's value."""
+    """A study parameter's axis label: its last name with its unit, or saying it multiplies the case's value (the
+    figure's title gives the whole key)."""
+    name = key.split(".")[-1]
     if relative:
-        return f"{key} (multiplier of the case's value)"
+        return f"{name} (multiplier of the case's value)"
     unit = units.get(key)
-    return f"{key} ({unit or '-'})" if unit is not None else key
+    return f"{name} ({unit or '-'})" if unit is not None else name
 MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed")
 
 
