@@ -68,7 +68,8 @@ def plot_confluence_velocity_overlay(results: dict, prefix: str = "confluence", 
 
 def _overlay(results: dict, panels: list, title: str, size, t_max: float | None) -> Figure:
     """Per (column, y label) a panel with every labelled result that has the column overlaid, up to ``t_max`` (s),
-    and, with two results or more, a difference panel under it: each result minus the first."""
+    and, with two results or more, a difference panel under it: each result minus the first, in its own colour and
+    line style (the legend of the first panel names them)."""
     rows = [(name, ylabel, kind) for name, ylabel in panels for kind in (("value", "difference")
                                                                          if len(results) > 1 else ("value",))]
     ratios = [2.0 if kind == "value" else 1.0 for _, _, kind in rows]
@@ -76,28 +77,29 @@ def _overlay(results: dict, panels: list, title: str, size, t_max: float | None)
                               sharex=True, gridspec_kw={"height_ratios": ratios})
     labels = list(results)
     reference = results[labels[0]]
+
+    def end(time):   # samples up to t_max
+        return time <= (t_max if t_max is not None else time[-1])
     for ax, (name, ylabel, kind) in zip(axes[:, 0], rows):
         curves = []
-        for label, result in results.items():
+        for index, (label, result) in enumerate(results.items()):
             if name not in result:
                 continue
-            mask = result.time <= (t_max if t_max is not None else result.time[-1])
             if kind == "value":
-                curves.append((label, result.time[mask], result[name][mask]))
-            elif label != labels[0] and name in reference:
-                keep = reference.time <= (t_max if t_max is not None else reference.time[-1])
-                curves.append((f"{label} - {labels[0]}", reference.time[keep],
-                               difference_on(reference.time[keep], reference[name][keep], result.time, result[name])))
+                mask = end(result.time)
+                curves.append((label, result.time[mask], result[name][mask], index))
+            elif index > 0 and name in reference:
+                keep = end(reference.time)
+                curves.append((label, reference.time[keep],
+                               difference_on(reference.time[keep], reference[name][keep], result.time, result[name]),
+                               index))
         draw_curves(ax, curves)
         unit = ylabel[ylabel.rfind("(") + 1:ylabel.rfind(")")] if "(" in ylabel else ""
         ax.set_ylabel(ylabel if kind == "value" else f"difference ({unit})" if unit else "difference")
         ax.grid(True, alpha=0.3)
-        if kind == "difference" or len(results) > 1 and ax is axes[0, 0]:
-            ax.legend(loc="best", fontsize="x-small")
-    if len(results) == 1:
-        axes[0, 0].legend(loc="best", fontsize="small")
+    axes[0, 0].legend(loc="best", fontsize="x-small" if len(results) > 1 else "small")
     axes[-1, 0].set_xlabel("time (s)")
-    figure.suptitle(title)
+    figure.suptitle(title if len(results) == 1 else f"{title}\n(narrow panels: each run minus {labels[0]})")
     return figure
 
 
@@ -105,18 +107,21 @@ STYLES = ("-", "--", "-.", ":")
 
 
 def draw_curves(ax, curves: list) -> None:
-    """Plot (label, x, y) curves on ``ax``: identical curves once, their labels joined by " = "; the rest in turn
-    solid, dashed, dash-dotted and dotted, so one lying on another stays visible."""
+    """Plot (label, x, y) or (label, x, y, index) curves on ``ax``: identical curves once, their labels joined by
+    " = "; curve ``index`` (default its position) in colour C<index> and the index-th of solid, dashed, dash-dotted
+    and dotted, so one lying on another stays visible and a quantity keeps its look from panel to panel."""
     groups: list = []
-    for label, x, y in curves:
+    for position, (label, x, y, *rest) in enumerate(curves):
+        index = rest[0] if rest else position
         for group in groups:
             if np.array_equal(group[1], x) and np.array_equal(group[2], y, equal_nan=True):
                 group[0].append(label)
                 break
         else:
-            groups.append(([label], x, y))
-    for i, (group_labels, x, y) in enumerate(groups):
-        ax.plot(x, y, STYLES[i % len(STYLES)], label=" = ".join(group_labels), linewidth=0.9)
+            groups.append(([label], x, y, index))
+    for group_labels, x, y, index in groups:
+        ax.plot(x, y, STYLES[index % len(STYLES)], color=f"C{index % 10}", label=" = ".join(group_labels),
+                linewidth=0.9)
 
 
 def difference_on(time, reference, other_time, other) -> np.ndarray:

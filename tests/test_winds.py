@@ -228,3 +228,21 @@ def test_footprint_study_same_on_one_and_two_workers_and_dask_and_reported(tmp_p
     assert "## Landing footprint" in report and "| 3 sigma |" in report and "peak_tension_main_riser (N)" in report
     east = np.array([float(row["final_east"]) for row in one])
     assert east.std() > 10.0                                       # the winds do disperse the landing point
+
+
+def test_footprint_of_a_study_where_only_some_runs_land(tmp_path):
+    """A study over two cases of which only one touches down (different lines in each): the footprint uses the
+    landed runs and their lines only."""
+    from pchute_exudyn.study.report import study_report
+    rows = ["run,status,reference,case,final_east,final_north,touchdown_time,touchdown_speed,peak_tension_a,"
+            "peak_tension_b"]
+    rng = np.random.default_rng(3)
+    for i in range(5):
+        rows.append(f"{i},ok,False,landing,{rng.normal(100, 30):.3f},{rng.normal(0, 20):.3f},70,7.5,{1000 + i},")
+    for i in range(5, 8):
+        rows.append(f"{i},ok,False,flying,{rng.normal(0, 3):.3f},{rng.normal(0, 3):.3f},,,,{200 + i}")
+    (tmp_path / "runs.csv").write_text("\n".join(rows) + "\n")
+    paths = study_report(tmp_path)
+    report = paths["report"].read_text()
+    assert "5 touchdowns" in report and "peak_tension_a (N)" in report
+    assert "peak_tension_b (N) |" not in report.split("## Landing footprint")[1]

@@ -230,7 +230,8 @@ def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict) -> l
     paths["footprint data"] = out / "footprint.json"
     plot_footprint(points, stats, f"{title}: touchdown points and dispersion ellipses", out / "footprint.png")
     paths["footprint"] = out / "footprint.png"
-    heaviest = sorted(loads, key=lambda name: -stats["percentiles"][name]["p50"])[:5]   # the largest median peaks
+    landed_loads = [name for name in loads if name in stats["percentiles"]]   # lines of the runs that landed
+    heaviest = sorted(landed_loads, key=lambda name: -stats["percentiles"][name]["p50"])[:5]   # largest median peaks
     plot_touchdown_histograms(landed, heaviest, f"{title}: {len(landed)} touchdowns", out / "touchdown.png")
     paths["touchdown"] = out / "touchdown.png"
     return footprint_markdown(stats, rows)
