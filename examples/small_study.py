@@ -7,10 +7,10 @@ Writes study/ (runs.csv and the report: report/report.md, histograms and scatter
 
 import shutil
 
+from _output import ROOT, output_folder
+
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.report import study_report
-
-from _output import ROOT, output_folder
 
 out = output_folder()
 study_file = out / "small_study.toml"
