@@ -319,6 +319,52 @@ def _animate(args) -> int:
     return 0
 
 
+def _add_fit(subparsers) -> None:
+    fit = subparsers.add_parser(
+        "fit", help="fit free case keys to measured event times, final values and time histories",
+        description="Bounded least squares over runs of a case (scipy's trust-region reflective method): the free "
+                    "keys of the fit file within their bounds, residuals (model - measured) / std. The Jacobian's "
+                    "runs go side by side to a process pool or a Dask cluster; every run is recorded in the fit "
+                    "folder, and rerunning the same command resumes without running them again. Writes fit.json, "
+                    "fit_report.md, targets.png and calibrated.toml.")
+    fit.add_argument("fit_file", metavar="FIT", help="fit file (TOML), see docs/fit-format.md")
+    fit.add_argument("--out", default=None, metavar="DIR", help="fit folder; default: fits/<fit file name>")
+    where = fit.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="local worker processes (default: one per free key plus one, at most every core)")
+    where.add_argument("--dask-scheduler", default=None, metavar="ADDRESS", help="an existing Dask cluster")
+    where.add_argument("--dask-local", type=int, default=None, metavar="N", help="a local Dask cluster of N workers")
+    fit.set_defaults(func=_fit)
+
+
+def _fit(args) -> int:
+    from .fit import load_fit, run_fit
+    from .fit.report import write_report
+    from .study import dask_executor
+
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers = {args.workers}: must be >= 1")
+    spec = load_fit(args.fit_file)
+    out = Path(args.out) if args.out else Path("fits") / Path(args.fit_file).stem
+    executor, close = None, None
+    if args.dask_scheduler is not None or args.dask_local is not None:
+        executor, close = dask_executor(args.dask_scheduler, args.dask_local)
+    try:
+        result = run_fit(spec, out, executor, args.workers)
+    except KeyboardInterrupt:
+        print(f"pchute fit: interrupted; the runs so far are recorded in {out}: rerun the same command to resume",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+    finally:
+        if close is not None:
+            close()
+    paths = write_report(spec, result, out)
+    fitted = ", ".join(f"{k} = {v:.6g} +- {e:.2g}" for k, v, e in zip(result["keys"], result["fitted"],
+                                                                       result["standard_error"]))
+    print(f"{spec.name}: {fitted} ({result['runs']} runs, {result['reused']} read back) -> {paths['report']}")
+    return 0
+
+
 def _add_view(subparsers) -> None:
     view = subparsers.add_parser(
         "view", help="replay a finished run in Exudyn's SolutionViewer (needs a display)",
@@ -348,6 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_study(subparsers)
     _add_animate(subparsers)
     _add_view(subparsers)
+    _add_fit(subparsers)
     return parser
 
 

@@ -48,6 +48,17 @@ def _gusty(tmp: Path) -> str:
                                    'start = 40.0\nlength = 4.0\ndirection = [0.0, 1.0, 0.0]\n')
 
 
+def _fit(tmp: Path, free: str = "low = 0.3\nhigh = 0.7", target: str = 'event = "start"\ntime = 0.0\nstd = 1.0') -> str:
+    """A fit file of MER case 1 (1 s) with the given free-key table body and target table body."""
+    (tmp / "data.csv").write_text("time,tension_riser\n0,0\n0.5,10\n")
+    case = tmp / "short.toml"
+    case.write_text(f'extends = "{Path(CASE1).as_posix()}"\n[simulation]\nduration = 1.0\n')
+    path = _file(tmp, "fit.toml", f'[fit]\ncase = "{case.as_posix()}"\nmethod = "sp"\nstep = 1e-2\n'
+                                  f'[free."parachute.aerodynamics.axial_coefficient"]\n{free}\n'
+                                  f'[[targets]]\n{target}\n')
+    return [path, "--out", str(tmp / "fit_out")]
+
+
 def _sceneless(tmp: Path) -> str:
     """A result saved without the scene an animation needs (as by a version before it was stored)."""
     from pchute_exudyn.results import Result
@@ -75,6 +86,20 @@ def _result_folder(tmp: Path) -> str:
 
 
 BATTERY = [
+    # fit
+    ("fit: free key without bounds", lambda t: ["fit", *_fit(t, free="initial = 0.5")],
+     "free.parachute.aerodynamics.axial_coefficient.low: required but missing"),
+    ("fit: bounds reversed", lambda t: ["fit", *_fit(t, free="low = 0.7\nhigh = 0.3")],
+     "free.parachute.aerodynamics.axial_coefficient.high = 0.3: must be > low (0.7)"),
+    ("fit: target column not in the data", lambda t: ["fit", *_fit(t, target='history = "data.csv"\ncolumn = "nope"\n'
+                                                                       'std = 1.0')],
+     "targets[0].column = 'nope': data.csv has no column 'nope' (after the map); it has: tension_riser"),
+    ("fit: target column the run lacks", lambda t: ["fit", *_fit(t, target='final = "vehicle_altitudes"\n'
+                                                                        'value = 8000.0\nstd = 1.0')],
+     "targets[0].final = 'vehicle_altitudes': the run has no such column"),
+    ("fit: target event that never happens", lambda t: ["fit", *_fit(t, target='event = "touchdown"\ntime = 50.0\n'
+                                                                             'std = 1.0')],
+     "targets[0].event = 'touchdown': never happens in the run at the starting values; its events are: start"),
     # animate
     ("animate a folder without a scene", lambda t: ["animate", _result_folder(t)],
      "no result.npz: not a result folder of `pchute run`"),

@@ -875,6 +875,26 @@ def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:
     return _with_source(case, source)
 
 
+def override_leaves(path, overrides: Mapping[str, Any]) -> dict:
+    """The case values ``overrides`` change, as full dotted keys to whole values (an indexed override gives its whole
+    array): what a case file extending ``path`` must set to hold them."""
+    origins: dict = {}
+    before = _load_merged(Path(path), origins)
+    after = copy.deepcopy(before)
+    for key, value in overrides.items():
+        apply_override(after, origins, key, value)
+    changed: dict = {}
+
+    def walk(old, new, prefix):
+        if isinstance(new, dict):
+            for name, value in new.items():
+                walk(old.get(name) if isinstance(old, dict) else None, value, prefix + (name,))
+        elif new != old:
+            changed[".".join(prefix)] = new
+    walk(before, after, ())
+    return changed
+
+
 def _with_source(case: Case, source: str) -> Case:
     from dataclasses import replace
     return replace(case, source=source)

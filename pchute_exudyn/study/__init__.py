@@ -3,6 +3,7 @@ report: summaries and plots)."""
 
 from .runner import dask_executor, execute, run_study, scalar_outputs
 from .spec import Configuration, Parameter, RunSpec, StudySpec, load_study
+from .table import load
 
-__all__ = ["Configuration", "Parameter", "RunSpec", "StudySpec", "dask_executor", "execute", "load_study",
+__all__ = ["Configuration", "Parameter", "RunSpec", "StudySpec", "dask_executor", "execute", "load", "load_study",
            "run_study", "scalar_outputs"]

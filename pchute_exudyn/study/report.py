@@ -31,6 +31,7 @@ from .footprint import (
     plot_touchdown_histograms,
     touchdown_points,
 )
+from .statistics import bootstrap_interval, rank_correlations, runs_needed
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -38,6 +39,7 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 PERCENTILES = (1, 50, 99)
+BOOTSTRAP_NOTE = "2000 resamples, fixed seed"
 OUTPUT_UNITS = {"final_east": "m", "final_north": "m", "final_lateral": "m", "final_altitude": "m", "final_time": "s",
                 "touchdown_time": "s", "touchdown_speed": "m/s", "wall_time": "s", "steps": "count"}
 
@@ -126,13 +128,32 @@ def _plot_error_against_cost(errors: list, path: Path) -> None:
 
 
 def percentiles(rows: list, outputs: list) -> dict:
+    """Per output: the PERCENTILES with their 95 % bootstrap intervals (``p99_ci``) and whether the runs are enough
+    for each (``p99_enough``: ``statistics.runs_needed``), mean, std, min, max and count."""
     table = {}
     for name in outputs:
         values = np.array([r[name] for r in rows if isinstance(r.get(name), float)])
         if len(values):
-            table[name] = {**{f"p{p}": float(np.percentile(values, p)) for p in PERCENTILES},
-                           "mean": float(values.mean()), "std": float(values.std(ddof=1)) if len(values) > 1 else 0.0,
+            entry = {}
+            for p in PERCENTILES:
+                entry[f"p{p}"] = float(np.percentile(values, p))
+                entry[f"p{p}_ci"] = list(bootstrap_interval(values, p)) if len(values) > 1 else [entry[f"p{p}"]] * 2
+                entry[f"p{p}_enough"] = len(values) >= runs_needed(p)
+            table[name] = {**entry, "mean": float(values.mean()),
+                           "std": float(values.std(ddof=1)) if len(values) > 1 else 0.0,
                            "min": float(values.min()), "max": float(values.max()), "count": int(len(values))}
+    return table
+
+
+def sensitivity(ok: list, drawn: list, outputs: list) -> dict:
+    """Per output, the drawn inputs ranked by their Spearman rank correlation with it (``statistics``)."""
+    inputs = {key: np.array([r.get(key) if isinstance(r.get(key), float) else np.nan for r in ok]) for key in drawn}
+    table = {}
+    for name in outputs:
+        output = np.array([r.get(name) if isinstance(r.get(name), float) else np.nan for r in ok])
+        ranked = rank_correlations(inputs, output)
+        if ranked:
+            table[name] = ranked
     return table
 
 
@@ -186,6 +207,7 @@ def study_report(folder) -> dict:
         sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
     stats = percentiles(ok, outputs)
     atomic_write_text(out / "percentiles.json", json_text(stats, indent=2) + "\n")
+    ranking = sensitivity(ok, drawn, outputs) if drawn and len(ok) > 2 else {}
     paths = {"percentiles": out / "percentiles.json"}
     if ok and outputs:
         paths["histograms"] = _plot_histograms(ok, outputs[:8], stats, f"{title}: {len(ok)} runs", out)
@@ -205,7 +227,8 @@ def study_report(folder) -> dict:
         for key in grid:
             paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, labels[key],
                                                                      out / f"error_vs_{_safe(key)}.png")
-    atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths, footprint))
+    extra = footprint + _ranking(ranking)
+    atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths, extra))
     paths["report"] = out / "report.md"
     return paths
 
@@ -317,10 +340,19 @@ def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, pat
     lines = [f"# Study report: {title}", "",
              f"{len(rows)} runs recorded: {len(rows) - len(failed)} ok, {len(failed)} failed "
              f"({sum(r.get('reference') == 'True' for r in rows)} reference runs).", "",
-             "| output | p1 | p50 | p99 | mean | std | min | max |", "|---|---|---|---|---|---|---|---|"]
+             "Percentiles with their 95 % bootstrap intervals in brackets (percentile bootstrap, "
+             f"{BOOTSTRAP_NOTE}); a percentile marked * rests on fewer runs than it needs to mean much (ten runs "
+             "beyond it: 1000 for the 1st and 99th, 20 for the median).", "",
+             "| output | p1 | p50 | p99 | mean | std | min | max | runs |", "|---|---|---|---|---|---|---|---|---|"]
     for name, s in stats.items():
-        lines.append(f"| {name} | " + " | ".join(f"{s[k]:.6g}" for k in ("p1", "p50", "p99", "mean", "std", "min",
-                                                                          "max")) + " |")
+        cells = [f"{s[f'p{p}']:.6g} [{s[f'p{p}_ci'][0]:.6g}, {s[f'p{p}_ci'][1]:.6g}]"
+                 f"{'' if s[f'p{p}_enough'] else '*'}" for p in PERCENTILES]
+        cells += [f"{s[k]:.6g}" for k in ("mean", "std", "min", "max")]
+        lines.append(f"| {output_label(name)} | " + " | ".join(cells) + f" | {s['count']} |")
+    short = [f"p{p}" for p in PERCENTILES if any(not s[f"p{p}_enough"] for s in stats.values())]
+    if short:
+        lines += ["", f"Warning: {', '.join(short)} rest on too few runs here (*): their intervals show how little "
+                      "the runs pin them down; run more samples before quoting them."]
     lines += footprint
     if errors:
         lines += ["", "Errors against the reference (each run against its reference run):", "",
@@ -338,6 +370,18 @@ def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, pat
             lines.append(f"| {int(r['run'])} | {r['case']} | {_configuration(r)} | {r.get('error')} |")
     lines += ["", "Figures: " + ", ".join(f"`{Path(p).name}`" for p in paths.values() if str(p).endswith(".png"))]
     return "\n".join(lines) + "\n"
+
+
+def _ranking(ranking: dict) -> list:
+    """Report lines: per output, the drawn inputs by rank correlation (strongest first)."""
+    if not ranking:
+        return []
+    lines = ["", "## Sensitivity: which inputs move which outputs", "",
+             "Spearman rank correlation of each output with each drawn input over the runs (+1: the output rises "
+             "with the input), strongest first.", "", "| output | inputs, strongest first |", "|---|---|"]
+    for name, ranked in ranking.items():
+        lines.append(f"| {output_label(name)} | " + ", ".join(f"{key} ({rho:+.2f})" for key, rho in ranked) + " |")
+    return lines
 
 
 def _sort_key(value):

@@ -145,7 +145,7 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
     try:
         executed, failed = _record_as_they_finish(executor, pending, store, bar, failed)
     finally:
-        store.write_table()
+        store.write_table(final=True)
         if bar is not None:
             bar.close()
         if owned:

@@ -58,6 +58,9 @@ from ..errors import CaseError
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
                  "truncated_normal": ("mean", "std", "low", "high"), "seed": ()}
+SAMPLINGS = ("random", "latin_hypercube", "sobol")
+"""``[study] sampling``: independent random draws, a Latin hypercube or a scrambled Sobol sequence (scipy.stats.qmc)
+over the drawn parameters, mapped through each distribution's inverse CDF."""
 SEED_LIMIT = 2 ** 31
 """A ``seed`` draw is an integer in [0, SEED_LIMIT) (a fresh seed per sample, e.g. for turbulence)."""
 
@@ -87,6 +90,7 @@ class Parameter:
     relative: bool = False
 
     def draw(self, rng: np.random.Generator) -> float | int:
+        """A random draw (``sampling = "random"``)."""
         a = self.arguments
         if self.distribution == "seed":
             return int(rng.integers(0, SEED_LIMIT))
@@ -94,10 +98,20 @@ class Parameter:
             return float(rng.normal(a["mean"], a["std"]))
         if self.distribution == "uniform":
             return float(rng.uniform(a["low"], a["high"]))
-        while True:  # truncated normal by rejection (the bounds hold at least 1e-6 of the probability: checked)
-            value = float(rng.normal(a["mean"], a["std"]))
-            if a["low"] <= value <= a["high"]:
-                return value
+        return self.quantile(float(rng.random()))   # truncated normal: by its inverse CDF, never a redraw loop
+
+    def quantile(self, u: float) -> float | int:
+        """The value at cumulative probability ``u`` in [0, 1) (inverse CDF): how a design's points become draws."""
+        a = self.arguments
+        if self.distribution == "seed":
+            return int(u * SEED_LIMIT)
+        if self.distribution == "uniform":
+            return float(a["low"] + u * (a["high"] - a["low"]))
+        from scipy.stats import norm, truncnorm
+        if self.distribution == "normal":
+            return float(norm.ppf(u, a["mean"], a["std"]))
+        lower, upper = (a["low"] - a["mean"]) / a["std"], (a["high"] - a["mean"]) / a["std"]
+        return float(np.clip(truncnorm.ppf(u, lower, upper, a["mean"], a["std"]), a["low"], a["high"]))
 
 
 @dataclass(frozen=True)
@@ -165,6 +179,23 @@ class StudySpec:
     histories: bool
     text: str
     parameter_units: dict = field(default_factory=dict)   # key -> unit ("" for none), for reports
+    sampling: str = "random"                              # random, latin_hypercube or sobol (SAMPLINGS)
+
+    def design(self) -> np.ndarray | None:
+        """(runs, drawn parameters) points in [0, 1) of a Latin hypercube or a scrambled Sobol sequence, seeded
+        from the study seed (None for random sampling): Monte Carlo sample k of every grid point takes row k."""
+        drawn = [p for p in self.parameters if p.distribution is not None]
+        if self.sampling == "random" or not drawn:
+            return None
+        import warnings
+
+        from scipy.stats import qmc
+        rng = np.random.default_rng(np.random.SeedSequence(self.seed))
+        engine = (qmc.LatinHypercube(len(drawn), rng=rng) if self.sampling == "latin_hypercube"
+                  else qmc.Sobol(len(drawn), scramble=True, rng=rng))
+        with warnings.catch_warnings():   # Sobol's balance wants a power of 2 of points: documented, not an error
+            warnings.simplefilter("ignore", UserWarning)
+            return engine.random(self.runs)
 
     def samples(self) -> list:
         """(case file, grid values) of every sample, with its Monte Carlo index: the study's sample order."""
@@ -181,6 +212,7 @@ class StudySpec:
         # one child seed per sample, by index: the draws never depend on the number of workers or their order
         seeds = [None] * len(samples) if self.seed is None else np.random.SeedSequence(self.seed).spawn(len(samples))
         drawn = [p for p in self.parameters if p.distribution is not None]
+        design = self.design()
         relative = {p.key: p.relative for p in self.parameters}
         keep = history_root is not None and (self.histories or self.reference is not None)
         runs, case_reference = [], {}
@@ -192,9 +224,12 @@ class StudySpec:
                                 is_reference, history, reference_run))
             return index
 
-        for sample, ((case, grid_values, _), seed) in enumerate(zip(samples, seeds)):
+        for sample, ((case, grid_values, mc), seed) in enumerate(zip(samples, seeds)):
             values = dict(grid_values)
-            if drawn:
+            if design is not None:
+                for j, parameter in enumerate(drawn):
+                    values[parameter.key] = parameter.quantile(float(design[mc, j]))
+            elif drawn:
                 rng = np.random.default_rng(seed)
                 for parameter in drawn:
                     values[parameter.key] = parameter.draw(rng)
@@ -332,6 +367,7 @@ def load_study(path) -> StudySpec:
         raise s.error("seed", "must be an integer >= 0", seed)
     duration = s.number("duration", "s", None, above=0.0)
     histories = s.boolean("histories", False)
+    sampling = s.string("sampling", "random", SAMPLINGS)
     configurations = []
     outer = s._get("configurations", [{}], "")
     if not isinstance(outer, list) or not outer:
@@ -352,8 +388,10 @@ def load_study(path) -> StudySpec:
         raise s.error("seed", "required: the study draws random values")
     if runs > 1 and not any(p.distribution for p in parameters):
         raise s.error("runs", "more than one run per grid point needs a parameter with a distribution", runs)
+    if sampling != "random" and not any(p.distribution for p in parameters):
+        raise s.error("sampling", f"{sampling} needs a parameter with a distribution to spread", sampling)
     spec = StudySpec(name, path, cases, tuple(configurations), reference, reference_per, tuple(parameters), runs, seed,
-                     duration, histories, path.read_text())
+                     duration, histories, path.read_text(), sampling=sampling)
     _check_parameters(spec, source)
     return spec
 

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir, json_text
+from .table import write_parquet
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
 
@@ -89,9 +90,12 @@ class StudyStore:
         if time.monotonic() - self._last_table > 1.0:
             self.write_table()
 
-    def write_table(self) -> None:
+    def write_table(self, final: bool = False) -> None:
+        """Rewrite ``runs.csv``; ``final`` (the study's end, or its interruption) also ``runs.parquet``."""
         rows = [{**self._input_row(self.runs[i]), **self.records[i]} for i in sorted(self.records)]
         atomic_write_text(self.folder / "runs.csv", self._csv(rows))
+        if final:
+            write_parquet(self.folder)
         self._last_table = time.monotonic()
 
     # -- helpers ----------------------------------------------------------------------------------------------------

@@ -1,0 +1,106 @@
+"""The fit's report in its folder: ``fit.json`` (strict), ``fit_report.md``, ``targets.png`` (every target measured,
+at the start and fitted) and ``calibrated.toml`` (a case file extending the base case with the fitted values)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ..case.loader import override_leaves
+from ..io import atomic_write_text, json_text
+from ..plotting import new_figure, save_figure
+from .spec import FitSpec
+
+
+def write_report(spec: FitSpec, result: dict, folder) -> dict:
+    """Write the report files of ``result`` (``fit.solve.run_fit``) into ``folder``; returns their paths."""
+    folder = Path(folder)
+    paths = {"json": folder / "fit.json", "report": folder / "fit_report.md", "plot": folder / "targets.png",
+             "case": folder / "calibrated.toml"}
+    atomic_write_text(paths["json"], json_text(result, indent=2) + "\n")
+    atomic_write_text(paths["case"], calibrated_case(spec, result["fitted"], folder))
+    _plot_targets(spec, result, paths["plot"])
+    atomic_write_text(paths["report"], _markdown(spec, result, paths))
+    return paths
+
+
+def calibrated_case(spec: FitSpec, fitted: list, folder: Path) -> str:
+    """A case file extending the base case with the fitted values (whole arrays where a key indexed one)."""
+    leaves = override_leaves(spec.case, spec.overrides(fitted))
+    relative = Path(os.path.relpath(spec.case, folder)).as_posix()
+    lines = [f"# {spec.name}: the fitted values of `pchute fit {spec.source.name}`", f'extends = "{relative}"', ""]
+    tables: dict = {}
+    for full, value in leaves.items():
+        table, _, key = full.rpartition(".")
+        tables.setdefault(table, []).append(f"{key} = {_toml(value)}")
+    for table, entries in tables.items():
+        lines += [f"[{table}]", *entries, ""]
+    return "\n".join(lines)
+
+
+def _toml(value) -> str:
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    return repr(float(value)) if isinstance(value, float) else repr(value)
+
+
+def _rows(spec: FitSpec, result: dict):
+    """(target, measured, initial, fitted) per target, arrays for histories."""
+    start = 0
+    for target in spec.targets:
+        stop = start + target.size
+        yield (target, np.asarray(target.measured), np.asarray(result["predictions_initial"][start:stop]),
+               np.asarray(result["predictions_fitted"][start:stop]))
+        start = stop
+
+
+def _plot_targets(spec: FitSpec, result: dict, path: Path) -> None:
+    targets = list(_rows(spec, result))
+    figure, axes = new_figure(len(targets), 1, size=(8.0, 2.6 * len(targets) + 0.6))
+    for ax, (target, measured, initial, fitted) in zip(axes[:, 0], targets):
+        if target.kind == "history":
+            ax.plot(target.times, measured, ".", color="k", markersize=3, label="measured")
+            ax.plot(target.times, initial, "--", color="tab:blue", label="start")
+            ax.plot(target.times, fitted, "-", color="tab:red", label="fitted")
+            ax.set_xlabel("time (s)")
+            ax.set_ylabel(target.name)
+        else:
+            ax.errorbar([0], measured, yerr=[target.std], fmt="o", color="k", capsize=4, label="measured +- std")
+            ax.plot([1], initial, "s", color="tab:blue", label="start")
+            ax.plot([2], fitted, "D", color="tab:red", label="fitted")
+            ax.set_xticks([0, 1, 2], ["measured", "start", "fitted"])
+            ax.set_ylabel(target.label())
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize="x-small")
+    figure.suptitle(f"{spec.name}: targets measured, at the start and fitted")
+    save_figure(figure, path)
+
+
+def _markdown(spec: FitSpec, result: dict, paths: dict) -> str:
+    lines = [f"# Fit: {spec.name}", "",
+             f"`pchute fit {spec.source.name}`: case `{spec.case.name}`, {spec.configuration.label or 'the case'}; "
+             f"{result['runs']} runs recorded ({result['runs_this_time']} run now, {result['reused']} read back). "
+             f"Least squares: {result['message']} (status {result['status']}).", "",
+             "| free key | bounds | start | fitted | standard error |", "|---|---|---|---|---|"]
+    for key, (low, high), start, fitted, error, bound in zip(result["keys"], result["bounds"], result["initial"],
+                                                             result["fitted"], result["standard_error"],
+                                                             result["at_bound"]):
+        lines.append(f"| {key} | [{low:g}, {high:g}] | {start:.6g} | {fitted:.6g}{' (at a bound)' if bound else ''}"
+                     f" | {error:.3g} |")
+    scaled = "scaled by the residuals' variance" if result["covariance_scaled_by_residuals"] else \
+        "from the targets' standard deviations"
+    lines += ["", f"Standard errors from the Jacobian at the fit, (J^T J)^-1 {scaled}.", "",
+              "| target | measured | std | start | fitted | fitted - measured |", "|---|---|---|---|---|---|"]
+    for target, measured, initial, fitted in _rows(spec, result):
+        if target.kind == "history":
+            start_rms, fitted_rms = (float(np.sqrt(np.mean((v - measured) ** 2))) for v in (initial, fitted))
+            lines.append(f"| {target.label()} ({target.size} samples, RMS difference) | - | {target.std:g} | "
+                         f"{start_rms:.4g} | {fitted_rms:.4g} | {fitted_rms:.4g} |")
+        else:
+            lines.append(f"| {target.label()} | {measured[0]:.6g} | {target.std:g} | {initial[0]:.6g} | "
+                         f"{fitted[0]:.6g} | {fitted[0] - measured[0]:+.4g} |")
+    lines += ["", "Files: `fit.json`, `targets.png`, `calibrated.toml` (the base case with the fitted values), "
+                  "`evaluations.jsonl` (every run)."]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,187 @@
+"""Bounded least squares over case runs: the free keys scaled to [0, 1] by their bounds, residuals (model -
+measured) / std, ``scipy.optimize.least_squares`` (trust-region reflective, which keeps every run inside the bounds)
+with a forward-difference Jacobian whose runs go to an executor side by side (process pool or Dask, as studies).
+
+Every evaluation is recorded at once in the fit folder (``evaluations.jsonl``); a rerun of the same fit reads the
+recorded points back instead of running them again, and least squares, being deterministic, retraces its path
+through them: a killed fit resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import os
+from concurrent.futures import Executor, ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..errors import InputError
+from ..io import atomic_write_text, ensure_writable_dir, json_text
+from .evaluate import evaluate
+from .spec import FitSpec
+
+DIFFERENCE_STEP = 1e-3
+"""Forward-difference step in the scaled coordinates (a thousandth of each key's bound range)."""
+MAX_EVALUATIONS = 200
+"""Runs (Jacobian runs included) after which the fit stops and reports where it is."""
+
+
+class FitStore:
+    """The fit folder: ``fit.toml`` (a copy), ``manifest.json`` (fingerprint), ``evaluations.jsonl`` (one line per
+    run, flushed at once)."""
+
+    def __init__(self, folder, spec: FitSpec):
+        self.folder, self.spec = Path(folder), spec
+        self.journal = self.folder / "evaluations.jsonl"
+        self.records: dict = {}
+
+    def open(self) -> None:
+        ensure_writable_dir(self.folder)
+        manifest = self.folder / "manifest.json"
+        fingerprint = self.spec.fingerprint()
+        if manifest.is_file():
+            if json.loads(manifest.read_text()).get("fingerprint") != fingerprint:
+                raise InputError(f"{self.folder} holds a fit whose file, case or data differ from {self.spec.source}: "
+                                 "resume only the same fit (use another --out)")
+        else:
+            atomic_write_text(self.folder / "fit.toml", self.spec.text)
+            atomic_write_text(manifest, json_text({"name": self.spec.name, "fingerprint": fingerprint}, indent=2)
+                              + "\n")
+        if self.journal.is_file():
+            for line in self.journal.read_text().splitlines():
+                try:
+                    record = json.loads(line)
+                except json.JSONDecodeError:   # a line cut by a kill: that run is simply done again
+                    continue
+                self.records[_key(record["values"])] = record
+
+    def add(self, record: dict) -> None:
+        record["evaluation"] = len(self.records)
+        self.records[_key(record["values"])] = record
+        with self.journal.open("a") as handle:
+            handle.write(json_text(record) + "\n")
+            handle.flush()
+            os.fsync(handle.fileno())
+
+
+def _key(values) -> tuple:
+    return tuple(float(v).hex() for v in values)
+
+
+class Problem:
+    """The residual function and its parallel Jacobian over the scaled free keys."""
+
+    def __init__(self, spec: FitSpec, store: FitStore, executor: Executor):
+        self.spec, self.store, self.executor = spec, store, executor
+        self.low = np.array([f.low for f in spec.free])
+        self.span = np.array([f.high - f.low for f in spec.free])
+        self.measured, self.scales = spec.measured(), spec.scales()
+        self.reused = self.ran = 0
+
+    def values(self, u) -> list:
+        return (self.low + np.asarray(u) * self.span).tolist()
+
+    def records(self, points: list) -> list:
+        """The records of free-key ``points`` (scaled), running the ones not recorded side by side."""
+        wanted = [self.values(u) for u in points]
+        pending = {_key(v): v for v in wanted if _key(v) not in self.store.records}
+        self.reused += len(wanted) - len(pending)
+        futures = {k: self.executor.submit(evaluate, str(self.spec.case), self.spec.overrides(v),
+                                           self.spec.configuration, self.spec.targets) for k, v in pending.items()}
+        for k, future in futures.items():
+            record = future.result()
+            record["values"] = pending[k]
+            self.store.add(record)
+            self.ran += 1
+        if len(self.store.records) > MAX_EVALUATIONS:
+            raise _Budget()
+        return [self.store.records[_key(v)] for v in wanted]
+
+    def residuals_of(self, record: dict) -> np.ndarray:
+        if record["status"] != "ok":
+            raise InputError(f"the run at {self._describe(record['values'])} failed: {record['error']}")
+        return (np.asarray(record["predictions"], float) - self.measured) / self.scales
+
+    def _describe(self, values) -> str:
+        return ", ".join(f"{f.key} = {v:.6g}" for f, v in zip(self.spec.free, values))
+
+    def residuals(self, u) -> np.ndarray:
+        return self.residuals_of(self.records([u])[0])
+
+    def jacobian(self, u) -> np.ndarray:
+        """Forward differences, every perturbed run at once (backward at an upper bound)."""
+        u = np.asarray(u, float)
+        steps = np.where(u + DIFFERENCE_STEP <= 1.0, DIFFERENCE_STEP, -DIFFERENCE_STEP)
+        points = [u] + [u + steps[i] * np.eye(len(u))[i] for i in range(len(u))]
+        base, *moved = [self.residuals_of(r) for r in self.records(points)]
+        return np.column_stack([(r - base) / s for r, s in zip(moved, steps)])
+
+
+class _Budget(Exception):
+    """More runs than MAX_EVALUATIONS."""
+
+
+def run_fit(spec: FitSpec, out, executor: Executor | None = None, workers: int | None = None) -> dict:
+    """Fit ``spec`` into folder ``out`` (resuming what it holds); returns the fit's outcome (see ``fit.report``)."""
+    store = FitStore(out, spec)
+    store.open()
+    owned = executor is None
+    if owned:
+        executor = ProcessPoolExecutor(max_workers=workers or min(os.cpu_count() or 1, len(spec.free) + 1))
+    problem = Problem(spec, store, executor)
+    start = (np.array([f.initial for f in spec.free]) - problem.low) / problem.span
+    try:
+        base = problem.records([start])[0]
+        _check_base_run(spec, base)
+        try:
+            solution = least_squares(problem.residuals, start, jac=problem.jacobian, bounds=(0.0, 1.0),
+                                     method="trf", x_scale="jac", xtol=1e-8, ftol=1e-8, gtol=1e-8,
+                                     max_nfev=MAX_EVALUATIONS)
+            u, status, message = solution.x, int(solution.status), str(solution.message)
+        except _Budget:
+            u, status, message = start, -2, f"stopped after {MAX_EVALUATIONS} runs"
+    finally:
+        if owned:
+            executor.shutdown(wait=True, cancel_futures=True)
+    return outcome(spec, problem, start, np.asarray(u), status, message)
+
+
+def _check_base_run(spec: FitSpec, record: dict) -> None:
+    """Before fitting: the run at the starting values must work and show every target event and column."""
+    if record["status"] != "ok":
+        raise InputError(f"the run at the starting values failed: {record['error']}")
+    for i, target in enumerate(spec.targets):
+        if target.name not in record["missing_events"]:
+            continue
+        if target.kind == "event":
+            raise InputError(f"targets[{i}].event = {target.name!r}: never happens in the run at the starting "
+                             f"values; its events are: {', '.join(record['events'])}")
+        similar = difflib.get_close_matches(target.name, record["columns"], n=3)
+        raise InputError(f"targets[{i}].{'final' if target.kind == 'final' else 'column'} = {target.name!r}: the run "
+                         f"has no such column{'; similar: ' + ', '.join(similar) if similar else ''}")
+
+
+def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str) -> dict:
+    """The fitted values with standard errors (from the Jacobian at the solution), the residuals and the runs."""
+    residuals = problem.residuals(u)
+    jacobian = problem.jacobian(u) / problem.span          # per unit of each key
+    m, n = len(residuals), len(u)
+    weighted = any(t.weighted for t in spec.targets)
+    scale = float(residuals @ residuals) / (m - n) if weighted and m > n else 1.0
+    try:
+        covariance = np.linalg.inv(jacobian.T @ jacobian) * scale
+        errors = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+    except np.linalg.LinAlgError:
+        covariance, errors = np.full((n, n), np.nan), np.full(n, np.nan)
+    records = problem.records([start, u])
+    return {"name": spec.name, "status": status, "message": message, "keys": [f.key for f in spec.free],
+            "initial": problem.values(start), "fitted": problem.values(u), "standard_error": errors.tolist(),
+            "covariance": covariance.tolist(), "covariance_scaled_by_residuals": weighted and m > n,
+            "bounds": [[f.low, f.high] for f in spec.free],
+            "at_bound": [bool(v <= 1e-9 or v >= 1 - 1e-9) for v in u],
+            "cost": 0.5 * float(residuals @ residuals), "residuals": residuals.tolist(),
+            "predictions_initial": records[0]["predictions"], "predictions_fitted": records[1]["predictions"],
+            "runs": len(problem.store.records), "runs_this_time": problem.ran, "reused": problem.reused}

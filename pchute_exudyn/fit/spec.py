@@ -1,0 +1,218 @@
+"""Fit files (``pchute fit FIT.toml``): the base case, how each run integrates, the free keys with their bounds and
+the targets, validated into a ``FitSpec``. Paths in a fit file are relative to it.
+
+    [fit]
+    name = "PA1 calibration"
+    case = "../cases/cev_pa1.toml"
+    method = "sp"                 # and integrator, step, and the method's options, as a study configuration
+
+    [free."main_canopy.aerodynamics.axial_coefficient"]   # a --set key
+    low = 0.6
+    high = 1.0
+    initial = 0.76                # default: the case's value
+
+    [[targets]]                   # an event's time (s): start, deploy <system>, cutaway <system>, descent_rate,
+    event = "touchdown"           # touchdown (as the run's summary names them)
+    time = 78.87
+    std = 0.1                     # or weight = 10 (1 / std)
+
+    [[targets]]                   # a column's final value
+    final = "capsule_altitude"
+    value = 1200.0
+    std = 0.5
+
+    [[targets]]                   # a measured time history: every sample of one column of a CSV file
+    history = "flight.csv"
+    column = "tension_main_riser" # this package's column name (after map)
+    map = ["T_lbf=tension_main_riser*4.44822"]   # their=ours[*factor], as pchute compare --map
+    std = 2000.0
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..case.loader import _Context, _load_merged, _Table, load_case, override_leaves, read_toml
+from ..errors import CaseError, InputError
+from ..results import map_columns, parse_column_map, read_csv_columns
+from ..study.spec import Configuration, _read_configuration
+
+EVENT_HELP = "start, deploy <system>, cutaway <system>, descent_rate, touchdown"
+
+
+@dataclass(frozen=True)
+class Free:
+    """A free case key: ``--set`` syntax, bounds and starting value (in the key's unit)."""
+
+    key: str
+    low: float
+    high: float
+    initial: float
+
+
+@dataclass(frozen=True)
+class Target:
+    """One measured quantity: ``kind`` "event" (an event's time, s), "final" (a column's last value) or
+    "history" (a column at ``times``); ``name`` the event label or column; ``measured`` the value(s); ``std`` the
+    standard deviation (same unit), ``weighted`` when given as a weight (1 / std) instead."""
+
+    kind: str
+    name: str
+    measured: tuple
+    std: float
+    weighted: bool
+    times: tuple = ()
+
+    @property
+    def size(self) -> int:
+        return len(self.measured)
+
+    def label(self) -> str:
+        return {"event": f"event {self.name} (s)", "final": f"final {self.name}",
+                "history": f"history {self.name}"}[self.kind]
+
+
+@dataclass(frozen=True)
+class FitSpec:
+    """A validated fit file."""
+
+    name: str
+    source: Path
+    case: Path
+    configuration: Configuration
+    free: tuple
+    targets: tuple
+    text: str
+
+    def overrides(self, values) -> dict:
+        """The case overrides for free-key ``values`` (one per free key, in order)."""
+        return {f.key: float(v) for f, v in zip(self.free, values)}
+
+    def measured(self) -> np.ndarray:
+        return np.concatenate([np.asarray(t.measured, float) for t in self.targets])
+
+    def scales(self) -> np.ndarray:
+        """Each residual's standard deviation (the residual is (model - measured) / scale)."""
+        return np.concatenate([np.full(t.size, t.std) for t in self.targets])
+
+    def fingerprint(self) -> str:
+        """The fit file, the case file and every target's data: a resumed fit must match it."""
+        digest = hashlib.sha256(self.text.encode())
+        digest.update(Path(self.case).read_bytes())
+        for t in self.targets:
+            digest.update(repr((t.kind, t.name, t.measured, t.times, t.std)).encode())
+        return digest.hexdigest()
+
+
+def load_fit(path) -> FitSpec:
+    """Read and validate fit file ``path`` (CaseError or InputError naming the key)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"fit file not found: {path}")
+    data = read_toml(path, kind="fit")
+    ctx = _Context(str(path), {})
+    top = _Table(data, (), ctx)
+    f = top.table("fit")
+    name = f.string("name", path.stem)
+    case_path = (path.parent / f.string("case")).resolve()
+    if not case_path.is_file():
+        raise f.error("case", f"case file not found: {case_path}", f.data["case"])
+    configuration = _read_configuration(f, single_step=True)[0]
+    case = load_case(case_path)
+    free_tables = top.named_tables("free")
+    if not free_tables:
+        raise top.error("free", "a fit needs at least one free key: [free.\"<key>\"] with low and high")
+    free = tuple(_read_free(key, t, case_path) for key, t in free_tables.items())
+    raw_targets = top._get("targets", None, "")
+    if not isinstance(raw_targets, list) or not raw_targets:
+        raise top.error("targets", "a fit needs at least one [[targets]] table (event, final or history)")
+    targets = tuple(_read_target(_Table(t, ("targets", i), ctx), path.parent) for i, t in enumerate(raw_targets))
+    top.finish()
+    del case
+    return FitSpec(name, path, case_path, configuration, free, targets, path.read_text())
+
+
+def _read_free(key: str, t: _Table, case_path: Path) -> Free:
+    low, high = t.number("low", ""), t.number("high", "")
+    if not low < high:
+        raise t.error("high", f"must be > low ({low:g})", high)
+    if "initial" in t.data:
+        initial = t.number("initial", "", minimum=low, maximum=high)
+    else:
+        try:
+            case_value = _case_value(case_path, key)
+        except CaseError as exc:
+            raise t.error(None, f"does not apply to the case: {exc.detail}") from None
+        if not low <= case_value <= high:
+            raise t.error("initial", f"the case's value {case_value:g} lies outside [low, high] = [{low:g}, {high:g}]: "
+                                     "give initial or widen the bounds")
+        initial = case_value
+    t.finish()
+    try:
+        load_case(case_path, {key: initial})
+    except CaseError as exc:
+        raise t.error(None, f"does not apply to the case: {exc.detail}") from None
+    return Free(key, low, high, float(initial))
+
+
+def _case_value(case_path: Path, key: str) -> float:
+    """The case's own value of ``key`` (a --set key): where overriding it with a marker changes the case."""
+    marker = 987654321.125
+    merged = _load_merged(case_path, {})
+    for full, value in override_leaves(case_path, {key: marker}).items():
+        node = merged
+        try:
+            for part in full.split("."):
+                node = node[part]
+            return float(node[value.index(marker)] if isinstance(value, list) else node)
+        except (KeyError, TypeError, ValueError):
+            break
+    raise CaseError(str(case_path), key, "the case does not set it: give initial")
+
+
+def _read_target(t: _Table, folder: Path) -> Target:
+    kinds = [k for k in ("event", "final", "history") if k in t.data]
+    if len(kinds) != 1:
+        raise t.error(None, "give exactly one of: event = \"...\" (with time), final = \"<column>\" (with value) or "
+                            "history = \"<file.csv>\" (with column)")
+    kind = kinds[0]
+    if "std" in t.data and "weight" in t.data:
+        raise t.error("weight", "give std or weight, not both")
+    if "weight" in t.data:
+        std, weighted = 1.0 / t.number("weight", "", above=0.0), True
+    else:
+        std, weighted = t.number("std", "same unit as the target", above=0.0), False
+    if kind == "event":
+        target = Target("event", t.string("event"), (t.number("time", "s"),), std, weighted)
+    elif kind == "final":
+        target = Target("final", t.string("final"), (t.number("value", ""),), std, weighted)
+    else:
+        file = (folder / t.string("history")).resolve()
+        if not file.is_file():
+            raise t.error("history", f"file not found: {file}", t.data["history"])
+        column = t.string("column")
+        entries = t._get("map", [], "")
+        if not isinstance(entries, list):
+            raise t.error("map", "must be a list of \"theirs=ours[*factor]\" entries", entries)
+        try:
+            columns = map_columns(read_csv_columns(file), parse_column_map(entries), file)
+        except InputError as exc:
+            raise t.error("map", str(exc)) from None
+        if "time" not in columns:
+            raise t.error("history", f"{file.name} has no 'time' column (map one: map = [\"t=time\"])")
+        if column not in columns:
+            raise t.error("column", f"{file.name} has no column {column!r} (after the map); it has: "
+                                    f"{', '.join(c for c in columns if c != 'time')}", column)
+        values = columns[column]
+        keep = np.isfinite(values)
+        target = Target("history", column, tuple(values[keep].tolist()), std, weighted,
+                        tuple(columns["time"][keep].tolist()))
+    t.finish()
+    if not all(math.isfinite(v) for v in target.measured):
+        raise t.error(None, "measured values must be finite")
+    return target

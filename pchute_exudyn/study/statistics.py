@@ -1,0 +1,44 @@
+"""How sure a study's numbers are: bootstrap confidence intervals on percentiles, the smallest run count a
+percentile means something at, and the rank correlation of each output with each input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+BOOTSTRAP_RESAMPLES = 2000
+BOOTSTRAP_SEED = 20261123
+"""Fixed, so a report is the same every time it is written."""
+CONFIDENCE = 0.95
+
+
+def bootstrap_interval(values: np.ndarray, percentile: float) -> tuple[float, float]:
+    """The 95 % percentile-bootstrap interval of the ``percentile``-th percentile (%) of ``values``: the 2.5th and
+    97.5th percentiles of that percentile over BOOTSTRAP_RESAMPLES resamples with replacement. For extreme
+    percentiles of few runs it cannot reach beyond the largest (smallest) run: ``enough_runs`` says when to worry."""
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    resamples = rng.choice(values, size=(BOOTSTRAP_RESAMPLES, len(values)), replace=True)
+    estimates = np.percentile(resamples, percentile, axis=1)
+    tail = 100.0 * (1.0 - CONFIDENCE) / 2.0
+    return float(np.percentile(estimates, tail)), float(np.percentile(estimates, 100.0 - tail))
+
+
+def runs_needed(percentile: float) -> int:
+    """Runs for the ``percentile``-th percentile to have at least ten runs beyond it (100 for the median's
+    neighbours, 1000 for the 1st and 99th): with fewer it is set by a handful of extreme runs."""
+    return math.ceil(10.0 * 100.0 / min(percentile, 100.0 - percentile))
+
+
+def rank_correlations(inputs: dict, output: np.ndarray) -> list:
+    """(input name, Spearman rank correlation with ``output``) for each input (name -> values), largest magnitude
+    first; an input or output that does not vary gives no entry."""
+    from scipy.stats import spearmanr
+
+    ranked = []
+    for name, values in inputs.items():
+        keep = np.isfinite(values) & np.isfinite(output)
+        if keep.sum() > 2 and np.ptp(values[keep]) > 0 and np.ptp(output[keep]) > 0:
+            rho = float(spearmanr(values[keep], output[keep]).statistic)
+            ranked.append((name, rho))
+    return sorted(ranked, key=lambda item: -abs(item[1]))

@@ -1,0 +1,111 @@
+"""`pchute fit`: bounded least squares over real runs recovers known parameters, resumes after a kill without
+running recorded points again, and writes a calibrated case that reproduces the data."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import pchute_exudyn as pc
+from pchute_exudyn.fit import load_fit, run_fit
+from pchute_exudyn.fit.report import write_report
+
+from .conftest import MER, ROOT
+
+TRUTH = {"parachute.aerodynamics.axial_coefficient": 0.5, "main.lines.riser.stiffness": 66000.0}   # case: 0.46, 6e4
+FIT = """
+[fit]
+name = "recover C_A and the riser stiffness"
+case = "{case}"
+method = "sp"
+step = 1e-2
+
+[free."parachute.aerodynamics.axial_coefficient"]
+low = 0.3
+high = 0.7
+initial = 0.44
+
+[free."main.lines.riser.stiffness"]
+low = 30000.0
+high = 120000.0
+initial = 58000.0
+
+[[targets]]
+history = "truth.csv"
+column = "tension_riser"
+map = ["riser_N=tension_riser"]
+std = 1.0
+
+[[targets]]
+history = "truth.csv"
+column = "vehicle_altitude"
+map = ["alt_m=vehicle_altitude"]
+std = 0.1
+
+[[targets]]
+final = "vehicle_altitude"
+value = {final}
+std = 0.1
+"""
+SHORT = {"simulation.duration": 6.0, "simulation.output_step": 0.05}
+
+
+@pytest.fixture()
+def fit_file(tmp_path):
+    """Measured data made by a run with known values (MER case 1, 6 s, SP), and a fit starting 5-12 % off."""
+    case_file = tmp_path / "case.toml"
+    case_file.write_text(f'extends = "{(MER / "case1.toml").as_posix()}"\n[simulation]\nduration = 6.0\n'
+                         'output_step = 0.05\n')
+    truth = pc.simulate(pc.load_case(case_file, TRUTH), "sp", "rk4", 1e-2)
+    t = truth.time
+    np.savetxt(tmp_path / "truth.csv", np.column_stack([t, truth["tension_riser"], truth["vehicle_altitude"]]),
+               delimiter=",", header="time,riser_N,alt_m", comments="")
+    path = tmp_path / "fit.toml"
+    path.write_text(FIT.format(case=case_file.as_posix(), final=truth.final("vehicle_altitude")))
+    return path
+
+
+def test_fit_recovers_known_drag_and_stiffness(fit_file, tmp_path):
+    spec = load_fit(fit_file)
+    result = run_fit(spec, tmp_path / "out", workers=2)
+    for key, fitted in zip(result["keys"], result["fitted"]):
+        assert fitted == pytest.approx(TRUTH[key], rel=0.005), key
+    paths = write_report(spec, result, tmp_path / "out")
+    assert all(p.is_file() for p in paths.values())
+    fit_json = json.loads(paths["json"].read_text())
+    assert fit_json["cost"] < 1e-6 and len(fit_json["standard_error"]) == 2
+    # the calibrated case file reproduces the data it was fitted to
+    again = pc.simulate(pc.load_case(paths["case"]), "sp", "rk4", 1e-2)
+    data = np.loadtxt(tmp_path / "truth.csv", delimiter=",", skiprows=1)
+    assert np.interp(data[:, 0], again.time, again["tension_riser"]) == pytest.approx(data[:, 1], abs=1e-3)
+
+
+def test_a_killed_fit_resumes_without_running_recorded_points_again(fit_file, tmp_path):
+    out = tmp_path / "killed"
+    command = [sys.executable, "-m", "pchute_exudyn", "fit", str(fit_file), "--out", str(out), "--workers", "1"]
+    process = subprocess.Popen(command, cwd=ROOT, start_new_session=True, stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE)
+    journal = out / "evaluations.jsonl"
+    deadline = time.time() + 120
+    while time.time() < deadline and process.poll() is None:
+        if journal.is_file() and len(journal.read_text().splitlines()) >= 6:
+            break
+        time.sleep(0.1)
+    assert process.poll() is None, "the fit ended before it could be killed"
+    os.killpg(process.pid, signal.SIGKILL)
+    process.wait()
+    recorded = len([line for line in journal.read_text().splitlines() if line.strip()])
+    assert recorded >= 6
+    result = run_fit(load_fit(fit_file), out, workers=2)
+    lines = [json.loads(line) for line in journal.read_text().splitlines() if line.strip()]
+    keys = [tuple(line["values"]) for line in lines]
+    assert len(keys) == len(set(keys))                     # no point was run twice
+    assert result["runs_this_time"] == len(lines) - recorded
+    assert result["reused"] >= recorded - 1                # every recorded point the fit came back to was read back
+    for key, fitted in zip(result["keys"], result["fitted"]):
+        assert fitted == pytest.approx(TRUTH[key], rel=0.005), key
