@@ -74,7 +74,7 @@ def _plot_targets(spec: FitSpec, result: dict, path: Path) -> None:
             ax.set_ylabel(target.label())
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize="x-small")
-    figure.suptitle(f"{spec.name}: targets measured, at the start and fitted")
+    figure.suptitle(f"{spec.name}\ntargets: measured, at the start and fitted")
     save_figure(figure, path)
 
 
