@@ -221,15 +221,7 @@ def _add_study(subparsers) -> None:
                     "record each as it finishes into the study folder; rerunning the same command resumes, skipping "
                     "finished runs. A failed run is recorded with its error and the study goes on.")
     study.add_argument("study_file", metavar="STUDY", help="study file (TOML), see docs/study-format.md")
-    where = study.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help="local worker processes (default: every core)")
-    where.add_argument("--dask-scheduler", default=None, metavar="ADDRESS",
-                       help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (install the dask extra)")
-    where.add_argument("--dask-local", type=int, default=None, metavar="N",
-                       help="start a local Dask cluster of N worker processes")
-    study.add_argument("--dask-timeout", type=float, default=10.0, metavar="S",
-                       help="seconds to wait for the Dask scheduler (default 10)")
+    _add_executor_arguments(study, "local worker processes (default: every core)")
     study.add_argument("--out", default=None, metavar="DIR", help="study folder; default: studies/<study file name>")
     study.add_argument("--retry-failed", action="store_true", help="run again the runs recorded as failed")
     study.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -242,8 +234,21 @@ def _add_study(subparsers) -> None:
     report.set_defaults(func=_study_report)
 
 
-def _study(args) -> int:
-    from .study import dask_executor, load_study, run_study
+def _add_executor_arguments(parser, workers_help: str) -> None:
+    """Where a study's or a fit's runs execute: local processes, an existing Dask cluster or a local one."""
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N", help=workers_help)
+    where.add_argument("--dask-scheduler", default=None, metavar="ADDRESS",
+                       help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (install the dask extra)")
+    where.add_argument("--dask-local", type=int, default=None, metavar="N",
+                       help="start a local Dask cluster of N worker processes")
+    parser.add_argument("--dask-timeout", type=float, default=10.0, metavar="S",
+                        help="seconds to wait for the Dask scheduler (default 10)")
+
+
+def _executor(args):
+    """The checked executor options: (executor or None for the local pool, its closing function or None)."""
+    from .study import dask_executor
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers = {args.workers}: must be >= 1")
@@ -251,11 +256,17 @@ def _study(args) -> int:
         raise InputError(f"--dask-local = {args.dask_local}: must be >= 1")
     if not args.dask_timeout > 0:
         raise InputError(f"--dask-timeout = {args.dask_timeout}: must be > 0 (s)")
+    if args.dask_scheduler is None and args.dask_local is None:
+        return None, None
+    return dask_executor(args.dask_scheduler, args.dask_local, args.dask_timeout)
+
+
+def _study(args) -> int:
+    from .study import load_study, run_study
+
     spec = load_study(args.study_file)
     out = Path(args.out) if args.out else Path("studies") / Path(args.study_file).stem
-    executor, close = None, None
-    if args.dask_scheduler is not None or args.dask_local is not None:
-        executor, close = dask_executor(args.dask_scheduler, args.dask_local, args.dask_timeout)
+    executor, close = _executor(args)
     try:
         counts = run_study(spec, out, executor, args.workers, progress=not args.no_progress,
                            retry_failed=args.retry_failed)
@@ -329,26 +340,17 @@ def _add_fit(subparsers) -> None:
                     "fit_report.md, targets.png and calibrated.toml.")
     fit.add_argument("fit_file", metavar="FIT", help="fit file (TOML), see docs/fit-format.md")
     fit.add_argument("--out", default=None, metavar="DIR", help="fit folder; default: fits/<fit file name>")
-    where = fit.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help="local worker processes (default: one per free key plus one, at most every core)")
-    where.add_argument("--dask-scheduler", default=None, metavar="ADDRESS", help="an existing Dask cluster")
-    where.add_argument("--dask-local", type=int, default=None, metavar="N", help="a local Dask cluster of N workers")
+    _add_executor_arguments(fit, "local worker processes (default: one per free key plus one, at most every core)")
     fit.set_defaults(func=_fit)
 
 
 def _fit(args) -> int:
     from .fit import load_fit, run_fit
     from .fit.report import write_report
-    from .study import dask_executor
 
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers = {args.workers}: must be >= 1")
     spec = load_fit(args.fit_file)
     out = Path(args.out) if args.out else Path("fits") / Path(args.fit_file).stem
-    executor, close = None, None
-    if args.dask_scheduler is not None or args.dask_local is not None:
-        executor, close = dask_executor(args.dask_scheduler, args.dask_local)
+    executor, close = _executor(args)
     try:
         result = run_fit(spec, out, executor, args.workers)
     except KeyboardInterrupt:

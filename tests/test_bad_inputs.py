@@ -89,6 +89,8 @@ BATTERY = [
     # fit
     ("fit: free key without bounds", lambda t: ["fit", *_fit(t, free="initial = 0.5")],
      "free.parachute.aerodynamics.axial_coefficient.low: required but missing"),
+    ("fit: a local Dask cluster of no workers", lambda t: ["fit", *_fit(t), "--dask-local", "0"],
+     "--dask-local = 0: must be >= 1"),
     ("fit: bounds reversed", lambda t: ["fit", *_fit(t, free="low = 0.7\nhigh = 0.3")],
      "free.parachute.aerodynamics.axial_coefficient.high = 0.3: must be > low (0.7)"),
     ("fit: target column not in the data", lambda t: ["fit", *_fit(t, target='history = "data.csv"\ncolumn = "nope"\n'

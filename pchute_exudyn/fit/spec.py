@@ -123,7 +123,7 @@ def load_fit(path) -> FitSpec:
     if not case_path.is_file():
         raise f.error("case", f"case file not found: {case_path}", f.data["case"])
     configuration = _read_configuration(f, single_step=True)[0]
-    case = load_case(case_path)
+    load_case(case_path)   # the base case must load before its keys are checked
     free_tables = top.named_tables("free")
     if not free_tables:
         raise top.error("free", "a fit needs at least one free key: [free.\"<key>\"] with low and high")
@@ -133,7 +133,6 @@ def load_fit(path) -> FitSpec:
         raise top.error("targets", "a fit needs at least one [[targets]] table (event, final or history)")
     targets = tuple(_read_target(_Table(t, ("targets", i), ctx), path.parent) for i, t in enumerate(raw_targets))
     top.finish()
-    del case
     return FitSpec(name, path, case_path, configuration, free, targets, path.read_text())
 
 
