@@ -225,3 +225,40 @@ def test_a_machine_without_compiled_kernels_runs_their_python_form_and_compiles_
     assert not list((tmp_path / "cache").glob("*.compiling"))   # the compiler removed its lock
     for key, value in first["final"].items():
         assert second["final"][key] == pytest.approx(value, rel=1e-12, abs=1e-12)
+
+
+def _columns(case, **options) -> dict:
+    return pc.simulate(case, "sp", "rk4", 1e-2, **options).columns
+
+
+@pytest.mark.parametrize("case_path, options", [
+    (ROOT / "cases" / "cev_pa1.toml", {"preset": "thesis", "order": 0}),   # two deployments, touchdown
+    (MER / "case4.toml", {"preset": "thesis", "duration": 6.0}),            # slack phases: C_c > 0, re-solves
+    (MER / "case1.toml", {"preset": "accurate", "duration": 6.0}),          # order 1
+])
+def test_deferring_the_end_of_step_work_to_the_next_stage_changes_nothing(monkeypatch, case_path, options):
+    """The end-of-step solve done at the next step's first stage (the default) against the same work done in the
+    post-step call: every output column bitwise equal, touchdown and phase changes included."""
+    from pchute_exudyn.engine.sp import SPConfluence
+
+    case = pc.load_case(case_path)
+    deferred = _columns(case, **options)
+    monkeypatch.setattr(SPConfluence, "DEFER", False)
+    eager = _columns(case, **options)
+    assert deferred.keys() == eager.keys()
+    for name in eager:
+        assert np.array_equal(np.asarray(deferred[name]), np.asarray(eager[name]), equal_nan=True), name
+
+
+@pytest.mark.parametrize("method", ["sp", "equilibrium"])
+def test_channels_sampled_together_equal_the_channels_read_one_by_one(monkeypatch, method):
+    """The sampled channel groups (the stage's body rows, the SP record) against every channel's own reader."""
+    from pchute_exudyn.engine.model import Model
+
+    case = pc.load_case(ROOT / "cases" / "cev_pa1.toml")
+    grouped = pc.simulate(case, method, "rk4", 1e-2, 12.0).columns
+    monkeypatch.setattr(Model, "add_channel_group", lambda self, keys, reader, split: None)
+    single = pc.simulate(case, method, "rk4", 1e-2, 12.0).columns
+    assert grouped.keys() == single.keys()
+    for name in single:
+        assert np.array_equal(np.asarray(grouped[name]), np.asarray(single[name]), equal_nan=True), name

@@ -159,8 +159,10 @@ def installed_megabytes() -> float:
 
 CATEGORIES = [  # (label, function names as py-spy reports them; the first listed category of a stack wins)
     ("engine reads of the state", ("Stage.refresh", "BodySnapshot.refresh", "GetMarkerOutput", "GetNodeOutput")),
-    ("SP kernel and its glue", ("SPConfluence.stage_solve", "SPConfluence.advance", "SPConfluence.compute",
-                                "confluence_velocity", "ReducedConfluence.solve", "ReducedConfluence._rhs")),
+    ("SP kernel and its glue", ("SPConfluence.stage_solve", "SPConfluence.stage_solve_with_bodies",
+                                "SPConfluence.advance", "SPConfluence.settle", "SPConfluence._settled",
+                                "SPConfluence.sample", "SPConfluence.compute", "confluence_velocity",
+                                "ReducedConfluence.solve", "ReducedConfluence._rhs")),
     ("aerodynamics (Python physics: altitude, density, force)", ("BodyAerodynamics.force", "aerodynamic_load")),
     ("stage force item: kinematics kernels, sums (Python side)", ("Stage.force",)),
     ("post-step: outputs, v0 update", ("post_step",)),

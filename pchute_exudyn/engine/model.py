@@ -62,6 +62,9 @@ class Confluence:
     def warm_up(self) -> None:
         """Work to do before the timed solve (a reduced confluence solves at the start state)."""
 
+    def finish(self) -> None:
+        """Work left after the solve (a reduced confluence's deferred end-of-step work)."""
+
 
 class Model:
     """A built Exudyn model of one phase of a run (see the module docstring).
@@ -84,6 +87,7 @@ class Model:
         self.bodies: dict = {}
         self.confluences: dict = {}
         self.channels: dict = {}
+        self.channel_groups: list = []    # (keys, reader, split): channels sampled together by one call
         self.pre_step_hooks: list = []    # (mbs, t) before every step
         self.post_step_hooks: list = []   # (mbs, t) after every step and once at the start
         self.stop_conditions: list = []   # (t) -> True ends the run after this step
@@ -99,6 +103,12 @@ class Model:
     def add_channel(self, key, reader: Reader) -> None:
         """Register an output channel (a ``state`` channel key) and its reader."""
         self.channels[key] = reader
+
+    def add_channel_group(self, keys, reader: Reader, split) -> None:
+        """Sample the channels ``keys`` (each also added alone) with one call of ``reader`` per sample instead of
+        one call per channel; ``split`` turns the list of its samples into one array per key, in order, equal to
+        what each channel's own reader would have given."""
+        self.channel_groups.append((tuple(keys), reader, split))
 
     def add_pre_step(self, hook) -> None:
         self.pre_step_hooks.append(hook)
@@ -136,6 +146,11 @@ class Model:
             self.stage.warm_up()
         for confluence in self.confluences.values():
             confluence.warm_up()
+
+    def finish(self) -> None:
+        """After the solve, before the samples are read: each confluence's work left over."""
+        for confluence in self.confluences.values():
+            confluence.finish()
 
     # -- reading ----------------------------------------------------------------------------------------------------
 

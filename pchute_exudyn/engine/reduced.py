@@ -41,6 +41,8 @@ class ReducedConfluence(Confluence):
     confluence)). A subclass with a compiled stage kernel overrides ``solve_stage`` instead of ``compute``."""
 
     OUTPUTS: dict = {}
+    PRE_STEP = True
+    """Whether the confluence needs the solver's pre-step call (``new_step``)."""
 
     def __init__(self, model: Model, case: Case, system: ParachuteSystem, initial_states: list):
         """``initial_states``: the confluence's own coordinates at the phase start (empty: none)."""
@@ -71,7 +73,8 @@ class ReducedConfluence(Confluence):
 
     def register(self, case: Case) -> None:
         """Hook this confluence into the solver's per-step work and the model's channels."""
-        self.model.add_pre_step(self.new_step)
+        if self.PRE_STEP:
+            self.model.add_pre_step(self.new_step)
         self.model.add_post_step(self.advance, first=True)
         self.model.confluences[self.system.name] = self
         self.add_channels(case)

@@ -122,7 +122,7 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
     the first step on or past each output time (within half a step; Exudyn's own sensor clock anchors each write
     to the last one and drifts off the grid: seen 55.4102 s for 55.41 s at 2e-4 s). Returns the hook and the
     sample times and rows it fills."""
-    reads = list(model.channels.values())
+    reads = [reader for _, reader in _sampled_channels(model)[0]] + [group[1] for group in model.channel_groups]
     rows: list = []
     times: list = []
     start = progress["time"]
@@ -211,6 +211,21 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
     return wall
 
 
+def _sampled_channels(model: Model) -> tuple[list, list]:
+    """The (key, reader) pairs of the channels sampled one by one, and the model's channel groups."""
+    grouped = {key for keys, _, _ in model.channel_groups for key in keys}
+    return [(key, reader) for key, reader in model.channels.items() if key not in grouped], model.channel_groups
+
+
+def _samples(model: Model, rows: list) -> dict:
+    """``{channel key: its samples}`` from the sampled rows: the single channels' values, then each group's."""
+    single, groups = _sampled_channels(model)
+    samples = {key: [row[i] for row in rows] for i, (key, _) in enumerate(single)}
+    for j, (keys, _, split) in enumerate(groups, start=len(single)):
+        samples.update(zip(keys, split([row[j] for row in rows])))
+    return samples
+
+
 def integrate(model: Model, integrator: str, step: float, duration: float, output_step: float,
               spectral_radius: float = 0.9, start: float = 0.0, report=None, solution_file=None) -> RawHistory:
     """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
@@ -242,7 +257,8 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
         raise SimulationError(
             f"the state became NaN or infinite near t = {progress['bad']:.4f} s with the {integrator} integrator "
             f"at step {step:g} s: try a smaller step", progress["bad"])
-    samples = {key: [row[i] for row in rows] for i, key in enumerate(model.channels)}
+    model.finish()
+    samples = _samples(model, rows)
     times = [grid_time(t, start, step, output_step) for t in times]
     raw = RawHistory.from_samples(times, samples, progress["steps"], wall)
     raw.stopped_at = progress["stopped"]
@@ -276,9 +292,9 @@ def _user_error(failure: Exception, time: float) -> Exception:
 
 def versions() -> dict:
     """Versions of this package and the libraries the numbers depend on (for result files)."""
-    import numba
+    from importlib.metadata import version  # not numba itself: a run with the Python kernels never imports it
 
     from .._version import __version__
     return {"pchute_exudyn": __version__, "exudyn": exu.__version__, "numpy": np.__version__,
-            "numba": numba.__version__, "kernels": "compiled" if COMPILED else "python",
+            "numba": version("numba"), "kernels": "compiled" if COMPILED else "python",
             "python": sys.version.split()[0], "platform": platform.platform()}

@@ -136,23 +136,30 @@ class Stage:
             self.refreshed = key
             self.rows = self.states.tolist()   # the body channels' values, as lists
 
+    def refreshed_now(self, t: float) -> None:
+        """Record that the states were just filled at the engine's current state (time ``t`` in s) by a kernel of
+        the fused confluence (``refresh`` then reads nothing more in this post-step call)."""
+        self.refreshed = (t, self.model.post_step_count[0])
+        self.rows = self.states.tolist()
+
     def force(self, mbs, t, item, q, q_t):
         """The force user function: aerodynamic loads at this stage's state plus every confluence's part."""
         try:
             generalized = self.generalized
-            if self.fused is not None:   # one SP confluence: the body kinematics and its solve in one kernel call
-                self.fused.stage_solve_with_bodies(t, np.array(q), np.array(q_t), self.layout, self.states)
+            if self.fused is not None:   # one SP confluence: the body kinematics, its solve and its forces in one call
+                self.fused.stage_solve_with_bodies(t, np.array(q), np.array(q_t), self.layout, self.states,
+                                                   generalized)
             else:
                 body_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
                 for confluence in self.confluences:
                     confluence.stage_solve(t)
-            parts = self.parts
-            if parts:
-                np.copyto(generalized, parts[0])
-                for part in parts[1:]:
-                    generalized += part
-            else:
-                generalized.fill(0.0)
+                parts = self.parts
+                if parts:
+                    np.copyto(generalized, parts[0])
+                    for part in parts[1:]:
+                        generalized += part
+                else:
+                    generalized.fill(0.0)
             if self.aerodynamics:
                 motion, forces, states = self.aero_motion, self.aero_forces, self.states
                 point_motions(states, self.aero_points, motion)
@@ -165,13 +172,35 @@ class Stage:
             self.model.record_failure(exc)
             raise
 
+    def settled_rows(self) -> list:
+        """The states at the end of the last step, as lists (a fused confluence may owe its end-of-step work:
+        ``engine.sp.SPConfluence``)."""
+        if self.fused is not None:
+            self.fused.settle()
+        return self.rows
+
+    def sample(self) -> list:
+        """The body channels' sample: a list holding an array that starts with the states, flattened (a fused
+        confluence's sample, which may be a slot its deferred end-of-step work fills)."""
+        if self.fused is not None:
+            return self.fused.sample()
+        return [self.states.ravel().copy()]
+
     def serve_channels(self) -> None:
         """Serve the free bodies' output channels from the stage states (a reduced model's confluences refresh
-        them at the end of every step, before the outputs are sampled)."""
-        model = self.model
+        them at the end of every step, before the outputs are sampled); sampled together, as the rows."""
+        model, keys, columns = self.model, [], []
         for name in self.free:
             r = self.row[name]
-            model.add_channel(BodyChannel(name, "position"), lambda r=r: self.rows[r][0:3])
-            model.add_channel(BodyChannel(name, "velocity"), lambda r=r: self.rows[r][12:15])
-            model.add_channel(BodyChannel(name, "rotation"), lambda r=r: self.rows[r][3:12])
-            model.add_channel(BodyChannel(name, "angular_velocity"), lambda r=r: self.rows[r][18:21])
+            for quantity, start, stop in (("position", 0, 3), ("velocity", 12, 15), ("rotation", 3, 12),
+                                          ("angular_velocity", 18, 21)):
+                model.add_channel(BodyChannel(name, quantity),
+                                  lambda r=r, a=start, b=stop: self.settled_rows()[r][a:b])
+                keys.append(BodyChannel(name, quantity))
+                columns.append((r, start, stop))
+
+        def split(samples):
+            size = self.states.size
+            table = np.array([sample[0][:size] for sample in samples], float).reshape(-1, *self.states.shape)
+            return [table[:, r, start:stop] for r, start, stop in columns]
+        model.add_channel_group(keys, self.sample, split)

@@ -363,9 +363,11 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
                       [tuple(d) for d in directions.tolist()])
 
 
-STAGE_COLUMNS = 20
+STAGE_COLUMNS = 21
 """Columns of ``sp_stage``'s per-line work array: tension (N), n (3), taut (1 or 0), attach position (3, m) and
-velocity (3, m/s), the force on the body -T n (3, N), and the solve's scratch (6)."""
+velocity (3, m/s), the force on the body -T n (3, N), the solve's scratch (6), and the tension of the last
+end-of-step solve (N, column END_TENSION: ``sp_end_of_step``; a later stage's solve leaves it)."""
+END_TENSION = 20
 
 
 @kernel
@@ -459,14 +461,16 @@ def rk4_update(memory, h):
 
 
 @kernel
-def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, start_time):
+def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, start_time, record):
     """The SP work after a step of ``h`` (s) ending at ``t`` (s): the RK4 update when the step ``completed`` its
     four stages, the solve at the end-of-step state (its velocity is the next step's k_1), then v0 for the next step
     (after ``start_time``, the phase start: before it the case's initial velocity stands) and, for order 1, the
-    velocity recorded for the backward difference. Returns ``sp_rk_stage``'s (vx, vy, vz, C_c, kappa, taut)."""
+    velocity recorded for the backward difference; the outputs into ``record`` (``_record``). Returns
+    ``sp_rk_stage``'s (vx, vy, vz, C_c, kappa, taut)."""
     if completed:
         rk4_update(memory, h)
     vx, vy, vz, c_c, kappa, taut = sp_rk_stage(states, layout, tables, work, part, memory, t, 0, 0.0)
+    work[:, END_TENSION] = work[:, 0]
     if t > start_time:
         memory[5, 0], memory[5, 1], memory[5, 2] = vx, vy, vz
     count = int(memory[7, 2])
@@ -477,14 +481,75 @@ def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, 
         memory[9, 0] = t
         memory[10, 0], memory[10, 1], memory[10, 2] = vx, vy, vz
         memory[7, 2] = min(count + 1, 2)
+    _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record)
     return vx, vy, vz, c_c, kappa, taut
 
 
+def record_size(states, lines: int) -> int:
+    """Length of an SP confluence's end-of-step record (``_record``) for ``states`` and ``lines`` lines."""
+    return states.size + 9 + lines
+
+
 @kernel
-def sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index, h, solve):
-    """``kinematics.body_states`` from the stage's node coordinates, then (when ``solve``) ``sp_rk_stage``: a model
-    with one SP confluence does a stage's kernel work in one call. Returns nothing (the stage velocity goes to
-    memory row index + 1)."""
+def _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record):
+    """An SP confluence's outputs at the end of a step, as one array: the stage's body states (rows of
+    ``kinematics.STATE_COLUMNS``, flattened), the confluence position (3, m), the end-of-step solve's (vx, vy, vz,
+    C_c, kappa, taut), and the end-of-step tensions (one per line, N)."""
+    k = 0
+    for row in range(states.shape[0]):
+        for column in range(states.shape[1]):
+            record[k] = states[row, column]
+            k += 1
+    for i in range(3):
+        record[k + i] = memory[0, i]
+    record[k + 3], record[k + 4], record[k + 5] = vx, vy, vz
+    record[k + 6], record[k + 7], record[k + 8] = c_c, kappa, taut
+    for i in range(work.shape[0]):
+        record[k + 9 + i] = work[i, END_TENSION]
+
+
+@kernel
+def sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index, h, solve,
+                            generalized):
+    """``kinematics.body_states`` from the stage's node coordinates, then (when ``solve``) ``sp_rk_stage``, and the
+    lines' generalized forces (``part``, from this solve or the last) copied into ``generalized``: a model with one
+    SP confluence does a stage's kernel work in one call. Returns nothing (the stage velocity goes to memory row
+    index + 1)."""
     body_states(q, q_t, bodies, states)
     if solve:
         sp_rk_stage(states, layout, tables, work, part, memory, t, index, h)
+    generalized[:] = part
+
+
+@kernel
+def holds_after_v0_update(damping, taut_count):
+    """Whether an end-of-step solve that returned C_c = ``damping`` (N s/m) with ``taut_count`` lines taut is also
+    the next step's first-stage solve: v0 enters Eq. 3.10 only through C_c (and the all-slack case), so without
+    them the v0 update between the two does not change it (order 1's reference velocity is the same for both calls:
+    see ``sp_rk_stage``)."""
+    return damping == 0.0 and taut_count > 0
+
+
+@kernel
+def sp_end_of_step_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, h, completed,
+                               start_time, record):
+    """``kinematics.body_states`` from the end-of-step node coordinates, then ``sp_end_of_step``: a model with one
+    SP confluence does its post-step kernel work in one call. Returns ``sp_end_of_step``'s tuple."""
+    body_states(q, q_t, bodies, states)
+    return sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, start_time, record)
+
+
+@kernel
+def sp_first_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t_end, h, completed,
+                               start_time, record, t, generalized):
+    """The end-of-step work of the step that ended at ``t_end`` (s), done at the next step's first RK stage (time
+    ``t``, s; the same state): ``sp_end_of_step_with_bodies``, then that stage's solve with the updated v0 unless
+    the end-of-step solve holds for it (``holds_after_v0_update``). The same arithmetic, in the same order, as the
+    two calls it replaces; the lines' generalized forces into ``generalized`` as ``sp_rk_stage_with_bodies``.
+    Returns ``sp_end_of_step``'s tuple."""
+    end = sp_end_of_step_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t_end, h,
+                                     completed, start_time, record)
+    if not holds_after_v0_update(end[3], end[5]):
+        sp_rk_stage(states, layout, tables, work, part, memory, t, 0, h)
+    generalized[:] = part
+    return end
