@@ -78,7 +78,8 @@ def main(argv=None) -> None:
     v = versions()
     lines = [f"# Study speed-up: {args.runs}-run SP Monte Carlo (MER case 1, SP RK4 1e-2 s, {args.duration:g} s each)",
              "",
-             f"`python validation/benchmark_study.py` (one process, worker counts one after the other; fastest of "
+             f"`python validation/benchmark_study.py{' --dask' if args.dask else ''}` (one process, worker counts one "
+             "after the other; fastest of "
              f"{args.repeat}). {os.cpu_count()} cores. Exudyn {v['exudyn']}, pchute-exudyn {v['pchute_exudyn']}, "
              f"Python {v['python']}, {v['platform']}.", "",
              "| executor | study wall time (s) | sum of run wall times (s) | speed-up over 1 worker |",

@@ -101,9 +101,18 @@ def pa1_lines() -> list:
             f"{medians.group(1)}x | {medians.group(2)}x | {single['equilibrium 1e-2']} (single run) | "
             "2.25x (80.57 vs 35.80 s) |",f"full-mass RK4 run is {min(order1):.1f}-{max(order1):.1f}x for order 1 and {min(order0):.1f}-"
             f"{max(order0):.1f}x for order 0 over the committed run's three rounds",
-            f"(medians {medians.group(1)}x and {medians.group(2)}x): " + (
-                "every round clears the step ratio of 20." if min(order1) >= 20.0 else
-                "short of the step ratio of 20 (5e-4 s against 1e-2 s) in every round; the SP section says why.")]
+            f"(medians {medians.group(1)}x and {medians.group(2)}x): " + _against_step_ratio(order1 + order0)]
+
+
+def _against_step_ratio(ratios: list) -> str:
+    """How PA1's measured speed-ups stand against the ratio of the steps (5e-4 s against 1e-2 s)."""
+    clear = sum(r >= 20.0 for r in ratios)
+    if clear == len(ratios):
+        return "every round clears the step ratio of 20 (5e-4 s against 1e-2 s)."
+    if clear == 0:
+        return "short of the step ratio of 20 (5e-4 s against 1e-2 s) in every round; the SP section says why."
+    return (f"{clear} of {len(ratios)} round results clear the step ratio of 20 (5e-4 s against 1e-2 s), the rest "
+            "fall short by the machine's noise.")
 
 
 def study_lines() -> list:
