@@ -188,7 +188,7 @@ class Stage:
 
     def serve_channels(self) -> None:
         """Serve the free bodies' output channels from the stage states (a reduced model's confluences refresh
-        them at the end of every step, before the outputs are sampled); sampled together, as the rows."""
+        them at the end of every step, before the outputs are sampled), sampled together as one array (``sample``)."""
         model, keys, columns = self.model, [], []
         for name in self.free:
             r = self.row[name]
