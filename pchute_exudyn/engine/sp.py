@@ -19,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
-from ..physics.compiled import machine_code
+from ..physics.compiled import machine_code, python_form
 from ..physics.lines import pack_tables
 from ..physics.singular_perturbation import (
     END_TENSION,
@@ -37,6 +37,8 @@ from ..state import ConfluenceChannel, ConfluenceState, MethodChannel, Phase, Te
 from .bodies import add_bodies
 from .model import Model
 from .reduced import ReducedConfluence, step_size
+
+_holds_after_v0_update = python_form(holds_after_v0_update)   # checked from Python once a step
 
 
 class StageSolution(NamedTuple):
@@ -150,7 +152,7 @@ class SPConfluence(ReducedConfluence):
             self.step_size = step_size(self.model, 2.0 * (t - self.step_start))
         if index == 0:
             end = self.end_of_step
-            return not holds_after_v0_update(end[3], end[5])
+            return not _holds_after_v0_update(end[3], end[5])
         return index < 4
 
     def advance(self, mbs, t):

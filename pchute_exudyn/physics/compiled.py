@@ -44,3 +44,9 @@ def machine_code(function, *arguments):
 
     return function.compile(tuple(numba.typeof(argument) for argument in arguments))
 
+
+def python_form(function):
+    """Kernel ``function`` as the Python it is written in: for a check made from Python, where calling tiny
+    compiled code costs more than the arithmetic it saves."""
+    return getattr(function, "py_func", function)
+
