@@ -46,6 +46,9 @@ class Run:
         result = Result.load(folder)
         tensions = {line["tension"]: result.columns.get(line["tension"], np.full(len(time), np.nan))
                     for system in description["systems"].values() for line in system["lines"]}
+        for body in description["bodies"].values():   # a cluster canopy's envelope grows with its opening
+            if "envelope" in body:
+                body["envelope"]["values"] = result.columns.get(body["envelope"]["fraction"])
         summary = result.summary
         label = " ".join(str(summary.get(key, "")) for key in ("method", "integrator", "step")).strip()
         label = f"{summary.get('case', Path(folder).name)}: {label}"
@@ -149,7 +152,7 @@ class Animation:
             if not np.isfinite(position).all():
                 continue
             rotation = run.arrays[f"{name}/rotation"][i]
-            surface = _dome(body) if body["role"] == "canopy" else _cylinder(body)
+            surface = _dome(body, _envelope_diameter(body, i)) if body["role"] == "canopy" else _cylinder(body)
             points = surface @ rotation.T + (position - origin)
             n = int(round(np.sqrt(len(points))))
             colour = ("0.55" if body["role"] == "canopy" else "0.25") if main else COMPARE_COLOUR
@@ -266,10 +269,20 @@ def _cylinder(body: dict, count: int = 18) -> np.ndarray:
     return np.stack([X.ravel(), (R * np.cos(angle)).ravel(), (R * np.sin(angle)).ravel()], axis=1)
 
 
-def _dome(body: dict, count: int = 18) -> np.ndarray:
-    """(count^2, 3) surface points, in body axes, of a hemisphere of the body's diameter with its apex along the
-    body's ``apex`` direction, centred on the centre of mass."""
-    radius = 0.5 * body["diameter"]
+def _envelope_diameter(body: dict, i: int) -> float | None:
+    """The diameter (m) a cluster canopy's envelope has at sample ``i`` (projected diameter times sqrt(f)), or None
+    for a body drawn at its nominal diameter."""
+    envelope = body.get("envelope")
+    values = None if envelope is None else envelope.get("values")
+    if values is None or not np.isfinite(values[i]):
+        return None
+    return envelope["diameter"] * float(np.sqrt(max(values[i], 0.0)))
+
+
+def _dome(body: dict, diameter: float | None = None, count: int = 18) -> np.ndarray:
+    """(count^2, 3) surface points, in body axes, of a hemisphere of ``diameter`` (m; default the body's) with its
+    apex along the body's ``apex`` direction, centred on the centre of mass."""
+    radius = 0.5 * (body["diameter"] if diameter is None else diameter)
     apex = np.asarray(body["apex"], float)
     helper = np.array([0.0, 0.0, 1.0]) if abs(apex[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
     u = np.cross(apex, helper)

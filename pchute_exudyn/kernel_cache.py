@@ -9,6 +9,7 @@ implicit, a deployment) and then writes the marker that makes later processes im
 from __future__ import annotations
 
 import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -65,6 +66,26 @@ load_elongation = { strain = [0.0, 0.01, 0.05], tension = [0.0, 1100.0, 9000.0] 
 duration = 0.05
 output_step = 0.01
 """
+CLUSTER = """
+[systems.main]
+canopies = ["canopy", "twin"]
+[bodies.twin]
+mass = 16.0
+inertia = [250.0, 1100.0, 1100.0]
+points.riser = [31.3, 0.0, 0.0]
+initial = { altitude = 8034.4, east = 3.0 }
+[bodies.twin.aerodynamics]
+reference_area = 178.0
+axial_coefficient = 0.46
+center = [-1.5, 0.0, 0.0]
+normal_coefficient = { alpha_deg = [0.0, 90.0], value = [0.0, 0.0] }
+[systems.main.lines.twin]
+attach = "twin.riser"
+free_length = 1.83
+stiffness = 4000.0
+damping = 600.0
+"""
+"""A second canopy on the same confluence: a cluster, for the canopy-contact kernel."""
 BRIDLE = """[systems.main.lines.{name}]
 attach = "probe.{name}"
 free_length = 0.7
@@ -90,6 +111,8 @@ def compile_all() -> None:
         pc.simulate(case, "equilibrium", "rk4", 1e-2, 0.05)
         pc.simulate(case, "full", "rk4", 1e-4, 0.002)
         pc.simulate(case, "full", "implicit", 1e-2, 0.05)
+        path.write_text(CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc")) + CLUSTER)
+        pc.simulate(pc.load_case(path), "sp", "rk4", 1e-2, 0.05)
     confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [1.0], [1e4],
                         [1e2])
     target = _kernel_mode.marker()
@@ -98,6 +121,10 @@ def compile_all() -> None:
 
 
 def main() -> int:
+    if os.environ.get(_kernel_mode.VARIABLE) != "compiled":
+        # this process imported the kernels' Python form (no cache yet): compile in one that imports them compiled
+        return subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"],
+                              env={**os.environ, _kernel_mode.VARIABLE: "compiled"}).returncode
     try:
         compile_all()
     finally:

@@ -103,7 +103,8 @@ def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             arrays[f"{system.name}/{line.name}"] = positions[:, i]
             lines.append({"name": line.name, "body": line.body, "tension": f"tension_{case.line_label(system, line)}",
                           "point": list(map(float, case.bodies[line.body].points[line.point]))})
-        systems[system.name] = {"confluence": case.confluence_label(system), "canopy": system.canopy, "lines": lines}
+        systems[system.name] = {"confluence": case.confluence_label(system), "canopies": list(system.canopies),
+                                "lines": lines}
     description = {"frame": "start frame: x east, y north, z up (m)", "vehicle": case.vehicle, "bodies": bodies,
                    "systems": systems}
     return arrays, description
@@ -123,6 +124,7 @@ def check_history(case: Case, raw: RawHistory, step: float) -> None:
     for system in case.systems.values():
         if system.name not in raw.confluences:
             continue
+        system = system.with_bodies(raw.bodies)   # without the lines of canopies not in this phase
         positions, _ = attach_points(case, raw, system)
         length = np.linalg.norm(positions - raw.confluences[system.name]["position"][:, None, :], axis=-1)
         free = np.array([line.free_length for line in system.lines])

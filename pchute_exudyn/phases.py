@@ -10,20 +10,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from .case.model import Case, ParachuteSystem
-from .physics.deployment import line_stretch_placement
-from .physics.inflation import InflationProgress, nominal_diameter
+from .case.model import Case, Contact, ParachuteSystem
+from .physics.cluster import touching_spread
+from .physics.deployment import cluster_placement, line_stretch_placement
+from .physics.inflation import Inflation, InflationProgress, nominal_diameter
 from .state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
 from .summary import CutawayEvent, DeployEvent
 
 
 def boundaries(case: Case, duration: float) -> list:
-    """Phase boundary times: 0, every deployment and cut-away inside the run, and the duration (s)."""
+    """Phase boundary times: 0, every deployment and cut-away (of a system, or of one canopy) inside the run, and the
+    duration (s)."""
     times = {0.0, duration}
-    for system in case.systems.values():
-        for t in (system.deploy_time, system.cutaway_time):
-            if t is not None and 0.0 < t < duration:
-                times.add(t)
+    events = [t for system in case.systems.values() for t in (system.deploy_time, system.cutaway_time)]
+    for t in events + list(case.failures.cutaway.values()):
+        if t is not None and 0.0 < t < duration:
+            times.add(t)
     return sorted(times)
 
 
@@ -35,20 +37,46 @@ def initial_states(case: Case) -> tuple[dict, dict]:
     return bodies, confluences
 
 
-def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) -> tuple[BodyState, ConfluenceState]:
-    """Canopy and confluence states of ``system`` deployed at line stretch at ``time`` (s)."""
+def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) -> tuple[dict, ConfluenceState]:
+    """The states of ``system``'s canopies (those that leave the vehicle) and of its confluence, deployed at line
+    stretch at ``time`` (s)."""
     vehicle_name, point = system.deploy_point
     vehicle = body_states[vehicle_name]
-    riser = next(line for line in system.lines if line.body == system.canopy)
+    canopies = [canopy for canopy in system.canopies if not case.failures.absent(canopy)]
     air = case.air_motion()
     x, y, z = vehicle.position.tolist()
     altitude = float(case.start.altitude(vehicle.position))
     air_velocity = vehicle.velocity - np.array(air(x, y, z, altitude, time))
-    placement = line_stretch_placement(vehicle.position, vehicle.attitude, vehicle.velocity, vehicle.angular_velocity,
-                                       case.bodies[vehicle_name].points[point], air_velocity, riser.free_length,
-                                       case.bodies[system.canopy].points[riser.point])
-    canopy = BodyState(placement.canopy_position, placement.canopy_attitude, placement.canopy_velocity, np.zeros(3))
-    return canopy, ConfluenceState(placement.confluence_position, placement.confluence_velocity)
+    where = (vehicle.position, vehicle.attitude, vehicle.velocity, vehicle.angular_velocity,
+             case.bodies[vehicle_name].points[point], air_velocity)
+    risers = [system.risers(canopy)[0] for canopy in canopies]   # a canopy is placed by its first riser
+    if not system.cluster:
+        placement = line_stretch_placement(*where, risers[0].free_length,
+                                           case.bodies[canopies[0]].points[risers[0].point])
+        canopy = BodyState(placement.canopy_position, placement.canopy_attitude, placement.canopy_velocity,
+                           np.zeros(3))
+        return {canopies[0]: canopy}, ConfluenceState(placement.confluence_position, placement.confluence_velocity)
+    spread = system.deploy_spread if system.deploy_spread is not None else default_spread(case, system, canopies)
+    confluence, velocity, placed = cluster_placement(*where, [(riser.free_length, case.bodies[c].points[riser.point])
+                                                              for c, riser in zip(canopies, risers)], spread)
+    states = {c: BodyState(position, attitude, canopy_velocity, np.zeros(3))
+              for c, (position, attitude, canopy_velocity) in zip(canopies, placed)}
+    return states, ConfluenceState(confluence, velocity)
+
+
+def default_spread(case: Case, system: ParachuteSystem, canopies: list) -> float:
+    """The cone half-angle (rad) on which ``canopies`` of a cluster deploy when the case gives none: where their
+    envelopes, fully inflated, just touch (``physics.cluster.touching_spread``; the mean radius and reach of the
+    canopies, each reach its first riser's free length plus the distance from that riser's attach point to the
+    canopy's aerodynamic centre)."""
+    contact = system.contact or Contact()
+    radii, reaches = [], []
+    for canopy in canopies:
+        body, riser = case.bodies[canopy], system.risers(canopy)[0]
+        radii.append(contact.projected_radius(body.aerodynamics.reference_area))
+        arm = np.asarray(body.points[riser.point], float) - np.asarray(body.aerodynamics.center, float)
+        reaches.append(riser.free_length + float(np.linalg.norm(arm)))
+    return touching_spread(float(np.mean(radii)), float(np.mean(reaches)), len(canopies))
 
 
 def next_phase(case: Case, start: float, end: float, body_states: dict, confluence_states: dict) -> Phase:
@@ -58,11 +86,14 @@ def next_phase(case: Case, start: float, end: float, body_states: dict, confluen
     for system in case.systems.values():
         if system.cutaway_time is not None and system.cutaway_time == start:
             phase.events.append(CutawayEvent(start, system.name))
+    for canopy, time in case.failures.cutaway.items():
+        if time == start:
+            phase.events.append(CutawayEvent(start, case.canopy_system(canopy).name, canopy))
     for name in systems:
         system = case.systems[name]
         if system.deploy_time is not None and system.deploy_time == start:
-            canopy, confluence = deploy(case, system, body_states, start)
-            body_states = {**body_states, system.canopy: canopy}
+            canopies, confluence = deploy(case, system, body_states, start)
+            body_states = {**body_states, **canopies}
             confluence_states = {**confluence_states, name: confluence}
             phase.events.append(DeployEvent(start, name))
     phase.body_states = {name: body_states[name] for name in phase.bodies}
@@ -71,12 +102,17 @@ def next_phase(case: Case, start: float, end: float, body_states: dict, confluen
 
 
 def inflation_progress(case: Case) -> dict:
-    """A new ``InflationProgress`` for each system that opens by the fill-constant law: they live through a run's
-    phases (a later deployment or a cut-away of another system must not restart an opening)."""
-    return {name: InflationProgress(system.inflation,
-                                    nominal_diameter(case.bodies[system.canopy].aerodynamics.reference_area),
-                                    system.deploy_time or 0.0)
-            for name, system in case.systems.items() if system.inflation is not None}
+    """A new ``InflationProgress`` for each canopy that opens by the fill-constant law, keyed by (system, canopy):
+    they live through a run's phases (a later deployment or a cut-away must not restart an opening)."""
+    progress = {}
+    for name, system in case.systems.items():
+        for canopy in system.canopies:
+            opening = case.opening_of(system, canopy)
+            if isinstance(opening, Inflation) and not case.failures.absent(canopy):
+                progress[(name, canopy)] = InflationProgress(
+                    opening, nominal_diameter(case.bodies[canopy].aerodynamics.reference_area),
+                    system.deploy_time or 0.0)
+    return progress
 
 
 def initial_phase(case: Case) -> Phase:

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _kernel_mode
+from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
 from .case.method_table import METHODS, OptionError
 from .case.model import Case
 from .engine.bodies import Touchdown
@@ -193,7 +194,7 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
             break
         body_states, confluence_states = model.end_state()
     raw = concatenate(case, histories)
-    return raw, facts, events + opening_events(openings, float(raw.time[-1])), openings
+    return raw, facts, events + opening_events(case, openings, float(raw.time[-1])), openings
 
 
 def _final_values(case: Case, columns: dict) -> dict:
@@ -224,7 +225,9 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         end="touchdown" if events[-1].kind == "touchdown" else "duration", steps=raw.steps,
         wall_time=raw.wall_time, final=_final_values(case, columns), peak_tension=peaks, events=tuple(events),
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
-        method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {})
+        method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {},
+        cluster=cluster_summary(case, columns, events), pendulum=pendulum_summary(case, columns, events),
+        descent=descent_summary(case, columns))
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"
@@ -281,6 +284,9 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
     columns, units = derive_columns(case, raw)
-    summary = summarize(case, plan, raw, facts, events, columns, units, opening_loads(case, openings, columns))
+    contacts = cluster_columns(case, raw, columns, units)
+    pendulum_columns(case, raw, columns, units)
+    summary = summarize(case, plan, raw, facts, events + contacts, columns, units,
+                        opening_loads(case, openings, columns))
     return Result(columns, units, summary.to_dict(), run_summary=summary, scene=scene(case, raw),
                   attachments=attachments)

@@ -3,11 +3,14 @@
 Events, in time order in the summary (times in s from the start of the run):
 
 * ``start``: the run begins (t = 0);
-* ``deploy`` / ``cutaway``: a parachute system is placed at line stretch / leaves the model (``system``);
+* ``deploy`` / ``cutaway``: a parachute system is placed at line stretch / leaves the model (``system``); a cutaway
+  with ``canopy`` cuts that canopy of a cluster away alone (``case.model.Failures``);
 * ``stage_start`` / ``disreef``: a system with an inflation (``physics.inflation``) starts its first stage at line
   stretch / a later stage at its disreef time (``system``, ``stage`` from 1, the measured air ``speed`` in m/s and
-  the ``fill_time`` in s it gives);
-* ``fill_end``: a stage's fill ends (``system``, ``stage``);
+  the ``fill_time`` in s it gives); in a cluster each canopy opens on its own and its events name the ``canopy``;
+* ``fill_end``: a stage's fill ends (``system``, ``stage``; ``canopy`` in a cluster);
+* ``contact_start`` / ``contact_end``: two canopies of a cluster (``canopies``) begin / stop touching (their
+  envelopes overlap, ``physics.contact``); the end gives the largest ``overlap`` (m) of that contact;
 * ``descent_rate``: the vehicle's descent rate first falls through ``value`` (m/s) after the last deployment;
 * ``touchdown``: the vehicle's centre of mass reaches the ground altitude, with its ``speed``, ``vertical_speed``
   and ``horizontal_speed`` relative to the ground (m/s).
@@ -29,8 +32,14 @@ class Event:
     kind: ClassVar[str] = ""
 
     def to_dict(self) -> dict:
+        """The event as ``summary.json`` holds it (an optional field, ``OPTIONAL``, only when set)."""
         return {"event": self.kind, "time": self.time,
-                **{f.name: getattr(self, f.name) for f in fields(self) if f.name != "time"}}
+                **{f.name: getattr(self, f.name) for f in fields(self)
+                   if f.name != "time" and not (f.metadata.get("optional") and getattr(self, f.name) is None)}}
+
+
+OPTIONAL = {"optional": True}
+"""Metadata of an event field written only when it is set (a cluster's canopy)."""
 
 
 @dataclass(frozen=True)
@@ -47,6 +56,7 @@ class DeployEvent(Event):
 @dataclass(frozen=True)
 class CutawayEvent(Event):
     system: str = ""
+    canopy: str | None = field(default=None, metadata=OPTIONAL)   # one canopy of a cluster cut away alone
     kind: ClassVar[str] = "cutaway"
 
 
@@ -56,6 +66,7 @@ class StageStartEvent(Event):
     stage: int = 1
     speed: float = 0.0       # m/s, the canopy's air speed at the stage start
     fill_time: float = 0.0   # s
+    canopy: str | None = field(default=None, metadata=OPTIONAL)   # the canopy, in a cluster
     kind: ClassVar[str] = "stage_start"
 
 
@@ -68,43 +79,61 @@ class DisreefEvent(StageStartEvent):
 class FillEndEvent(Event):
     system: str = ""
     stage: int = 1
+    canopy: str | None = field(default=None, metadata=OPTIONAL)   # the canopy, in a cluster
     kind: ClassVar[str] = "fill_end"
 
 
-def opening_events(openings: dict, end: float) -> list:
-    """Stage starts, disreefs and fill ends (at or before ``end``, s) of each system's opening."""
+@dataclass(frozen=True)
+class ContactStartEvent(Event):
+    canopies: tuple = ()     # the two canopies whose envelopes begin to overlap
+    kind: ClassVar[str] = "contact_start"
+
+
+@dataclass(frozen=True)
+class ContactEndEvent(Event):
+    canopies: tuple = ()
+    overlap: float = 0.0     # m, the largest overlap of the contact (at the output step's resolution)
+    kind: ClassVar[str] = "contact_end"
+
+
+def opening_events(case, openings: dict, end: float) -> list:
+    """Stage starts, disreefs and fill ends (at or before ``end``, s) of each canopy's opening (``openings``: by
+    (system, canopy))."""
     events = []
-    for system, progress in openings.items():
+    for (system, canopy), progress in openings.items():
+        named = {"canopy": canopy} if case.systems[system].cluster else {}
         for stage, fill_end, speed, fill in progress.fill_ends():
             start = fill_end - fill
             kind = StageStartEvent if stage == 1 else DisreefEvent
-            events.append(kind(start, system, stage, speed, fill))
+            events.append(kind(start, system, stage, speed, fill, **named))
             if fill_end <= end:
-                events.append(FillEndEvent(fill_end, system, stage))
+                events.append(FillEndEvent(fill_end, system, stage, **named))
     return events
 
 
 def opening_loads(case, openings: dict, columns: dict) -> dict:
-    """Per system with an opening, per stage: its window (s: from the stage start to the next one, the cut-away or
-    the run's end) and each of the system's lines' peak tension (N) in it and when (s), from the sampled histories
-    (resolution: the output step)."""
+    """Per opening (by its label: the system, or the canopy in a cluster), per stage: its window (s: from the stage
+    start to the next one, the cut-away or the run's end) and the peak tension (N) in it and when (s) of each line
+    of the system (of the canopy's own risers, in a cluster), from the sampled histories (resolution: the output
+    step)."""
     time = columns["time"]
     loads = {}
-    for name, progress in openings.items():
+    for (name, canopy), progress in openings.items():
         system = case.systems[name]
         stages = []
-        end = float(time[-1]) + 1e-9 if system.cutaway_time is None else min(float(time[-1]) + 1e-9,
-                                                                               system.cutaway_time)
+        cut = [t for t in (system.cutaway_time, case.failures.cutaway.get(canopy)) if t is not None]
+        end = min([float(time[-1]) + 1e-9] + cut)
+        lines = system.risers(canopy) if system.cluster else system.lines
         for stage, start, stop in progress.windows(end):
             inside = (time >= start - 1e-9) & (time < stop)
             peaks = {}
-            for line in system.lines:
+            for line in lines:
                 values = columns[f"tension_{case.line_label(system, line)}"][inside]
                 if len(values) and np.isfinite(values).any():
                     k = int(np.nanargmax(values))
                     peaks[line.name] = {"tension": float(values[k]), "time": float(time[inside][k])}
             stages.append({"stage": stage, "start": start, "end": min(stop, float(time[-1])), "peaks": peaks})
-        loads[name] = stages
+        loads[case.opening_label(system, canopy)] = stages
     return loads
 
 
@@ -188,6 +217,9 @@ class RunSummary:
     method_settings: dict = field(default_factory=dict)
     method_facts: dict = field(default_factory=dict)
     opening_loads: dict = field(default_factory=dict)   # see ``opening_loads``; {} without inflations
+    cluster: dict = field(default_factory=dict)         # per cluster (``analysis.cluster_summary``); {} without
+    pendulum: dict = field(default_factory=dict)        # the vehicle's pendulum angles (``analysis``)
+    descent: dict = field(default_factory=dict)         # the vehicle's rate of descent at the end (``analysis``)
 
     @property
     def steps_per_second(self) -> float | None:
@@ -201,5 +233,8 @@ class RunSummary:
                 "steps": self.steps, "wall_time": self.wall_time,
                 "steps_per_second": self.steps_per_second, "final": self.final, "peak_tension": self.peak_tension,
                 "events": [event.to_dict() for event in self.events],
-                **({"opening_loads": self.opening_loads} if self.opening_loads else {}), "units": self.units,
+                **({"opening_loads": self.opening_loads} if self.opening_loads else {}),
+                **({"cluster": self.cluster} if self.cluster else {}),
+                **({"pendulum": self.pendulum} if self.pendulum else {}),
+                **({"descent": self.descent} if self.descent else {}), "units": self.units,
                 "versions": self.versions, "created": self.created}

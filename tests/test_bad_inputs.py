@@ -21,6 +21,9 @@ TURBULENCE = "atmosphere.turbulence."
 GUST = "atmosphere.gusts[0]."
 APPARENT = str(ROOT / "cases" / "mer" / "case1_apparent_mass.toml")
 MAIN_INFLATION = "systems.main.inflation."
+CLUSTER = str(ROOT / "cases" / "cev_pa1_cluster.toml")
+EXTRA_LINE = ["--set", "main.lines.extra.free_length=12", "--set", "main.lines.extra.stiffness=1e5", "--set",
+              "main.lines.extra.damping=1e3"]
 RISER_TABLE = "systems.main.lines.riser.load_elongation."
 GOOD_CSV = "time,tension_riser,vehicle_altitude\n0,1,100\n1,2,99\n2,3,98\n"
 STUDY = """[study]
@@ -173,6 +176,42 @@ BATTERY = [
                                           MAIN_INFLATION + "fill_constant=[2.0]", "--set",
                                           MAIN_INFLATION + "exponent=[2.0]"],
      "a drag_area_schedule or an inflation, not both"),
+    # clusters and failures (docs/models/cluster.md)
+    ("canopy without a riser", lambda t: ["run", CLUSTER, "--set", "main.lines.riser3.attach=\"main2.riser\""],
+     "systems.main.canopies = ['main1', 'main2', 'main3']: canopy 'main3' has no riser"),
+    ("riser to another system's confluence", lambda t: ["run", CLUSTER, "--set",
+                                                         "main.lines.extra.attach=\"drogue1.riser\"", *EXTRA_LINE],
+     "systems.main.lines.extra.attach = 'drogue1.riser': runs to canopy 'drogue1' of system 'drogue'"),
+    ("zero contact stiffness", lambda t: ["run", CLUSTER, "--set", "main.contact.stiffness=0"],
+     "systems.main.contact.stiffness = 0: must be > 0 (N/m)"),
+    ("negative contact stiffness", lambda t: ["run", CLUSTER, "--set", "main.contact.stiffness=-1e4"],
+     "systems.main.contact.stiffness = -10000.0: must be > 0 (N/m)"),
+    ("failed canopy also cut away", lambda t: ["run", CLUSTER, "--set", "failures.not_inflated=main2", "--set",
+                                               "failures.cutaway.main2=30"],
+     "failures.cutaway.main2 = 30: canopy 'main2' never inflates (failures.not_inflated)"),
+    ("unknown canopy that fails", lambda t: ["run", CLUSTER, "--set", "failures.not_inflated=main9"],
+     "failures.not_inflated = 'main9': unknown canopy 'main9'; the canopies are: drogue1, drogue2, main1"),
+    ("unknown canopy cut away", lambda t: ["run", CLUSTER, "--set", "failures.cutaway.capsule=30"],
+     "failures.cutaway.capsule = 30: unknown canopy 'capsule'"),
+    ("unknown canopy skipping a stage", lambda t: ["run", CLUSTER, "--set", "failures.skipped_stages.mian1=2"],
+     "failures.skipped_stages.mian1 = 2: unknown canopy 'mian1'"),
+    ("skipping the full stage", lambda t: ["run", CLUSTER, "--set", "failures.skipped_stages.main1=3"],
+     "failures.skipped_stages.main1 = [3]: each must be a reefed stage, 1 to 2"),
+    ("cutter delay out of order", lambda t: ["run", CLUSTER, "--set", "failures.disreef_delay.main1=[9.0, 0.0]"],
+     "failures.disreef_delay.main1 = [9.0, 0.0]: moves the disreefs out of order"),
+    ("cut away after the run", lambda t: ["run", CLUSTER, "--set", "failures.cutaway.main1=500"],
+     "failures.cutaway.main1 = 500.0: must be before 200 s"),
+    ("cut away before deployment", lambda t: ["run", CLUSTER, "--set", "failures.cutaway.main1=5"],
+     "failures.cutaway.main1 = 5: must be > 9.5 (s)"),
+    ("cluster keys on one canopy", lambda t: ["run", PA1, "--set", "main.contact.stiffness=1e4"],
+     "systems.main.contact: needs a cluster"),
+    ("drag efficiency above 1", lambda t: ["run", CLUSTER, "--set", "main.cluster.drag_efficiency=[1.0, 1.2]"],
+     "systems.main.cluster.drag_efficiency = [1.0, 1.2]: each must be within (0, 1]"),
+    ("study draws an unknown canopy", lambda t: ["study", _file(t, "s.toml", STUDY.format(case=CLUSTER, extra="seed = 1")
+                                                                + '[parameters."failures.not_inflated"]\n'
+                                                                  'distribution = "choice"\n'
+                                                                  'values = ["main1", "main4"]\n')],
+     "parameters.\"failures.not_inflated\": does not apply to case cev_pa1_cluster.toml: unknown canopy 'main4'"),
     # run: the case file, the command line and overrides
     ("missing case file", lambda t: ["run", str(t / "nope.toml")], "case file not found"),
     ("malformed TOML", lambda t: ["run", _file(t, "bad.toml", "[case\nname = 1")], "malformed TOML"),

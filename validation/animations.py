@@ -1,9 +1,11 @@
-"""The committed animations: MER case 3 with SP, and PA1 with the full-mass model and SP drawn over it.
+"""The committed animations: MER case 3 with SP, PA1 with the full-mass model and SP drawn over it, and PA1 with its
+clusters as separate bodies (SP; each canopy drawn as its envelope, growing as it opens).
 
 Run:  python validation/animations.py
 
 Runs each case (result folders in a temporary directory), animates it with `pchute animate`'s code and writes into
-validation/output/animations/: ``mer_case3_sp.gif``, ``pa1_full_and_sp.gif``, two still frames of each
+validation/output/animations/: ``mer_case3_sp.gif``, ``pa1_full_and_sp.gif``, ``pa1_cluster_sp.gif``, two still
+frames of each
 (``*_frame_<t>s.png``, for the README) and ``frames.md``, which lists what the frames can be checked against: at
 three times the bodies' attitudes (their body x axes in east/north/up, from the scene the animation draws, against
 the same axes rebuilt from the result's yaw/pitch/roll columns), each line's tension and whether it is drawn slack.
@@ -30,6 +32,7 @@ CLIPS = [  # name, case, runs (method, integrator, step), window (s), speed, sti
     ("mer_case3_sp", "cases/mer/case3.toml", [("sp", "rk4", 1e-2)], (0.0, 12.0), 1.0, (1.5, 10.0)),
     ("pa1_full_and_sp", "cases/cev_pa1.toml", [("full", "rk4", 5e-4), ("sp", "rk4", 1e-2)], (0.0, 40.0), 4.0,
      (6.0, 30.0)),
+    ("pa1_cluster_sp", "cases/cev_pa1_cluster.toml", [("sp", "rk4", 1e-2)], (3.0, 40.0), 4.0, (12.0, 30.0)),
 ]
 
 

@@ -10,7 +10,9 @@ Each figure comes from the output of the script named beside it in the README, w
 `validation/cev_pa1.py` (cev_pa1/pa1.md), `validation/benchmark_study.py` (benchmark_study.md),
 `validation/run_studies.py` (studies/step_method/report/errors.csv, studies/pa1_footprint/report/footprint.json),
 `validation/canopy_checks.py`
-(canopy/closed_forms.json), `validation/canopy_effects.py` (canopy/effects.md); the test count
+(canopy/closed_forms.json), `validation/canopy_effects.py` (canopy/effects.md), `validation/cluster_checks.py`
+(cluster/closed_forms.md), `validation/cev_pa1_cluster.py` (cluster/pa1_cluster.md), `validation/cluster_study.py`
+(cluster/study_executors.md, studies/pa1_cluster/report/percentiles.json); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
 the check (tests/test_architecture.py), so a README that disagrees with the committed outputs fails CI.
 """
@@ -213,11 +215,67 @@ def footprint_lines() -> list:
             f"(50 / 99 %); peak main-riser load {riser['p50'] / 1e3:.1f} / {riser['p99'] / 1e3:.1f} kN (50 / 99 %)."]
 
 
+CLOSED_FORMS = {1: "two identical canopies, mirror-symmetric start: riser tension difference / peak",
+                2: "the pair against one canopy of twice the mass and drag area: steady rate",
+                3: "the pair against sqrt(2 W / (rho C_A S)): steady rate",
+                4: "two of three canopies against three: rate ratio against sqrt(3/2) sqrt(eta3/eta2)",
+                5: "two canopies pushed together: largest overlap against v sqrt(mu / k)"}
+
+
+def cluster_lines() -> list:
+    """The cluster section: closed forms (cluster_checks.py), PA1 (cev_pa1_cluster.py), the study
+    (cluster_study.py)."""
+    import json
+
+    methods = table(OUT / "cluster" / "closed_forms.md", "")
+    cells = {m: methods[m] for m in ("SP", "full mass implicit", "equilibrium point")}
+    lines = [f"| {label} | " + " | ".join(c[column].split(" (")[-1].rstrip(")") for c in cells.values()) + " |"
+             for column, label in CLOSED_FORMS.items()]
+    path = OUT / "cluster" / "pa1_cluster.md"
+    text = path.read_text()
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")] for line in text.splitlines()
+            if line.startswith("|")]
+    runs = {cells[0]: cells for cells in rows if len(cells) == 9}      # the runs' table
+    agreement = {cells[0]: cells for cells in rows if len(cells) == 4}  # against full mass RK4
+    sp, implicit = agreement["sp 1e-2"], agreement["full implicit 1e-2"]
+    speedup = re.search(r"Median speed-up of SP over full mass RK4: ([\d.]+)x", text).group(1)
+    rates = re.search(r"([\d.]+) m/s under two mains against ([\d.]+) m/s under three, ([\d.]+) times; .*? = "
+                      r"([\d.]+) \(", text)
+    nominal, out = runs["sp 1e-2"], runs["main out: sp 1e-2"]
+    peaks = [(float(a), float(b)) for a, b in zip(nominal[4].split(" / ")[:2], out[4].split(" / ")[:2])]
+    lines += [f"| touchdown time, SP 1e-2 s - full mass RK4 5e-4 s (s) | {sp[1]} |",
+              f"| each main riser's peak, SP against full mass RK4 (%) | {sp[2]} |",
+              f"| touchdown, full mass implicit 1e-2 s - RK4 (s); riser peaks (%) | {implicit[1]}; {implicit[2]} |",
+              f"| median speed-up of SP 1e-2 s over full mass RK4 5e-4 s, 3 rounds side by side | {speedup}x |",
+              f"| rate of descent over the last 5 s, three / two mains (m/s) | {rates.group(2)} / {rates.group(1)} "
+              f"({rates.group(3)} times; sqrt(3/2) sqrt(eta3/eta2) = {rates.group(4)}) |",
+              "| main1 / main2 riser peak, three mains -> two (kN) | "
+              + " / ".join(f"{a:.1f} -> {b:.1f}" for a, b in peaks) + " |",
+              f"| mean flyout once open, three / two mains (deg) | {nominal[6].split(' / ')[0]} / "
+              f"{out[6].split(' / ')[0]} |"]
+    stats = json.loads((OUT / "studies" / "pa1_cluster" / "report" / "percentiles.json").read_text())
+    executors = table(OUT / "cluster" / "study_executors.md", "")
+    same = "identical" if "identical (every input and output column but the wall time): yes" in \
+        (OUT / "cluster" / "study_executors.md").read_text() else "DIFFERENT"
+
+    def median(name, unit="", digits=3):
+        s = stats[name]
+        return (f"{s['p50']:.{digits}g} ({s['p50_ci'][0]:.{digits}g}-{s['p50_ci'][1]:.{digits}g}) / "
+                f"{s['p99']:.{digits}g}{unit}")
+    lines.append(f"median (its 95 % bootstrap interval) / 99th percentile (two runs beyond it: indicative): peak main "
+                 f"load share {median('peak_load_share_main')}; largest main flyout {median('max_flyout_main', ' deg')};"
+                 f" capsule pendulum angle {median('pendulum_max_deg', ' deg', 2)}; rate of descent over the last 5 s "
+                 f"{median('descent_rate', ' m/s')}; touchdown speed {median('touchdown_speed', ' m/s')}. 2 worker "
+                 f"processes {float(executors['2 worker processes'][3]):.0f} s, a Dask LocalCluster of 2 workers "
+                 f"{float(executors['Dask LocalCluster, 2 workers'][3]):.0f} s, {same} run tables.")
+    return lines
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
-            *canopy_lines(), *footprint_lines()]
+            *canopy_lines(), *footprint_lines(), *cluster_lines()]
 
 
 def _key(line: str) -> str:

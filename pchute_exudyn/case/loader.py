@@ -35,6 +35,7 @@ from ..errors import CaseError
 from ..physics.aerodynamics import CoefficientTable
 from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import US76, MarsGRC, Wind
+from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
 from ..physics.inflation import Inflation, InflationError, InflationStage
 from ..physics.lines import LoadElongation, LoadElongationError
 from ..physics.planet import FlatPlanet, Planet, StartFrame
@@ -45,17 +46,20 @@ from .model import (
     Body,
     Case,
     Confluence,
+    Contact,
     DragAreaSchedule,
+    Failures,
     InitialState,
     Line,
     ParachuteSystem,
     SimulationSettings,
+    canopy_opening,
 )
 from .tables import read_atmosphere_table
 
 _REQUIRED = object()
 _NO_VALUE = CaseError._NO_VALUE
-_TOP_KEYS = ("extends", "case", "planet", "start", "atmosphere", "bodies", "systems", "simulation")
+_TOP_KEYS = ("extends", "case", "planet", "start", "atmosphere", "bodies", "systems", "failures", "simulation")
 _KEY_PART = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
 
 
@@ -287,7 +291,8 @@ class _Table:
         return default
 
     def error(self, key: str | None, message: str, value: Any = _NO_VALUE) -> CaseError:
-        return self.ctx.error(self.path + ((key,) if key else ()), message, value)
+        """The error of ``key`` (a dotted key below this table names a key of a sub-table: ``cutaway.main2``)."""
+        return self.ctx.error(self.path + (tuple(key.split(".")) if key else ()), message, value)
 
     def number(self, key: str, unit: str, default: Any = _REQUIRED, *, minimum: float | None = None,
                above: float | None = None, maximum: float | None = None) -> float:
@@ -524,15 +529,66 @@ def _read_schedule(t: _Table) -> DragAreaSchedule:
     return DragAreaSchedule(times, fractions)
 
 
+def _read_canopies(t: _Table, bodies: dict) -> tuple:
+    """``canopy = "<body>"`` or, for a cluster, ``canopies = ["<body>", ...]``: free bodies, each named once."""
+    if "canopy" in t.data and "canopies" in t.data:
+        raise t.error("canopies", "give canopy (one body) or canopies (a cluster), not both", t.data["canopies"])
+    key = "canopies" if "canopies" in t.data else "canopy"
+    t.allowed.append("canopies" if key == "canopy" else "canopy")
+    raw = t._get(key, None, "")
+    if raw is None:
+        return ()
+    names = [raw] if key == "canopy" else raw
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise t.error(key, "must be a body name" if key == "canopy" else "must be a non-empty list of body names",
+                      raw)
+    for canopy in names:
+        if canopy not in bodies or bodies[canopy].fixed:
+            raise t.error(key, f"must name free bodies; '{canopy}' is not one (bodies are: {', '.join(bodies)})",
+                          raw)
+    if len(set(names)) != len(names):
+        raise t.error(key, "names a body twice", raw)
+    return tuple(names)
+
+
+def _read_cluster(t: _Table, canopies: tuple) -> tuple:
+    """``[systems.<name>.cluster]`` and ``[systems.<name>.contact]``: (drag efficiency, deploy spread in rad or None,
+    Contact or None); both tables only for a system of two or more canopies."""
+    cluster_table, contact_table = t.table("cluster", None), t.table("contact", None)
+    for table, key in ((cluster_table, "cluster"), (contact_table, "contact")):
+        if table is not None and len(canopies) < 2:
+            raise t.error(key, "needs a cluster: a system with two or more canopies (canopies = [...])")
+    efficiency, spread = DEFAULT_DRAG_EFFICIENCY, None
+    if cluster_table is not None:
+        if "drag_efficiency" in cluster_table.data:
+            efficiency = cluster_table.sequence("drag_efficiency", "")
+            if any(not 0.0 < eta <= 1.0 for eta in efficiency):
+                raise cluster_table.error("drag_efficiency", "each must be within (0, 1]: eta for 1, 2, ... inflating "
+                                                             "canopies", list(efficiency))
+        else:
+            cluster_table.allowed.append("drag_efficiency")
+        spread_deg = cluster_table.number("deploy_spread_deg", "deg", None, minimum=0.0, maximum=90.0)
+        spread = None if spread_deg is None else math.radians(spread_deg)
+        cluster_table.finish()
+    contact = Contact() if len(canopies) > 1 else None
+    if contact_table is not None:
+        enabled = contact_table.boolean("enabled", True)
+        contact = Contact(contact_table.number("stiffness", "N/m", None, above=0.0),
+                          contact_table.number("damping", "N s/m", None, minimum=0.0),
+                          contact_table.number("projected_diameter_ratio", "", 0.67, above=0.0, maximum=1.0))
+        contact_table.finish()
+        contact = contact if enabled else None
+    return tuple(efficiency), spread, contact
+
+
 def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
     c = t.table("confluence")
     initial_table = c.table("initial", None)
     confluence = Confluence(c.number("mass", "kg", above=0.0),
                             _read_initial(initial_table, attitude=False) if initial_table is not None else None)
     c.finish()
-    canopy = t.string("canopy", None)
-    if canopy is not None and (canopy not in bodies or bodies[canopy].fixed):
-        raise t.error("canopy", f"must name a free body; bodies are: {', '.join(bodies)}", canopy)
+    canopies = _read_canopies(t, bodies)
+    canopy_key = "canopies" if "canopies" in t.data else "canopy"
     deploy_time = t.number("deploy_time", "s", None, minimum=0.0)
     cutaway_time = t.number("cutaway_time", "s", None, above=0.0)
     deploy_point = None
@@ -546,12 +602,13 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
     inflation = _read_inflation(inflation_table) if inflation_table is not None else None
     if schedule is not None and inflation is not None:
         raise t.error("inflation", "a system has a drag_area_schedule or an inflation, not both")
+    efficiency, spread, contact = _read_cluster(t, canopies)
     line_tables = t.named_tables("lines")
     if not line_tables:
         raise t.error("lines", "a system needs at least one line")
     lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
     if deploy_time is not None:
-        missing = [key for key, value in (("canopy", canopy), ("deploy_point", deploy_point)) if value is None]
+        missing = [key for key, value in ((canopy_key, canopies), ("deploy_point", deploy_point)) if not value]
         if missing:
             raise t.error(missing[0], "required: a system with a deploy_time is placed at line stretch, which needs "
                                       "its canopy body and the vehicle point where its confluence goes")
@@ -559,13 +616,95 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
         raise t.error("cutaway_time", f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
                       cutaway_time)
     for key, value in (("drag_area_schedule", schedule), ("inflation", inflation)):
-        if value is not None and (canopy is None or bodies[canopy].aerodynamics is None):
-            raise t.error(key, "needs a canopy body with aerodynamics (canopy = \"<body>\")")
-    if canopy is not None and canopy not in {line.body for line in lines}:
-        raise t.error("canopy", f"no line of the system attaches to body '{canopy}'", canopy)
+        if value is not None and (not canopies or any(bodies[c].aerodynamics is None for c in canopies)):
+            raise t.error(key, "needs canopy bodies with aerodynamics (canopy = \"<body>\")")
+    attached = {line.body for line in lines}
+    for canopy in canopies:
+        if canopy not in attached:
+            raise t.error(canopy_key, f"canopy '{canopy}' has no riser: no line of the system attaches to it",
+                          canopy if canopy_key == "canopy" else list(canopies))
+    if contact is not None and any(bodies[c].aerodynamics is None for c in canopies):
+        raise t.error("contact", "needs canopy bodies with aerodynamics (the envelope's size comes from the "
+                                 "reference area); set contact.enabled = false otherwise")
     t.finish()
-    return ParachuteSystem(name, confluence, tuple(lines), canopy, deploy_time, deploy_point, cutaway_time,
-                           schedule, inflation)
+    return ParachuteSystem(name, confluence, tuple(lines), canopies, deploy_time, deploy_point, cutaway_time,
+                           schedule, inflation, efficiency, spread, contact)
+
+
+def _read_failures(t: _Table | None, systems: dict, duration: float) -> Failures:
+    """``[failures]``: the canopies that fail and how (``case.model.Failures``; docs/case-format.md). Every key names
+    canopies of the case's systems."""
+    if t is None:
+        return Failures()
+    owner = {canopy: system for system in systems.values() for canopy in system.canopies}
+
+    def canopy(key: str, name, value=_NO_VALUE):
+        if not isinstance(name, str) or name not in owner:
+            known = ", ".join(owner) or "none (no system has a canopy)"
+            raise t.error(key, f"unknown canopy {name!r}; the canopies are: {known}",
+                          name if value is _NO_VALUE else value)
+        return name
+
+    raw = t._get("not_inflated", [], "")
+    names = ([] if raw == "" else [raw]) if isinstance(raw, str) else raw
+    if not isinstance(names, list):
+        raise t.error("not_inflated", "must be a canopy name or a list of them", raw)
+    not_inflated = tuple(canopy("not_inflated", name, raw) for name in names)
+    model = t.string("not_inflated_model", "absent", ("absent", "trailing"))
+    trailing = t.number("trailing_fraction", "", 0.0, minimum=0.0, maximum=1.0)
+    cutaway = {}
+    for name, time in _named_values(t, "cutaway").items():
+        system = owner[canopy(f"cutaway.{name}", name, time)]
+        if name in not_inflated:
+            raise t.error(f"cutaway.{name}", f"canopy '{name}' never inflates (failures.not_inflated): it cannot "
+                                             "also be cut away", time)
+        earliest, latest = system.deploy_time or 0.0, min(duration, system.cutaway_time or duration)
+        cutaway[name] = _check_number(time, "s", None, earliest, None,
+                                      lambda m, n=name, v=time: t.error(f"cutaway.{n}", m, v))
+        if not cutaway[name] < latest:
+            raise t.error(f"cutaway.{name}", f"must be before {latest:g} s (the system's cut-away or the end of the "
+                                             "run)", cutaway[name])
+    delays, skipped = {}, {}
+    for key, out, read in (("disreef_delay", delays, _delays), ("skipped_stages", skipped, _stage_numbers)):
+        for name, value in _named_values(t, key).items():
+            system = owner[canopy(f"{key}.{name}", name, value)]
+            if system.inflation is None or len(system.inflation.stages) < 2:
+                raise t.error(f"{key}.{name}", f"canopy '{name}' has no reefed stages: it needs its system's "
+                                               "inflation with two or more stages", value)
+            out[name] = read(value, lambda m, k=f"{key}.{name}", v=value: t.error(k, m, v),
+                             len(system.inflation.stages))
+    t.finish()
+    failures = Failures(not_inflated, model, trailing, cutaway, delays, skipped)
+    for name in sorted(set(delays) | set(skipped)):   # the openings they give must be valid (moot if not inflated)
+        try:
+            canopy_opening(owner[name], name, failures)
+        except InflationError as exc:
+            raise t.error(f"{exc.field}.{name}", str(exc), exc.value) from None
+    return failures
+
+
+def _named_values(t: _Table, key: str) -> dict:
+    """A table of ``canopy = value`` under ``key`` ({} when absent)."""
+    value = t._get(key, {}, "")
+    if not isinstance(value, dict):
+        raise t.error(key, "must be a table of canopy = value", value)
+    return value
+
+
+def _delays(value, error, stages: int) -> tuple:
+    """A disreef delay: one number (s) for every disreef, or a list of one per disreef."""
+    values = [value] * (stages - 1) if not isinstance(value, list) else value
+    return tuple(_check_number(v, "s", None, None, None, lambda m: error(f"{m}; give one number (s) or a list of "
+                                                                         f"{stages - 1}, one per disreef"))
+                 for v in values)
+
+
+def _stage_numbers(value, error, stages: int) -> tuple:
+    """Skipped stages: a stage number (from 1) or a list of them."""
+    values = value if isinstance(value, list) else [value]
+    if not values or any(isinstance(v, bool) or not isinstance(v, int) for v in values):
+        raise error(f"must be a stage number or a list of them (integers from 1 to {stages - 1})")
+    return tuple(values)
 
 
 def _read_method_options(t: _Table) -> dict:
@@ -771,11 +910,12 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
         atmosphere, wind, turbulence, gusts = _read_atmosphere(atmosphere_table, ground, _heading(bodies[vehicle]))
     _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     _check_connections(system_tables, bodies, systems, vehicle)
+    failures = _read_failures(top.table("failures", None), systems, simulation.duration)
     top.allowed.append("extends")
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
-                wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units))
+                wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units), failures=failures)
 
 
 def _heading(vehicle: Body) -> tuple:
@@ -792,25 +932,25 @@ def _check_events(top, body_tables, system_tables, simulation_table, bodies, sys
     canopies = {}
     for name, system in systems.items():
         st = system_tables[name]
+        key = "canopies" if system.cluster else "canopy"
         if system.deploy_time is not None and system.deploy_time >= duration:
             raise st.error("deploy_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
                            system.deploy_time)
         if system.cutaway_time is not None and system.cutaway_time >= duration:
             raise st.error("cutaway_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
                            system.cutaway_time)
-        if system.canopy is not None:
-            if system.canopy in canopies:
-                raise st.error("canopy", f"body '{system.canopy}' is already the canopy of system "
-                                         f"'{canopies[system.canopy]}'", system.canopy)
-            if system.canopy == vehicle:
-                raise st.error("canopy", "the vehicle cannot be a canopy", system.canopy)
-            canopies[system.canopy] = name
+        for canopy in system.canopies:
+            if canopy in canopies:
+                raise st.error(key, f"body '{canopy}' is already the canopy of system '{canopies[canopy]}'", canopy)
+            if canopy == vehicle:
+                raise st.error(key, "the vehicle cannot be a canopy", canopy)
+            canopies[canopy] = name
         placed = system.deploy_time is not None
-        canopy_initial = system.canopy is not None and bodies[system.canopy].initial is not None
-        if placed and canopy_initial:
-            raise body_tables[system.canopy].error("initial", f"a canopy deployed at line stretch (system '{name}', "
-                                                              "deploy_time) gets its initial state at deployment; "
-                                                              "remove this table")
+        for canopy in system.canopies:
+            if placed and bodies[canopy].initial is not None:
+                raise body_tables[canopy].error("initial", f"a canopy deployed at line stretch (system '{name}', "
+                                                           "deploy_time) gets its initial state at deployment; "
+                                                           "remove this table")
         if placed and system.confluence.initial is not None:
             raise st.error("confluence.initial", "a system deployed at line stretch gets its confluence state at "
                                                  "deployment; remove this table")
@@ -829,17 +969,26 @@ def _check_events(top, body_tables, system_tables, simulation_table, bodies, sys
 
 def _check_connections(system_tables, bodies, systems, vehicle) -> None:
     """A system must join different bodies: lines that all end on one free body tie it to itself (its canopy would
-    fall free), and a system with a canopy must hang it from the vehicle."""
+    fall free), a system with canopies must hang them from the vehicle, and no line may run to another system's
+    canopy (each canopy hangs on risers to its own system's confluence)."""
+    owner = {canopy: name for name, system in systems.items() for canopy in system.canopies}
     for name, system in systems.items():
         attached = {line.body for line in system.lines}
         if len(attached) == 1 and not bodies[next(iter(attached))].fixed:
             raise system_tables[name].error("lines", f"every line attaches to body '{next(iter(attached))}': the "
                                                      "system would join that body to itself; attach its lines to two "
                                                      "bodies (e.g. bridles to the vehicle, a riser to the canopy)")
-        if system.canopy is not None and vehicle not in attached:
-            raise system_tables[name].error("canopy", f"canopy '{system.canopy}' is not connected to the vehicle "
-                                                      f"'{vehicle}': no line of the system attaches to it",
-                                            system.canopy)
+        if system.canopies and vehicle not in attached:
+            key = "canopies" if system.cluster else "canopy"
+            raise system_tables[name].error(key, f"canopy '{system.canopies[0]}' is not connected to the vehicle "
+                                                 f"'{vehicle}': no line of the system attaches to it",
+                                            system.canopies[0])
+        for line in system.lines:
+            if owner.get(line.body, name) != name:
+                raise system_tables[name].error(f"lines.{line.name}.attach", f"runs to canopy '{line.body}' of system "
+                                                                             f"'{owner[line.body]}': a canopy's risers "
+                                                                             "run to its own system's confluence",
+                                                f"{line.body}.{line.point}")
 
 
 def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:

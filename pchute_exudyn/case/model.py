@@ -6,7 +6,8 @@ the body's centre of mass. Attitude angles follow :mod:`pchute_exudyn.physics.ro
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -14,7 +15,8 @@ from ..physics.aerodynamics import CoefficientTable
 from ..physics.air import AirMotion
 from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import Atmosphere
-from ..physics.inflation import Inflation
+from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency
+from ..physics.inflation import Inflation, skipping, with_disreef_delays
 from ..physics.interpolation import interpolate_held
 from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
@@ -187,17 +189,40 @@ class DragAreaSchedule:
 
 
 @dataclass(frozen=True)
+class Contact:
+    """Canopy-canopy contact within a cluster (``physics.contact``).
+
+    Attributes
+    ----------
+    stiffness : float or None
+        k (N/m) of every pair; None: each pair's default from its masses (``physics.contact``).
+    damping : float or None
+        c (N s/m) of every pair; None: the default fraction of each pair's critical damping.
+    projected_diameter_ratio : float
+        D_p / D_0 (-): a canopy's projected radius is this times half its nominal diameter sqrt(4 S / pi).
+    """
+
+    stiffness: float | None = None
+    damping: float | None = None
+    projected_diameter_ratio: float = 0.67
+
+    def projected_radius(self, reference_area: float) -> float:
+        """R_p (m) of a canopy with reference area ``reference_area`` (m^2)."""
+        return self.projected_diameter_ratio * 0.5 * math.sqrt(4.0 * reference_area / math.pi)
+
+
+@dataclass(frozen=True)
 class ParachuteSystem:
-    """A parachute system: a confluence and the lines meeting there (bridles from the vehicle, riser(s) from
-    the canopy).
+    """A parachute system: a confluence and the lines meeting there (bridles from the vehicle, risers from its
+    canopies). A system with several canopies is a cluster: each canopy its own body with its own riser(s).
 
     Attributes
     ----------
     name : str
     confluence : Confluence
     lines : tuple of Line
-    canopy : str or None
-        The body that is this system's parachute (placed at deployment, removed at cut-away).
+    canopies : tuple of str
+        The bodies that are this system's parachutes (placed at deployment, removed at cut-away); empty: none.
     deploy_time : float or None
         Time (s) at which the system is placed at line stretch; None: present from the start as the case states.
     deploy_point : tuple (body, point) or None
@@ -205,27 +230,113 @@ class ParachuteSystem:
     cutaway_time : float or None
         Time (s) at which the system is cut away: its lines stop acting and it leaves the model and the outputs.
     drag_area_schedule : DragAreaSchedule or None
-        Multiplies the canopy's aerodynamic coefficients, against time since deployment (since t = 0 if present
+        Multiplies each canopy's aerodynamic coefficients, against time since deployment (since t = 0 if present
         from the start).
     inflation : Inflation or None
-        Or the fill-constant opening with reefing stages (``physics.inflation``), from deployment (line stretch);
-        a system has at most one of the two.
+        Or the fill-constant opening with reefing stages (``physics.inflation``), from deployment (line stretch), of
+        each canopy on its own; a system has at most one of the two.
+    drag_efficiency : tuple of float
+        A cluster's eta(n) (-) for n = 1, 2, ... inflating canopies (``physics.cluster``), multiplying each
+        canopy's C_A.
+    deploy_spread : float or None
+        Half-angle (rad) of the cone a cluster's risers lie on at line stretch; None: where the inflated canopies
+        just touch (``physics.cluster.touching_spread``).
+    contact : Contact or None
+        Canopy-canopy contact of a cluster; None: none (a single canopy, or switched off).
     """
 
     name: str
     confluence: Confluence
     lines: tuple
-    canopy: str | None = None
+    canopies: tuple = ()
     deploy_time: float | None = None
     deploy_point: tuple | None = None
     cutaway_time: float | None = None
     drag_area_schedule: DragAreaSchedule | None = None
     inflation: Inflation | None = None
+    drag_efficiency: tuple = DEFAULT_DRAG_EFFICIENCY
+    deploy_spread: float | None = None
+    contact: Contact | None = None
+
+    @property
+    def cluster(self) -> bool:
+        """Whether the system has more than one canopy."""
+        return len(self.canopies) > 1
 
     def active_at(self, time: float) -> bool:
         """Whether the system acts at ``time`` (s): deployed and not yet cut away."""
         deployed = self.deploy_time is None or self.deploy_time <= time
         return deployed and (self.cutaway_time is None or time < self.cutaway_time)
+
+    def risers(self, canopy: str) -> list:
+        """The lines of the system attached to body ``canopy``."""
+        return [line for line in self.lines if line.body == canopy]
+
+    def with_bodies(self, bodies) -> ParachuteSystem:
+        """The system as it acts while only ``bodies`` (names) move: without the lines of its canopies that are not
+        among them (cut away, or never deployed); itself when none is missing."""
+        absent = {canopy for canopy in self.canopies if canopy not in bodies}
+        if not absent:
+            return self
+        return replace(self, lines=tuple(line for line in self.lines if line.body not in absent),
+                       canopies=tuple(canopy for canopy in self.canopies if canopy not in absent))
+
+
+@dataclass(frozen=True)
+class Failures:
+    """The failures a parachute system is qualified against, by canopy (``docs/models/cluster.md``).
+
+    Attributes
+    ----------
+    not_inflated : tuple of str
+        Canopies that never inflate.
+    not_inflated_model : {"absent", "trailing"}
+        absent: such a canopy never leaves the vehicle (its body and risers are not in the model; its mass rides
+        with the vehicle from its system's deployment on, ``Case.mass_of``); trailing: it is deployed at line
+        stretch like the others and trails on its risers, packed, with ``trailing_fraction`` of its drag area.
+    trailing_fraction : float
+        Drag-area fraction (-) of a trailing canopy that never inflates.
+    cutaway : dict of str to float
+        Canopy -> run time (s) at which it is cut away alone (its risers stop acting, it leaves the model).
+    disreef_delay : dict of str to tuple of float
+        Canopy -> time (s) added to each of its disreefs (stage 2..n starts): the reefing-line cutters firing late
+        (> 0) or early (< 0).
+    skipped_stages : dict of str to tuple of int
+        Canopy -> reefed stages (numbers from 1) it skips.
+    """
+
+    not_inflated: tuple = ()
+    not_inflated_model: str = "absent"
+    trailing_fraction: float = 0.0
+    cutaway: dict = field(default_factory=dict)
+    disreef_delay: dict = field(default_factory=dict)
+    skipped_stages: dict = field(default_factory=dict)
+
+    def absent(self, canopy: str) -> bool:
+        """Whether ``canopy`` never enters the model (it never inflates and stays in the vehicle)."""
+        return canopy in self.not_inflated and self.not_inflated_model == "absent"
+
+    def cut_by(self, canopy: str, time: float) -> bool:
+        """Whether ``canopy`` has been cut away alone at or before ``time`` (s)."""
+        cut = self.cutaway.get(canopy)
+        return cut is not None and cut <= time
+
+
+def canopy_opening(system: ParachuteSystem, canopy: str, failures: Failures):
+    """How ``canopy`` of ``system`` opens with ``failures``: the system's ``Inflation`` with the canopy's cutter delays
+    and skipped stages, or its ``DragAreaSchedule``, or the constant trailing fraction of a canopy that never
+    inflates; None: fully open throughout. Raises ``physics.inflation.InflationError`` for delays or skips the
+    opening cannot take."""
+    if canopy in failures.not_inflated:
+        return DragAreaSchedule((0.0,), (failures.trailing_fraction,))
+    inflation = system.inflation
+    if inflation is None:
+        return system.drag_area_schedule
+    if canopy in failures.disreef_delay:
+        inflation = with_disreef_delays(inflation, failures.disreef_delay[canopy])
+    if canopy in failures.skipped_stages:
+        inflation = skipping(inflation, failures.skipped_stages[canopy])
+    return inflation
 
 
 @dataclass(frozen=True)
@@ -293,6 +404,8 @@ class Case:
         ``physics.wind.Gust`` pulses.
     key_units : dict of str to str
         The unit of every case key the loader read ("m/s", "" for a pure number), by full dotted key.
+    failures : Failures
+        The canopies that fail, and how (none by default).
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -314,6 +427,7 @@ class Case:
     turbulence: object = None
     gusts: tuple = ()
     key_units: dict = field(default_factory=dict)
+    failures: Failures = field(default_factory=Failures)
 
     def unit_of(self, key: str) -> str | None:
         """The unit of ``key`` in override syntax (``main.lines.*.stiffness``, body and system names leading),
@@ -333,7 +447,8 @@ class Case:
         """How pictures draw body ``body_name`` (JSON-able): its role (vehicle, canopy or body), diameter (m: from
         its aerodynamic reference area, else twice its points' largest distance from the centre of mass), a canopy's
         apex direction in body axes (away from its points' mean, where its lines attach) and the body-axes points its
-        lines attach to (m)."""
+        lines attach to (m); a cluster's canopy also its ``envelope``: the projected diameter (m) and the column of
+        the drag-area fraction that sizes it (``physics.contact``)."""
         body = self.bodies[body_name]
         points = np.array(list(body.points.values()), float).reshape(-1, 3)
         if body.aerodynamics is not None:
@@ -346,25 +461,61 @@ class Case:
                                                                and body.aerodynamics is not None)
         attached = sorted({line.point for system in self.systems.values() for line in system.lines
                            if line.body == body_name})
-        return {"role": "vehicle" if body_name == self.vehicle else "canopy" if canopy else "body",
-                "diameter": diameter, "apex": apex.tolist(), "fixed": body.fixed,
-                "line_points": [list(map(float, body.points[point])) for point in attached]}
+        drawing = {"role": "vehicle" if body_name == self.vehicle else "canopy" if canopy else "body",
+                   "diameter": diameter, "apex": apex.tolist(), "fixed": body.fixed,
+                   "line_points": [list(map(float, body.points[point])) for point in attached]}
+        system = self.canopy_system(body_name)
+        if system is not None and system.cluster:   # drawn as its envelope: projected diameter times sqrt(f)
+            drawing["envelope"] = {"diameter": 2.0 * (system.contact or Contact()).projected_radius(
+                body.aerodynamics.reference_area), "fraction": f"{body_name}_drag_area_fraction"}
+        return drawing
 
     def canopy_system(self, body_name: str):
         """The system whose canopy ``body_name`` is, or None."""
         for system in self.systems.values():
-            if system.canopy == body_name:
+            if body_name in system.canopies:
                 return system
         return None
 
     def active_bodies(self, time: float) -> list:
-        """Free bodies present at ``time`` (s): every body but the canopies of systems not active then."""
+        """Free bodies present at ``time`` (s): every body but the canopies of systems not active then, the canopies
+        cut away alone by then and those that never leave the vehicle (``Failures``)."""
         active = []
         for body in self.free_bodies():
             system = self.canopy_system(body.name)
-            if system is None or system.active_at(time):
+            if system is None or (system.active_at(time) and not self.failures.absent(body.name)
+                                  and not self.failures.cut_by(body.name, time)):
                 active.append(body.name)
         return active
+
+    def mass_of(self, body_name: str, time: float) -> float:
+        """The mass (kg) body ``body_name`` flies with at ``time`` (s): its own, and for the vehicle also that of each
+        canopy that never leaves it (``Failures.absent``) from its system's deployment on (a deployed canopy brings
+        its mass into the model then; one that stays packed adds it to the vehicle instead, so the system's mass is
+        the same either way)."""
+        mass = self.bodies[body_name].mass
+        if body_name != self.vehicle or not self.failures.not_inflated:
+            return mass
+        for system in self.systems.values():
+            if system.deploy_time is None or system.deploy_time <= time:
+                mass += sum(self.bodies[c].mass for c in system.canopies if self.failures.absent(c))
+        return mass
+
+    def opening_of(self, system: ParachuteSystem, canopy: str):
+        """How ``canopy`` of ``system`` opens (``canopy_opening`` with the case's failures)."""
+        return canopy_opening(system, canopy, self.failures)
+
+    def drag_efficiency(self, system: ParachuteSystem, canopy: str, bodies) -> float:
+        """eta (-) of ``canopy``'s C_A while ``bodies`` (names) are present: the cluster's efficiency for the number
+        of its canopies present that inflate; 1 for a single canopy and for one that never inflates."""
+        if not system.cluster or canopy in self.failures.not_inflated:
+            return 1.0
+        inflating = [c for c in system.canopies if c in bodies and c not in self.failures.not_inflated]
+        return drag_efficiency(system.drag_efficiency, len(inflating))
+
+    def opening_label(self, system: ParachuteSystem, canopy: str) -> str:
+        """Output label of a canopy's opening: the system's name for a single canopy, the canopy's in a cluster."""
+        return canopy if system.cluster else system.name
 
     def free_bodies(self):
         """The bodies that move (not fixed), in case order."""

@@ -17,7 +17,8 @@ from ..physics.aerodynamics import aerodynamic_force
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
 from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
-from .canopy import add_apparent_mass, add_inflation_hooks
+from .canopy import add_apparent_mass, add_fraction_channel, add_inflation_hooks
+from .contact import add_contact
 from .display import body_graphics
 from .model import CURRENT, OV, BodyItems, Confluence, Model
 from .stage import Stage
@@ -72,13 +73,14 @@ def add_body(model: Model, case: Case, body: Body, state: BodyState | None = Non
         referenceCoordinates=state.position.tolist() + rotation_vector(state.attitude).tolist(),
         initialVelocities=state.velocity.tolist() + np.asarray(state.angular_velocity, float).tolist(),
         visualization=eii.VNodeRigidBodyRotVecLG(show=False)))
-    obj = mbs.AddObject(eii.ObjectRigidBody(nodeNumber=node, mass=body.mass, inertia=_inertia6(body.inertia),
+    mass = case.mass_of(body.name, model.phase.start)   # with the canopies that stay packed in it
+    obj = mbs.AddObject(eii.ObjectRigidBody(nodeNumber=node, mass=mass, inertia=_inertia6(body.inertia),
                                             visualization=eii.VObjectRigidBody(
                                                 graphicsData=body_graphics(case.drawing(body.name)))))
     center = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=[0.0, 0.0, 0.0]))
     points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=list(p)))
               for name, p in body.points.items()}
-    add_gravity(model, case, obj, center, body.mass)
+    add_gravity(model, case, obj, center, mass)
     add_apparent_mass(model, case, body, node)
     result = BodyItems(node, obj, points)
     for name, kind in (("position", OV.Position), ("velocity", OV.Velocity), ("rotation", OV.RotationMatrix),
@@ -129,13 +131,16 @@ def _engine_reader(model: Model, body: Body, marker: int):
 class BodyAerodynamics:
     """A body's aerodynamic force at its aerodynamic centre (``physics.aerodynamics``), with the velocity taken
     relative to the air (planet rotation and wind, ``physics.air``); ``schedule`` (a drag-area schedule or an
-    opening) scales the coefficients by its fraction at the time since ``deployed_at`` (s).
+    opening) scales the coefficients by its fraction at the time since ``deployed_at`` (s); ``efficiency`` (a
+    cluster's drag efficiency, -) multiplies C_A.
 
-    The model's stage evaluates ``force`` at every solver stage from the stage's body states; calling the object
-    evaluates it alone at the engine's current state (three engine reads: outputs, tests).
+    The model's stage evaluates ``force`` at every solver stage from the stage's body states (and keeps the
+    drag-area fraction it used in ``fraction``: a cluster's contact sizes the canopy's envelope from it); calling
+    the object evaluates it alone at the engine's current state (three engine reads: outputs, tests).
     """
 
-    def __init__(self, model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0):
+    def __init__(self, model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0,
+                 efficiency: float = 1.0):
         aero = body.aerodynamics
         self.model, self.body, self.center = model, body.name, tuple(aero.center)
         marker = model.mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=model.bodies[body.name].object,
@@ -144,7 +149,10 @@ class BodyAerodynamics:
         self.altitude, self.density = case.start.altitude_scalar, case.atmosphere.density
         self.air = case.air_motion()
         self.area, self.axial, self.normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
+        if efficiency != 1.0:
+            self.axial = aero.axial_coefficient * efficiency
         self.schedule, self.deployed_at = schedule, deployed_at
+        self.fraction = 1.0
 
     def force(self, t: float, centre, axis) -> tuple:
         """Force (N) at time ``t`` (s) for the centre's (x, y, z, vx, vy, vz) (m, m/s) and the body +x axis."""
@@ -155,6 +163,7 @@ class BodyAerodynamics:
             wx, wy, wz = self.air(x, y, z, h, t)
             vx, vy, vz = vx - wx, vy - wy, vz - wz
         fraction = 1.0 if self.schedule is None else self.schedule(t - self.deployed_at)
+        self.fraction = fraction
         return aerodynamic_force((vx, vy, vz), axis, rho, self.area, self.axial, self.normal, fraction)
 
     def __call__(self, mbs, t: float, load=None) -> tuple:
@@ -171,21 +180,22 @@ class BodyAerodynamics:
         return math.sqrt(vx * vx + vy * vy + vz * vz)
 
 
-def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0):
+def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0,
+                     efficiency: float = 1.0):
     """The body's aerodynamic load, applied through the model's stage; returns its ``BodyAerodynamics`` (None for
     a body without aerodynamics)."""
     aero = body.aerodynamics
     if aero is None or not aero.enabled:
         return None
-    aerodynamics = BodyAerodynamics(model, case, body, schedule, deployed_at)
+    aerodynamics = BodyAerodynamics(model, case, body, schedule, deployed_at, efficiency)
     model.stage.add_aerodynamics(aerodynamics)
     return aerodynamics
 
 
 def add_bodies(model: Model, case: Case, reduced: bool = False) -> None:
-    """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics, and the
-    model's stage; ``reduced``: the model's right-hand side refreshes the stage's body states at every stage, and
-    the body channels read them."""
+    """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics, each
+    cluster's canopy contact, and the model's stage; ``reduced``: the model's right-hand side refreshes the stage's
+    body states at every stage, and the body channels read them."""
     phase = model.phase
     for body in case.bodies.values():
         if body.fixed or body.name in phase.bodies:
@@ -195,15 +205,25 @@ def add_bodies(model: Model, case: Case, reduced: bool = False) -> None:
         model.stage.serve_channels()
     loads = model.aerodynamic_loads
     for body in case.bodies.values():
-        if body.name in phase.bodies:
-            system = case.canopy_system(body.name)
-            schedule = system.drag_area_schedule if system is not None else None
-            deployed = system.deploy_time if system is not None and system.deploy_time is not None else 0.0
-            opening = phase.inflation.get(system.name) if system is not None else None
-            loads[body.name] = add_aerodynamics(model, case, body, schedule if opening is None else opening,
-                                               deployed)
-            if opening is not None and loads[body.name] is not None:
-                add_inflation_hooks(model, system.name, body.name, opening, loads[body.name])
+        if body.name not in phase.bodies:
+            continue
+        system = case.canopy_system(body.name)
+        if system is None:
+            loads[body.name] = add_aerodynamics(model, case, body)
+            continue
+        deployed = system.deploy_time if system.deploy_time is not None else 0.0
+        opening = phase.inflation.get((system.name, body.name))
+        schedule = case.opening_of(system, body.name) if opening is None else opening
+        loads[body.name] = add_aerodynamics(model, case, body, schedule, deployed,
+                                           case.drag_efficiency(system, body.name, phase.bodies))
+        label = case.opening_label(system, body.name)
+        if opening is not None and loads[body.name] is not None:
+            add_inflation_hooks(model, label, body.name, opening, loads[body.name])
+        elif system.cluster and loads[body.name] is not None:
+            add_fraction_channel(model, label, schedule, deployed)
+    for system in model.systems:
+        if system.contact is not None and len(system.canopies) > 1:
+            add_contact(model, case, system, [loads[canopy] for canopy in system.canopies])
 
 
 MAX_DESCENT_ACCELERATION = 30.0

@@ -113,3 +113,13 @@ def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, a
         fx, fy, fz = aerodynamic_load(model.mbs, get_time(), None)
         return math.sqrt(fx * fx + fy * fy + fz * fz)
     model.add_channel(ColumnChannel(f"{canopy}_aerodynamic_force", "N"), force_magnitude)
+
+
+def add_fraction_channel(model: Model, label: str, schedule, deployed_at: float) -> None:
+    """The drag-area fraction (-) of a cluster's canopy that follows a time table (or none: 1) as the channel
+    ``<label>_drag_area_fraction`` (an opening's own channel comes with ``add_inflation_hooks``)."""
+    get_time = model.mbs.systemData.GetTime
+    if schedule is None:
+        model.add_channel(ColumnChannel(f"{label}_drag_area_fraction", "-"), lambda: 1.0)
+        return
+    model.add_channel(ColumnChannel(f"{label}_drag_area_fraction", "-"), lambda: schedule(get_time() - deployed_at))

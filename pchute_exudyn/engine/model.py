@@ -83,7 +83,7 @@ class Model:
         self.ground = self.mbs.AddObject(eii.ObjectGround(visualization=eii.VObjectGround(show=False)))
         self.planet_marker = self.mbs.AddMarker(eii.MarkerBodyPosition(
             bodyNumber=self.ground, localPosition=case.start.planet_center.tolist()))
-        self.systems = [case.systems[name] for name in phase.systems]
+        self.systems = [case.systems[name].with_bodies(phase.bodies) for name in phase.systems]   # present lines
         self.bodies: dict = {}
         self.confluences: dict = {}
         self.channels: dict = {}

@@ -54,6 +54,7 @@ class Stage:
         self.parts = []                   # generalized-force arrays the reduced confluences write
         self.confluences = []             # engine.reduced.ReducedConfluence: solved at every stage
         self.fused = None                 # the only confluence, when it can solve with the kinematics in one call
+        self.contacts = []                # engine.contact.CanopyContact of each cluster: after the aerodynamics
         self.generalized = np.zeros(6 * len(self.free))
         self.refreshed = None             # (time, post-step call) of the last refresh
         self.rows = self.states.tolist()  # the states at the last refresh, as lists
@@ -92,6 +93,11 @@ class Stage:
         """Solve ``confluence`` (``engine.reduced``) at every stage, before the forces are summed."""
         self.confluences.append(confluence)
 
+    def add_contact(self, contact) -> None:
+        """Apply a cluster's canopy contact (``engine.contact.CanopyContact``) through the stage, after the
+        aerodynamic loads."""
+        self.contacts.append(contact)
+
     def add_part(self) -> np.ndarray:
         """A generalized-force array for a reduced confluence to write at every stage (summed into the forces)."""
         part = np.zeros_like(self.generalized)
@@ -126,6 +132,8 @@ class Stage:
             point_motions(self.states, self.aero_points, self.aero_motion)
             add_point_forces(self.states, self.aero_points, np.zeros_like(self.aero_forces),
                              np.zeros_like(self.generalized))
+        for contact in self.contacts:
+            contact.add_forces(self.states, np.zeros_like(self.generalized))
 
     def refresh(self, t: float) -> None:
         """The body states at the engine's current state (after a step, at time ``t`` in s): two engine reads,
@@ -167,6 +175,8 @@ class Stage:
                 for k, (aero, centre) in enumerate(zip(self.aerodynamics, motion.tolist())):
                     forces[k] = aero.force(t, centre, rows[aero.row][3:12:3])   # R's first column: body +x
                 add_point_forces(states, self.aero_points, forces, generalized)
+            for contact in self.contacts:
+                contact.add_forces(self.states, generalized)
             return generalized
         except Exception as exc:  # keep our own error for the solver to report
             self.model.record_failure(exc)

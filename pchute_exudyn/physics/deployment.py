@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .cluster import spread_directions
 from .kinematics import body_point
 
 
@@ -58,3 +59,34 @@ def line_stretch_placement(vehicle_position, vehicle_attitude, vehicle_velocity,
     attach = confluence - x_axis * riser_free_length          # riser at free length, upstream end downstream
     canopy = attach - attitude @ np.asarray(riser_point, float)
     return Placement(confluence, confluence_velocity, canopy, attitude, np.asarray(vehicle_velocity, float).copy())
+
+
+def cluster_placement(vehicle_position, vehicle_attitude, vehicle_velocity, vehicle_angular_velocity, deploy_point,
+                      air_velocity, risers, spread: float) -> tuple:
+    """Canopy states of a cluster at line stretch, and the confluence's: as ``line_stretch_placement`` for each
+    canopy, but with the canopies spread ``spread`` (rad) off the trailing axis at even azimuths from the placement's
+    horizontal y axis (``cluster.spread_directions``), each canopy's +x along its own riser.
+
+    Parameters
+    ----------
+    risers : list of (float, array_like (3,))
+        Per canopy, its riser's free length L0 (m) and attach point on the canopy (canopy body axes, m).
+    spread : float
+        Half-angle (rad) of the cone the risers lie on.
+
+    Returns
+    -------
+    (confluence position, confluence velocity, list of (canopy position, canopy attitude, canopy velocity))
+    """
+    single = line_stretch_placement(vehicle_position, vehicle_attitude, vehicle_velocity, vehicle_angular_velocity,
+                                    deploy_point, air_velocity, risers[0][0], risers[0][1])
+    axis, across = single.canopy_attitude[:, 0], single.canopy_attitude[:, 1]
+    up = np.array([0.0, 0.0, 1.0])
+    canopies = []
+    for (free_length, point), direction in zip(risers, spread_directions(axis, across, spread, len(risers))):
+        y_axis = np.cross(direction, up)
+        y_axis = y_axis / np.linalg.norm(y_axis) if np.linalg.norm(y_axis) > 1e-9 else across
+        attitude = np.column_stack([direction, y_axis, np.cross(direction, y_axis)])
+        attach = single.confluence_position - direction * free_length
+        canopies.append((attach - attitude @ np.asarray(point, float), attitude, single.canopy_velocity.copy()))
+    return single.confluence_position, single.confluence_velocity, canopies

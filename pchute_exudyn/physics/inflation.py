@@ -19,7 +19,7 @@ Plain floats: the fraction is evaluated at every solver stage.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .invalid import InvalidField
 
@@ -128,6 +128,41 @@ class Inflation:
         if last and decay < self.overinflation_decay:
             return peak - (peak - stage.fraction) * decay / self.overinflation_decay
         return stage.fraction
+
+
+def with_disreef_delays(inflation: Inflation, delays) -> Inflation:
+    """The opening with each disreef (the start of stages 2..n) moved by ``delays`` (s, one per disreef: negative when
+    the reefing-line cutter fires early). InflationError (field ``disreef_delay``) when the stages fall out of
+    order or before line stretch."""
+    delays = tuple(float(d) for d in delays)
+    _check(len(delays) == len(inflation.stages) - 1, "disreef_delay", list(delays),
+           f"needs one delay (s) per disreef: {len(inflation.stages) - 1} for {len(inflation.stages)} stages")
+    stages = (inflation.stages[0],) + tuple(replace(stage, start=stage.start + delay)
+                                            for stage, delay in zip(inflation.stages[1:], delays))
+    starts = [stage.start for stage in stages]
+    _check(all(b > a for a, b in zip(starts, starts[1:])), "disreef_delay", list(delays),
+           f"moves the disreefs out of order or to line stretch: stage starts {starts} s must stay strictly "
+           "increasing after 0")
+    return replace(inflation, stages=stages)
+
+
+def skipping(inflation: Inflation, skipped) -> Inflation:
+    """The opening with the stages ``skipped`` (numbers from 1) left out: the canopy fills from the stage before a
+    skipped one straight to the stage after it, starting at the skipped stage's start (both reefing cutters fire
+    together). The last stage, the full canopy, cannot be skipped (a canopy that never opens is a failure to
+    inflate). InflationError (field ``skipped_stages``) otherwise."""
+    skipped = sorted(set(int(k) for k in skipped))
+    count = len(inflation.stages)
+    _check(all(1 <= k < count for k in skipped), "skipped_stages", skipped,
+           f"each must be a reefed stage, 1 to {count - 1} (the last, stage {count}, is the full canopy)")
+    stages, pending = [], None
+    for number, stage in enumerate(inflation.stages, start=1):
+        if number in skipped:
+            pending = stage.start if pending is None else pending
+            continue
+        stages.append(stage if pending is None else replace(stage, start=pending))
+        pending = None
+    return replace(inflation, stages=tuple(stages))
 
 
 def nominal_diameter(reference_area: float) -> float:

@@ -24,10 +24,13 @@ def line_stiffness(stiffness, free_length, length, direction):
     """Tangent stiffness of each line, K [(1 - L0/L) I + (L0/L) n n^T] (N/m), shape (n_lines, 3, 3).
 
     Pass zero stiffness for slack lines. dF/dr_i of the line force on the confluence is this matrix, and
-    dF/dr_c is minus it (Appendix A/B).
+    dF/dr_c is minus it (Appendix A/B). A line of zero length (its attach point at the confluence) has no direction
+    and adds nothing.
     """
     k = np.asarray(stiffness, float)
-    ratio = np.asarray(free_length, float) / np.asarray(length, float)
+    length = np.asarray(length, float)
+    k = np.where(length > 0.0, k, 0.0)
+    ratio = np.divide(np.asarray(free_length, float), length, out=np.zeros_like(length), where=length > 0.0)
     n = np.asarray(direction, float)
     return (k * (1.0 - ratio))[:, None, None] * np.eye(3) + (k * ratio)[:, None, None] * np.einsum("li,lj->lij", n, n)
 
@@ -48,10 +51,10 @@ def linearize(attach_position, confluence_position, free_length, stiffness, damp
     """
     rel = np.asarray(attach_position, float) - np.asarray(confluence_position, float)
     length = np.linalg.norm(rel, axis=-1)
-    n = rel / length[:, None]
+    n = np.divide(rel, length[:, None], out=np.zeros_like(rel), where=length[:, None] > 0.0)
     if taut is None:
         taut = length > np.asarray(free_length, float)
-    w = np.asarray(taut, bool)
+    w = np.asarray(taut, bool) & (length > 0.0)   # a zero-length line has no direction: it adds nothing
     c_bar = np.einsum("l,li,lj->ij", np.asarray(damping, float) * w, n, n)
     k_bar = line_stiffness(np.asarray(stiffness, float) * w, free_length, length, n).sum(axis=0)
     return c_bar, k_bar

@@ -195,13 +195,17 @@ def tension(stretch: float, length_rate: float, stiffness: float, damping: float
 
 def line_geometry(attach_position, confluence_position) -> list:
     """Length L (m) and unit vector n = (r_i - r_c) / L of each line, as (L, nx, ny, nz) in plain floats: the one
-    home of the line geometry for the per-stage kernels (SP, equilibrium point, the line law)."""
+    home of the line geometry for the per-stage kernels (SP, equilibrium point, the line law). A line of zero length
+    (its attach point at the confluence: slack) gets n = 0."""
     cx, cy, cz = confluence_position
     geometry = []
     for px, py, pz in attach_position:
         dx, dy, dz = px - cx, py - cy, pz - cz
         length = math.sqrt(dx * dx + dy * dy + dz * dz)
-        geometry.append((length, dx / length, dy / length, dz / length))
+        if length > 0.0:
+            geometry.append((length, dx / length, dy / length, dz / length))
+        else:
+            geometry.append((0.0, 0.0, 0.0, 0.0))
     return geometry
 
 

@@ -243,6 +243,16 @@ class StartFrame:
         """Geodetic altitude (m) of start-frame positions (m), shape (..., 3)."""
         return self.planet.altitude(self.to_planet(local))
 
+    def down(self, local) -> np.ndarray:
+        """Unit vectors along gravity (start-frame axes) at start-frame positions (m), shape (..., 3): the plumb
+        line a hanging body settles to (toward the planet centre; straight down on a flat planet). The planet's
+        rotation is left out (0.1 deg on Earth)."""
+        local = np.asarray(local, dtype=float)
+        if isinstance(self.planet, FlatPlanet):
+            return np.broadcast_to(np.array([0.0, 0.0, -1.0]), local.shape).copy()
+        toward = self.planet_center - local
+        return toward / np.linalg.norm(toward, axis=-1, keepdims=True)
+
     def altitude_scalar(self, x: float, y: float, z: float) -> float:
         """Geodetic altitude (m) of one start-frame position (m), in plain floats (user functions, every stage)."""
         ox, oy, oz, a00, a01, a02, a10, a11, a12, a20, a21, a22 = self._plain

@@ -41,12 +41,15 @@ else:  # pragma: no cover
 PERCENTILES = (1, 50, 99)
 BOOTSTRAP_NOTE = "2000 resamples, fixed seed"
 OUTPUT_UNITS = {"final_east": "m", "final_north": "m", "final_lateral": "m", "final_altitude": "m", "final_time": "s",
-                "touchdown_time": "s", "touchdown_speed": "m/s", "wall_time": "s", "steps": "count"}
+                "touchdown_time": "s", "touchdown_speed": "m/s", "wall_time": "s", "steps": "count",
+                "descent_rate": "m/s", "pendulum_max_deg": "deg", "pendulum_rms_deg": "deg"}
+PREFIX_UNITS = {"peak_tension_": "N", "rms_tension_": "N", "peak_load_share_": "-", "max_flyout_": "deg",
+                "mean_flyout_": "deg"}
 
 
 def output_label(name: str) -> str:
     """An output column with its unit: 'peak_tension_riser (N)'."""
-    unit = "N" if name.startswith(("peak_tension_", "rms_tension_")) else OUTPUT_UNITS.get(name)
+    unit = next((u for prefix, u in PREFIX_UNITS.items() if name.startswith(prefix)), OUTPUT_UNITS.get(name))
     return f"{name} ({unit})" if unit else name
 
 
@@ -58,7 +61,10 @@ def parameter_label(key: str, units: dict, relative: bool) -> str:
         return f"{name} (multiplier of the case's value)"
     unit = units.get(key)
     return f"{name} ({unit or '-'})" if unit is not None else name
-MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed")
+MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed",
+                "descent_rate", "pendulum_max_deg")
+CLUSTER_OUTPUTS = ("peak_load_share_", "max_flyout_", "mean_flyout_")
+"""Per-cluster outputs the report's percentile table shows (``runner.cluster_outputs``), by prefix."""
 
 
 def _number(text):
@@ -196,21 +202,24 @@ def study_report(folder) -> dict:
     study = tomllib.loads((folder / "study.toml").read_text()) if (folder / "study.toml").is_file() else {}
     title = study.get("study", {}).get("name", folder.name)
     parameters = study.get("parameters", {})
-    drawn = [k for k, p in parameters.items() if "distribution" in p and p["distribution"] != "seed"]
+    drawn = [k for k, p in parameters.items() if "distribution" in p and p["distribution"] not in ("seed", "choice")]
+    categorical = [k for k, p in parameters.items() if p.get("distribution") == "choice"]
     grid = [k for k, p in parameters.items() if "distribution" not in p]
     manifest = folder / "manifest.json"
     units = json.loads(manifest.read_text()).get("parameter_units", {}) if manifest.is_file() else {}
     labels = {k: parameter_label(k, units, bool(p.get("relative"))) for k, p in parameters.items()}
     out = ensure_writable_dir(folder / "report")
     ok = [r for r in rows if r.get("status") == "ok" and r.get("reference") != "True"]
-    outputs = [o for o in MAIN_OUTPUTS if any(isinstance(r.get(o), float) for r in ok)] + \
+    systems = {k.removeprefix("peak_load_share_") for r in ok for k in r if k.startswith("peak_load_share_")}
+    clustered = [f"{prefix}{system}" for system in sorted(systems) for prefix in CLUSTER_OUTPUTS]
+    outputs = [o for o in MAIN_OUTPUTS + tuple(clustered) if any(isinstance(r.get(o), float) for r in ok)] + \
         sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
     stats = percentiles(ok, outputs)
     atomic_write_text(out / "percentiles.json", json_text(stats, indent=2) + "\n")
     ranking = sensitivity(ok, drawn, outputs) if drawn and len(ok) > 2 else {}
     paths = {"percentiles": out / "percentiles.json"}
     if ok and outputs:
-        paths["histograms"] = _plot_histograms(ok, outputs[:8], stats, f"{title}: {len(ok)} runs", out)
+        paths["histograms"] = _plot_histograms(ok, outputs[:12], stats, f"{title}: {len(ok)} runs", out)
     tensions = [o for o in outputs if o.startswith("peak_tension_")][:2]
     for key in drawn:
         targets = [o for o in ("final_lateral", "final_altitude", "touchdown_speed") if o in outputs] + tensions
@@ -227,7 +236,7 @@ def study_report(folder) -> dict:
         for key in grid:
             paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, labels[key],
                                                                      out / f"error_vs_{_safe(key)}.png")
-    extra = footprint + _ranking(ranking)
+    extra = footprint + _by_category(ok, categorical, outputs) + _ranking(ranking)
     atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths, extra))
     paths["report"] = out / "report.md"
     return paths
@@ -370,6 +379,27 @@ def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, pat
             lines.append(f"| {int(r['run'])} | {r['case']} | {_configuration(r)} | {r.get('error')} |")
     lines += ["", "Figures: " + ", ".join(f"`{Path(p).name}`" for p in paths.values() if str(p).endswith(".png"))]
     return "\n".join(lines) + "\n"
+
+
+def _by_category(ok: list, categorical: list, outputs: list) -> list:
+    """Report lines: for each drawn choice (e.g. which canopy fails), the median of each output per value drawn."""
+    lines = []
+    for key in categorical:
+        def label(row, key=key) -> str:
+            value = row.get(key)
+            return "(none)" if value in (None, "") else str(value)
+        values = sorted({label(r) for r in ok})
+        lines += ["", f"## By {key}", "", "Median of each output over the runs that drew each value (runs in "
+                  "brackets).", "", "| output | " + " | ".join(f"{v} ({sum(label(r) == v for r in ok)})"
+                                                              for v in values) + " |",
+                  "|---|" + "---|" * len(values)]
+        for name in outputs:
+            cells = []
+            for value in values:
+                numbers = [r[name] for r in ok if label(r) == value and isinstance(r.get(name), float)]
+                cells.append(f"{np.median(numbers):.6g}" if numbers else "-")
+            lines.append(f"| {output_label(name)} | " + " | ".join(cells) + " |")
+    return lines
 
 
 def _ranking(ranking: dict) -> list:

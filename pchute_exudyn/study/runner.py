@@ -32,6 +32,28 @@ def scalar_outputs(result) -> dict:
         label = name.removeprefix("tension_")
         out[f"peak_tension_{label}"] = float(values.max()) if len(values) else None
         out[f"rms_tension_{label}"] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
+    out.update(cluster_outputs(s))
+    return out
+
+
+def cluster_outputs(summary: dict) -> dict:
+    """The outputs an analyst reads of clusters and of the vehicle's swing (deg, -, m/s): per cluster its peak load
+    share and its canopies' largest and mean flyout once open (the largest over its canopies, and each canopy's
+    largest), the vehicle's largest and RMS pendulum angle to the vertical once the last system flies, and its rate
+    of descent over the run's last seconds (``analysis``)."""
+    out = {}
+    for system, entry in summary.get("cluster", {}).items():
+        out[f"peak_load_share_{system}"] = entry["peak_load_share"]
+        flyout = {canopy: value for canopy, value in entry["flyout_deg"].items() if value is not None}
+        out[f"max_flyout_{system}"] = max((v["max"] for v in flyout.values()), default=None)
+        out[f"mean_flyout_{system}"] = float(np.mean([v["mean"] for v in flyout.values()])) if flyout else None
+        for canopy, value in entry["flyout_deg"].items():
+            out[f"max_flyout_{canopy}"] = None if value is None else value["max"]
+    pendulum = summary.get("pendulum", {})
+    if pendulum:
+        out["pendulum_max_deg"], out["pendulum_rms_deg"] = pendulum["max_vertical_deg"], pendulum["rms_vertical_deg"]
+    if summary.get("descent"):
+        out["descent_rate"] = summary["descent"]["mean_rate"]
     return out
 
 

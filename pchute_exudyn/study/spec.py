@@ -35,6 +35,11 @@ A study file is TOML::
     [parameters."main.confluence.mass"]               # a grid: values = [...], or
     values = [0.1539, 0.01539]                        # range = {start, stop, step}, linspace = {start, stop, num}
 
+    [parameters."failures.not_inflated"]              # a discrete draw: one of the values per sample
+    distribution = "choice"
+    values = ["main1", "main2", "main3"]
+    weights = [1, 1, 1]                               # optional: relative probabilities (default equal)
+
 Runs are the product of cases, grid values and Monte Carlo samples (the *samples*), times the configurations (and
 the reference). Random draws come from ``numpy.random.SeedSequence(seed).spawn`` by sample index, in the file's
 parameter order, so they do not depend on how many workers run the study, and every configuration of a sample (and
@@ -57,7 +62,8 @@ from ..case.method_table import INTEGRATORS, METHODS, OptionError, make_options
 from ..errors import CaseError
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
-                 "truncated_normal": ("mean", "std", "low", "high"), "seed": ()}
+                 "truncated_normal": ("mean", "std", "low", "high"), "seed": (), "choice": ()}
+"""Each distribution and the numbers it needs (``choice`` takes ``values`` and optional ``weights`` instead)."""
 SAMPLINGS = ("random", "latin_hypercube", "sobol")
 """``[study] sampling``: independent random draws, a Latin hypercube or a scrambled Sobol sequence (scipy.stats.qmc)
 over the drawn parameters, mapped through each distribution's inverse CDF."""
@@ -89,9 +95,11 @@ class Parameter:
     arguments: dict = field(default_factory=dict)
     relative: bool = False
 
-    def draw(self, rng: np.random.Generator) -> float | int:
+    def draw(self, rng: np.random.Generator) -> float | int | str:
         """A random draw (``sampling = "random"``)."""
         a = self.arguments
+        if self.distribution == "choice":
+            return self.quantile(float(rng.random()))
         if self.distribution == "seed":
             return int(rng.integers(0, SEED_LIMIT))
         if self.distribution == "normal":
@@ -100,9 +108,12 @@ class Parameter:
             return float(rng.uniform(a["low"], a["high"]))
         return self.quantile(float(rng.random()))   # truncated normal: by its inverse CDF, never a redraw loop
 
-    def quantile(self, u: float) -> float | int:
+    def quantile(self, u: float) -> float | int | str:
         """The value at cumulative probability ``u`` in [0, 1) (inverse CDF): how a design's points become draws."""
         a = self.arguments
+        if self.distribution == "choice":   # the first value whose cumulative weight exceeds u
+            cumulative = np.cumsum(a["weights"]) / np.sum(a["weights"])
+            return a["values"][min(int(np.searchsorted(cumulative, u, side="right")), len(a["values"]) - 1)]
         if self.distribution == "seed":
             return int(u * SEED_LIMIT)
         if self.distribution == "uniform":
@@ -291,6 +302,8 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
     relative = t.boolean("relative", False)
     if "distribution" in t.data:
         name = t.string("distribution", choices=tuple(DISTRIBUTIONS))
+        if name == "choice":
+            return _read_choice(key, t, relative)
         arguments = {}
         for argument in DISTRIBUTIONS[name]:
             if argument not in t.data:
@@ -339,6 +352,21 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
         values = tuple(float(v) for v in np.linspace(start, stop, num))
     t.finish()
     return Parameter(key, values, None, {}, relative)
+
+
+def _read_choice(key: str, t: _Table, relative: bool) -> Parameter:
+    """A discrete draw: ``values`` (any TOML values, e.g. canopy names) with optional ``weights`` (>= 0, not all 0)."""
+    values = t._get("values", None, "")
+    if not isinstance(values, list) or not values:
+        raise t.error("values", "required by distribution 'choice': a non-empty list of the values to draw from",
+                      values)
+    weights = t.vector("weights", "", len(values), tuple(1.0 for _ in values))
+    if any(w < 0.0 for w in weights) or not sum(weights) > 0.0:
+        raise t.error("weights", "must be >= 0 and not all 0 (relative probabilities of the values)", list(weights))
+    if relative:
+        raise t.error("relative", "a choice cannot be relative", True)
+    t.finish()
+    return Parameter(key, (), "choice", {"values": tuple(values), "weights": tuple(weights)}, relative)
 
 
 def load_study(path) -> StudySpec:
@@ -399,22 +427,28 @@ def load_study(path) -> StudySpec:
 def _check_parameters(spec: StudySpec, source: str) -> None:
     """Apply each parameter to every case now, so a key that does not exist fails before any run. A grid passes
     when one of its values applies: a value the case refuses (a step study's unstable step, a kappa_max of 3) is
-    recorded as that run's failure instead."""
+    recorded as that run's failure instead. Every value of a choice must apply (a misspelt canopy fails here)."""
     extra = {"simulation.duration": spec.duration} if spec.duration else {}
     for case in spec.cases:
         for p in spec.parameters:
-            candidates = p.values or ((0,) if p.distribution == "seed" else
+            every = p.distribution == "choice"
+            candidates = p.values or ((0,) if p.distribution == "seed" else p.arguments["values"] if every else
                                       (p.arguments.get("mean", p.arguments.get("low")),))
-            first = None
+            first, applied = None, False
             for value in candidates:
                 try:
                     loaded = load_case(case, {p.key: Scale(value) if p.relative else value, **extra})
-                    unit = loaded.unit_of(p.key)
-                    if unit is not None:
-                        spec.parameter_units[p.key] = unit
-                    break
                 except CaseError as exc:
                     first = first or exc
-            else:
+                    if every:
+                        break
+                    continue
+                applied = True
+                unit = loaded.unit_of(p.key)
+                if unit is not None:
+                    spec.parameter_units[p.key] = unit
+                if not every:
+                    break
+            if first is not None and (every or not applied):
                 raise CaseError(source, f'parameters."{p.key}"',
                                 f"does not apply to case {case.name}: {first.detail}") from None
