@@ -81,7 +81,7 @@ def default_spread(case: Case, system: ParachuteSystem, canopies: list) -> float
 
 def next_phase(case: Case, start: float, end: float, body_states: dict, confluence_states: dict) -> Phase:
     """The phase from ``start`` to ``end``: systems active then, newly deployed ones placed at line stretch."""
-    systems = [s.name for s in case.systems.values() if s.active_at(start)]
+    systems = [s.name for s in case.systems.values() if case.acting(s, start)]
     phase = Phase(start, end, systems, case.active_bodies(start))
     for system in case.systems.values():
         if system.cutaway_time is not None and system.cutaway_time == start:

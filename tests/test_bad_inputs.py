@@ -203,6 +203,8 @@ BATTERY = [
      "failures.cutaway.main1 = 500.0: must be before 200 s"),
     ("cut away before deployment", lambda t: ["run", CLUSTER, "--set", "failures.cutaway.main1=5"],
      "failures.cutaway.main1 = 5: must be > 9.5 (s)"),
+    ("contact without a canopy's aerodynamics", lambda t: ["run", CLUSTER, "--set", "main1.aerodynamics.enabled=false"],
+     "systems.main.contact: needs every canopy's aerodynamics, enabled"),
     ("cluster keys on one canopy", lambda t: ["run", PA1, "--set", "main.contact.stiffness=1e4"],
      "systems.main.contact: needs a cluster"),
     ("drag efficiency above 1", lambda t: ["run", CLUSTER, "--set", "main.cluster.drag_efficiency=[1.0, 1.2]"],

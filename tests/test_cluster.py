@@ -309,3 +309,13 @@ def test_a_cluster_study_draws_the_failed_canopy_and_reports_load_share_flyout_a
     for output in ("peak_load_share_main (-)", "max_flyout_main (deg)", "pendulum_max_deg (deg)",
                    "descent_rate (m/s)", "## By failures.not_inflated"):
         assert output in report
+
+
+def test_a_system_whose_canopies_all_stay_packed_deploys_nothing():
+    lumped = ROOT / "cases" / "cev_pa1.toml"
+    case = pc.load_case(lumped, {"failures.not_inflated": "main_canopy"})
+    assert case.mass_of("capsule", 9.0) == 7500.0 and case.mass_of("capsule", 9.5) == 7500.0 + 423.0
+    result = pc.simulate(case, "sp")
+    assert np.isnan(result["main_confluence_altitude"]).all() and np.isnan(result["tension_main_riser"]).all()
+    assert not [e for e in result.summary["events"] if e["event"] == "deploy" and e["system"] == "main"]
+    assert result.summary["events"][-1]["event"] == "touchdown"   # fast, under nothing but the capsule's own drag

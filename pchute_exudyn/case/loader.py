@@ -623,9 +623,10 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
         if canopy not in attached:
             raise t.error(canopy_key, f"canopy '{canopy}' has no riser: no line of the system attaches to it",
                           canopy if canopy_key == "canopy" else list(canopies))
-    if contact is not None and any(bodies[c].aerodynamics is None for c in canopies):
-        raise t.error("contact", "needs canopy bodies with aerodynamics (the envelope's size comes from the "
-                                 "reference area); set contact.enabled = false otherwise")
+    if contact is not None and any(bodies[c].aerodynamics is None or not bodies[c].aerodynamics.enabled
+                                   for c in canopies):
+        raise t.error("contact", "needs every canopy's aerodynamics, enabled (the envelope's size comes from the "
+                                 "reference area and the drag-area fraction); set contact.enabled = false otherwise")
     t.finish()
     return ParachuteSystem(name, confluence, tuple(lines), canopies, deploy_time, deploy_point, cutaway_time,
                            schedule, inflation, efficiency, spread, contact)
@@ -653,7 +654,7 @@ def _read_failures(t: _Table | None, systems: dict, duration: float) -> Failures
     model = t.string("not_inflated_model", "absent", ("absent", "trailing"))
     trailing = t.number("trailing_fraction", "", 0.0, minimum=0.0, maximum=1.0)
     cutaway = {}
-    for name, time in _named_values(t, "cutaway").items():
+    for name, time in _named_values(t, "cutaway", "s").items():
         system = owner[canopy(f"cutaway.{name}", name, time)]
         if name in not_inflated:
             raise t.error(f"cutaway.{name}", f"canopy '{name}' never inflates (failures.not_inflated): it cannot "
@@ -665,8 +666,9 @@ def _read_failures(t: _Table | None, systems: dict, duration: float) -> Failures
             raise t.error(f"cutaway.{name}", f"must be before {latest:g} s (the system's cut-away or the end of the "
                                              "run)", cutaway[name])
     delays, skipped = {}, {}
-    for key, out, read in (("disreef_delay", delays, _delays), ("skipped_stages", skipped, _stage_numbers)):
-        for name, value in _named_values(t, key).items():
+    for key, unit, out, read in (("disreef_delay", "s", delays, _delays),
+                                 ("skipped_stages", "", skipped, _stage_numbers)):
+        for name, value in _named_values(t, key, unit).items():
             system = owner[canopy(f"{key}.{name}", name, value)]
             if system.inflation is None or len(system.inflation.stages) < 2:
                 raise t.error(f"{key}.{name}", f"canopy '{name}' has no reefed stages: it needs its system's "
@@ -683,11 +685,13 @@ def _read_failures(t: _Table | None, systems: dict, duration: float) -> Failures
     return failures
 
 
-def _named_values(t: _Table, key: str) -> dict:
-    """A table of ``canopy = value`` under ``key`` ({} when absent)."""
-    value = t._get(key, {}, "")
+def _named_values(t: _Table, key: str, unit: str) -> dict:
+    """A table of ``canopy = value`` under ``key`` ({} when absent), each value in ``unit``."""
+    value = t._get(key, {}, "table")
     if not isinstance(value, dict):
         raise t.error(key, "must be a table of canopy = value", value)
+    for name in value:
+        t.ctx.units[_dotted(t.path + (key, name))] = unit
     return value
 
 

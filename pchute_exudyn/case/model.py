@@ -483,7 +483,7 @@ class Case:
         active = []
         for body in self.free_bodies():
             system = self.canopy_system(body.name)
-            if system is None or (system.active_at(time) and not self.failures.absent(body.name)
+            if system is None or (self.acting(system, time) and not self.failures.absent(body.name)
                                   and not self.failures.cut_by(body.name, time)):
                 active.append(body.name)
         return active
@@ -500,6 +500,15 @@ class Case:
             if system.deploy_time is None or system.deploy_time <= time:
                 mass += sum(self.bodies[c].mass for c in system.canopies if self.failures.absent(c))
         return mass
+
+    def acting(self, system: ParachuteSystem, time: float) -> bool:
+        """Whether ``system`` acts at ``time`` (s): deployed, not cut away, and, if it has canopies, with one of them
+        out of the vehicle and not cut away alone (a system whose every canopy stays packed deploys nothing)."""
+        if not system.active_at(time):
+            return False
+        failures = self.failures
+        return not system.canopies or any(not failures.absent(c) and not failures.cut_by(c, time)
+                                          for c in system.canopies)
 
     def opening_of(self, system: ParachuteSystem, canopy: str):
         """How ``canopy`` of ``system`` opens (``canopy_opening`` with the case's failures)."""
