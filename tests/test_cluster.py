@@ -27,6 +27,7 @@ PAIR, SINGLE, TRIO, BUMP = (CASES / f"{name}.toml" for name in ("cluster_pair", 
                                                                  "cluster_trio", "canopy_bump"))
 PA1_CLUSTER = ROOT / "cases" / "cev_pa1_cluster.toml"
 MAIN_OUT = ROOT / "cases" / "cev_pa1_cluster_main_out.toml"
+MAINS = ("main1", "main2", "main3")
 RHO = 0.02                                   # kg/m^3, tests/cases/constant_air.csv
 G = 9.81
 
@@ -319,3 +320,29 @@ def test_a_system_whose_canopies_all_stay_packed_deploys_nothing():
     assert np.isnan(result["main_confluence_altitude"]).all() and np.isnan(result["tension_main_riser"]).all()
     assert not [e for e in result.summary["events"] if e["event"] == "deploy" and e["system"] == "main"]
     assert result.summary["events"][-1]["event"] == "touchdown"   # fast, under nothing but the capsule's own drag
+
+
+def test_canopies_that_trim_off_axis_fly_out_by_their_own_aerodynamics():
+    """Contact off: a stable canopy (C_N > 0 off zero) swings onto the cluster axis (the pair test above); one whose
+    C_N changes sign at 8 deg flies out near that angle and stays there."""
+    trimming = {f"{c}.aerodynamics.normal_coefficient.{key}": value for c in ("c1", "c2")
+                for key, value in (("alpha_deg", [0.0, 8.0, 16.0, 90.0]), ("value", [-0.06, 0.0, 0.06, 0.0]))}
+    result = pc.simulate(pc.load_case(PAIR, trimming), "sp")
+    late = result["time"] > 30.0
+    assert 6.0 < np.min(result["c1_flyout_deg"][late]) and np.max(result["c1_flyout_deg"][late]) < 12.0
+    assert result["c1_flyout_deg"][-1] == pytest.approx(result["c2_flyout_deg"][-1], rel=1e-9)
+
+
+def test_apparent_mass_and_turbulence_on_every_canopy_of_a_cluster():
+    """The canopy features work per canopy of a cluster: apparent mass on each main, PA1's wind and turbulence;
+    SP against full mass implicit on each main's riser peak."""
+    over = {"simulation.duration": 25.0}
+    for canopy in MAINS:
+        over.update({f"{canopy}.apparent_mass.{key}": value for key, value in
+                     (("projected_radius", 11.85), ("axial", 1.0), ("lateral", 0.5), ("rotational", 0.1))})
+    case = pc.load_case(ROOT / "cases" / "cev_pa1_cluster_winds.toml", over)
+    peaks = {}
+    for method, integrator in (("sp", "rk4"), ("full", "implicit")):
+        summary = pc.simulate(case, method, integrator).summary
+        peaks[method] = [summary["cluster"]["main"]["riser_peak"][c]["tension"] for c in MAINS]
+    assert peaks["sp"] == pytest.approx(peaks["full"], rel=0.03)
