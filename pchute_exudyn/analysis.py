@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .case.model import Case
-from .physics.cluster import flyout_angles, load_share
+from .physics.cluster import flyout_angles, load_share, present_mean
 from .physics.contact import envelope_radius, overlaps
 from .physics.kinematics import body_point
 from .state import RawHistory
@@ -113,12 +113,8 @@ def pendulum_columns(case: Case, raw: RawHistory, columns: dict, units: dict) ->
     down = case.start.down(body["position"])
     columns[f"{name}_pendulum_deg"] = _angle_deg(axis, down)
     air = case.air_motion()
-    relative = np.array(body["velocity"], float)
-    if not air.still:
-        altitude = case.start.altitude(body["position"])
-        for i, (position, h, t) in enumerate(zip(body["position"], altitude, raw.time)):
-            if np.isfinite(h):
-                relative[i] -= air(*position.tolist(), float(h), float(t))
+    relative = body["velocity"] if air.still else air.relative(body["position"], body["velocity"],
+                                                              case.start.altitude(body["position"]), raw.time)
     columns[f"{name}_pendulum_airspeed_deg"] = _angle_deg(axis, relative)
     units[f"{name}_pendulum_deg"] = units[f"{name}_pendulum_airspeed_deg"] = "deg"
 
@@ -139,14 +135,13 @@ def settled_after(events: list) -> float:
 
 def cluster_summary(case: Case, columns: dict, events: list) -> dict:
     """Per cluster: its peak load share and when (over samples above LOAD_SHARE_FLOOR), each canopy's largest and
-    mean flyout (deg) and its risers' peak tension (N) and when, from the system's last fill end to its cut-away or
-    the run's end, and each pair's largest overlap (m)."""
+    mean flyout (deg) from the system's last fill end to its cut-away or the run's end, each canopy's risers' peak
+    tension (N) over the whole run and when, and each pair's largest overlap (m)."""
     time, out = columns["time"], {}
     for system in clusters(case):
         share = columns[f"{system.name}_load_share"]
         tensions = riser_tensions(case, system, columns)
-        present = np.isfinite(tensions)
-        mean = np.where(present, tensions, 0.0).sum(axis=1) / np.maximum(present.sum(axis=1), 1)
+        mean = present_mean(tensions)
         strong = np.isfinite(share) & (mean >= LOAD_SHARE_FLOOR * mean.max())
         entry = {"canopies": list(system.canopies), "peak_load_share": None, "peak_load_share_time": None}
         if strong.any():

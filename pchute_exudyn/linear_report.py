@@ -52,10 +52,9 @@ def system_at(case: Case, system_name: str | None, time: float):
     if system_name is not None and system_name not in case.systems:
         raise InputError(f"unknown system {system_name!r}; systems are: {', '.join(case.systems)}")
     candidates = [case.systems[system_name]] if system_name is not None else list(case.systems.values())
-    for system in candidates:
-        deployed = system.deploy_time is None or system.deploy_time < time
-        if deployed and (system.cutaway_time is None or time < system.cutaway_time):
-            return system
+    for system in candidates:   # after its deployment (strictly: line stretch has no equilibrium to speak of)
+        if case.acting(system, time) and (system.deploy_time is None or system.deploy_time < time):
+            return system.with_bodies(case.active_bodies(time))
     which = f"system {system_name!r} is not" if system_name is not None else "no parachute system is"
     presence = "; ".join(_presence(system) for system in case.systems.values())
     raise InputError(f"--time = {time:g} s: {which} present then ({presence}); pass a --time after a deployment "

@@ -215,11 +215,12 @@ def _aero_columns(case: Case, body: dict, center, time):
     altitudes[present] = case.start.altitude(position[present])   # vectorised geodetic
     wind = np.full((n, 3), np.nan) if air.moving else None
     turbulence = np.full((n, 3), np.nan) if air.moving else None
+    relatives = air.relative(position, velocity, altitudes, time)
     for i in present:
         altitude = float(altitudes[i])
         if air.moving:
             wind[i], turbulence[i] = air.local(altitude, float(time[i]))
-        relative = velocity[i] - np.array(air(*position[i].tolist(), altitude, float(time[i])))
+        relative = relatives[i]
         total[i] = angle_of_attack_deg(relative, rotation[i][:, 0])
         u, v, w = rotation[i].T @ relative                    # body axes
         speed = float(np.linalg.norm(relative))

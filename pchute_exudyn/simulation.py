@@ -222,7 +222,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         method=plan.method.name, integrator=plan.integrator, step=plan.step, duration=plan.duration,
         output_step=min(case.simulation.output_step, plan.duration),
         ground_altitude=case.simulation.ground_altitude,
-        end="touchdown" if events[-1].kind == "touchdown" else "duration", steps=raw.steps,
+        end="touchdown" if any(e.kind == "touchdown" for e in events) else "duration", steps=raw.steps,
         wall_time=raw.wall_time, final=_final_values(case, columns), peak_tension=peaks, events=tuple(events),
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
         method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {},

@@ -102,11 +102,12 @@ def opening_events(case, openings: dict, end: float) -> list:
     events = []
     for (system, canopy), progress in openings.items():
         named = {"canopy": canopy} if case.systems[system].cluster else {}
-        for stage, fill_end, speed, fill in progress.fill_ends():
+        flies_to = case.systems[system].end(canopy, case.failures, end)   # no fill ends once the canopy has left
+        for flown, (stage, fill_end, speed, fill) in enumerate(progress.fill_ends()):
             start = fill_end - fill
-            kind = StageStartEvent if stage == 1 else DisreefEvent
+            kind = StageStartEvent if flown == 0 else DisreefEvent   # the first flown (stage 1 unless skipped)
             events.append(kind(start, system, stage, speed, fill, **named))
-            if fill_end <= end:
+            if fill_end <= flies_to:
                 events.append(FillEndEvent(fill_end, system, stage, **named))
     return events
 
@@ -121,8 +122,7 @@ def opening_loads(case, openings: dict, columns: dict) -> dict:
     for (name, canopy), progress in openings.items():
         system = case.systems[name]
         stages = []
-        cut = [t for t in (system.cutaway_time, case.failures.cutaway.get(canopy)) if t is not None]
-        end = min([float(time[-1]) + 1e-9] + cut)
+        end = system.end(canopy, case.failures, float(time[-1]) + 1e-9)
         lines = system.risers(canopy) if system.cluster else system.lines
         for stage, start, stop in progress.windows(end):
             inside = (time >= start - 1e-9) & (time < stop)

@@ -205,6 +205,8 @@ BATTERY = [
      "failures.cutaway.main1 = 5: must be > 9.5 (s)"),
     ("contact without a canopy's aerodynamics", lambda t: ["run", CLUSTER, "--set", "main1.aerodynamics.enabled=false"],
      "systems.main.contact: needs every canopy's aerodynamics, enabled"),
+    ("cluster canopy without aerodynamics", lambda t: ["run", _bare_canopy(t)],
+     "systems.main.canopies = ['c1', 'c2']: canopy 'c2' has no aerodynamics: every canopy of a cluster needs them"),
     ("cluster keys on one canopy", lambda t: ["run", PA1, "--set", "main.contact.stiffness=1e4"],
      "systems.main.contact: needs a cluster"),
     ("drag efficiency above 1", lambda t: ["run", CLUSTER, "--set", "main.cluster.drag_efficiency=[1.0, 1.2]"],
@@ -311,6 +313,15 @@ BATTERY = [
     ("zero workers", lambda t: ["study", _study(t), "--workers", "0"], "--workers = 0: must be >= 1"),
     ("report of a folder that is no study", lambda t: ["study-report", str(t)], "no runs.csv"),
 ]
+
+
+def _bare_canopy(tmp: Path) -> str:
+    """The test cluster pair with its second canopy's aerodynamics removed."""
+    text = (ROOT / "tests" / "cases" / "cluster_pair.toml").read_text()
+    start = text.index("[bodies.c2.aerodynamics]")
+    text = text[:start] + text[text.index("[systems.main]"):]
+    (tmp / "constant_air.csv").write_text((ROOT / "tests" / "cases" / "constant_air.csv").read_text())
+    return _file(tmp, "bare.toml", text)
 
 
 def _bytes(tmp: Path) -> str:

@@ -229,11 +229,14 @@ def test_skipped_stage_delayed_cutter_and_cutaway_of_one_canopy():
                                       "failures.cutaway.main3": 40.0, "simulation.duration": 45.0})
     result = pc.simulate(case, "sp")
     events = result.summary["events"]
-    disreefs = {(e["canopy"], round(e["time"] - 9.5, 6)) for e in events if e["event"] == "disreef"}
-    assert disreefs == {("main1", 8.0), ("main2", 6.0), ("main2", 17.0), ("main3", 8.0), ("main3", 16.0)}
+    disreefs = {(e["canopy"], e["stage"], round(e["time"] - 9.5, 6)) for e in events if e["event"] == "disreef"}
+    assert disreefs == {("main1", 3, 8.0), ("main2", 2, 6.0), ("main2", 3, 17.0), ("main3", 2, 8.0),
+                        ("main3", 3, 16.0)}                                  # a skipped stage keeps the numbers
+    assert [s["stage"] for s in result.summary["opening_loads"]["main1"]] == [1, 3]
     full_open = result["main1_drag_area_fraction"][np.searchsorted(result["time"], 9.5 + 14.0)]
     assert full_open == pytest.approx(1.0, abs=1e-9) or full_open > 1.0         # main1 skipped its 25 % stage
     assert {"event": "cutaway", "time": 40.0, "system": "main", "canopy": "main3"} in events
+    assert max(e["time"] for e in events if e.get("canopy") == "main3" and e["event"] == "fill_end") < 40.0
     after = result["time"] > 40.0
     assert np.isnan(result["tension_main_riser3"][after]).all() and np.isfinite(result["tension_main_riser1"][after]).all()
     assert np.isnan(result["main3_altitude"][after]).all()
@@ -346,3 +349,11 @@ def test_apparent_mass_and_turbulence_on_every_canopy_of_a_cluster():
         summary = pc.simulate(case, method, integrator).summary
         peaks[method] = [summary["cluster"]["main"]["riser_peak"][c]["tension"] for c in MAINS]
     assert peaks["sp"] == pytest.approx(peaks["full"], rel=0.03)
+
+
+def test_a_canopy_cut_away_while_it_fills_reports_no_fill_end():
+    case = pc.load_case(PA1_CLUSTER, {"failures.cutaway.main2": 9.5 + 16.5, "simulation.duration": 30.0})
+    events = pc.simulate(case, "sp").summary["events"]
+    main2 = [(e["event"], e["stage"]) for e in events if e.get("canopy") == "main2" and "stage" in e]
+    assert ("disreef", 3) in main2 and ("fill_end", 3) not in main2          # cut 0.5 s into its last fill
+    assert ("fill_end", 3) in [(e["event"], e["stage"]) for e in events if e.get("canopy") == "main1"]

@@ -529,11 +529,16 @@ def _read_schedule(t: _Table) -> DragAreaSchedule:
     return DragAreaSchedule(times, fractions)
 
 
+def _canopy_key(t: _Table) -> str:
+    """The key a system's table names its canopies by: ``canopies`` (a cluster) or ``canopy``."""
+    return "canopies" if "canopies" in t.data else "canopy"
+
+
 def _read_canopies(t: _Table, bodies: dict) -> tuple:
     """``canopy = "<body>"`` or, for a cluster, ``canopies = ["<body>", ...]``: free bodies, each named once."""
     if "canopy" in t.data and "canopies" in t.data:
         raise t.error("canopies", "give canopy (one body) or canopies (a cluster), not both", t.data["canopies"])
-    key = "canopies" if "canopies" in t.data else "canopy"
+    key = _canopy_key(t)
     t.allowed.append("canopies" if key == "canopy" else "canopy")
     raw = t._get(key, None, "")
     if raw is None:
@@ -588,7 +593,7 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
                             _read_initial(initial_table, attitude=False) if initial_table is not None else None)
     c.finish()
     canopies = _read_canopies(t, bodies)
-    canopy_key = "canopies" if "canopies" in t.data else "canopy"
+    canopy_key = _canopy_key(t)
     deploy_time = t.number("deploy_time", "s", None, minimum=0.0)
     cutaway_time = t.number("cutaway_time", "s", None, above=0.0)
     deploy_point = None
@@ -623,6 +628,10 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
         if canopy not in attached:
             raise t.error(canopy_key, f"canopy '{canopy}' has no riser: no line of the system attaches to it",
                           canopy if canopy_key == "canopy" else list(canopies))
+    if len(canopies) > 1 and any(bodies[c].aerodynamics is None for c in canopies):
+        bare = next(c for c in canopies if bodies[c].aerodynamics is None)
+        raise t.error("canopies", f"canopy '{bare}' has no aerodynamics: every canopy of a cluster needs them (its "
+                                  "drag, its envelope's size and its spread come from them)", list(canopies))
     if contact is not None and any(bodies[c].aerodynamics is None or not bodies[c].aerodynamics.enabled
                                    for c in canopies):
         raise t.error("contact", "needs every canopy's aerodynamics, enabled (the envelope's size comes from the "
@@ -936,7 +945,7 @@ def _check_events(top, body_tables, system_tables, simulation_table, bodies, sys
     canopies = {}
     for name, system in systems.items():
         st = system_tables[name]
-        key = "canopies" if system.cluster else "canopy"
+        key = _canopy_key(st)
         if system.deploy_time is not None and system.deploy_time >= duration:
             raise st.error("deploy_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
                            system.deploy_time)
@@ -983,7 +992,7 @@ def _check_connections(system_tables, bodies, systems, vehicle) -> None:
                                                      "system would join that body to itself; attach its lines to two "
                                                      "bodies (e.g. bridles to the vehicle, a riser to the canopy)")
         if system.canopies and vehicle not in attached:
-            key = "canopies" if system.cluster else "canopy"
+            key = _canopy_key(system_tables[name])
             raise system_tables[name].error(key, f"canopy '{system.canopies[0]}' is not connected to the vehicle "
                                                  f"'{vehicle}': no line of the system attaches to it",
                                             system.canopies[0])

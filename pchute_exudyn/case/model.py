@@ -6,7 +6,6 @@ the body's centre of mass. Attitude angles follow :mod:`pchute_exudyn.physics.ro
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -16,7 +15,7 @@ from ..physics.air import AirMotion
 from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import Atmosphere
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency
-from ..physics.inflation import Inflation, skipping, with_disreef_delays
+from ..physics.inflation import Inflation, nominal_diameter, skipping, with_disreef_delays
 from ..physics.interpolation import interpolate_held
 from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
@@ -207,8 +206,8 @@ class Contact:
     projected_diameter_ratio: float = 0.67
 
     def projected_radius(self, reference_area: float) -> float:
-        """R_p (m) of a canopy with reference area ``reference_area`` (m^2)."""
-        return self.projected_diameter_ratio * 0.5 * math.sqrt(4.0 * reference_area / math.pi)
+        """R_p (m) of a canopy with reference area ``reference_area`` (m^2): half its projected diameter."""
+        return self.projected_diameter_ratio * 0.5 * nominal_diameter(reference_area)
 
 
 @dataclass(frozen=True)
@@ -263,10 +262,19 @@ class ParachuteSystem:
         """Whether the system has more than one canopy."""
         return len(self.canopies) > 1
 
+    def deployed_by(self, time: float) -> bool:
+        """Whether the system has deployed by ``time`` (s) (one present from the start always has)."""
+        return self.deploy_time is None or self.deploy_time <= time
+
     def active_at(self, time: float) -> bool:
         """Whether the system acts at ``time`` (s): deployed and not yet cut away."""
-        deployed = self.deploy_time is None or self.deploy_time <= time
-        return deployed and (self.cutaway_time is None or time < self.cutaway_time)
+        return self.deployed_by(time) and (self.cutaway_time is None or time < self.cutaway_time)
+
+    def end(self, canopy: str, failures, run_end: float) -> float:
+        """When ``canopy`` of this system stops flying (s): the system's cut-away, the canopy's own (``failures``)
+        or the end of the run ``run_end``, the first of them."""
+        cuts = [t for t in (self.cutaway_time, failures.cutaway.get(canopy)) if t is not None]
+        return min([run_end] + cuts)
 
     def risers(self, canopy: str) -> list:
         """The lines of the system attached to body ``canopy``."""
@@ -497,7 +505,7 @@ class Case:
         if body_name != self.vehicle or not self.failures.not_inflated:
             return mass
         for system in self.systems.values():
-            if system.deploy_time is None or system.deploy_time <= time:
+            if system.deployed_by(time):
                 mass += sum(self.bodies[c].mass for c in system.canopies if self.failures.absent(c))
         return mass
 

@@ -11,10 +11,10 @@ from ..errors import PchuteError
 
 def event_times(summary: dict) -> dict:
     """Event label -> time (s) of a run's summary: 'deploy main', 'cutaway drogue', 'descent_rate', 'touchdown'
-    (the first of each)."""
+    (the first of each); a cluster's canopy events name the canopy too ('disreef main main2')."""
     times = {}
     for e in summary.get("events", []):
-        label = e["event"] if "system" not in e else f"{e['event']} {e['system']}"
+        label = " ".join(str(e[key]) for key in ("event", "system", "canopy") if key in e)
         times.setdefault(label, e["time"])
     return times
 

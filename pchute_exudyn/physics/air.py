@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .wind import gust_velocity
 
 
@@ -40,6 +42,16 @@ class AirMotion:
         turbulence = (self.turbulence.velocity(altitude, east, north) if self.turbulence is not None
                       else (0.0, 0.0, 0.0))
         return (east + ge, north + gn, gu), turbulence
+
+    def relative(self, positions, velocities, altitudes, times) -> np.ndarray:
+        """Velocities (m/s) relative to the air of points at start-frame ``positions`` (n, 3) (m) moving at
+        ``velocities`` (n, 3) (m/s), of geodetic ``altitudes`` (n,) (m) at ``times`` (n,) (s): for whole histories;
+        NaN rows where the altitude is not finite (a body absent then)."""
+        velocities = np.asarray(velocities, float)
+        out = np.full(velocities.shape, np.nan)
+        for i in np.flatnonzero(np.isfinite(altitudes)):
+            out[i] = velocities[i] - np.array(self(*positions[i].tolist(), float(altitudes[i]), float(times[i])))
+        return out
 
     def __call__(self, x: float, y: float, z: float, altitude: float, time: float):
         """Air velocity at start-frame point (x, y, z) (m) of geodetic ``altitude`` (m) at ``time`` (s)."""

@@ -56,6 +56,13 @@ def flyout_angles(confluence, centres) -> np.ndarray:
         return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
 
 
+def present_mean(values) -> np.ndarray:
+    """The mean over axis 1 of ``values`` (n, k) of the entries present (finite); 0 where none is."""
+    values = np.asarray(values, float)
+    present = np.isfinite(values)
+    return np.where(present, values, 0.0).sum(axis=1) / np.maximum(present.sum(axis=1), 1)
+
+
 def load_share(riser_tensions) -> np.ndarray:
     """The load share max_i T_i / mean_i T_i (-) of the canopies' riser tensions (n, k) (N; a canopy's summed over its
     risers, NaN where absent): 1 when the risers share the load evenly, k when one carries it all. NaN where no
@@ -63,7 +70,7 @@ def load_share(riser_tensions) -> np.ndarray:
     tensions = np.asarray(riser_tensions, float)
     present = np.isfinite(tensions)
     counts = present.sum(axis=1)
-    mean = np.where(present, tensions, 0.0).sum(axis=1) / np.maximum(counts, 1)
+    mean = present_mean(tensions)
     peak = np.where(present, tensions, -np.inf).max(axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where((counts > 0) & (mean > 0.0), peak / mean, np.nan)

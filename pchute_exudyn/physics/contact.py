@@ -5,7 +5,9 @@ two spheres that overlap push each other apart with a one-sided spring-damper, t
                                                drag-area fraction (the projected area grows with the drag area)
     delta   = r_a + r_b - |c_b - c_a|          overlap (m) of the spheres centred at c_a, c_b (aerodynamic centres)
     n       = (c_b - c_a) / |c_b - c_a|        from a to b
-    F       = max(0, k delta + c d(delta)/dt)  when delta > 0, else 0        (N, pushes only, never pulls)
+    v_c     = -(v_b - v_a) . n                 closing speed of the centres (m/s; the radii's growth left out: the
+                                               damper resists the canopies moving together, not their filling)
+    F       = max(0, k delta + c v_c)          when delta > 0, else 0        (N, pushes only, never pulls)
     a gets -F n, b gets +F n                   at the sphere centres
 
             a   ___        ___   b
@@ -31,8 +33,9 @@ from .compiled import kernel
 
 DEFAULT_FREQUENCY = 5.0
 """Hz: the default contact stiffness gives each pair of canopies this natural frequency on its reduced mass (stiff
-enough that PA1's mains overlap by about 1 % of their radius under their opening loads, soft enough for RK4 at SP's
-1e-2 s and 2e-2 s steps: omega h = 0.3 and 0.6, far inside RK4's stability limit of 2.8)."""
+enough that PA1's mains overlap by at most 3 % of their radius, 0.37 m, through their openings:
+validation/output/cluster/pa1_cluster.md; soft enough for RK4 at SP's 1e-2 s and 2e-2 s steps: omega h = 0.3 and 0.6,
+far inside RK4's stability limit of 2.8)."""
 DEFAULT_DAMPING_RATIO = 0.5
 """The default contact damping as a fraction of the pair's critical damping 2 sqrt(k mu)."""
 PAIR_COLUMNS = 4
@@ -72,7 +75,7 @@ def contact_forces(motion, radii, pairs, forces):
         deepest = max(deepest, overlap)
         nx, ny, nz = dx / distance, dy / distance, dz / distance
         closing = -((motion[b, 3] - motion[a, 3]) * nx + (motion[b, 4] - motion[a, 4]) * ny
-                    + (motion[b, 5] - motion[a, 5]) * nz)   # d(delta)/dt: > 0 while the spheres approach
+                    + (motion[b, 5] - motion[a, 5]) * nz)   # v_c: > 0 while the centres approach
         force = pairs[p, 2] * overlap + pairs[p, 3] * closing
         if force <= 0.0:
             continue

@@ -69,12 +69,16 @@ class Inflation:
         C_x (-), >= 1: the last stage fills to C_x f_n.
     overinflation_decay : float
         t_k (s), >= 0 (> 0 when C_x > 1): the time over which f falls back to f_n.
+    numbers : tuple of int
+        Each stage's number as the case counts them (empty: 1, 2, ...): an opening that skips stages keeps the others'
+        numbers (``skipping``), so that reports name the same stage the same way.
     """
 
     stages: tuple
     initial_fraction: float = 0.0
     overinflation: float = 1.0
     overinflation_decay: float = 0.0
+    numbers: tuple = ()
 
     def __post_init__(self):
         stages = self.stages
@@ -96,6 +100,10 @@ class Inflation:
         _check(math.isfinite(decay) and decay >= 0.0, "overinflation_decay", decay, "must be >= 0 (s)")
         _check(self.overinflation == 1.0 or decay > 0.0, "overinflation_decay", decay,
                "must be > 0 (s) when overinflation > 1")
+
+    def number(self, stage: int) -> int:
+        """The number (from 1, as the case counts them) of stage ``stage`` (0-based here)."""
+        return self.numbers[stage] if self.numbers else stage + 1
 
     def fill_time(self, stage: int, speed: float, nominal_diameter: float) -> float:
         """t_f = n_i D_0 / V_i (s) of stage ``stage`` (0-based) at air speed ``speed`` (m/s), D_0 in m."""
@@ -155,14 +163,15 @@ def skipping(inflation: Inflation, skipped) -> Inflation:
     count = len(inflation.stages)
     _check(all(1 <= k < count for k in skipped), "skipped_stages", skipped,
            f"each must be a reefed stage, 1 to {count - 1} (the last, stage {count}, is the full canopy)")
-    stages, pending = [], None
-    for number, stage in enumerate(inflation.stages, start=1):
-        if number in skipped:
+    stages, numbers, pending = [], [], None
+    for index, stage in enumerate(inflation.stages):
+        if inflation.number(index) in skipped:
             pending = stage.start if pending is None else pending
             continue
         stages.append(stage if pending is None else replace(stage, start=pending))
+        numbers.append(inflation.number(index))
         pending = None
-    return replace(inflation, stages=tuple(stages))
+    return replace(inflation, stages=tuple(stages), numbers=tuple(numbers))
 
 
 def nominal_diameter(reference_area: float) -> float:
@@ -226,10 +235,10 @@ class InflationProgress:
     def windows(self, end: float) -> list:
         """(stage number from 1, start, end) in run time (s) of each stage started before ``end`` (s)."""
         starts = [self.line_stretch + stage.start for stage in self.inflation.stages[:len(self.speeds)]]
-        return [(i + 1, start, min(stop, end)) for i, (start, stop) in enumerate(zip(starts, starts[1:] + [end]))
-                if start < end]
+        return [(self.inflation.number(i), start, min(stop, end))
+                for i, (start, stop) in enumerate(zip(starts, starts[1:] + [end])) if start < end]
 
     def fill_ends(self) -> list:
         """(stage number from 1, run time of the fill's end (s), V_i (m/s), t_f,i (s)) of each started stage."""
-        return [(i + 1, self.line_stretch + self.inflation.stages[i].start + fill, speed, fill)
+        return [(self.inflation.number(i), self.line_stretch + self.inflation.stages[i].start + fill, speed, fill)
                 for i, (speed, fill) in enumerate(zip(self.speeds, self.fill_times))]
