@@ -9,7 +9,8 @@ columns (pure numpy, no Exudyn):
   it hangs along), and ``<vehicle>_pendulum_airspeed_deg``, between its +x axis and its centre of mass's velocity
   relative to the air (its +x points away from where its lines attach: heat shield down under a canopy);
 * the summary's blocks: ``cluster`` (peak load share and when, each canopy's flyout, its risers' peak, each pair's
-  largest overlap), ``pendulum`` (largest and RMS pendulum angles once the last system is open) and ``descent``
+  largest overlap), ``pendulum`` (largest and RMS pendulum angles and the swing amplitude, ``swing_amplitude``, once
+  the last system is open) and ``descent``
   (the rate of descent at the end of the run).
 """
 
@@ -126,11 +127,12 @@ def _angle_deg(a, b) -> np.ndarray:
         return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
 
 
-def settled_after(events: list) -> float:
+def settled_after(events: list, case: Case | None = None) -> float:
     """The time (s) from which the run's last configuration flies: its last deployment, cut-away, disreef or fill
-    end (0 without any)."""
+    end (0 without any), and with ``case`` the end of any system's drag-area schedule (``open_from``)."""
     kinds = ("deploy", "cutaway", "disreef", "stage_start", "fill_end")
-    return max([event.time for event in events if event.kind in kinds], default=0.0)
+    opened = [open_from(system, events) for system in case.systems.values()] if case is not None else []
+    return max([event.time for event in events if event.kind in kinds] + opened, default=0.0)
 
 
 def cluster_summary(case: Case, columns: dict, events: list) -> dict:
@@ -183,13 +185,25 @@ def open_from(system, events: list) -> float:
     return max(fills + [deployed + (schedule.time[-1] if schedule is not None else 0.0)])
 
 
+def swing_amplitude(angles) -> float | None:
+    """The amplitude (deg) of a swinging angle history ``angles`` (deg, >= 0): the mean of its peaks (the samples
+    above the one before and not below the one after), the largest value when it has none; None when empty. A
+    planar swing peaks at its amplitude each half period, a coning one stays near its cone angle."""
+    values = np.asarray(angles, float)
+    if not len(values):
+        return None
+    inner = values[1:-1]
+    peaks = inner[(inner > values[:-2]) & (inner >= values[2:])]
+    return float(peaks.mean()) if len(peaks) else float(values.max())
+
+
 def pendulum_summary(case: Case, columns: dict, events: list) -> dict:
-    """The vehicle's largest and RMS pendulum angles (deg) to gravity and to its airspeed once the last
-    configuration flies (``settled_after``); {} for a fixed vehicle."""
+    """The vehicle's largest and RMS pendulum angles (deg) and their swing amplitude (``swing_amplitude``) to
+    gravity and to its airspeed once the last configuration flies (``settled_after``); {} for a fixed vehicle."""
     name = case.vehicle
     if f"{name}_pendulum_deg" not in columns:
         return {}
-    start = settled_after(events)
+    start = settled_after(events, case)
     window = columns["time"] >= start
     out = {"from": float(start)}
     for key, column in (("vertical", f"{name}_pendulum_deg"), ("airspeed", f"{name}_pendulum_airspeed_deg")):
@@ -197,6 +211,7 @@ def pendulum_summary(case: Case, columns: dict, events: list) -> dict:
         values = values[np.isfinite(values)]
         out[f"max_{key}_deg"] = float(values.max()) if len(values) else None
         out[f"rms_{key}_deg"] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
+        out[f"amplitude_{key}_deg"] = swing_amplitude(values)
     return out
 
 

@@ -168,10 +168,12 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             units[f"{name}_rate_{axis}"] = "rad/s"
         aero = case.bodies[name].aerodynamics
         if aero is not None and aero.enabled:
-            total, alpha, beta, pressure, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
+            total, alpha, beta, pressure, mach, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
             for key, value, unit in (("angle_of_attack_deg", total, "deg"), ("alpha_deg", alpha, "deg"),
-                                     ("beta_deg", beta, "deg"), ("dynamic_pressure", pressure, "Pa")):
-                columns[f"{name}_{key}"], units[f"{name}_{key}"] = value, unit
+                                     ("beta_deg", beta, "deg"), ("dynamic_pressure", pressure, "Pa"),
+                                     ("mach", mach, "-")):
+                if value is not None:
+                    columns[f"{name}_{key}"], units[f"{name}_{key}"] = value, unit
             if wind is not None:   # the air's motion at the aerodynamic centre, relative to the ground
                 for kind, value in (("wind", wind), ("turbulence", turbulence)):
                     for i, axis in enumerate(("east", "north", "up")):
@@ -201,15 +203,17 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
 
 
 def _aero_columns(case: Case, body: dict, center, time):
-    """Total angle of attack, aerodynamic angles alpha and beta (deg) and dynamic pressure (Pa) from the velocity of
-    the aerodynamic centre relative to the air (planet rotation and wind); NaN where the body is absent. With a
-    moving air mass also the steady wind plus gusts and the turbulence there ((n, 3) east, north, up in m/s, relative
-    to the ground), else None for both."""
+    """Total angle of attack, aerodynamic angles alpha and beta (deg), dynamic pressure (Pa) and Mach number (-; None
+    when the atmosphere has no speed of sound) from the velocity of the aerodynamic centre relative to the air
+    (planet rotation and wind); NaN where the body is absent. With a moving air mass also the steady wind plus gusts
+    and the turbulence there ((n, 3) east, north, up in m/s, relative to the ground), else None for both."""
     rotation = body["rotation"]
     position, velocity = body_point(body["position"], rotation, body["velocity"], body["angular_velocity"], center)
     air = case.air_motion()
     n = len(time)
     alpha, beta, total, pressure = (np.full(n, np.nan) for _ in range(4))
+    atmosphere = case.atmosphere
+    mach = np.full(n, np.nan) if atmosphere.has_speed_of_sound else None
     present = np.flatnonzero(np.isfinite(position).all(axis=1))
     altitudes = np.full(n, np.nan)
     altitudes[present] = case.start.altitude(position[present])   # vectorised geodetic
@@ -226,8 +230,10 @@ def _aero_columns(case: Case, body: dict, center, time):
         speed = float(np.linalg.norm(relative))
         alpha[i] = np.degrees(np.arctan2(w, u))
         beta[i] = np.degrees(np.arcsin(np.clip(v / speed, -1.0, 1.0))) if speed > 0 else 0.0
-        pressure[i] = 0.5 * case.atmosphere.density(altitude) * speed * speed
-    return total, alpha, beta, pressure, wind, turbulence
+        pressure[i] = 0.5 * atmosphere.density(altitude) * speed * speed
+        if mach is not None:
+            mach[i] = speed / atmosphere.speed_of_sound(altitude)
+    return total, alpha, beta, pressure, mach, wind, turbulence
 
 
 def _relative_columns(prefix: str, vehicle: dict, position, velocity, columns: dict, units: dict) -> None:

@@ -216,6 +216,30 @@ BATTERY = [
                                                                   'distribution = "choice"\n'
                                                                   'values = ["main1", "main4"]\n')],
      "parameters.\"failures.not_inflated\": does not apply to case cev_pa1_cluster.toml: unknown canopy 'main4'"),
+    # aerodynamic databases (docs/models/aerodatabase.md)
+    ("angles not increasing", lambda t: ["run", CASE1, "--set", "parachute.aerodynamics.normal_coefficient.alpha_deg="
+                                                                 "[0.0, 45.0, 40.0, 90.0]"],
+     "bodies.parachute.aerodynamics.normal_coefficient.alpha_deg = [0.0, 45.0, 40.0, 90.0]: must increase strictly"),
+    ("Mach numbers not increasing", lambda t: ["run", CASE1, "--set", "parachute.aerodynamics.axial_coefficient="
+                                                                       "{mach=[1.0, 0.5], value=[0.4, 0.5]}"],
+     "bodies.parachute.aerodynamics.axial_coefficient.mach = [1.0, 0.5]: must increase strictly"),
+    ("ragged coefficient table", lambda t: ["run", CASE1, "--set", "parachute.aerodynamics.axial_coefficient={mach="
+                                            "[0.5, 1.0], alpha_deg=[0.0, 90.0], value=[[0.4, 0.5], [0.4]]}"],
+     "bodies.parachute.aerodynamics.axial_coefficient.value = [[0.4, 0.5], [0.4]]: must be 2 rows (one per Mach"),
+    ("NaN in a coefficient table", lambda t: ["run", CASE1, "--set", "parachute.aerodynamics.axial_coefficient="
+                                                                      "{mach=[0.5, 1.0], value=[0.4, nan]}"],
+     "bodies.parachute.aerodynamics.axial_coefficient.value = [0.4, nan]: must be finite numbers"),
+    ("negative reference length", lambda t: ["run", CASE1, "--set", "parachute.aerodynamics.reference_length=-1.0"],
+     "bodies.parachute.aerodynamics.reference_length = -1.0: must be > 0 (m)"),
+    ("damping without a reference length", lambda t: ["run", CASE1, "--set",
+                                                      "parachute.aerodynamics.pitch_damping=-1.0"],
+     "bodies.parachute.aerodynamics.reference_length: required (m): the pitch_damping is per unit of it"),
+    ("Mach table without a temperature", lambda t: ["run", str(ROOT / "tests" / "cases" / "canopy_bump.toml"), "--set",
+                                                    "c1.aerodynamics.axial_coefficient={mach=[0.5, 1.0], "
+                                                    "value=[0.4, 0.5]}"],
+     "bodies.c1.aerodynamics.axial_coefficient.mach = [0.5, 1.0]: a Mach-number table needs the speed of sound"),
+    ("speed of sound for a standard atmosphere", lambda t: ["run", PA1, "--set", "atmosphere.speed_of_sound=340"],
+     "atmosphere.speed_of_sound"),
     # run: the case file, the command line and overrides
     ("missing case file", lambda t: ["run", str(t / "nope.toml")], "case file not found"),
     ("malformed TOML", lambda t: ["run", _file(t, "bad.toml", "[case\nname = 1")], "malformed TOML"),

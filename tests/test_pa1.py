@@ -113,9 +113,9 @@ def test_cut_away_exerts_no_force_afterwards():
 def test_drag_area_schedule_scales_the_canopy_force():
     case = pc.load_case(PA1)
     bodies, confluences = initial_states(case)
-    bodies["drogue_canopy"] = deploy(case, case.systems["drogue"], bodies, 3.5)[0]
-    canopy, confluence = deploy(case, case.systems["main"], bodies, 9.5)
-    bodies["main_canopy"] = canopy
+    bodies.update(deploy(case, case.systems["drogue"], bodies, 3.5)[0])
+    canopies, confluence = deploy(case, case.systems["main"], bodies, 9.5)
+    bodies.update(canopies)
     phase = next_phase(case, 9.5, 200.0, bodies, {"drogue": confluences.get("drogue"), "main": confluence})
     items = build_full_model(case, phase)
     load = items.aerodynamic_loads["main_canopy"]

@@ -12,8 +12,10 @@ Run:  python validation/benchmark_sp.py [--repeat 3] [--duration 60] [--budget] 
 3. ``--budget``: a sampling profile (py-spy, ``pip install py-spy``) of an MER case 1 SP run, shares turned into
    microseconds per solver stage: Exudyn's own work, the crossings into Python (counted per stage, each priced by
    a model whose user functions do nothing), engine reads, the SP kernel, aerodynamics, the rest of the stage's
-   Python, and the per-step hooks. ``--before DIR`` profiles the checkout in DIR the same way (the code before
-   issue 14: ``git worktree add DIR 6085d44``) for the before/after table.
+   Python, and the per-step hooks; the aerodynamics that run inside the compiled stage kernel are timed apart.
+4. ``--before DIR`` (a checkout of the code before, ``git worktree add DIR COMMIT``): DIR profiled the same way for
+   the before/after budget, its first run, and SP solve times of both codes side by side (each in its own process,
+   interleaved rounds): MER case 1, PA1 with constants, and PA1 with the aerodynamic databases now.
 
 Writes validation/output/benchmark_sp.md (the budget section only with --budget).
 """
@@ -141,7 +143,7 @@ def first_run(before: Path | None) -> list:
             f"| later runs (kernels loaded from the cache; median of 3) | {later:.2f} |",
             f"| a run that compiles every kernel itself (PCHUTE_KERNELS=compiled, empty cache) | {forced:.2f} |"]
     if old is not None:
-        rows.append(f"| the code before issue 14 ({before.name}), same command (median of 3) | {old:.2f} |")
+        rows.append(f"| the code before ({commit_of(before)}), same command (median of 3) | {old:.2f} |")
     return rows + ["", f"numba and llvmlite installed: {installed_megabytes():.0f} MB."]
 
 
@@ -163,7 +165,9 @@ CATEGORIES = [  # (label, function names as py-spy reports them; the first liste
                                 "SPConfluence.advance", "SPConfluence.settle", "SPConfluence._settled",
                                 "SPConfluence.sample", "SPConfluence.compute", "confluence_velocity",
                                 "ReducedConfluence.solve", "ReducedConfluence._rhs")),
-    ("aerodynamics (Python physics: altitude, density, force)", ("BodyAerodynamics.force", "aerodynamic_load")),
+    ("aerodynamics, Python side (before: all of it; now: the drag-area schedules and any retry)",
+     ("BodyAerodynamics.force", "aerodynamic_load", "AerodynamicLoads.apply", "AerodynamicLoads.apply_after",
+      "AerodynamicLoads.schedule")),
     ("stage force item: kinematics kernels, sums (Python side)", ("Stage.force",)),
     ("post-step: outputs, v0 update", ("post_step",)),
     ("pre-step: step monitor, NaN check", ("pre_step",)),
@@ -236,32 +240,120 @@ def crossing_cost() -> float:
     return (min(solve(True) for _ in range(3)) - base) / (20000 * 4) * 1e6
 
 
-CROSSINGS = {"before": "6 (ODE1 right-hand side, 4 line loads, 1 aerodynamic load) + 1.25 (the end-of-step "
-                       "right-hand side, and the pre- and post-step hooks, per step / 4)",
-             "after": "1 (the stage force item) + 0.5 (the pre- and post-step hooks, per step / 4)"}
-CROSSING_COUNT = {"before": 7.25, "after": 1.5}
+CROSSINGS = "1 (the stage force item) + 0.5 (the pre- and post-step hooks, per step / 4), before and after"
+CROSSING_COUNT = {"before": 1.5, "after": 1.5}
+
+
+def aerodynamics_in_kernel() -> float:
+    """Microseconds per stage of MER case 1's aerodynamics as the fused stage kernel runs them
+    (``physics.aerodynamics.aerodynamics_stage``: py-spy sees no further into the compiled call than the SP kernel
+    that makes it): the kernel on the model's own packed arguments, called 200 000 times from a compiled loop."""
+    import numba
+
+    from pchute_exudyn.engine.solver import integrate
+    from pchute_exudyn.methods.sp import SingularPerturbation
+    from pchute_exudyn.phases import initial_phase
+    from pchute_exudyn.physics.aerodynamics import aerodynamics_stage
+
+    case = pc.load_case(MER)
+    model = SingularPerturbation().build(case, initial_phase(case))
+    integrate(model, "rk4", 1e-2, 1.0, 0.1)
+    loads, stage = model.stage.loads, model.stage
+    data, field, work = loads.parts
+    generalized = np.zeros_like(stage.generalized)
+
+    @numba.njit
+    def loop(count, t, states, data, field, work, generalized):
+        for i in range(count):
+            aerodynamics_stage(t + i * 1e-9, states, data, field, work, generalized)
+
+    loop(10, 1.0, stage.states, data, field, work, generalized)
+    best = math.inf
+    for _ in range(5):
+        started = time.perf_counter()
+        loop(200000, 1.0, stage.states, data, field, work, generalized)
+        best = min(best, (time.perf_counter() - started) / 200000 * 1e6)
+    return best
 
 
 def budget(duration: float, before: Path | None) -> list:
     cost = crossing_cost()
+    in_kernel = aerodynamics_in_kernel()
     profiles = {"after": profile(ROOT, duration)}
     if before is not None:
         profiles["before"] = profile(before, duration)
     order = [k for k in ("before", "after") if k in profiles]
     rows = ["| per RK4 stage (us) | " + " | ".join(order) + " |", "|---|" + "---|" * len(order)]
     per_stage = {k: wall / (steps * 4) * 1e6 for k, (_, wall, steps) in profiles.items()}
+    aero_label = CATEGORIES[2][0]
     for label in ["Exudyn: its own work and the crossings"] + [label for label, _ in CATEGORIES]:
         cells = [f"{profiles[k][0].get(label, 0.0) * per_stage[k]:.1f}" for k in order]
         rows.append(f"| {label} | " + " | ".join(cells) + " |")
         if label.startswith("Exudyn"):
             rows.append(f"| - of which crossings, estimated (count x {cost:.2f} us, an empty force user function) | "
                         + " | ".join(f"{CROSSING_COUNT[k] * cost:.1f}" for k in order) + " |")
+        if label.startswith("SP kernel"):
+            rows.append("| - of which the aerodynamics inside the fused stage kernel (timed apart: "
+                        "`aerodynamics_in_kernel`) | " + " | ".join("-" if k == "before" else f"{in_kernel:.2f}"
+                                                                    for k in order) + " |")
+    totals = {k: profiles[k][0].get(aero_label, 0.0) * per_stage[k] + (in_kernel if k == "after" else 0.0)
+              for k in order}
+    rows.append("| **aerodynamics in all** (Python side + inside the kernel) | "
+                + " | ".join(f"**{totals[k]:.2f}**" for k in order) + " |")
     rows.append("| **total per stage** (wall time / 4 steps) | " + " | ".join(f"**{per_stage[k]:.1f}**"
                                                                            for k in order) + " |")
-    notes = [f"Crossings per stage: before {CROSSINGS['before']}; after {CROSSINGS['after']}. The estimate "
-             "prices every crossing like the generic-object force call; the older code's load callbacks are cheaper "
-             "ones (Exudyn and its crossings sampled at less than their estimate there)."]
+    notes = [f"Crossings per stage: {CROSSINGS}. The estimate prices every crossing like the generic-object force "
+             "call (Exudyn's sampled share can come out below it). The aerodynamics run inside the SP "
+             "kernel's call now (one compiled call per stage for the kinematics, the SP solve and every body's "
+             "load), so their cost is timed apart on the model's own arguments and shown under the SP kernel; "
+             "the Python side is what stays in Python (MER has no drag-area schedule: nothing)."]
     return rows + [""] + notes
+
+
+BEFORE_SCRIPT = """
+import time, sys
+import pchute_exudyn as pc
+cases = [(label, pc.load_case(path)) for label, path in {cases!r}]
+for label, case in cases:   # load the compiled kernels first
+    pc.simulate(case, "sp", "rk4", 1e-2, 1.0)
+for label, case in cases:
+    duration = {duration} if label.startswith("mer") else None
+    print(f"WALL|{{label}}|{{pc.simulate(case, 'sp', 'rk4', 1e-2, duration).summary['wall_time']}}", flush=True)
+"""
+
+
+def against_before(before: Path, repeat: int, duration: float) -> list:
+    """SP solve times of this code and of the checkout ``before``, each in its own process (the package imported
+    from its folder), in ``repeat`` interleaved rounds: MER case 1 (``duration`` s) and PA1 with constants, and
+    PA1 with the aerodynamic databases here."""
+    runs = {"before": [("mer", before / "cases" / "mer" / "case1.toml"), ("pa1", before / "cases" / "cev_pa1.toml")],
+            "now": [("mer", MER), ("pa1", PA1), ("pa1 aero", ROOT / "cases" / "cev_pa1_aero.toml")]}
+    walls: dict = {}
+    for _ in range(repeat):
+        for side, checkout in (("before", before), ("now", ROOT)):
+            script = BEFORE_SCRIPT.format(cases=[(label, str(path)) for label, path in runs[side]], duration=duration)
+            env = {**os.environ, "PYTHONPATH": str(checkout), "PCHUTE_KERNELS": "compiled"}
+            done = subprocess.run([sys.executable, "-c", script], env=env, cwd=checkout, capture_output=True,
+                                  text=True, check=True)
+            for line in done.stdout.splitlines():
+                if line.startswith("WALL|"):
+                    _, label, wall = line.split("|")
+                    walls.setdefault((side, label), []).append(float(wall))
+    median = {key: statistics.median(values) for key, values in walls.items()}
+    rows = ["| SP at 1e-2 s | before (s) | now (s) | before / now |", "|---|---|---|---|"]
+    for label, now_key, before_key in ((f"MER case 1, {duration:g} s", "mer", "mer"),
+                                       ("PA1 to touchdown, constant coefficients (cev_pa1.toml)", "pa1", "pa1"),
+                                       ("PA1 with the aerodynamic databases (cev_pa1_aero.toml) now, against PA1 "
+                                        "with constants before", "pa1 aero", "pa1")):
+        old, new = median[("before", before_key)], median[("now", now_key)]
+        rows.append(f"| {label} | {old:.3f} | {new:.3f} | {old / new:.2f}x |")
+    return rows
+
+
+def commit_of(checkout: Path) -> str:
+    done = subprocess.run(["git", "-C", str(checkout), "rev-parse", "--short", "HEAD"], capture_output=True,
+                          text=True)
+    return done.stdout.strip() or checkout.name
 
 
 def main(argv=None) -> None:
@@ -279,6 +371,7 @@ def main(argv=None) -> None:
     for case in cases.values():   # load the compiled kernels before any timing
         pc.simulate(case, "sp", "rk4", 1e-2, 1.0)
     timed = timed_rounds(cases, max(1, args.repeat), args.duration)
+    before_rows = [] if args.before is None else against_before(args.before, max(1, args.repeat), args.duration)
     v = versions()
     text = ["# Singular perturbation against full mass: speed, side by side",
             "",
@@ -291,13 +384,19 @@ def main(argv=None) -> None:
             f"## MER case 1, {args.duration:g} s", "", *speed_table("mer", timed), "",
             "## PA1 (Orion pad abort), to touchdown", "", *speed_table("pa1", timed), "",
             "## First run", "", *first_run(args.before), ""]
+    if before_rows:
+        text += [f"## Against the code before ({commit_of(args.before)})", "",
+                 f"SP solve times (`wall_time`), each code in its own process with compiled kernels, {args.repeat} "
+                 "interleaved rounds, medians. The databases run compiled in the same stage call as the "
+                 "constants.", "", *before_rows, ""]
     if args.budget:
         text += ["## Where an SP stage's time goes (MER case 1, SP at 1e-2 s)", "",
                  "py-spy samples of four SP runs of 20 s (shares of the solve), turned into microseconds per RK4 "
                  "stage with the median wall time of the same runs without the profiler; the crossings priced by a "
                  "model whose force user function returns a constant (`crossing_cost`), shown under Exudyn's "
                  "share. A sample counts in the first category of its stack, in the order listed. `--before DIR`: "
-                 "a checkout of commit 6085d44, the code before issue 14 (`git worktree add DIR 6085d44`).", "",
+                 f"a checkout of commit {commit_of(args.before) if args.before else '-'}, the code before "
+                 "(`git worktree add DIR COMMIT`).", "",
                  *budget_rows, ""]
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -243,9 +243,10 @@ def one_dof_peak(case, mass: float, speed: float):
     h0 = case.bodies["parachute"].initial.altitude
     g = float(np.linalg.norm(start.gravity_scalar(*start.local_position(h0, 0.0, 0.0))))
 
+    axial = canopy.axial_coefficient(0.0)   # a constant C_A
+
     def drag(t, v, h):
-        return 0.5 * case.atmosphere.density(h) * v * v * canopy.reference_area * canopy.axial_coefficient \
-            * inflation.fraction(t, fill)
+        return 0.5 * case.atmosphere.density(h) * v * v * canopy.reference_area * axial * inflation.fraction(t, fill)
 
     def rhs(t, y):
         v, h = y

@@ -67,10 +67,11 @@ def sp_lines() -> list:
     sp = rows["mer sp thesis 0.01"]
     lines.append(f"`pchute run cases/mer/case1.toml --method sp` integrates case 1 in {float(sp[1]):.2f} s instead of "
                  f"{float(rows['mer full rk4 0.0001'][1]):.0f} s (RK4 at 1e-2 s instead of")
-    before = next(iter(table(path, "the code before issue 14").values()))
+    before = next(iter(table(path, "the code before").values()))
     size = re.search(r"numba and llvmlite installed: (\d+) MB", path.read_text()).group(1)
     lines.append(f"first run on a machine {float(first[1]):.1f} s, later runs {float(later[1]):.1f} s, the code before "
-                 f"these changes {float(before[1]):.1f} s; numba and llvmlite add {size} MB to the environment.")
+                 f"the compiled aerodynamics {float(before[1]):.1f} s; numba and llvmlite add {size} MB to the "
+                 "environment.")
     implicit = float(rows["mer full implicit 0.01"][1])
     lines.append(f"  RK4 1e-4 s result within 1 cm in altitude and 1.2 N in tension at "
                  f"1/{float(rows['mer full rk4 0.0001'][1]) / implicit:.0f} of the cost (table below).")
@@ -271,11 +272,52 @@ def cluster_lines() -> list:
     return lines
 
 
+def aero_lines() -> list:
+    """The aerodynamic-database section: closed forms (aero_checks.py), PA1 and MER (cev_pa1_aero.py), the speed
+    against the code before and the per-stage aerodynamics (benchmark_sp.py)."""
+    closed = [line for line in (OUT / "aero" / "closed_forms.md").read_text().splitlines()
+              if line.startswith("| ") and not line.startswith("| check")]
+    lines = ["| " + " | ".join([c.strip() for c in line.strip().strip("|").split("|")][:4]) + " |" for line in closed]
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+            for line in (OUT / "aero" / "pa1_aero.md").read_text().splitlines() if line.startswith("| ")]
+    runs = {(cells[0], cells[1]): cells for cells in rows if len(cells) == 7}
+    agreement = {cells[0]: cells for cells in rows if len(cells) == 4}
+    mer = {(cells[0], cells[1]): cells for cells in rows if len(cells) == 5}
+    sp, without, constants = (runs[("databases", "sp 1e-2")], runs[("no capsule database", "sp 1e-2")],
+                              runs[("cev_pa1.toml (constants, no damping)", "sp 1e-2")])
+
+    def amplitude(cells, column):
+        return cells[column].split(" / ")[0]
+    speed = table(OUT / "benchmark_sp.md", "")
+    mer_speed = next(cells for key, cells in speed.items() if key.startswith("MER case 1, "))
+    pa1_speed = speed["PA1 to touchdown, constant coefficients (cev_pa1.toml)"]
+    aero_speed = next(cells for key, cells in speed.items() if key.startswith("PA1 with the aerodynamic databases"))
+    budget = next(cells for key, cells in speed.items() if key.startswith("**aerodynamics in all**"))
+    lines += [f"| touchdown, SP 1e-2 s - full mass RK4 5e-4 s (s) | {agreement['sp 1e-2'][1]} |",
+              f"| capsule swing amplitude under the open mains, SP - full mass RK4, to the vertical / to the airspeed "
+              f"(deg) | {agreement['sp 1e-2'][2]} / {agreement['sp 1e-2'][3]} |",
+              f"| capsule swing amplitude under the drogues, to the vertical, with / without the capsule database / "
+              f"constants without damping (deg) | {amplitude(sp, 5)} / {amplitude(without, 5)} / "
+              f"{amplitude(constants, 5)} |",
+              f"| the same under the open mains, to the airspeed (deg) | {amplitude(sp, 4)} / {amplitude(without, 4)} / "
+              f"{amplitude(constants, 4)} |",
+              f"| vehicle swing amplitude of MER case 5 over 30 s without / with the parachute's C_m and damping, SP "
+              f"(deg) | {mer[('case5.toml', 'sp')][2]} / {mer[('case5_aero.toml', 'sp')][2]} |",
+              f"| SP solve of MER case 1 (1e-2 s step, 60 s), the code before / now (s) | {mer_speed[1]} / {mer_speed[2]} "
+              f"({mer_speed[3]}) |",
+              f"| PA1 SP with constants: before / now (s) | {pa1_speed[1]} / {pa1_speed[2]} ({pa1_speed[3]}) |",
+              f"| PA1 SP with the databases now against PA1 with constants before (s) | {aero_speed[2]} / "
+              f"{aero_speed[1]} ({aero_speed[3]} faster) |",
+              f"| aerodynamics per RK4 stage (MER case 1), before / now (us) | {budget[1].strip('*')} / "
+              f"{budget[2].strip('*')} |"]
+    return lines
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
-            *canopy_lines(), *footprint_lines(), *cluster_lines()]
+            *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines()]
 
 
 def _key(line: str) -> str:

@@ -32,7 +32,7 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 from ..errors import CaseError
-from ..physics.aerodynamics import CoefficientTable
+from ..physics.aerodynamics import CoefficientTable, CoefficientTableError
 from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import US76, MarsGRC, Wind
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
@@ -407,20 +407,49 @@ def _read_inertia(t: _Table) -> np.ndarray:
     return matrix
 
 
+MOMENTS = ("moment_coefficient", "pitch_damping", "roll_damping")
+"""The coefficients that need a body's reference length."""
+
+
 def _read_aerodynamics(t: _Table) -> Aerodynamics:
     area = t.number("reference_area", "m^2", above=0.0)
-    axial = t.number("axial_coefficient", "", minimum=0.0)
     center = t.vector("center", "m")
     enabled = t.boolean("enabled", True)
-    table = t.table("normal_coefficient")
-    angles = table.sequence("alpha_deg", "deg", min_length=2)
-    values = table.vector("value", "", length=len(angles))
-    table.finish()
-    if len(angles) < 2 or angles[0] != 0.0 or angles[-1] != 90.0 or any(b <= a for a, b in zip(angles, angles[1:])):
-        raise table.error("alpha_deg", "must increase strictly from 0 to 90 deg (alpha' is folded into [0, 90])",
-                          list(angles))
+    axial = _read_coefficient(t, "axial_coefficient", minimum=0.0)
+    normal = _read_coefficient(t, "normal_coefficient", default=0.0)
+    moments = {key: _read_coefficient(t, key, default=None) for key in MOMENTS}
+    length = t.number("reference_length", "m", None, above=0.0)
+    given = [key for key, value in moments.items() if value is not None]
+    if given and length is None:
+        raise t.error("reference_length", f"required (m): the {given[0]} is per unit of it")
     t.finish()
-    return Aerodynamics(area, axial, CoefficientTable(angles, values), center, enabled)
+    return Aerodynamics(area, axial, normal, center, enabled, *moments.values(), length)
+
+
+def _read_coefficient(t: _Table, key: str, default=_REQUIRED, minimum: float | None = None):
+    """A coefficient (-): a number (at least ``minimum``) or a table ``{ alpha_deg = [...], value = [...] }`` over the
+    angle of attack (deg), ``{ mach = [...], value = [...] }`` over Mach number, or both with ``value`` one row per
+    Mach number (``physics.aerodynamics.CoefficientTable``); ``default`` (a number, or None for none) when absent."""
+    if key not in t.data:
+        t._get(key, default, "")
+        return None if default is None else CoefficientTable.constant(default)
+    raw = t.data[key]
+    if not isinstance(raw, dict):
+        return CoefficientTable.constant(t.number(key, "", minimum=minimum))
+    table = t.table(key)
+    mach = table._get("mach", [], "")
+    angles = table._get("alpha_deg", [], "deg")
+    value = table._get("value", _REQUIRED, "")
+    table.finish()
+    for name, axis in (("mach", mach), ("alpha_deg", angles)):
+        if not isinstance(axis, list):
+            raise table.error(name, "must be a list of numbers", axis)
+    if not mach and not angles:
+        raise table.error("value", "a table needs alpha_deg, mach or both (a constant is a plain number)", value)
+    try:
+        return CoefficientTable(tuple(angles), value, tuple(mach))
+    except CoefficientTableError as exc:
+        raise table.error(exc.field, str(exc), exc.value) from None
 
 
 def _read_body(name: str, t: _Table) -> Body:
@@ -781,7 +810,14 @@ def _read_atmosphere(t: _Table, ground_altitude: float, heading: tuple):
     turbulence where there is no mean wind."""
     model = t.string("model", choices=("mars_grc", "us76", "table"))
     if model == "table":
-        atmosphere = read_atmosphere_table(t.string("file"))
+        sound = {"gamma": t.number("gamma", "", 1.4, above=0.0),
+                 "gas_constant": t.number("gas_constant", "J/(kg K)", 287.05287, above=0.0),
+                 "speed_of_sound": t.number("speed_of_sound", "m/s", None, above=0.0)}
+        atmosphere = read_atmosphere_table(t.string("file"), **sound)
+    elif any(key in t.data for key in ("gamma", "gas_constant", "speed_of_sound")):
+        key = next(key for key in ("gamma", "gas_constant", "speed_of_sound") if key in t.data)
+        raise t.error(key, f"belongs to a table atmosphere (model = \"table\"); the {model} model has its own",
+                      t.data[key])
     elif model == "us76":
         atmosphere = US76()
     else:
@@ -921,6 +957,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     if atmosphere_table is not None:
         ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
         atmosphere, wind, turbulence, gusts = _read_atmosphere(atmosphere_table, ground, _heading(bodies[vehicle]))
+    _check_mach(body_tables, bodies, atmosphere)
     _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     _check_connections(system_tables, bodies, systems, vehicle)
     failures = _read_failures(top.table("failures", None), systems, simulation.duration)
@@ -937,6 +974,20 @@ def _heading(vehicle: Body) -> tuple:
     east, north = vehicle.initial.velocity_east, vehicle.initial.velocity_north
     speed = math.hypot(east, north)
     return (east / speed, north / speed) if speed > 0.0 else (1.0, 0.0)
+
+
+def _check_mach(body_tables, bodies, atmosphere) -> None:
+    """A coefficient tabulated over Mach number needs the atmosphere's speed of sound."""
+    if atmosphere is None or atmosphere.has_speed_of_sound:
+        return
+    for name, body in bodies.items():
+        aero = body.aerodynamics
+        for key, table in (() if aero is None else zip(("axial_coefficient", "normal_coefficient") + MOMENTS,
+                                                       aero.coefficients().values())):
+            if table is not None and table.uses_mach:
+                raise body_tables[name].error(f"aerodynamics.{key}.mach", "a Mach-number table needs the speed of "
+                                              "sound, and the atmosphere table has no temperature column: add one "
+                                              "(K) or give atmosphere.speed_of_sound (m/s)", list(table.mach))
 
 
 def _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle) -> None:

@@ -65,27 +65,52 @@ class InitialState:
 
 @dataclass(frozen=True)
 class Aerodynamics:
-    """Aerodynamic model of a body (force form of ``physics.aerodynamics``).
+    """Aerodynamic model of a body (``physics.aerodynamics``): coefficients, each a constant or a table over Mach
+    number and angle of attack (``physics.aerodynamics.CoefficientTable``).
 
     Attributes
     ----------
     reference_area : float
         S (m^2).
-    axial_coefficient : float
+    axial_coefficient : CoefficientTable
         C_A (-).
     normal_coefficient : CoefficientTable
-        C_N against alpha' (deg).
+        C_N (-).
     center : tuple of 3 float
-        Aerodynamic centre in body axes relative to the centre of mass (m).
+        Aerodynamic centre in body axes relative to the centre of mass (m): where the force acts, and the moment
+        reference point of C_m.
     enabled : bool
         False switches the loads off (the body falls in vacuum).
+    moment_coefficient : CoefficientTable or None
+        C_m (-) about ``center``, with ``reference_length``; None: no static moment.
+    pitch_damping : CoefficientTable or None
+        C_mq + C_malphadot (-, per radian of q d / (2 V)); None: none.
+    roll_damping : CoefficientTable or None
+        C_lp (-, per radian of p d / (2 V)); None: none.
+    reference_length : float or None
+        d (m) of the moments; None when the body has none.
     """
 
     reference_area: float
-    axial_coefficient: float
+    axial_coefficient: CoefficientTable
     normal_coefficient: CoefficientTable
     center: tuple
     enabled: bool = True
+    moment_coefficient: CoefficientTable | None = None
+    pitch_damping: CoefficientTable | None = None
+    roll_damping: CoefficientTable | None = None
+    reference_length: float | None = None
+
+    def coefficients(self) -> dict:
+        """The coefficients by the kernels' names (``axial``, ``normal``, ``moment``, ``pitch_damping``,
+        ``roll_damping``; None where absent)."""
+        return {"axial": self.axial_coefficient, "normal": self.normal_coefficient, "moment": self.moment_coefficient,
+                "pitch_damping": self.pitch_damping, "roll_damping": self.roll_damping}
+
+    @property
+    def uses_mach(self) -> bool:
+        """Whether a coefficient depends on Mach number."""
+        return any(c is not None and c.uses_mach for c in self.coefficients().values())
 
 
 @dataclass(frozen=True)

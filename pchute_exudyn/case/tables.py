@@ -12,9 +12,12 @@ from ..errors import CaseError
 from ..physics.atmosphere import AtmosphereTableError, TabulatedAtmosphere
 
 
-def read_atmosphere_table(path) -> TabulatedAtmosphere:
+def read_atmosphere_table(path, gamma: float = 1.4, gas_constant: float = 287.05287,
+                          speed_of_sound: float | None = None) -> TabulatedAtmosphere:
     """Read a CSV atmosphere table: a header row naming the columns ``altitude`` (m, geodetic) and ``density``
-    (kg/m^3), in any order and case, then one row per altitude; blank lines and lines starting with ``#`` are skipped.
+    (kg/m^3), and optionally ``temperature`` (K, for the speed of sound sqrt(``gamma`` ``gas_constant`` T) with
+    gamma in - and R in J/(kg K)), in any order and case, then one row per altitude; blank lines and lines starting
+    with ``#`` are skipped. Without temperatures, ``speed_of_sound`` (m/s) is the constant speed of sound, if given.
 
     Raises
     ------
@@ -34,15 +37,20 @@ def read_atmosphere_table(path) -> TabulatedAtmosphere:
     if "altitude" not in header or "density" not in header:
         raise CaseError(source, "", f"header {rows[0]} must name the columns 'altitude' (m) and 'density' (kg/m^3)")
     ia, idens = header.index("altitude"), header.index("density")
-    altitude, density = [], []
+    itemp = header.index("temperature") if "temperature" in header else None
+    altitude, density, temperature = [], [], []
     for number, row in enumerate(rows[1:], start=2):
         try:
             altitude.append(float(row[ia]))
             density.append(float(row[idens]))
+            if itemp is not None:
+                temperature.append(float(row[itemp]))
         except (ValueError, IndexError):
-            raise CaseError(source, f"row {number}", "altitude and density must be numbers", value=row) from None
+            columns = "altitude, density and temperature" if itemp is not None else "altitude and density"
+            raise CaseError(source, f"row {number}", f"{columns} must be numbers", value=row) from None
     try:
-        return TabulatedAtmosphere(altitude, density, source)
+        return TabulatedAtmosphere(altitude, density, source, tuple(temperature), gamma, gas_constant,
+                                   speed_of_sound if not temperature else None)
     except AtmosphereTableError as exc:
         if exc.field:
             raise CaseError(source, exc.field, str(exc), value=exc.value) from None

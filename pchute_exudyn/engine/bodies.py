@@ -13,7 +13,6 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Body, Case
-from ..physics.aerodynamics import aerodynamic_force
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
 from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
@@ -115,81 +114,14 @@ class PointConfluence(Confluence):
         model.confluences[system_name] = self
 
 
-def _engine_reader(model: Model, body: Body, marker: int):
-    """A reader of the aerodynamic centre's position and velocity (marker ``marker``) and the body's rotation
-    (row-major) from the engine at the current stage: three engine calls."""
-    mbs = model.mbs
-    get_marker, get_node = mbs.GetMarkerOutput, mbs.GetNodeOutput
-    node = model.bodies[body.name].node
-
-    def read():
-        return (get_marker(marker, OV.Position, CURRENT).tolist(), get_marker(marker, OV.Velocity, CURRENT).tolist(),
-                get_node(node, OV.RotationMatrix, CURRENT).tolist())
-    return read
-
-
-class BodyAerodynamics:
-    """A body's aerodynamic force at its aerodynamic centre (``physics.aerodynamics``), with the velocity taken
-    relative to the air (planet rotation and wind, ``physics.air``); ``schedule`` (a drag-area schedule or an
-    opening) scales the coefficients by its fraction at the time since ``deployed_at`` (s); ``efficiency`` (a
-    cluster's drag efficiency, -) multiplies C_A.
-
-    The model's stage evaluates ``force`` at every solver stage from the stage's body states (and keeps the
-    drag-area fraction it used in ``fraction``: a cluster's contact sizes the canopy's envelope from it); calling
-    the object evaluates it alone at the engine's current state (three engine reads: outputs, tests).
-    """
-
-    def __init__(self, model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0,
-                 efficiency: float = 1.0):
-        aero = body.aerodynamics
-        self.model, self.body, self.center = model, body.name, tuple(aero.center)
-        marker = model.mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=model.bodies[body.name].object,
-                                                            localPosition=list(aero.center)))
-        self.read = _engine_reader(model, body, marker)
-        self.altitude, self.density = case.start.altitude_scalar, case.atmosphere.density
-        self.air = case.air_motion()
-        self.area, self.axial, self.normal = aero.reference_area, aero.axial_coefficient, aero.normal_coefficient
-        if efficiency != 1.0:
-            self.axial = aero.axial_coefficient * efficiency
-        self.schedule, self.deployed_at = schedule, deployed_at
-        self.fraction = 1.0
-
-    def force(self, t: float, centre, axis) -> tuple:
-        """Force (N) at time ``t`` (s) for the centre's (x, y, z, vx, vy, vz) (m, m/s) and the body +x axis."""
-        x, y, z, vx, vy, vz = centre
-        h = self.altitude(x, y, z)
-        rho = self.density(h)
-        if not self.air.still:
-            wx, wy, wz = self.air(x, y, z, h, t)
-            vx, vy, vz = vx - wx, vy - wy, vz - wz
-        fraction = 1.0 if self.schedule is None else self.schedule(t - self.deployed_at)
-        self.fraction = fraction
-        return aerodynamic_force((vx, vy, vz), axis, rho, self.area, self.axial, self.normal, fraction)
-
-    def __call__(self, mbs, t: float, load=None) -> tuple:
-        (x, y, z), (vx, vy, vz), r = self.read()
-        return self.force(t, (x, y, z, vx, vy, vz), (r[0], r[3], r[6]))
-
-    def air_speed(self, time: float) -> float:
-        """The aerodynamic centre's air speed (m/s) from the engine at run time ``time`` (s; a step's start or
-        end)."""
-        (x, y, z), (vx, vy, vz), _ = self.read()
-        if not self.air.still:
-            wx, wy, wz = self.air(x, y, z, self.altitude(x, y, z), time)
-            vx, vy, vz = vx - wx, vy - wy, vz - wz
-        return math.sqrt(vx * vx + vy * vy + vz * vz)
-
-
 def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0,
                      efficiency: float = 1.0):
-    """The body's aerodynamic load, applied through the model's stage; returns its ``BodyAerodynamics`` (None for
-    a body without aerodynamics)."""
+    """The body's aerodynamic load, applied through the model's stage; returns its
+    ``engine.aerodynamics.BodyAerodynamics`` (None for a body without aerodynamics or with them switched off)."""
     aero = body.aerodynamics
     if aero is None or not aero.enabled:
         return None
-    aerodynamics = BodyAerodynamics(model, case, body, schedule, deployed_at, efficiency)
-    model.stage.add_aerodynamics(aerodynamics)
-    return aerodynamics
+    return model.stage.add_aerodynamics(body, schedule, deployed_at, efficiency)
 
 
 def add_bodies(model: Model, case: Case, reduced: bool = False) -> None:

@@ -14,6 +14,7 @@ from the previous phase (zero for a newly deployed system) enters as a force ins
 
 from __future__ import annotations
 
+from array import array
 from typing import NamedTuple
 
 import numpy as np
@@ -126,9 +127,10 @@ class SPConfluence(ReducedConfluence):
             self._kernels[sp_rk_stage](self.stage.states, self.layout, self.table_points, self.work, self.part,
                                        self.memory, t, index, self.step_size)
 
-    def stage_solve_with_bodies(self, t: float, q, q_t, bodies, states, generalized) -> None:
+    def stage_solve_with_bodies(self, t: float, q, q_t, bodies, states, generalized, aerodynamics) -> None:
         """``stage_solve`` with the stage's body kinematics in the same kernel call (the stage force item uses it
-        when this is the model's only confluence), the lines' generalized forces written to ``generalized``; at a
+        when this is the model's only confluence), the lines' generalized forces written to ``generalized`` and the
+        bodies' aerodynamic loads added (``aerodynamics``: ``engine.aerodynamics.AerodynamicLoads.parts``); at a
         step's first stage, the deferred end-of-step work too."""
         index = self.stage_index
         pending = self.pending
@@ -136,12 +138,13 @@ class SPConfluence(ReducedConfluence):
             self.stage_index = 1
             self.end_of_step = self._kernels[sp_first_stage_with_bodies](
                 q, q_t, bodies, states, self.layout, self.table_points, self.work, self.part, self.memory,
-                pending[0], self.step_size, pending[1], self.start_time, self.record, t, generalized)
+                pending[0], self.step_size, pending[1], self.start_time, self.record, t, generalized, *aerodynamics)
             self._settled()
             return
         solve = self._needs_solve(t, index)
         self._kernels[sp_rk_stage_with_bodies](q, q_t, bodies, states, self.layout, self.table_points, self.work,
-                                               self.part, self.memory, t, index, self.step_size, solve, generalized)
+                                               self.part, self.memory, t, index, self.step_size, solve, generalized,
+                                               *aerodynamics)
 
     def _needs_solve(self, t: float, index: int) -> bool:
         """Count stage ``index`` (at ``t``, s) and say whether it needs a solve; at the second stage (t_n + h/2) set
@@ -204,15 +207,16 @@ class SPConfluence(ReducedConfluence):
         kernels[sp_rk_stage] = machine_code(sp_rk_stage, *arguments, start, 0, step)
         kernels[sp_end_of_step] = machine_code(sp_end_of_step, *arguments, start, step, False, start, self.record)
         if stage.fused is self:
-            q, q_t = np.array(stage._read()), np.array(stage._read_t())
+            q, q_t = array("d", stage._read()), array("d", stage._read_t())   # as the stage force item passes them
             head = (q, q_t, stage.global_layout, stage.states, *arguments[1:])
-            generalized = stage.generalized
+            generalized, aerodynamics = stage.generalized, stage.loads.parts
             kernels[sp_rk_stage_with_bodies] = machine_code(sp_rk_stage_with_bodies, *head, start, 0, step, True,
-                                                            generalized)
+                                                            generalized, *aerodynamics)
             kernels[sp_end_of_step_with_bodies] = machine_code(sp_end_of_step_with_bodies, *head, start, step,
                                                                False, start, self.record)
             kernels[sp_first_stage_with_bodies] = machine_code(sp_first_stage_with_bodies, *head, start, step,
-                                                               False, start, self.record, start, generalized)
+                                                               False, start, self.record, start, generalized,
+                                                               *aerodynamics)
         self.advance(None, start)
         self.settle()
 

@@ -16,12 +16,15 @@ Generalized forces of a rotation-vector node: the force (N, start frame) and the
 
 from __future__ import annotations
 
+from array import array as coordinates  # Exudyn passes lists: a typed array is the cheapest way into a kernel
+
 import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case
-from ..physics.kinematics import POINT_COLUMNS, STATE_COLUMNS, add_point_forces, body_states, point_motions
+from ..physics.kinematics import POINT_COLUMNS, STATE_COLUMNS, body_states
 from ..state import BodyChannel, initial_body_state
+from .aerodynamics import AerodynamicLoads
 from .model import Model
 
 BODY_COLUMNS = 7
@@ -50,7 +53,8 @@ class Stage:
         self.global_layout = None                                  # from the whole coordinate vectors (refresh)
         for name in names:
             self._set_reference(case, name)
-        self.aerodynamics = []            # engine.bodies.BodyAerodynamics of the bodies with aerodynamics
+        self.loads = AerodynamicLoads(model, case)   # the bodies' aerodynamics, one compiled call per stage
+        self.aerodynamic = False                     # whether any body has aerodynamics (known once packed)
         self.parts = []                   # generalized-force arrays the reduced confluences write
         self.confluences = []             # engine.reduced.ReducedConfluence: solved at every stage
         self.fused = None                 # the only confluence, when it can solve with the kinematics in one call
@@ -60,7 +64,6 @@ class Stage:
         self.rows = self.states.tolist()  # the states at the last refresh, as lists
         system_data = model.mbs.systemData
         self._read, self._read_t = system_data.GetODE2Coordinates, system_data.GetODE2Coordinates_t
-        self.aero_points = self.aero_motion = self.aero_forces = None
         self.has_item = False
 
     def _set_reference(self, case: Case, name: str) -> None:
@@ -81,13 +84,10 @@ class Stage:
             layout[j, 0], layout[j, 1:4], layout[j, 4] = row, local, self.layout[row, 0]
         return layout
 
-    def add_aerodynamics(self, aerodynamics) -> None:
-        """Apply a body's aerodynamic load (``engine.bodies.BodyAerodynamics``) through the stage."""
-        aerodynamics.row = self.row[aerodynamics.body]
-        self.aerodynamics.append(aerodynamics)
-        self.aero_points = self.points([(a.body, a.center) for a in self.aerodynamics])
-        self.aero_motion = np.zeros((len(self.aerodynamics), 6))
-        self.aero_forces = np.zeros((len(self.aerodynamics), 3))
+    def add_aerodynamics(self, body, schedule=None, deployed_at: float = 0.0, efficiency: float = 1.0):
+        """Apply ``body``'s aerodynamic load through the stage (``engine.aerodynamics``); returns its
+        ``BodyAerodynamics``."""
+        return self.loads.add(body, schedule, deployed_at, efficiency)
 
     def add_confluence(self, confluence) -> None:
         """Solve ``confluence`` (``engine.reduced``) at every stage, before the forces are summed."""
@@ -106,7 +106,10 @@ class Stage:
 
     def add_item(self) -> None:
         """Add the force item (when anything needs it); call once every load and confluence is registered."""
-        if not self.free or not (self.aerodynamics or self.parts):
+        self.loads.pack(self)
+        self.loads.bind(self.states, self.generalized)
+        self.aerodynamic = bool(self.loads.members)
+        if not self.free or not (self.aerodynamic or self.parts):
             return
         if len(self.confluences) == 1 and hasattr(self.confluences[0], "stage_solve_with_bodies"):
             self.fused = self.confluences[0]
@@ -128,10 +131,8 @@ class Stage:
         """Load (or, on a machine's first run, compile) the stage's kernels before the timed solve: the body states
         at the start and the point kernels on scratch arrays."""
         body_states(np.array(self._read()), np.array(self._read_t()), self.global_layout, self.states)
-        if self.aerodynamics:
-            point_motions(self.states, self.aero_points, self.aero_motion)
-            add_point_forces(self.states, self.aero_points, np.zeros_like(self.aero_forces),
-                             np.zeros_like(self.generalized))
+        if self.aerodynamic:
+            self.loads.warm_up(self.states, self.generalized)
         for contact in self.contacts:
             contact.add_forces(self.states, np.zeros_like(self.generalized))
 
@@ -154,9 +155,14 @@ class Stage:
         """The force user function: aerodynamic loads at this stage's state plus every confluence's part."""
         try:
             generalized = self.generalized
-            if self.fused is not None:   # one SP confluence: the body kinematics, its solve and its forces in one call
-                self.fused.stage_solve_with_bodies(t, np.array(q), np.array(q_t), self.layout, self.states,
-                                                   generalized)
+            loads = self.loads
+            if self.fused is not None:   # one SP confluence: the kinematics, its solve, the forces in one call
+                if loads.scheduled:
+                    loads.schedule(t)
+                self.fused.stage_solve_with_bodies(t, coordinates("d", q), coordinates("d", q_t), self.layout,
+                                                   self.states, generalized, loads.parts)
+                if loads.status[0] != 0.0:   # the aerodynamics met a problem and added nothing: mend, add them
+                    loads.apply_after(t)
             else:
                 body_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
                 for confluence in self.confluences:
@@ -168,13 +174,8 @@ class Stage:
                         generalized += part
                 else:
                     generalized.fill(0.0)
-            if self.aerodynamics:
-                motion, forces, states = self.aero_motion, self.aero_forces, self.states
-                point_motions(states, self.aero_points, motion)
-                rows = states.tolist()
-                for k, (aero, centre) in enumerate(zip(self.aerodynamics, motion.tolist())):
-                    forces[k] = aero.force(t, centre, rows[aero.row][3:12:3])   # R's first column: body +x
-                add_point_forces(states, self.aero_points, forces, generalized)
+                if self.aerodynamic:
+                    loads.apply(t)
             for contact in self.contacts:
                 contact.add_forces(self.states, generalized)
             return generalized

@@ -1,6 +1,7 @@
 """The air's inertial velocity at a point: the planet's rotation carries it (omega x r) and the wind blows over the
 ground: the steady wind, turbulence and gusts (``physics.wind``) in the start point's east/north/up axes, which turn
-with the ground. Plain floats: it runs in per-stage user functions.
+with the ground. A compiled kernel (``air_velocity``) on packed parameters, which the per-stage aerodynamics call
+and ``AirMotion`` wraps for Python callers.
 """
 
 from __future__ import annotations
@@ -9,7 +10,12 @@ import math
 
 import numpy as np
 
-from .wind import gust_velocity
+from .compiled import kernel
+from .wind import NO_WIND, gust_rows, gust_sum, steady_wind, turbulence_velocity
+
+AIR_COLUMNS = 13
+"""``AirMotion.parameters``: moving (1/0), steady wind only (1/0: no turbulence and no gusts), the rotation rate
+(rad/s), its unit axis (3), the angular velocity (3, rad/s), the planet centre (3, m, start frame), turbulence (1/0)."""
 
 
 class AirMotion:
@@ -22,6 +28,10 @@ class AirMotion:
         The steady wind (its ``at(altitude)`` gives east, north in m/s).
     turbulence : physics.wind.DrydenTurbulence or None
     gusts : tuple of physics.wind.Gust
+
+    The kernels take ``parameters`` (AIR_COLUMNS), ``wind`` (the steady wind's kernel parameters), ``gusts`` (rows of
+    ``physics.wind.GUST_COLUMNS``), ``turbulence`` (its kernel parameters) and ``field()`` (its frozen field, which
+    grows as higher air is asked for: a kernel reports the cells it needs and ``extend`` generates them).
     """
 
     def __init__(self, start, wind=None, turbulence=None, gusts=()):
@@ -33,12 +43,27 @@ class AirMotion:
         self.rate = rate
         self.axis = tuple((start.rotation_vector / rate).tolist()) if rate else (0.0, 0.0, 1.0)
         self.still = not self.moving and rate == 0.0
+        steady_only = self.moving and turbulence is None and not self.gusts
+        self.parameters = np.array([float(self.moving), float(steady_only), rate, *self.axis, *self.omega,
+                                    *self.center, float(turbulence is not None)])
+        self.wind_parameters = wind.kernel_parameters() if wind is not None else np.array([NO_WIND])
+        self.gust_rows = gust_rows(self.gusts)
+        self.turbulence_parameters = (turbulence.kernel_parameters() if turbulence is not None
+                                      else np.array([0.0, 1.0, 1.0, 0.0]))
+
+    def field(self) -> np.ndarray:
+        """The turbulence's frozen field as generated so far (3, cells); empty without turbulence."""
+        return self.turbulence.field if self.turbulence is not None else np.zeros((3, 2))
+
+    def extend(self, cells: int) -> None:
+        """Generate the turbulence's field up to ``cells`` cells (a kernel asked for them)."""
+        self.turbulence.extend_to(int(cells))
 
     def local(self, altitude: float, time: float):
         """(steady wind + gusts, turbulence) at geodetic ``altitude`` (m) and ``time`` (s): two (east, north, up)
         triples (m/s) relative to the ground, in the start point's axes."""
-        east, north = self.wind.at(altitude) if self.wind is not None else (0.0, 0.0)
-        ge, gn, gu = gust_velocity(self.gusts, time)
+        east, north = steady_wind(self.wind_parameters, float(altitude))
+        ge, gn, gu = gust_sum(self.gust_rows, float(time))
         turbulence = (self.turbulence.velocity(altitude, east, north) if self.turbulence is not None
                       else (0.0, 0.0, 0.0))
         return (east + ge, north + gn, gu), turbulence
@@ -55,24 +80,46 @@ class AirMotion:
 
     def __call__(self, x: float, y: float, z: float, altitude: float, time: float):
         """Air velocity at start-frame point (x, y, z) (m) of geodetic ``altitude`` (m) at ``time`` (s)."""
-        vx = vy = vz = 0.0
-        if self.moving:
-            if self.turbulence is None and not self.gusts:
-                vx, vy = self.wind.at(altitude)   # the steady wind alone (as before turbulence and gusts)
-            else:
-                (vx, vy, vz), (tx, ty, tz) = self.local(altitude, time)
-                vx, vy, vz = vx + tx, vy + ty, vz + tz
-            if self.rate:  # the ground's east/north axes have turned by omega t about the polar axis
-                kx, ky, kz = self.axis
-                c, s = math.cos(self.rate * time), math.sin(self.rate * time)
-                along = kx * vx + ky * vy + kz * vz
-                vx, vy, vz = (vx * c + (ky * vz - kz * vy) * s + kx * along * (1 - c),
-                              vy * c + (kz * vx - kx * vz) * s + ky * along * (1 - c),
-                              vz * c + (kx * vy - ky * vx) * s + kz * along * (1 - c))
-        if self.rate:
-            ox, oy, oz = self.omega
-            dx, dy, dz = x - self.center[0], y - self.center[1], z - self.center[2]
-            vx += oy * dz - oz * dy
-            vy += oz * dx - ox * dz
-            vz += ox * dy - oy * dx
-        return vx, vy, vz
+        while True:
+            vx, vy, vz, needed = air_velocity(self.parameters, self.wind_parameters, self.gust_rows,
+                                              self.turbulence_parameters, self.field(), float(x), float(y), float(z),
+                                              float(altitude), float(time))
+            if not needed:
+                return vx, vy, vz
+            self.extend(needed)
+
+
+@kernel
+def air_velocity(parameters, wind, gusts, turbulence, field, x, y, z, altitude, time):
+    """(vx, vy, vz) air velocity (m/s, start frame) at start-frame point (x, y, z) (m) of geodetic ``altitude``
+    (m) at ``time`` (s), and 0; or (0, 0, 0, cells) when the turbulence field must first grow to that many cells.
+    The arguments are ``AirMotion``'s packed parts."""
+    vx = vy = vz = 0.0
+    rate = parameters[2]
+    if parameters[0] > 0.0:
+        if parameters[1] > 0.0:   # the steady wind alone (as before turbulence and gusts)
+            vx, vy = steady_wind(wind, altitude)
+        else:
+            east, north = steady_wind(wind, altitude)
+            ge, gn, gu = gust_sum(gusts, time)
+            tx = ty = tz = 0.0
+            if parameters[12] > 0.0:
+                tx, ty, tz, needed = turbulence_velocity(field, turbulence, altitude, east, north)
+                if needed:
+                    return 0.0, 0.0, 0.0, needed
+            vx, vy, vz = east + ge, north + gn, gu
+            vx, vy, vz = vx + tx, vy + ty, vz + tz
+        if rate:  # the ground's east/north axes have turned by omega t about the polar axis
+            kx, ky, kz = parameters[3], parameters[4], parameters[5]
+            c, s = math.cos(rate * time), math.sin(rate * time)
+            along = kx * vx + ky * vy + kz * vz
+            vx, vy, vz = (vx * c + (ky * vz - kz * vy) * s + kx * along * (1 - c),
+                          vy * c + (kz * vx - kx * vz) * s + ky * along * (1 - c),
+                          vz * c + (kx * vy - ky * vx) * s + kz * along * (1 - c))
+    if rate:
+        ox, oy, oz = parameters[6], parameters[7], parameters[8]
+        dx, dy, dz = x - parameters[9], y - parameters[10], z - parameters[11]
+        vx += oy * dz - oz * dy
+        vy += oz * dx - ox * dz
+        vz += ox * dy - oy * dx
+    return vx, vy, vz, 0

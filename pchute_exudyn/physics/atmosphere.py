@@ -1,18 +1,27 @@
-"""Atmosphere models: density as a function of geodetic altitude.
+"""Atmosphere models: density and the speed of sound as functions of geodetic altitude.
 
-Each model has ``density(altitude)`` for one altitude, in plain floats (it runs in per-stage user functions). A model
-with a validity range raises :class:`OutsideAtmosphereError` outside it. This module reads no files and imports
+Each model's formulas are compiled kernels (``atmosphere_state`` for the per-stage aerodynamics, which takes the model
+as ``kernel_parameters``); its Python methods (``density``, ``temperature``, ``speed_of_sound``) call the same
+kernels, so there is one home per formula. A model with a validity range raises :class:`OutsideAtmosphereError`
+outside it (the kernels report it as a status the caller turns into the error). This module reads no files and imports
 nothing from the rest of the package: ``case.tables`` reads atmosphere tables, the engine turns the exception into
 the user's message.
+
+Speed of sound a = sqrt(gamma R T) of an ideal gas: US76 with its own R = R*/M0 and gamma = 1.4; the Mars model with
+its R = 192.1 J/(kg K) and gamma = MARS_GAMMA; a table from its temperature column and the case's gamma and R, or a
+constant the case gives; a model without any has none (a Mach-number table then is an error).
 """
 
 from __future__ import annotations
 
 import math
-from bisect import bisect_right
 from dataclasses import dataclass
 
-from .interpolation import bracket
+import numpy as np
+
+from .compiled import kernel
+from .interpolation import bracket_packed
+from .wind import TABLE_WIND, steady_wind
 
 
 class OutsideAtmosphereError(ValueError):
@@ -60,13 +69,67 @@ class AtmosphereTableError(ValueError):
         super().__init__(message)
 
 
+US76_KIND, MARS_KIND, TABLE_KIND = 0.0, 1.0, 2.0
+"""``kernel_parameters()[0]``: which model."""
+NO_SOUND, SOUND_FROM_TEMPERATURE, SOUND_CONSTANT = 0.0, 1.0, 2.0
+"""``kernel_parameters()[1]``: how the speed of sound is had (none, sqrt(gamma R T), a constant)."""
+PARAMETER_HEAD = 6
+"""kernel parameters: kind, speed-of-sound kind, gamma (-), R (J/(kg K)), constant speed of sound (m/s), n (table
+rows); a table then has n altitudes (m), n log-densities and n temperatures (K)."""
+
+
 class Atmosphere:
-    """Base class: subclasses implement ``density(altitude)`` (kg/m^3 at geodetic altitude in m)."""
+    """Base class: subclasses give their ``kernel_parameters`` and the range they cover; the methods evaluate the
+    compiled kernels (kg/m^3, K, m/s at geodetic altitude in m)."""
 
     name = "atmosphere"
 
-    def density(self, altitude: float) -> float:  # pragma: no cover - interface
+    def kernel_parameters(self) -> np.ndarray:  # pragma: no cover - interface
         raise NotImplementedError
+
+    def outside(self, altitude: float) -> OutsideAtmosphereError:  # pragma: no cover - interface
+        """The error for ``altitude`` (m) outside the model."""
+        raise NotImplementedError
+
+    @property
+    def has_speed_of_sound(self) -> bool:
+        """Whether the model gives the speed of sound (a Mach-number table needs it)."""
+        return self.kernel_parameters()[1] != NO_SOUND
+
+    def _state(self, altitude: float) -> tuple:
+        density, sound, status = atmosphere_state(self.kernel_parameters(), float(altitude))
+        if status != 0.0:
+            raise self.outside(altitude)
+        return density, sound
+
+    def density(self, altitude: float) -> float:
+        """Density (kg/m^3) at geodetic ``altitude`` (m)."""
+        return self._state(altitude)[0]
+
+    def speed_of_sound(self, altitude: float) -> float:
+        """Speed of sound (m/s) at geodetic ``altitude`` (m) (NaN for a model that has none)."""
+        return self._state(altitude)[1]
+
+
+MARS_GAMMA = 1.33
+"""Ratio of specific heats of Mars's air for its speed of sound (-): CO2-rich gas at the 230-240 K of the NASA Glenn
+model below 10 km (CO2 alone: 1.31 at 250 K, 1.35 at 200 K); assumed, the model gives none."""
+MARS_R = 192.1
+"""J/(kg K): the Glenn model's gas constant (its 0.1921 kJ/(kg K))."""
+
+
+@kernel
+def mars_grc_temperature(altitude):
+    """The Glenn Mars model's temperature (deg C) at geodetic ``altitude`` (m)."""
+    if altitude < 7000.0:
+        return -31.0 - 0.000998 * altitude
+    return -23.4 - 0.00222 * altitude
+
+
+@kernel
+def mars_grc_pressure(altitude):
+    """The Glenn Mars model's pressure (kPa) at geodetic ``altitude`` (m)."""
+    return 0.699 * math.exp(-0.00009 * altitude)
 
 
 @dataclass(frozen=True)
@@ -74,24 +137,22 @@ class MarsGRC(Atmosphere):
     """NASA Glenn Research Center's Mars atmosphere (``docs/models/mer.md``, "Atmosphere").
 
     T [deg C] = -31 - 0.000998 h below 7000 m, -23.4 - 0.00222 h above; p [kPa] = 0.699 exp(-0.00009 h);
-    rho [kg/m^3] = p / (0.1921 (T + 273.1)), with h the geodetic altitude in m.
+    rho [kg/m^3] = p / (0.1921 (T + 273.1)), with h the geodetic altitude in m; speed of sound
+    sqrt(MARS_GAMMA MARS_R (T + 273.1)). No range: it covers every altitude.
     """
 
     name = "mars_grc"
 
+    def kernel_parameters(self) -> np.ndarray:
+        return _MARS_PARAMETERS
+
     def temperature(self, altitude: float) -> float:
         """Temperature (deg C) at ``altitude`` (m)."""
-        if altitude < 7000.0:
-            return -31.0 - 0.000998 * altitude
-        return -23.4 - 0.00222 * altitude
+        return mars_grc_temperature(float(altitude))
 
     def pressure(self, altitude: float) -> float:
         """Pressure (kPa) at ``altitude`` (m)."""
-        return 0.699 * math.exp(-0.00009 * altitude)
-
-    def density(self, altitude: float) -> float:
-        """Density (kg/m^3) at geodetic ``altitude`` (m)."""
-        return self.pressure(altitude) / (0.1921 * (self.temperature(altitude) + 273.1))
+        return mars_grc_pressure(float(altitude))
 
 
 @dataclass(frozen=True)
@@ -110,6 +171,15 @@ class TabulatedAtmosphere(Atmosphere):
         Densities (kg/m^3) at those altitudes, all > 0; stored as a tuple of floats.
     source : str
         Where the table came from (file path), for messages.
+    temperature : sequence of float
+        Temperatures (K, > 0) at those altitudes, linear between them, for the speed of sound sqrt(gamma R T);
+        empty: none.
+    gamma : float
+        Ratio of specific heats (-) of the table's gas (default: Earth's air, 1.4).
+    gas_constant : float
+        Specific gas constant R (J/(kg K)) of the table's gas (default: Earth's air, 287.05287).
+    speed_of_sound_constant : float or None
+        Without temperatures, a constant speed of sound (m/s); None: the table has none.
 
     Raises
     ------
@@ -121,6 +191,10 @@ class TabulatedAtmosphere(Atmosphere):
     altitude: tuple
     density_values: tuple
     source: str = "table"
+    temperature: tuple = ()
+    gamma: float = 1.4
+    gas_constant: float = 287.05287
+    speed_of_sound_constant: float | None = None
     name = "table"
 
     def __post_init__(self):
@@ -135,18 +209,29 @@ class TabulatedAtmosphere(Atmosphere):
             raise AtmosphereTableError("altitude", "altitudes must be strictly increasing", list(altitude))
         if any(not (r > 0.0) for r in density):
             raise AtmosphereTableError("density", "densities must all be > 0 (kg/m^3)", list(density))
+        temperature = tuple(float(t) for t in self.temperature)
+        if temperature and len(temperature) != len(altitude):
+            raise AtmosphereTableError("temperature", f"atmosphere table has {len(altitude)} altitudes but "
+                                                      f"{len(temperature)} temperatures", list(temperature))
+        if any(not (t > 0.0) for t in temperature):
+            raise AtmosphereTableError("temperature", "temperatures must all be > 0 (K)", list(temperature))
         object.__setattr__(self, "altitude", altitude)
         object.__setattr__(self, "density_values", density)
+        object.__setattr__(self, "temperature", temperature)
         object.__setattr__(self, "_log_density", tuple(math.log(r) for r in density))
+        sound = (SOUND_FROM_TEMPERATURE if temperature else
+                 SOUND_CONSTANT if self.speed_of_sound_constant is not None else NO_SOUND)
+        head = [TABLE_KIND, sound, self.gamma, self.gas_constant, self.speed_of_sound_constant or 0.0,
+                len(altitude)]
+        object.__setattr__(self, "_parameters", np.array(head + list(altitude) + list(self._log_density)
+                                                         + list(temperature or (0.0,) * len(altitude))))
 
-    def density(self, altitude: float) -> float:
-        """Density (kg/m^3) at geodetic ``altitude`` (m); raises OutsideAtmosphereError outside the table."""
-        alt = self.altitude
-        if not (alt[0] <= altitude <= alt[-1]):
-            raise OutsideAtmosphereError(altitude, alt[0], alt[-1], f"atmosphere table {self.source}",
-                                         "extend the table")
-        i, w = bracket(alt, altitude)
-        return math.exp(self._log_density[i - 1] + w * (self._log_density[i] - self._log_density[i - 1]))
+    def kernel_parameters(self) -> np.ndarray:
+        return self._parameters
+
+    def outside(self, altitude: float) -> OutsideAtmosphereError:
+        return OutsideAtmosphereError(altitude, self.altitude[0], self.altitude[-1],
+                                      f"atmosphere table {self.source}", "extend the table")
 
 
 # U.S. Standard Atmosphere 1976 (NOAA-S/T 76-1562), part 1, constants in SI units.
@@ -154,7 +239,7 @@ US76_R0 = 6356766.0               # m, effective Earth radius of the geopotentia
 US76_G0 = 9.80665                 # m/s^2, standard gravity (with the geopotential metre: m'^2/s^2 per m')
 US76_R_STAR = 8314.32             # J/(kmol K), gas constant as the standard defines it
 US76_M0 = 28.9644                 # kg/kmol, sea-level mean molecular weight of air
-US76_R = US76_R_STAR / US76_M0    # J/(kg K), specific gas constant of air: 287.05287
+US76_R = US76_R_STAR / US76_M0    # J/(kg K), specific gas constant of air: 287.0531
 US76_T0 = 288.15                  # K, sea-level temperature
 US76_P0 = 101325.0                # Pa, sea-level pressure
 # (base geopotential altitude m', lapse rate K/m') of the standard's seven layers, up to 84 852 m'
@@ -197,7 +282,7 @@ class US76(Atmosphere):
     +2.8, 0, -2.8, -2.0 K/km from H_b = 0, 11, 20, 32, 47, 51, 71 km'; top 84.852 km'):
     T = T_b + L_b (H - H_b) (K); p = p_b (T_b / T)^(g0 M0 / (R* L_b)) for L_b != 0,
     p = p_b exp(-g0 M0 (H - H_b) / (R* T_b)) for L_b = 0 (Pa); rho = p M0 / (R* T) (kg/m^3). Constants: T0 = 288.15 K,
-    p0 = 101 325 Pa, g0 = 9.80665 m/s^2, R* = 8 314.32 J/(kmol K), M0 = 28.9644 kg/kmol (R*/M0 = 287.05287 J/(kg K)).
+    p0 = 101 325 Pa, g0 = 9.80665 m/s^2, R* = 8 314.32 J/(kmol K), M0 = 28.9644 kg/kmol (R*/M0 = 287.0531 J/(kg K)).
     The layer base values are computed once, at import; ``density`` uses plain floats.
 
     Outside -5 000 to 86 000 m geometric altitude the methods raise :class:`OutsideAtmosphereError`.
@@ -207,13 +292,11 @@ class US76(Atmosphere):
     floor = -5000.0       # m, geometric
     ceiling = 86000.0     # m, geometric
 
-    def _layer(self, altitude: float):
-        """(geopotential altitude m', layer row) for geometric ``altitude`` (m), after the range check."""
-        if not (self.floor <= altitude <= self.ceiling):
-            raise OutsideAtmosphereError(altitude, self.floor, self.ceiling, "US76 atmosphere")
-        geopotential = self.geopotential_altitude(altitude)
-        i = bisect_right(_US76_BASES, geopotential) - 1
-        return geopotential, _US76[i if i > 0 else 0]
+    def kernel_parameters(self) -> np.ndarray:
+        return _US76_PARAMETERS
+
+    def outside(self, altitude: float) -> OutsideAtmosphereError:
+        return OutsideAtmosphereError(altitude, self.floor, self.ceiling, "US76 atmosphere")
 
     def geopotential_altitude(self, altitude: float) -> float:
         """Geopotential altitude H (m') of geometric ``altitude`` h (m): H = r0 h / (r0 + h)."""
@@ -221,24 +304,83 @@ class US76(Atmosphere):
 
     def temperature(self, altitude: float) -> float:
         """Temperature (K) at geometric ``altitude`` (m)."""
-        geopotential, (base, base_temperature, lapse, _, _, _) = self._layer(altitude)
-        return base_temperature + lapse * (geopotential - base)
+        if not (self.floor <= altitude <= self.ceiling):
+            raise self.outside(altitude)
+        return us76_temperature(_US76_LAYERS, float(altitude))
 
     def pressure(self, altitude: float) -> float:
         """Pressure (Pa) at geometric ``altitude`` (m)."""
         return self.density(altitude) * US76_R * self.temperature(altitude)
 
-    def density(self, altitude: float) -> float:
-        """Density (kg/m^3) at geometric (geodetic) ``altitude`` (m)."""
-        # the range check and geopotential_altitude inlined: this runs at every solver stage (about 0.18 us a call)
+
+@kernel
+def _us76_layer(layers, altitude):
+    """(geopotential altitude H in m', the row of its layer in ``layers``) for geometric ``altitude`` (m)."""
+    geopotential = 6356766.0 * altitude / (6356766.0 + altitude)
+    i = 0
+    while i + 1 < layers.shape[0] and layers[i + 1, 0] <= geopotential:   # bisect_right over the layer bases
+        i += 1
+    return geopotential, i
+
+
+@kernel
+def us76_temperature(layers, altitude):
+    """US76 temperature (K) at geometric ``altitude`` (m) (no range check), from the layer table ``layers``."""
+    geopotential, i = _us76_layer(layers, altitude)
+    return layers[i, 1] + layers[i, 2] * (geopotential - layers[i, 0])
+
+
+@kernel
+def us76_density(layers, altitude):
+    """US76 density (kg/m^3) at geometric ``altitude`` (m) (no range check), from the layer table ``layers``."""
+    geopotential, i = _us76_layer(layers, altitude)
+    base, base_temperature, lapse, base_density, k = (layers[i, 0], layers[i, 1], layers[i, 2], layers[i, 4],
+                                                      layers[i, 5])
+    if lapse == 0.0:
+        return base_density * math.exp(k * (geopotential - base))
+    return base_density * (1.0 + lapse * (geopotential - base) / base_temperature) ** k
+
+
+@kernel
+def _table_interpolate(parameters, column, i, w):
+    """Linear between rows i - 1 and i of a table atmosphere's ``column`` (1: log-density, 2: temperature)."""
+    n = int(parameters[5])
+    start = PARAMETER_HEAD + column * n
+    return parameters[start + i - 1] + w * (parameters[start + i] - parameters[start + i - 1])
+
+
+@kernel
+def atmosphere_state(parameters, altitude):
+    """(density in kg/m^3, speed of sound in m/s or NaN, status) at geodetic ``altitude`` (m) of the atmosphere
+    ``parameters`` (``Atmosphere.kernel_parameters``); status 1 when the altitude is outside the model."""
+    kind, sound = parameters[0], parameters[1]
+    if kind == US76_KIND:
         if not (-5000.0 <= altitude <= 86000.0):
-            raise OutsideAtmosphereError(altitude, self.floor, self.ceiling, "US76 atmosphere")
-        geopotential = 6356766.0 * altitude / (6356766.0 + altitude)
-        i = bisect_right(_US76_BASES, geopotential) - 1
-        base, base_temperature, lapse, _, base_density, k = _US76[i if i > 0 else 0]
-        if lapse == 0.0:
-            return base_density * math.exp(k * (geopotential - base))
-        return base_density * (1.0 + lapse * (geopotential - base) / base_temperature) ** k
+            return math.nan, math.nan, 1.0
+        density = us76_density(_US76_LAYERS, altitude)
+        temperature = us76_temperature(_US76_LAYERS, altitude) if sound == SOUND_FROM_TEMPERATURE else 0.0
+    elif kind == MARS_KIND:
+        celsius = mars_grc_temperature(altitude)
+        density = mars_grc_pressure(altitude) / (0.1921 * (celsius + 273.1))
+        temperature = celsius + 273.1
+    else:
+        n = int(parameters[5])
+        if not (parameters[PARAMETER_HEAD] <= altitude <= parameters[PARAMETER_HEAD + n - 1]):
+            return math.nan, math.nan, 1.0
+        i, w = bracket_packed(parameters, PARAMETER_HEAD, n, altitude)
+        density = math.exp(_table_interpolate(parameters, 1, i, w))
+        temperature = _table_interpolate(parameters, 2, i, w) if sound == SOUND_FROM_TEMPERATURE else 0.0
+    if sound == SOUND_FROM_TEMPERATURE:
+        return density, math.sqrt(parameters[2] * parameters[3] * temperature), 0.0
+    if sound == SOUND_CONSTANT:
+        return density, parameters[4], 0.0
+    return density, math.nan, 0.0
+
+
+_US76_LAYERS = np.array(_US76)
+"""The layer table as an array for the kernels: (H_b, T_b, L, p_b, rho_b, k) per layer."""
+_US76_PARAMETERS = np.array([US76_KIND, SOUND_FROM_TEMPERATURE, 1.4, US76_R, 0.0, 0.0])
+_MARS_PARAMETERS = np.array([MARS_KIND, SOUND_FROM_TEMPERATURE, MARS_GAMMA, MARS_R, 0.0, 0.0])
 
 
 @dataclass(frozen=True)
@@ -257,10 +399,11 @@ class Wind:
     def constant(cls, east: float, north: float) -> Wind:
         return cls((), (float(east),), (float(north),))
 
+    def kernel_parameters(self) -> np.ndarray:
+        """The wind for ``physics.wind.steady_wind``: 1 (a table), n rows (0 for a constant), then the altitudes,
+        east and north components (a constant: east, north)."""
+        return np.array([TABLE_WIND, len(self.altitude), *self.altitude, *self.east, *self.north])
+
     def at(self, altitude: float):
         """(east, north) wind (m/s) at ``altitude`` (m)."""
-        if not self.altitude:
-            return self.east[0], self.north[0]
-        i, w = bracket(self.altitude, altitude)
-        return (self.east[i - 1] + w * (self.east[i] - self.east[i - 1]),
-                self.north[i - 1] + w * (self.north[i] - self.north[i - 1]))
+        return steady_wind(self.kernel_parameters(), float(altitude))

@@ -48,42 +48,52 @@ def body_states(q, q_t, bodies, states):
 
 
 @kernel
+def point_motion(row, lx, ly, lz):
+    """(x, y, z, vx, vy, vz): position (m) and velocity (m/s) of the point (lx, ly, lz) (m, body axes) of the body
+    whose state is ``row``."""
+    ax = row[3] * lx + row[4] * ly + row[5] * lz
+    ay = row[6] * lx + row[7] * ly + row[8] * lz
+    az = row[9] * lx + row[10] * ly + row[11] * lz
+    wx, wy, wz = row[15], row[16], row[17]
+    return (row[0] + ax, row[1] + ay, row[2] + az, row[12] + wy * az - wz * ay, row[13] + wz * ax - wx * az,
+            row[14] + wx * ay - wy * ax)
+
+
+@kernel
 def point_motions(states, points, motion):
     """Position (m) and velocity (m/s) of body points into ``motion`` rows (x, y, z, vx, vy, vz): ``points`` rows
     as POINT_COLUMNS."""
     for j in range(points.shape[0]):
-        row = states[int(points[j, 0])]
-        lx, ly, lz = points[j, 1], points[j, 2], points[j, 3]
-        ax = row[3] * lx + row[4] * ly + row[5] * lz
-        ay = row[6] * lx + row[7] * ly + row[8] * lz
-        az = row[9] * lx + row[10] * ly + row[11] * lz
-        wx, wy, wz = row[15], row[16], row[17]
-        motion[j, 0], motion[j, 1], motion[j, 2] = row[0] + ax, row[1] + ay, row[2] + az
-        motion[j, 3] = row[12] + wy * az - wz * ay
-        motion[j, 4] = row[13] + wz * ax - wx * az
-        motion[j, 5] = row[14] + wx * ay - wy * ax
+        x, y, z, vx, vy, vz = point_motion(states[int(points[j, 0])], points[j, 1], points[j, 2], points[j, 3])
+        motion[j, 0], motion[j, 1], motion[j, 2] = x, y, z
+        motion[j, 3], motion[j, 4], motion[j, 5] = vx, vy, vz
+
+
+@kernel
+def add_point_force(row, lx, ly, lz, fx, fy, fz, generalized, k):
+    """Add the generalized force of force (fx, fy, fz) (N, start frame) at the point (lx, ly, lz) (m, body axes) of
+    the body whose state is ``row`` and whose generalized forces start at ``generalized[k]``: the force, and the
+    body-axis moment p x (R^T F) about the centre of mass (N m)."""
+    bx = row[3] * fx + row[6] * fy + row[9] * fz   # R^T F
+    by = row[4] * fx + row[7] * fy + row[10] * fz
+    bz = row[5] * fx + row[8] * fy + row[11] * fz
+    generalized[k] += fx
+    generalized[k + 1] += fy
+    generalized[k + 2] += fz
+    generalized[k + 3] += ly * bz - lz * by
+    generalized[k + 4] += lz * bx - lx * bz
+    generalized[k + 5] += lx * by - ly * bx
 
 
 @kernel
 def add_point_forces(states, points, forces, generalized):
     """Add the generalized forces of point forces ``forces`` (N, start frame, one row per point) to
-    ``generalized``: the force, and the body-axis moment p x (R^T F) about the centre of mass (N m)."""
+    ``generalized`` (``add_point_force``; a point of a fixed body adds none)."""
     for j in range(points.shape[0]):
         k = int(points[j, 4])
-        if k < 0:
-            continue
-        row = states[int(points[j, 0])]
-        fx, fy, fz = forces[j, 0], forces[j, 1], forces[j, 2]
-        bx = row[3] * fx + row[6] * fy + row[9] * fz   # R^T F
-        by = row[4] * fx + row[7] * fy + row[10] * fz
-        bz = row[5] * fx + row[8] * fy + row[11] * fz
-        lx, ly, lz = points[j, 1], points[j, 2], points[j, 3]
-        generalized[k] += fx
-        generalized[k + 1] += fy
-        generalized[k + 2] += fz
-        generalized[k + 3] += ly * bz - lz * by
-        generalized[k + 4] += lz * bx - lx * bz
-        generalized[k + 5] += lx * by - ly * bx
+        if k >= 0:
+            add_point_force(states[int(points[j, 0])], points[j, 1], points[j, 2], points[j, 3], forces[j, 0],
+                            forces[j, 1], forces[j, 2], generalized, k)
 
 
 def body_point(position, rotation, velocity=None, angular_velocity_local=None, local=(0.0, 0.0, 0.0)):

@@ -19,7 +19,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .compiled import kernel
+from .compiled import COMPILED, kernel
 
 _MATH = SimpleNamespace(sin=math.sin, cos=math.cos, atan2=math.atan2, hypot=math.hypot, sqrt=math.sqrt)
 _NUMPY = SimpleNamespace(sin=np.sin, cos=np.cos, atan2=np.arctan2, hypot=np.hypot, sqrt=np.sqrt)
@@ -47,6 +47,97 @@ def _geodetic(x, y, z, a, b, m, iterations=3):
         sb, cb = b * sl, a * cl                # tan(beta) = (b / a) tan(phi)
     height = p * cl + z * sl - a * m.sqrt(1.0 - e2 * sl * sl)
     return m.atan2(sl, cl), height
+
+
+SPLIT = 134217729.0
+"""2^27 + 1: Veltkamp's splitting constant (a double into two halves whose products are exact)."""
+
+
+@kernel
+def hypot(a, b):
+    """sqrt(a^2 + b^2) to the last bit as CPython's ``math.hypot`` gives it (its vector_norm: power-of-two scaling,
+    exact squares by Veltkamp-Dekker splitting, compensated summation, a corrected square root), so that compiled
+    kernels reproduce the per-stage Python they replace bit for bit (a plain sqrt can differ in the last bit)."""
+    x0, x1 = abs(a), abs(b)
+    if x0 != x0 or x1 != x1:
+        return math.inf if math.isinf(x0) or math.isinf(x1) else math.nan
+    big = x0 if x0 > x1 else x1
+    if math.isinf(big) or big == 0.0:
+        return big
+    factor = 1.0
+    exponent = math.frexp(big)[1]
+    if exponent < -1023:   # subnormal: lift to normals first (CPython recurses once)
+        tiny = 2.2250738585072014e-308
+        x0, x1, big, factor = x0 / tiny, x1 / tiny, big / tiny, tiny
+        exponent = math.frexp(big)[1]
+    scale = math.ldexp(1.0, -exponent)
+    csum, frac1, frac2 = 1.0, 0.0, 0.0
+    for x in (x0 * scale, x1 * scale):
+        csum, frac1, frac2 = _add_product(x, x, csum, frac1, frac2)
+    h = math.sqrt(csum - 1.0 + (frac1 + frac2))
+    csum, frac1, frac2 = _add_product(-h, h, csum, frac1, frac2)   # the square root's residual, for its correction
+    h += (csum - 1.0 + (frac1 + frac2)) / (2.0 * h)
+    return factor * (h / scale)
+
+
+if not COMPILED:   # the Python form of the port is the function it ports
+    hypot = math.hypot  # noqa: F811
+
+
+@kernel
+def _split(x):
+    """Veltkamp's split of ``x`` into (high, low) halves whose products are exact."""
+    t = SPLIT * x
+    high = t - (t - x)
+    return high, x - high
+
+
+@kernel
+def _add_product(a, b, csum, frac1, frac2):
+    """Add a b exactly (Dekker's product: the rounded product and its error) to CPython's compensated sum
+    (csum, frac1, frac2)."""
+    product = a * b
+    a_high, a_low = _split(a)
+    b_high, b_low = _split(b)
+    error = ((a_high * b_high - product) + a_high * b_low + a_low * b_high) + a_low * b_low
+    total = csum + product
+    frac2 += (csum - total) + product
+    return total, frac1 + error, frac2
+
+
+@kernel
+def geodetic_height(x, y, z, a, b):
+    """Geodetic height (m) of the planet-centred point (x, y, z) (m) on the ellipsoid of semi-axes a, b (m): one
+    Bowring iteration, the scalar form of ``_geodetic`` (whose array form the histories use; the tests check that
+    they agree), compiled for the per-stage kernels."""
+    e2 = 1.0 - (b * b) / (a * a)
+    ep2 = (a * a) / (b * b) - 1.0
+    p = hypot(x, y)
+    sb, cb = a * z, b * p
+    norm = math.sqrt(sb * sb + cb * cb)
+    sb, cb = sb / norm, cb / norm
+    sl = z + ep2 * b * sb * sb * sb
+    cl = p - e2 * a * cb * cb * cb
+    norm = math.sqrt(sl * sl + cl * cl)
+    sl, cl = sl / norm, cl / norm
+    return p * cl + z * sl - a * math.sqrt(1.0 - e2 * sl * sl)
+
+
+FRAME_COLUMNS = 15
+"""A start frame for the kernels (``StartFrame.kernel_frame``): its origin (3, m) and axes (9, row-major), the
+planet's semi-axes a and b (m), and 1 for a flat planet (altitude = up) or 0 for an ellipsoid."""
+
+
+@kernel
+def start_altitude(frame, x, y, z):
+    """Geodetic altitude (m) of the start-frame point (x, y, z) (m) in the start frame ``frame``
+    (FRAME_COLUMNS)."""
+    px = frame[0] + frame[3] * x + frame[4] * y + frame[5] * z
+    py = frame[1] + frame[6] * x + frame[7] * y + frame[8] * z
+    pz = frame[2] + frame[9] * x + frame[10] * y + frame[11] * z
+    if frame[14] > 0.0:
+        return pz
+    return geodetic_height(px, py, pz, frame[12], frame[13])
 
 
 @dataclass(frozen=True)
@@ -184,6 +275,7 @@ class StartFrame:
     axes: np.ndarray = field(init=False, repr=False)
     _plain: tuple = field(init=False, repr=False, compare=False)   # origin and axes as floats, for altitude_scalar
     _gravity_plain: tuple = field(init=False, repr=False, compare=False)  # (mu, centre) or (0, uniform g), floats
+    _frame: np.ndarray = field(init=False, repr=False, compare=False)     # kernel_frame
 
     def __post_init__(self):
         object.__setattr__(self, "origin", self.planet.cartesian(self.latitude_deg, self.longitude_deg, 0.0))
@@ -194,6 +286,9 @@ class StartFrame:
         else:
             gravity = (float(self.planet.gravitational_parameter), tuple(self.planet_center.tolist()))
         object.__setattr__(self, "_gravity_plain", gravity)
+        flat = isinstance(self.planet, FlatPlanet)
+        semi_axes = (1.0, 1.0) if flat else (self.planet.equatorial_radius, self.planet.polar_radius)
+        object.__setattr__(self, "_frame", np.array([*self._plain, *semi_axes, 1.0 if flat else 0.0]))
 
     @property
     def planet_center(self) -> np.ndarray:
@@ -254,10 +349,14 @@ class StartFrame:
         return toward / np.linalg.norm(toward, axis=-1, keepdims=True)
 
     def altitude_scalar(self, x: float, y: float, z: float) -> float:
-        """Geodetic altitude (m) of one start-frame position (m), in plain floats (user functions, every stage)."""
-        ox, oy, oz, a00, a01, a02, a10, a11, a12, a20, a21, a22 = self._plain
-        return self.planet.altitude_scalar(ox + a00 * x + a01 * y + a02 * z, oy + a10 * x + a11 * y + a12 * z,
-                                           oz + a20 * x + a21 * y + a22 * z)
+        """Geodetic altitude (m) of one start-frame position (m) (``start_altitude``: what the per-stage kernels
+        compute)."""
+        return start_altitude(self.kernel_frame, x, y, z)
+
+    @property
+    def kernel_frame(self) -> np.ndarray:
+        """The frame as the compiled kernels take it (FRAME_COLUMNS)."""
+        return self._frame
 
 
     def gravity_scalar(self, x: float, y: float, z: float) -> tuple:

@@ -46,6 +46,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .aerodynamics import aerodynamics_stage
 from .compiled import kernel
 from .kinematics import POINT_COLUMNS, add_point_forces, body_states, point_motions
 from .lines import pack_tables, table_tension
@@ -510,15 +511,18 @@ def _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record):
 
 @kernel
 def sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index, h, solve,
-                            generalized):
-    """``kinematics.body_states`` from the stage's node coordinates, then (when ``solve``) ``sp_rk_stage``, and the
-    lines' generalized forces (``part``, from this solve or the last) copied into ``generalized``: a model with one
-    SP confluence does a stage's kernel work in one call. Returns nothing (the stage velocity goes to memory row
-    index + 1)."""
+                            generalized, aerodynamics, field, aerodynamic_work):
+    """``kinematics.body_states`` from the stage's node coordinates, then (when ``solve``) ``sp_rk_stage``, the
+    lines' generalized forces (``part``, from this solve or the last) copied into ``generalized``, and the bodies'
+    aerodynamic loads added (``aerodynamics.aerodynamics_stage`` on ``aerodynamics``, ``field`` and
+    ``aerodynamic_work``, when there are any): a model with one SP confluence does a stage's kernel work in one
+    call. Returns nothing (the stage velocity goes to memory row index + 1)."""
     body_states(q, q_t, bodies, states)
     if solve:
         sp_rk_stage(states, layout, tables, work, part, memory, t, index, h)
     generalized[:] = part
+    if aerodynamics[0] > 0.0:
+        aerodynamics_stage(t, states, aerodynamics, field, aerodynamic_work, generalized)
 
 
 @kernel
@@ -541,15 +545,17 @@ def sp_end_of_step_with_bodies(q, q_t, bodies, states, layout, tables, work, par
 
 @kernel
 def sp_first_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t_end, h, completed,
-                               start_time, record, t, generalized):
+                               start_time, record, t, generalized, aerodynamics, field, aerodynamic_work):
     """The end-of-step work of the step that ended at ``t_end`` (s), done at the next step's first RK stage (time
     ``t``, s; the same state): ``sp_end_of_step_with_bodies``, then that stage's solve with the updated v0 unless
     the end-of-step solve holds for it (``holds_after_v0_update``). The same arithmetic, in the same order, as the
-    two calls it replaces; the lines' generalized forces into ``generalized`` as ``sp_rk_stage_with_bodies``.
-    Returns ``sp_end_of_step``'s tuple."""
+    two calls it replaces; the lines' generalized forces and the aerodynamic loads into ``generalized`` as
+    ``sp_rk_stage_with_bodies``. Returns ``sp_end_of_step``'s tuple."""
     end = sp_end_of_step_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t_end, h,
                                      completed, start_time, record)
     if not holds_after_v0_update(end[3], end[5]):
         sp_rk_stage(states, layout, tables, work, part, memory, t, 0, h)
     generalized[:] = part
+    if aerodynamics[0] > 0.0:
+        aerodynamics_stage(t, states, aerodynamics, field, aerodynamic_work, generalized)
     return end

@@ -9,6 +9,10 @@ Turbulence is a frozen field along the height above the ground: a parachute desc
 component's correlation over a height step equals its correlation in time at the descent rate V over (height step)
 / V (Taylor's hypothesis, vertical). The field is generated as filtered white noise on a uniform height grid, cell by
 cell upwards from the ground, from a seed alone: every method, step and machine sees the same air.
+
+The formulas evaluated at every solver stage are compiled kernels on packed parameters (``steady_wind``,
+``gust_sum``, ``field_components``, ``turbulence_velocity``); the models' Python methods call them, so the per-stage
+aerodynamics (``physics.air``) and the outputs compute the same numbers.
 """
 
 from __future__ import annotations
@@ -17,6 +21,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from .compiled import kernel
+from .planet import hypot
 
 FOOT = 0.3048
 """m per ft (the MIL-F-8785C low-altitude formulas are written in feet)."""
@@ -27,6 +34,42 @@ def wind_from_direction(speed: float, from_deg: float) -> tuple:
     north)."""
     angle = math.radians(from_deg)
     return -speed * math.sin(angle), -speed * math.cos(angle)
+
+
+NO_WIND, TABLE_WIND, POWER_LAW_WIND = 0.0, 1.0, 2.0
+"""``kernel_parameters()[0]`` of a steady wind: none, constant or altitude table (``physics.atmosphere.Wind``: then
+n, and n altitudes, n east and n north components, or for a constant n = 0, east, north), or power law (east, north,
+h_ref, p, h_ground)."""
+
+
+@kernel
+def steady_wind(parameters, altitude):
+    """(east, north) steady wind (m/s) at geodetic ``altitude`` (m) of the wind ``parameters``
+    (``kernel_parameters`` of ``physics.atmosphere.Wind`` or ``PowerLawWind``; [NO_WIND] for none)."""
+    kind = parameters[0]
+    if kind == TABLE_WIND:
+        n = int(parameters[1])
+        if n == 0:
+            return parameters[2], parameters[3]
+        if altitude <= parameters[2]:
+            i, w = 1, 0.0
+        elif altitude >= parameters[2 + n - 1]:
+            i, w = n - 1, 1.0
+        else:
+            i = 1
+            while parameters[2 + i] <= altitude:   # bisect_right, as physics.interpolation.bracket
+                i += 1
+            w = (altitude - parameters[2 + i - 1]) / (parameters[2 + i] - parameters[2 + i - 1])
+        east, north = 2 + n, 2 + 2 * n
+        return (parameters[east + i - 1] + w * (parameters[east + i] - parameters[east + i - 1]),
+                parameters[north + i - 1] + w * (parameters[north + i] - parameters[north + i - 1]))
+    if kind == POWER_LAW_WIND:
+        height = altitude - parameters[5]
+        if height <= 0.0:
+            return 0.0, 0.0
+        factor = (height / parameters[3]) ** parameters[4]
+        return parameters[1] * factor, parameters[2] * factor
+    return 0.0, 0.0
 
 
 @dataclass(frozen=True)
@@ -51,13 +94,14 @@ class PowerLawWind:
     exponent: float
     ground_altitude: float = 0.0
 
+    def kernel_parameters(self) -> np.ndarray:
+        """The wind for ``steady_wind``."""
+        return np.array([POWER_LAW_WIND, self.east, self.north, self.reference_height, self.exponent,
+                         self.ground_altitude])
+
     def at(self, altitude: float):
         """(east, north) wind (m/s) at geodetic ``altitude`` (m)."""
-        height = altitude - self.ground_altitude
-        if height <= 0.0:
-            return 0.0, 0.0
-        factor = (height / self.reference_height) ** self.exponent
-        return self.east * factor, self.north * factor
+        return steady_wind(self.kernel_parameters(), float(altitude))
 
 
 # -- Dryden turbulence --------------------------------------------------------------------------------------------
@@ -127,6 +171,7 @@ class DrydenTurbulence:
         shortest = min(self.length) if self.length is not None else 10.0 * FOOT
         self.cell = shortest / CELLS_PER_LENGTH      # m
         self.values: list = [[], [], []]             # u, v, w at the cells (m/s)
+        self.field = np.zeros((3, 0))                # the same as an array, for the kernels
         self._state = None                           # (xi_u, z_v1, z_v2, z_w1, z_w2) after the last cell
 
     def scales(self, height: float) -> tuple:
@@ -156,23 +201,63 @@ class DrydenTurbulence:
             v_out.append(sigma[1] * 0.5 * (v1 + SQRT3 * v2))
             w_out.append(sigma[2] * 0.5 * (w1 + SQRT3 * w2))
         self._state = (xu, v1, v2, w1, w2)
+        self.field = np.array(self.values)
+
+    def extend_to(self, cells: int) -> None:
+        """Generate the field up to at least ``cells`` cells."""
+        while len(self.values[0]) < cells:
+            self._extend()
+
+    def kernel_parameters(self) -> np.ndarray:
+        """(ground altitude m, cell m, heading east, heading north) for ``turbulence_velocity``."""
+        return np.array([self.ground_altitude, self.cell, *self.heading])
 
     def components(self, altitude: float) -> tuple:
         """(u, v, w) (m/s) at geodetic ``altitude`` (m)."""
-        position = max(altitude - self.ground_altitude, 0.0) / self.cell
-        i = int(position)
-        while i + 1 >= len(self.values[0]):
-            self._extend()
-        f = position - i
-        u, v, w = self.values
-        return (u[i] + f * (u[i + 1] - u[i]), v[i] + f * (v[i + 1] - v[i]), w[i] + f * (w[i + 1] - w[i]))
+        while True:
+            u, v, w, needed = field_components(self.field, self.ground_altitude, self.cell, float(altitude))
+            if not needed:
+                return u, v, w
+            self.extend_to(needed)
 
     def velocity(self, altitude: float, mean_east: float, mean_north: float) -> tuple:
         """(east, north, up) turbulence (m/s) at ``altitude`` (m) under a mean wind (m/s) that orients u and v."""
-        u, v, w = self.components(altitude)
-        speed = math.hypot(mean_east, mean_north)
-        ce, cn = (mean_east / speed, mean_north / speed) if speed > 1e-9 else self.heading
-        return u * ce - v * cn, u * cn + v * ce, w
+        while True:
+            east, north, up, needed = turbulence_velocity(self.field, self.kernel_parameters(), float(altitude),
+                                                          float(mean_east), float(mean_north))
+            if not needed:
+                return east, north, up
+            self.extend_to(needed)
+
+
+@kernel
+def field_components(field, ground, cell, altitude):
+    """(u, v, w) (m/s) of the frozen field ``field`` (3, n cells of ``cell`` m from the ``ground`` altitude, m) at
+    geodetic ``altitude`` (m), linear between cells and held below the ground, and 0; or (0, 0, 0, cells) when the
+    field must first be generated up to that many cells."""
+    position = max(altitude - ground, 0.0) / cell
+    i = int(position)
+    if i + 1 >= field.shape[1]:
+        return 0.0, 0.0, 0.0, i + 2
+    f = position - i
+    return (field[0, i] + f * (field[0, i + 1] - field[0, i]), field[1, i] + f * (field[1, i + 1] - field[1, i]),
+            field[2, i] + f * (field[2, i + 1] - field[2, i]), 0)
+
+
+@kernel
+def turbulence_velocity(field, parameters, altitude, mean_east, mean_north):
+    """(east, north, up) turbulence (m/s) at ``altitude`` (m), u along the mean wind (m/s; without one, along the
+    heading), and 0; or (0, 0, 0, cells) when the field must first be generated further (``field_components``).
+    ``parameters``: ``DrydenTurbulence.kernel_parameters``."""
+    u, v, w, needed = field_components(field, parameters[0], parameters[1], altitude)
+    if needed:
+        return 0.0, 0.0, 0.0, needed
+    speed = hypot(mean_east, mean_north)
+    if speed > 1e-9:
+        ce, cn = mean_east / speed, mean_north / speed
+    else:
+        ce, cn = parameters[2], parameters[3]
+    return u * ce - v * cn, u * cn + v * ce, w, 0
 
 
 SQRT3 = math.sqrt(3.0)
@@ -225,18 +310,38 @@ class Gust:
 
     def speed(self, time: float) -> float:
         """The gust's air speed (m/s) at ``time`` (s)."""
-        phase = (time - self.start) / self.length
-        if not 0.0 <= phase <= 1.0:
-            return 0.0
-        return 0.5 * self.amplitude * (1.0 - math.cos(2.0 * math.pi * phase))
+        return gust_speed(self.amplitude, self.start, self.length, float(time))
+
+
+GUST_COLUMNS = 6
+"""A gust for the kernels: amplitude (m/s), start (s), length (s), direction (east, north, up)."""
+
+
+def gust_rows(gusts) -> np.ndarray:
+    """``gusts`` as rows of GUST_COLUMNS for ``gust_sum``."""
+    return np.array([[g.amplitude, g.start, g.length, *g.direction] for g in gusts], float).reshape(-1, GUST_COLUMNS)
+
+
+@kernel
+def gust_speed(amplitude, start, length, time):
+    """(A/2) (1 - cos(2 pi (t - t0) / T)) (m/s) for t0 <= t <= t0 + T, else 0."""
+    phase = (time - start) / length
+    if not 0.0 <= phase <= 1.0:
+        return 0.0
+    return 0.5 * amplitude * (1.0 - math.cos(2.0 * math.pi * phase))
+
+
+@kernel
+def gust_sum(rows, time):
+    """(east, north, up) air velocity (m/s) of the gusts ``rows`` (GUST_COLUMNS) at ``time`` (s)."""
+    e = n = u = 0.0
+    for j in range(rows.shape[0]):
+        speed = gust_speed(rows[j, 0], rows[j, 1], rows[j, 2], time)
+        if speed:
+            e, n, u = e + speed * rows[j, 3], n + speed * rows[j, 4], u + speed * rows[j, 5]
+    return e, n, u
 
 
 def gust_velocity(gusts, time: float) -> tuple:
     """(east, north, up) air velocity (m/s) of all ``gusts`` at ``time`` (s)."""
-    e = n = u = 0.0
-    for gust in gusts:
-        speed = gust.speed(time)
-        if speed:
-            de, dn, du = gust.direction
-            e, n, u = e + speed * de, n + speed * dn, u + speed * du
-    return e, n, u
+    return gust_sum(gust_rows(gusts), float(time))

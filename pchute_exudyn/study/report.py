@@ -42,7 +42,8 @@ PERCENTILES = (1, 50, 99)
 BOOTSTRAP_NOTE = "2000 resamples, fixed seed"
 OUTPUT_UNITS = {"final_east": "m", "final_north": "m", "final_lateral": "m", "final_altitude": "m", "final_time": "s",
                 "touchdown_time": "s", "touchdown_speed": "m/s", "wall_time": "s", "steps": "count",
-                "descent_rate": "m/s", "pendulum_max_deg": "deg", "pendulum_rms_deg": "deg"}
+                "descent_rate": "m/s", "pendulum_max_deg": "deg", "pendulum_rms_deg": "deg",
+                "pendulum_amplitude_deg": "deg"}
 PREFIX_UNITS = {"peak_tension_": "N", "rms_tension_": "N", "peak_load_share_": "-", "max_flyout_": "deg",
                 "mean_flyout_": "deg"}
 

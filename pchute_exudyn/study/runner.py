@@ -39,8 +39,8 @@ def scalar_outputs(result) -> dict:
 def cluster_outputs(summary: dict) -> dict:
     """The outputs an analyst reads of clusters and of the vehicle's swing (deg, -, m/s): per cluster its peak load
     share and its canopies' largest and mean flyout once open (the largest over its canopies, and each canopy's
-    largest), the vehicle's largest and RMS pendulum angle to the vertical once the last system flies, and its rate
-    of descent over the run's last seconds (``analysis``)."""
+    largest), the vehicle's largest and RMS pendulum angle and its swing amplitude to the vertical once the last
+    system flies, and its rate of descent over the run's last seconds (``analysis``)."""
     out = {}
     for system, entry in summary.get("cluster", {}).items():
         out[f"peak_load_share_{system}"] = entry["peak_load_share"]
@@ -52,6 +52,7 @@ def cluster_outputs(summary: dict) -> dict:
     pendulum = summary.get("pendulum", {})
     if pendulum:
         out["pendulum_max_deg"], out["pendulum_rms_deg"] = pendulum["max_vertical_deg"], pendulum["rms_vertical_deg"]
+        out["pendulum_amplitude_deg"] = pendulum["amplitude_vertical_deg"]
     if summary.get("descent"):
         out["descent_rate"] = summary["descent"]["mean_rate"]
     return out
