@@ -20,9 +20,10 @@ _kernel_mode.select()   # compiled or Python kernels, before physics is imported
 from . import methods  # noqa: E402,F401  (registers the built-in methods in METHODS)
 from .case import Case, load_case  # noqa: E402
 from .case.method_table import METHODS  # noqa: E402
+from .case.new import NewCase, new_case, new_case_text  # noqa: E402
 from .errors import CaseError, InputError, PchuteError, SimulationError  # noqa: E402
 from .results import Result  # noqa: E402
 from .simulation import simulate  # noqa: E402
 
-__all__ = ["METHODS", "Case", "CaseError", "InputError", "PchuteError", "Result", "SimulationError",
-           "__version__", "load_case", "simulate"]
+__all__ = ["METHODS", "Case", "CaseError", "InputError", "NewCase", "PchuteError", "Result", "SimulationError",
+           "__version__", "load_case", "new_case", "new_case_text", "simulate"]

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import math
+import os
 import sys
 from dataclasses import fields
 from pathlib import Path
@@ -14,6 +16,7 @@ from .errors import InputError, PchuteError
 EXIT_ERROR = 1
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130   # 128 + SIGINT, as shells report an interrupted command
+FIGURE_COLUMNS = 12      # pchute compare draws at most this many single-column figures (the first compared)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -37,7 +40,8 @@ def _add_run(subparsers) -> None:
                      help="rk4 = explicit Runge-Kutta 4, fixed step (the thesis's); implicit = Exudyn's "
                           "generalized-alpha; default: the case's simulation.integrator")
     run.add_argument("--dt", type=float, default=None, metavar="S",
-                     help="integration step in s; default: the case's simulation.steps entry for the method")
+                     help="integration step in s; default: the case's simulation.steps entry for the method, or "
+                          "else half the step's stability limit, rounded down (printed in the run line)")
     run.add_argument("--t-end", type=float, default=None, metavar="S",
                      help="simulated duration in s; default: the case's simulation.duration")
     run.add_argument("--out", default=None, metavar="DIR",
@@ -117,74 +121,188 @@ def _run(args) -> int:
         if progress is not None:
             progress.close()
     result.save(out, plot=not args.no_plot, overwrite=args.overwrite)
-    _print_run(result, out)
+    _print_run(result, out, plan.stability_limit)
     return 0
 
 
-def _print_run(result, out: Path) -> None:
-    """The run's one-line summary."""
+def _print_run(result, out: Path, stability_limit: float | None = None) -> None:
+    """The run's one-line summary; a step chosen from the stability limit says so."""
     s, f = result.summary, result.summary["final"]
     ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"
-    print(f"{s['case']}: {s['method']}/{s['integrator']} step {s['step']:g} s, {ending} {f['time']:.2f} s in "
+    chosen = "" if stability_limit is None else f" (none set: half its stability limit {stability_limit:.3g} s)"
+    print(f"{s['case']}: {s['method']}/{s['integrator']} step {s['step']:g} s{chosen}, {ending} {f['time']:.2f} s in "
           f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
           f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}")
 
 
+_NEW_HELP = {   # NewCase field -> (metavar, help); the defaults come from NewCase
+    "planet": (None, "mars (MER's ellipsoid, NASA GRC atmosphere), earth (WGS-84, US76) or flat (9.80665 m/s^2, US76)"),
+    "mass": ("KG", "vehicle mass in kg"),
+    "diameter": ("M", "vehicle diameter in m (a cylinder half as tall)"),
+    "drag_area": ("M2", "each canopy's drag area C_D0 S0 in m^2 (or --canopy-diameter); default MER's 82.1"),
+    "canopy_diameter": ("M", "each canopy's nominal diameter D0 in m (instead of --drag-area)"),
+    "canopy_type": (None, "canopy type: its drag coefficient C_D0"),
+    "canopy_mass": ("KG", "each canopy's mass in kg; default 0.15 kg per m^2 of S0"),
+    "canopies": ("N", "canopies: 1, or 2 to 8 for a cluster"),
+    "bridles": ("N", "bridles from the vehicle to the confluence: 1 or 3 to 12"),
+    "bridle_length": ("M", "bridle free length in m; default the vehicle's diameter"),
+    "riser_length": ("M", "riser free length in m; default half the canopy's nominal diameter"),
+    "suspension_line_length": ("M", "canopy suspension-line length in m; default the nominal diameter"),
+    "altitude": ("M", "start altitude of the vehicle's centre of mass in m"),
+    "speed": ("M/S", "start descent speed in m/s; default the steady rate of descent there"),
+    "name": ("TEXT", "the case's name"),
+}
+
+
+def _add_new(subparsers) -> None:
+    from .case.new import CANOPY_TYPES, PLANETS, choice_fields
+
+    new = subparsers.add_parser(
+        "new", help="write a new, runnable case file from a few choices",
+        description="Write a complete, commented case file: a vehicle under one canopy (or a cluster) on bridles "
+                    "and a riser per canopy, every line at its free length, moving down at the steady rate. Edit "
+                    "it or run it as it is (`pchute run FILE`). The same from Python: pchute_exudyn.new_case(...).")
+    new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
+    choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES)}
+    for name, default in choice_fields():
+        metavar, text = _NEW_HELP[name]
+        kind = str if name in ("planet", "canopy_type", "name") else int if isinstance(default, int) else float
+        new.add_argument("--" + name.replace("_", "-"), dest=f"new_{name}", type=kind, default=None,
+                         choices=choices.get(name), metavar=metavar,
+                         help=text + ("" if default is None else f" (default {default})"))
+    new.add_argument("--overwrite", action="store_true", help="replace an existing file")
+    new.set_defaults(func=_new)
+
+
+def _new(args) -> int:
+    from .case.new import NewCase, layout, new_case_text
+    from .io import atomic_write_text
+
+    given = {key.removeprefix("new_"): value for key, value in vars(args).items()
+             if key.startswith("new_") and value is not None}
+    given.setdefault("name", Path(args.file).stem)
+    choices = NewCase(**given)
+    path = Path(args.file)
+    if path.exists() and not args.overwrite:
+        raise InputError(f"{path} exists; pass --overwrite to replace it")
+    text = new_case_text(choices)
+    atomic_write_text(path, text)
+    plan = layout(choices)
+    print(f"wrote {path}: {choices.mass:g} kg vehicle on {choices.planet}, suspended mass {plan.total_mass:.2f} kg, "
+          f"steady descent {plan.steady_rate(choices.altitude):.2f} m/s at {choices.altitude:g} m; run it with "
+          f"`pchute run {path}`")
+    return 0
+
+
 def _add_compare(subparsers) -> None:
     compare = subparsers.add_parser(
-        "compare", help="compare two results (folders or CSV files, another tool's included)",
-        description="Align result B with result A in time and report B - A: final vehicle altitude and lateral "
-                    "position, per line the maximum and RMS tension difference (overall and after a settling "
-                    "time), and the confluence lateral velocity. Prints the table; with --out also writes "
-                    "comparison.md, comparison.json and overlay plots.")
-    compare.add_argument("a", help="reference result: a result folder or a CSV file with a 'time' column (s)")
-    compare.add_argument("b", help="result to check: a result folder or a CSV file with a 'time' column (s)")
-    compare.add_argument("--out", default=None, metavar="DIR", help="folder for the table and the overlay plots")
+        "compare", help="cross-check two results (folders or CSV files, another tool's included)",
+        description="Align result B with result A on their common time span and report B - A: per compared column "
+                    "(the mapped ones, or every shared one) the largest and RMS difference and when; for a descent, "
+                    "each side's rate of descent at chosen altitudes, time to the ground and rate there; the final "
+                    "vehicle position, line tensions and confluence lateral velocity. Prints the report; with --out "
+                    "also writes comparison.md, comparison.json and figures (overlays with a difference panel). "
+                    "CSV dialects: docs/tutorial.md.")
+    compare.add_argument("a", help="reference result: a result folder or a CSV file with a time column (s)")
+    compare.add_argument("b", help="result to check: a result folder or a CSV file with a time column (s)")
+    compare.add_argument("--out", default=None, metavar="DIR", help="folder for the report and the figures")
     compare.add_argument("--settle", type=float, default=2.0, metavar="S",
                          help="settling time in s after which tension differences are also reported (default 2)")
-    compare.add_argument("--map", action="append", default=[], metavar="THEIRS=OURS[*FACTOR]", dest="column_map",
-                         help="rename (and scale) a column of B to this package's name, e.g. "
-                              "--map alt_ft=vehicle_altitude*0.3048 --map T_riser_lbf=tension_riser*4.44822; "
-                              "repeatable")
-    compare.add_argument("--map-a", action="append", default=[], metavar="THEIRS=OURS[*FACTOR]",
+    compare.add_argument("--altitudes", default=None, metavar="H1,H2,...",
+                         help="altitudes in m of the vehicle at which to report each side's rate of descent "
+                              "(default: a quarter, half and three quarters of the way down)")
+    compare.add_argument("--ground", type=float, default=None, metavar="M",
+                         help="ground altitude in m for the time to ground (default: the runs' own, else 0)")
+    compare.add_argument("--map", action="append", default=[], metavar="THEIRS=OURS[*F][+C]", dest="column_map",
+                         help="read a column of B as one of this package's: OURS = THEIRS x F + C, e.g. "
+                              "--map alt_ft=vehicle_altitude*0.3048 --map 'Z (m)=vehicle_altitude+1200'; THEIRS "
+                              "with or without its unit; repeatable, each column once")
+    compare.add_argument("--map-a", action="append", default=[], metavar="THEIRS=OURS[*F][+C]",
                          help="the same for A")
     compare.set_defaults(func=_compare)
 
 
-def _compare(args) -> int:
+def _altitudes(text):
+    """--altitudes H1,H2,... (m)."""
+    if text is None:
+        return None
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise InputError(f"--altitudes = {text!r}: must be altitudes in m separated by commas, e.g. 2000,1000,500") \
+            from None
+    if not values or not all(math.isfinite(v) for v in values):
+        raise InputError(f"--altitudes = {text!r}: must be finite altitudes in m separated by commas")
+    return values
 
+
+def _compare(args) -> int:
     from .compare import compare_results
-    from .io import atomic_write_text, ensure_writable_dir, json_text
-    from .plotting import plot_confluence_velocity_overlay, plot_tension_overlay, save_figure
     from .results import Result, parse_column_map
 
     if not (args.settle >= 0.0):
         raise InputError(f"--settle = {args.settle!r}: must be >= 0 (s)")
-    out = ensure_writable_dir(args.out) if args.out else None
+    if args.ground is not None and not math.isfinite(args.ground):
+        raise InputError(f"--ground = {args.ground!r}: must be a finite altitude (m)")
+    altitudes = _altitudes(args.altitudes)
     maps = {"--map-a": parse_column_map(args.map_a), "--map": parse_column_map(args.column_map)}
     a = Result.load(args.a, maps["--map-a"])
     b = Result.load(args.b, maps["--map"])
     for flag, mapping, other, label in (("--map", maps["--map"], a, "A"), ("--map-a", maps["--map-a"], b, "B")):
-        for theirs, (ours, _) in mapping.items():
+        for theirs, (ours, _, _) in mapping.items():
             if ours not in other:   # a mistyped name of ours would silently drop that quantity from the comparison
                 raise InputError(f"{flag} {theirs}={ours}: {label} has no column {ours!r}; its columns are: "
                                  f"{', '.join(other.names)}")
-    vehicle = a.summary.get("vehicle", "vehicle")
-    comparison = compare_results(a, b, args.a, args.b, args.settle, vehicle=vehicle)
+    mapped = [ours for mapping in maps.values() for ours, _, _ in mapping.values() if ours != "time"]
+    vehicle = a.summary.get("vehicle") or b.summary.get("vehicle") or "vehicle"
+    comparison = compare_results(a, b, args.a, args.b, args.settle, vehicle=vehicle, columns=mapped or None,
+                                 altitudes=altitudes, ground=args.ground)
+    for flag, mapping in maps.items():
+        for theirs, (ours, _, _) in mapping.items():
+            if ours != "time" and ours not in comparison.columns:
+                raise InputError(f"{flag} {theirs}={ours}: no time in the common span where both sides have a value "
+                                 f"of {ours}: nothing to compare")
     print(comparison.table(), end="")
-    if out is not None:
-        written = [out / "comparison.md", out / "comparison.json"]
-        atomic_write_text(written[0], comparison.table())
-        atomic_write_text(written[1], json_text(comparison.to_dict(), indent=2) + "\n")
-        labelled = {f"A: {args.a}": a, f"B: {args.b}": b}
-        if comparison.lines:
-            written.append(out / "tensions.png")
-            save_figure(plot_tension_overlay(labelled, list(comparison.lines)), written[-1])
-        if comparison.confluence_velocity:
-            written.append(out / "confluence_velocity.png")
-            save_figure(plot_confluence_velocity_overlay(labelled), written[-1])
-        print(f"wrote {', '.join(path.name for path in written)} in {out}")
+    if args.out is not None:
+        shown = mapped or [f"{vehicle}_altitude", f"{vehicle}_velocity_down"]
+        written = _write_comparison(comparison, {f"A: {args.a}": a, f"B: {args.b}": b}, args.out, vehicle, shown)
+        print(f"wrote {', '.join(path.name for path in written)} in {args.out}")
     return 0
+
+
+def _write_comparison(comparison, labelled: dict, folder, vehicle: str, shown: list) -> list:
+    """comparison.md, comparison.json and the figures in ``folder`` (one per column of ``shown`` but tensions and
+    the confluence's velocity, which have their own); returns the paths written."""
+    from .compare import descent_profile
+    from .io import atomic_write_text, ensure_writable_dir, json_text
+    from .plotting import (
+        plot_column_overlay,
+        plot_confluence_velocity_overlay,
+        plot_descent_rates,
+        plot_tension_overlay,
+        save_figure,
+    )
+
+    out = ensure_writable_dir(folder)
+    written = [out / "comparison.md", out / "comparison.json"]
+    atomic_write_text(written[0], comparison.table())
+    atomic_write_text(written[1], json_text(comparison.to_dict(), indent=2) + "\n")
+    if comparison.lines:
+        written.append(out / "tensions.png")
+        save_figure(plot_tension_overlay(labelled, list(comparison.lines)), written[-1])
+    if comparison.confluence_velocity:
+        written.append(out / "confluence_velocity.png")
+        save_figure(plot_confluence_velocity_overlay(labelled), written[-1])
+    if comparison.descent:
+        written.append(out / "descent_rate.png")
+        profiles = {label: descent_profile(result, vehicle)[1:] for label, result in labelled.items()}
+        save_figure(plot_descent_rates(profiles, vehicle), written[-1])
+    shown = [n for n in shown if n in comparison.columns and not n.startswith("tension_")
+             and "confluence_velocity" not in n]
+    for name in shown[:FIGURE_COLUMNS]:
+        written.append(out / f"{name}.png")
+        save_figure(plot_column_overlay(labelled, name, comparison.columns[name]["unit"]), written[-1])
+    return written
 
 
 def _add_linearize(subparsers) -> None:
@@ -391,6 +509,7 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     subparsers.required = True
     _add_run(subparsers)
+    _add_new(subparsers)
     _add_compare(subparsers)
     _add_linearize(subparsers)
     _add_study(subparsers)
@@ -411,6 +530,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt as exc:   # Ctrl-C: not an error; a run says where it stopped (errors.Interrupted)
         print(f"pchute {args.command}: {exc or 'interrupted'}", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:   # the reader of the output went away (`pchute compare ... | head`): stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_ERROR
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,11 +1,15 @@
 """Compare two trajectories: ours against ours (full mass against SP) or another tool's against ours.
 
 Result B is interpolated onto the times of result A inside their common time span. Another tool's columns are renamed
-(and scaled, e.g. feet to metres) when it is loaded, with a column map (``results.parse_column_map``). Differences
-are B - A.
+(and rescaled, e.g. feet to metres, height above the ground to altitude) when it is loaded, with a column map
+(``csv_dialects.parse_column_map``). Differences are B - A.
 
 Metrics (units of the compared columns):
 
+* per compared column (every column the two share, or the ``columns`` asked for): the largest |B - A|, the time it
+  happens and the RMS difference, on A's samples in the common span;
+* for a descent (the vehicle's altitude on both sides): each side's rate of descent at chosen altitudes, time to the
+  ground and rate at the ground (``descent_metrics``), each from that side's whole history;
 * final vehicle altitude difference (m) and final lateral (horizontal east/north) position difference (m);
 * per line: maximum and RMS absolute tension difference (N), overall and after a settling time;
 * confluence lateral velocity: maximum and RMS of the horizontal velocity difference |dv_east, dv_north| (m/s).
@@ -34,12 +38,41 @@ class Comparison:
     lines: dict = field(default_factory=dict)        # line -> {max, rms, max_settled, rms_settled} (N)
     confluence_velocity: dict = field(default_factory=dict)  # {max, rms} of the horizontal difference (m/s)
     common: list = field(default_factory=list)       # column names compared
+    columns: dict = field(default_factory=dict)      # name -> {max, time, rms, unit}: |B - A| per compared column
+    descent: dict = field(default_factory=dict)      # descent_metrics: {ground, altitudes, a, b}; {} without
+
+    def column_table(self) -> list:
+        """Markdown rows: per compared column its largest and RMS difference and where."""
+        rows = ["| column | largest abs(B - A) | at t (s) | RMS | unit |", "|---|---|---|---|---|"]
+        for name, m in self.columns.items():
+            rows.append(f"| {name} | {m['max']:.4g} | {m['time']:.4g} | {m['rms']:.4g} | {m['unit']} |")
+        return rows
+
+    def descent_table(self) -> list:
+        """Markdown rows: the descent figures of each side and their difference."""
+        d = self.descent
+        rows = [f"Descent (the vehicle's centre of mass; ground at {d['ground']:g} m):", "",
+                "| quantity | A | B | B - A | (B - A) / A |", "|---|---|---|---|---|"]
+        a, b = d["a"], d["b"]
+        named = [(f"rate of descent at {h:g} m (m/s)", a["rates"][i], b["rates"][i])
+                 for i, h in enumerate(d["altitudes"])]
+        named += [("time to ground (s)", a["ground_time"], b["ground_time"]),
+                  ("rate of descent at the ground (m/s)", a["ground_rate"], b["ground_rate"])]
+        for label, va, vb in named:
+            rel = (vb - va) / va if va else math.nan
+            rows.append(f"| {label} | {va:.4f} | {vb:.4f} | {vb - va:+.4f} | {rel:+.2e} |")
+        notes = [f"{side}: {d[side.lower()]['note']}" for side in ("A", "B") if d[side.lower()]["note"]]
+        return rows + ([""] + notes if notes else [])
 
     def table(self) -> str:
         """Markdown table of the metrics."""
         rows = [f"Comparison: B = {self.label_b} against A = {self.label_a}, "
-                f"{self.time[0]:g} to {self.time[-1]:g} s ({len(self.time)} samples); differences are B - A.", "",
-                "| quantity | difference |", "|---|---|"]
+                f"{self.time[0]:g} to {self.time[-1]:g} s ({len(self.time)} samples); differences are B - A.", ""]
+        if self.descent:
+            rows += self.descent_table() + [""]
+        if self.columns:
+            rows += self.column_table() + [""]
+        rows += ["| quantity | difference |", "|---|---|"]
         for name, value in self.final.items():
             rows.append(f"| final {name} | {value:+.4g} m |")
         for line, m in self.lines.items():
@@ -55,7 +88,8 @@ class Comparison:
         """The metrics as plain data (for JSON)."""
         return {"a": self.label_a, "b": self.label_b, "start": float(self.time[0]), "end": float(self.time[-1]),
                 "settle_time": self.settle_time, "final": self.final, "lines": self.lines,
-                "confluence_lateral_velocity": self.confluence_velocity, "columns": self.common}
+                "confluence_lateral_velocity": self.confluence_velocity, "compared": self.common,
+                "columns": self.columns, "descent": self.descent}
 
 
 def _rms(values) -> float:
@@ -109,9 +143,84 @@ def check_values(result: Result, label: str, columns) -> None:
                              "values must be finite numbers")
 
 
+def column_differences(a: Result, b: Result, names, time) -> dict:
+    """Per column: the largest |B - A| on ``time`` (s), when it happens and the RMS difference; NaN samples (a
+    system not present on one side) are left out, and a column without a common finite sample is left out too."""
+    found = {}
+    for name in names:
+        va, vb = aligned(a, b, name, time)
+        diff = np.abs(vb - va)
+        finite = np.isfinite(diff)
+        if not finite.any():
+            continue
+        i = int(np.argmax(np.where(finite, diff, -1.0)))
+        found[name] = {"max": float(diff[i]), "time": float(time[i]), "rms": _rms(diff),
+                       "unit": a.units.get(name) or b.units.get(name) or ""}
+    return found
+
+
+def _crossing(time, altitude, level) -> float | None:
+    """The first time (s) ``altitude`` falls through ``level`` (m), linear between samples; None if it never does."""
+    below = np.flatnonzero((altitude[:-1] > level) & (altitude[1:] <= level))
+    if not len(below):
+        return None
+    i = below[0]
+    return float(time[i] + (time[i + 1] - time[i]) * (altitude[i] - level) / (altitude[i] - altitude[i + 1]))
+
+
+def descent_profile(result: Result, vehicle: str = "vehicle") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(time s, altitude m, rate of descent m/s) of a side: its ``<vehicle>_velocity_down`` where it has one, else
+    -d(altitude)/dt; samples without an altitude left out."""
+    time, altitude = result.time, result[f"{vehicle}_altitude"]
+    keep = np.isfinite(altitude)
+    velocity = f"{vehicle}_velocity_down"
+    rate = result[velocity][keep] if velocity in result else -np.gradient(altitude[keep], time[keep])
+    return time[keep], altitude[keep], rate
+
+
+def descent_side(result: Result, vehicle: str, altitudes, ground: float) -> dict:
+    """One side's descent: rate of descent (m/s) at each altitude (m) on the way down, time to ``ground`` (s) and
+    the rate there. The rate is the side's ``<vehicle>_velocity_down`` where it has one, else -d(altitude)/dt. A
+    history that ends above the ground while descending reaches it by extrapolation at its last rate (noted)."""
+    time, altitude, rate = descent_profile(result, vehicle)
+    rates = []
+    for level in altitudes:
+        when = _crossing(time, altitude, level)
+        rates.append(float(np.interp(when, time, rate)) if when is not None else math.nan)
+    when, note = _crossing(time, altitude, ground), ""
+    if when is None and altitude[-1] > ground and rate[-1] > 0.0:
+        when = float(time[-1] + (altitude[-1] - ground) / rate[-1])
+        note = (f"ends {altitude[-1] - ground:.3g} m above the ground at {time[-1]:g} s; time to ground extrapolated "
+                f"at its last rate, {rate[-1]:.4g} m/s")
+    elif when is None:
+        note = f"does not reach the ground (lowest {altitude.min():.4g} m)"
+    ground_rate = float(np.interp(when, time, rate)) if when is not None and when <= time[-1] else float(rate[-1])
+    return {"rates": rates, "ground_time": math.nan if when is None else when, "ground_rate": ground_rate,
+            "note": note}
+
+
+def descent_metrics(a: Result, b: Result, vehicle: str = "vehicle", altitudes=None, ground: float = 0.0) -> dict:
+    """Both sides' descent figures (``descent_side``) at ``altitudes`` (m; default: a quarter, half and three
+    quarters of the way down the altitudes both sides cover, above the ground); {} when a side has no altitude."""
+    name = f"{vehicle}_altitude"
+    if name not in a or name not in b:
+        return {}
+    if altitudes is None:
+        tops = [np.nanmax(r[name]) for r in (a, b)]
+        bottoms = [max(np.nanmin(r[name]), ground) for r in (a, b)]
+        top, bottom = min(tops), max(bottoms)
+        altitudes = [float(top - f * (top - bottom)) for f in (0.25, 0.5, 0.75)] if top > bottom else []
+    altitudes = [float(h) for h in altitudes]
+    return {"ground": ground, "altitudes": altitudes, "a": descent_side(a, vehicle, altitudes, ground),
+            "b": descent_side(b, vehicle, altitudes, ground)}
+
+
 def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B", settle_time: float = 2.0,
-                    vehicle: str = "vehicle", confluence: str = "confluence") -> Comparison:
-    """Compare result ``b`` against result ``a`` (see the module docstring).
+                    vehicle: str = "vehicle", confluence: str = "confluence", columns=None, altitudes=None,
+                    ground: float | None = None) -> Comparison:
+    """Compare result ``b`` against result ``a`` (see the module docstring): ``columns`` (default every shared
+    one) column by column; a descent at ``altitudes`` (m) with the ground at ``ground`` (m; default the ground of
+    either side's summary, else 0).
 
     Raises
     ------
@@ -135,6 +244,11 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     inside = (a.time >= start - 1e-9) & (a.time <= end + 1e-9)
     time = a.time[inside]
     comparison = Comparison(label_a, label_b, time, settle_time, common=common)
+    comparison.columns = column_differences(a, b, common if columns is None else columns, time)
+    if ground is None:
+        ground = next((r.summary["ground_altitude"] for r in (a, b) if r.summary.get("ground_altitude") is not None),
+                      0.0)
+    comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)
     for suffix in ("altitude", "east", "north"):
         name = f"{vehicle}_{suffix}"
         if name in common:

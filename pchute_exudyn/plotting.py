@@ -66,6 +66,25 @@ def plot_confluence_velocity_overlay(results: dict, prefix: str = "confluence", 
     return _overlay(results, panels, title or "confluence lateral velocity", (9.0, 5.5), t_max)
 
 
+def plot_column_overlay(results: dict, name: str, unit: str = "", title: str = "") -> Figure:
+    """One column of each labelled result overlaid, with the difference panel under it."""
+    return _overlay(results, [(name, f"{name} ({unit})" if unit else name)], title or name, (9.0, 5.0), None)
+
+
+def plot_descent_rates(sides: dict, vehicle: str = "vehicle") -> Figure:
+    """Rate of descent (m/s) against altitude (m) of each labelled side (``compare.descent_side``'s inputs):
+    ``sides`` label -> (altitude array, rate array)."""
+    figure, axes = new_figure(1, 1, size=(7.0, 6.0))
+    ax = axes[0, 0]
+    draw_curves(ax, [(label, rate, altitude, i) for i, (label, (altitude, rate)) in enumerate(sides.items())])
+    ax.set_xlabel("rate of descent (m/s)")
+    ax.set_ylabel(f"{vehicle} altitude (m)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize="x-small")
+    figure.suptitle("rate of descent against altitude")
+    return figure
+
+
 def _overlay(results: dict, panels: list, title: str, size, t_max: float | None) -> Figure:
     """Per (column, y label) a panel with every labelled result that has the column overlaid, up to ``t_max`` (s),
     and, with two results or more, a difference panel under it: each result minus the first, in its own colour and

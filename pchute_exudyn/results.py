@@ -14,14 +14,13 @@ Files written by :meth:`Result.save` (each atomically):
 
 from __future__ import annotations
 
-import csv
 import io
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 
+from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
 from .errors import InputError
 from .io import atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 
@@ -155,8 +154,8 @@ class Result:
     def load(cls, path, column_map: dict | None = None) -> Result:
         """Read a result folder (its ``timeseries.csv`` and ``summary.json``) or any CSV file.
 
-        ``column_map`` (see ``parse_column_map``) renames and scales another tool's columns to this package's names
-        before the ``time`` column (s) is required.
+        ``column_map`` (``csv_dialects.parse_column_map``) renames and rescales another tool's columns to this
+        package's names before the ``time`` column (s) is required; ``csv_dialects`` lists the CSV dialects read.
         """
         path = Path(path)
         summary: dict = {}
@@ -172,64 +171,10 @@ class Result:
             path = path / CSV_NAME
         if not path.is_file():
             raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")
-        columns = map_columns(read_csv_columns(path), column_map or {}, path)
+        raw, units, headers = read_csv_columns(path)
+        columns = map_columns(raw, column_map or {}, path, headers)
         if "time" not in columns:
             raise InputError(f"{path}: no 'time' column (name it with a column map, e.g. --map t=time); columns "
                              f"are: {', '.join(columns)}")
-        return cls(columns, summary.get("units", {}), summary)
-
-
-def parse_column_map(entries) -> dict:
-    """Parse ``THEIRS=OURS`` or ``THEIRS=OURS*FACTOR`` entries into ``{theirs: (ours, factor)}``."""
-    mapping = {}
-    for entry in entries:
-        theirs, sep, target = entry.partition("=")
-        ours, star, factor = target.partition("*")
-        if not sep or not theirs.strip() or not ours.strip():
-            raise InputError(f"column map entry {entry!r}: write THEIRS=OURS or THEIRS=OURS*FACTOR, "
-                             "e.g. alt_ft=vehicle_altitude*0.3048")
-        try:
-            scale = float(factor) if star else 1.0
-        except ValueError:
-            raise InputError(f"column map entry {entry!r}: the factor {factor!r} is not a number") from None
-        if not (math.isfinite(scale) and scale != 0.0):
-            raise InputError(f"column map entry {entry!r}: the factor must be a finite, non-zero number, not "
-                             f"{factor.strip()}")
-        mapping[theirs.strip()] = (ours.strip(), scale)
-    return mapping
-
-
-def map_columns(columns: dict, mapping: dict, source="") -> dict:
-    """Columns renamed and scaled by ``mapping`` ``{theirs: (ours, factor)}``; the others kept as they are."""
-    missing = [name for name in mapping if name not in columns]
-    if missing:
-        raise InputError(f"{source}: column map names column(s) {', '.join(missing)} that the file does not have; "
-                         f"it has: {', '.join(columns)}")
-    mapped = {}
-    for name, values in columns.items():
-        ours, scale = mapping.get(name, (name, 1.0))
-        mapped[ours] = values * scale
-    return mapped
-
-
-def read_csv_columns(path) -> dict:
-    """Columns of a CSV file with one header row (numbers only; a row that is not numeric is an error)."""
-    path = Path(path)
-    with path.open(newline="") as handle:
-        rows = [row for row in csv.reader(handle) if row and not row[0].lstrip().startswith("#")]
-    if len(rows) < 2:
-        raise InputError(f"{path}: needs a header row and at least one data row")
-    header = [h.strip() for h in rows[0]]
-    data = []
-    for number, row in enumerate(rows[1:], start=2):
-        try:
-            data.append([float(v) for v in row])
-        except ValueError:
-            raise InputError(f"{path}: row {number} is not numeric ({','.join(row)[:60]!r}); expected a CSV file "
-                             "with one header row and numeric rows") from None
-    data = np.array(data) if len({len(r) for r in data}) == 1 else None
-    if data is None:
-        raise InputError(f"{path}: rows have different numbers of values")
-    if data.shape[1] != len(header):
-        raise InputError(f"{path}: {data.shape[1]} values per row but {len(header)} column names")
-    return {name: data[:, i] for i, name in enumerate(header)}
+        units = summary.get("units") or {(column_map or {}).get(n, (n,))[0]: u for n, u in units.items() if u}
+        return cls(columns, units, summary)

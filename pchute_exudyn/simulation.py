@@ -18,10 +18,12 @@ from .case.model import Case
 from .engine.bodies import Touchdown
 from .engine.solver import integrate, versions
 from .errors import InputError, Interrupted, SimulationError
-from .methods.base import Method, unstable_step_message
+from .methods.base import Method, line_arrays, line_constants, unstable_step_message
 from .outputs import check_history, concatenate, derive_columns, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase
+from .physics.linearization import damped_line_step_limit, lumped_step_limit, sp_step_limit
 from .results import Result
+from .state import initial_confluence_state, initial_point
 from .summary import (
     RunSummary,
     StartEvent,
@@ -38,6 +40,10 @@ moves with the line loads, over seconds; a check costs about 0.3 ms). At least M
 SP's 1e-2 s (a check every 100 steps was 4 % of a PA1 SP run once the stages got cheap, issue 14), 0.25 s at full
 mass's 5e-4 s."""
 MONITOR_STEPS = 500
+STEP_FRACTION = 0.5
+"""A case without a step for the method runs at this fraction of the stability limit (``stability_step``): the limit
+falls as the lines stretch under load (MER's confluence: by 8 % over 60 s) and the bound is taken at free length.
+For MER it gives the thesis's own steps: 1e-4 s full mass, 1e-2 s SP."""
 MAX_STEPS = 2**31 - 1
 """Steps the engine can count in one run (its step counter is a 32-bit integer)."""
 MAX_OUTPUT_BYTES = 4e9
@@ -54,6 +60,7 @@ class RunPlan:
     integrator: str
     step: float
     duration: float
+    stability_limit: float | None = None   # s: set when the step was chosen from it (``stability_step``)
 
 
 def option_error(exc: OptionError, method_class=None) -> InputError:
@@ -99,16 +106,64 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     except OptionError as exc:
         raise InputError(str(exc)) from None
     duration = _check_number("duration", case.simulation.duration if duration is None else duration, "--t-end")
+    limit = None
     if step is None:
         step = case.simulation.default_step(resolved.name, integrator)
         if step is None:
-            key = resolved.name if integrator == "rk4" else f"{resolved.name}_{integrator}"
-            raise InputError(f"no step given and the case sets no simulation.steps.{key}: pass --dt")
+            step, limit = stability_step(case, resolved, integrator)
+            step = min(step, duration)
     step = _check_number("step", step, "--dt")
     if step > duration:
         raise InputError(f"step (--dt) = {step:g} s: must not exceed the duration ({duration:g} s)")
     _check_size(case, step, duration)
-    return RunPlan(resolved, integrator, step, duration)
+    return RunPlan(resolved, integrator, step, duration, limit)
+
+
+def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, float]:
+    """The step (s) of a case that sets none for the method, and the stability limit (s) it comes from.
+
+    The limit is the smallest of: each body on the lines attached to it and each confluence by the method's own
+    geometry-free bound at free length (``physics.linearization.lumped_step_limit``, ``Method.lumped_step_limit``),
+    and, for a system present from the start, its limit at the case's initial geometry (stretched lines stiffen a
+    confluence sideways). For the implicit integrator (stable at any step: the step is for accuracy) the confluence
+    counts with the damped mode SP resolves. The step is STEP_FRACTION of the limit, rounded down to 1, 2 or 5 x 10^k.
+    """
+    limits = [math.inf]
+    moving = {name for name, body in case.bodies.items() if not body.fixed}
+    for system in case.systems.values():
+        limits.append(_confluence_limit(case, method, integrator, system))
+        stiffness, damping = line_constants(system)
+        for body in {line.body for line in system.lines} & moving:
+            own = [i for i, line in enumerate(system.lines) if line.body == body]
+            limits.append(lumped_step_limit(case.bodies[body].mass, [stiffness[i] for i in own],
+                                            [damping[i] for i in own]))
+    limit = min(limits)
+    if not math.isfinite(limit):
+        key = method.name if integrator == "rk4" else f"{method.name}_{integrator}"
+        raise InputError(f"no step given, the case sets no simulation.steps.{key} and nothing in it limits the step "
+                         "(no line stiffness on a moving body or confluence): pass --dt")
+    return _round_down(STEP_FRACTION * limit), limit
+
+
+def _confluence_limit(case: Case, method: Method, integrator: str, system) -> float:
+    """A confluence's stability limit (s) for ``stability_step``."""
+    explicit = integrator == "rk4"
+    limits = [method.lumped_step_limit(system) if explicit else damped_line_step_limit(*line_constants(system))]
+    if system.deploy_time is None:   # present from the start: its initial geometry is known
+        attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
+        where = initial_confluence_state(case, system).position
+        if explicit:
+            found = method.step_limit(system, attach, where)
+            limits.append(math.inf if found is None else found.step)
+        else:
+            limits.append(sp_step_limit(attach, where, *line_arrays(system, attach, where))[0])
+    return min(limits)
+
+
+def _round_down(value: float) -> float:
+    """``value`` rounded down to 1, 2 or 5 x 10^k."""
+    decade = 10.0 ** math.floor(math.log10(value))
+    return max(m for m in (1.0, 2.0, 5.0, 10.0) if m * decade <= value * (1.0 + 1e-12)) * decade
 
 
 def _check_size(case: Case, step: float, duration: float) -> None:

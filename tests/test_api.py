@@ -83,8 +83,9 @@ def test_api_input_errors(mer_case1):
         pc.simulate(mer_case1, step=float("nan"))
     with pytest.raises(pc.InputError, match="duration"):
         pc.simulate(mer_case1, duration=-1.0)
-    with pytest.raises(pc.InputError, match="no step given"):
-        pc.simulate(pc.load_case(MER / "case1.toml", {"simulation.steps": {}}), integrator="implicit")
+    with pytest.raises(pc.InputError, match="no step given, the case sets no simulation.steps.equilibrium and "
+                                            "nothing in it limits the step"):
+        pc.simulate(pc.load_case(MER.parent / "simple" / "simple.toml", {"simulation.steps": {}}), method="equilibrium")
 
 
 def test_failed_run_writes_no_result(capsys, tmp_path):

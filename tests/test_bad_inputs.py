@@ -291,7 +291,7 @@ BATTERY = [
      "has no point 'apex'"),
     # compare
     ("missing result", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), str(t / "none")], "result not found"),
-    ("no time column", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", "t,x\n0,1\n1,2\n")],
+    ("no time column", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", "sec,x\n0,1\n1,2\n")],
      "no 'time' column"),
     ("time going back", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV),
                                    _file(t, "b.csv", GOOD_CSV.replace("2,3,98", "0.5,3,98"))], "time goes back"),
@@ -310,6 +310,31 @@ BATTERY = [
                                          "--map", "tension_riser"], "THEIRS=OURS"),
     ("negative settling time", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
                                           "--settle", "-1"], "--settle = -1.0: must be >= 0"),
+    ("map offset not a number", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
+                                           "--map", "vehicle_altitude=vehicle_altitude+ten"],
+     "the offset 'ten' is not a number"),
+    ("column mapped twice", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
+                                       "--map", "vehicle_altitude=vehicle_altitude", "--map",
+                                       "vehicle_altitude=vehicle_altitude*2"], "column 'vehicle_altitude' is already "
+                                                                               "mapped"),
+    ("two columns to one of ours", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
+                                              "--map", "vehicle_altitude=tension_riser", "--map",
+                                              "tension_riser=tension_riser"], "'tension_riser' is already mapped from "
+                                                                              "'vehicle_altitude'"),
+    ("bad --altitudes", lambda t: ["compare", _file(t, "a.csv", GOOD_CSV), _file(t, "b.csv", GOOD_CSV),
+                                   "--altitudes", "99,high"], "--altitudes = '99,high': must be altitudes in m"),
+    # new
+    ("new: negative mass", lambda t: ["new", str(t / "n.toml"), "--mass", "-100"], "mass = -100.0: must be a number "
+                                                                                   "> 0 (kg)"),
+    ("new: zero drag area", lambda t: ["new", str(t / "n.toml"), "--drag-area", "0"], "drag_area = 0.0: must be a "
+                                                                                      "number > 0 (m^2)"),
+    ("new: unknown planet", lambda t: ["new", str(t / "n.toml"), "--planet", "venus"], "invalid choice: 'venus'"),
+    ("new: both drag area and diameter", lambda t: ["new", str(t / "n.toml"), "--drag-area", "40",
+                                                    "--canopy-diameter", "8"], "give one of them, not both"),
+    ("new: two bridles", lambda t: ["new", str(t / "n.toml"), "--bridles", "2"], "bridles = 2"),
+    ("new: bridle shorter than its attach radius", lambda t: ["new", str(t / "n.toml"), "--bridle-length", "0.5"],
+     "must exceed the attach circle's radius"),
+    ("new: existing file", lambda t: ["new", _file(t, "n.toml", "")], "exists; pass --overwrite"),
     # linearize
     ("no system at the time", lambda t: ["linearize", PA1], "no parachute system is present then"),
     ("time beyond the run", lambda t: ["linearize", PA1, "--time", "1e6"], "must be within the case's run"),

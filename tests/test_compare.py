@@ -56,9 +56,10 @@ def test_compare_cli_writes_table_and_plots(pair, tmp_path, capsys):
     assert main(args) == 0
     printed = capsys.readouterr().out
     assert "| final vehicle altitude | +0.5 m |" in printed
-    assert f"wrote comparison.md, comparison.json, tensions.png, confluence_velocity.png in {tmp_path / 'cmp'}" \
-        in printed
-    for name in ("comparison.md", "comparison.json", "tensions.png", "confluence_velocity.png"):
+    figures = ("tensions.png", "confluence_velocity.png", "descent_rate.png", "vehicle_altitude.png",
+               "vehicle_east.png", "vehicle_north.png")
+    assert f"wrote comparison.md, comparison.json, {', '.join(figures)} in {tmp_path / 'cmp'}" in printed
+    for name in ("comparison.md", "comparison.json", *figures):
         assert (tmp_path / "cmp" / name).is_file()
 
 
@@ -70,7 +71,9 @@ def test_compare_errors(pair, tmp_path, capsys):
     other = write_csv(tmp_path / "other.csv", {"time": np.linspace(0, 5, 6), "foo": np.zeros(6)})
     with pytest.raises(InputError, match="share no column besides 'time'"):
         compare_results(Result.load(pair[0]), Result.load(other))
-    for args, expected in ((["compare", pair[0], pair[1]], "no 'time' column (name it with a column map"),
+    untimed = write_csv(tmp_path / "untimed.csv", {"seconds": t, "x": t})
+    for args, expected in ((["compare", pair[0], untimed], "no 'time' column (name it with a column map"),
+                           (["compare", pair[0], pair[1]], "share no column besides 'time'"),
                            (["compare", pair[0], pair[1], "--map", "t=time"], "share no column besides 'time'"),
                            (["compare", pair[0], pair[1], "--map", "nothere=tension_riser"], "does not have"),
                            (["compare", pair[0], pair[1], "--map", "riser_lbf"], "THEIRS=OURS"),

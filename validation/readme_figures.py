@@ -313,11 +313,28 @@ def aero_lines() -> list:
     return lines
 
 
+def new_case_lines() -> list:
+    """The cross-check line: the new case's closed-form rates and RocketPy (new_case_checks.py)."""
+    rows = [line.split("|")[1:-1] for line in (OUT / "new_case" / "checks.md").read_text().splitlines()
+            if line.startswith("| ")]
+    closed = [cells[5].strip() for cells in rows if cells[0].strip() == "sp rk4" and len(cells) == 6
+              and cells[1].strip() in ("2500", "1500", "500")]
+    rocketpy = [cells for cells in rows if cells[0].strip().startswith(("non-rotating", "rotating"))]
+
+    def ground(cells):
+        return cells[2].strip().split("(")[1].rstrip(")")
+    return [f"The tutorial's new case descends at its closed-form steady rate to {' / '.join(closed)} at 2500 / 1500 / "
+            f"500 m (SP); against RocketPy's export of the same descent its rate differs by {rocketpy[0][1].strip()} "
+            f"and its time to ground by {ground(rocketpy[0])} s as written, by {rocketpy[1][1].strip()} and "
+            f"{ground(rocketpy[1])} s on a rotating Earth (`python validation/new_case_checks.py`, "
+            "[table](validation/output/new_case/checks.md))."]
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
-            *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines()]
+            *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines()]
 
 
 def _key(line: str) -> str:

@@ -1,7 +1,9 @@
 """Load, merge, override and validate case files.
 
 A case file is TOML. ``extends = "base.toml"`` (a path relative to the file, or a list of them) merges the named
-files first and the file's own tables on top, so shared parts are written once. Overrides (``--set key=value`` on
+files first and the file's own tables on top, so shared parts are written once; ``remove = ["planet", "bodies.vehicle
+.aerodynamics.center"]`` (dotted keys) deletes what the bases set before the file's own tables merge, so a child can
+drop a key or replace a whole table (a flat planet by an ellipsoid). Overrides (``--set key=value`` on
 the command line, ``overrides={...}`` in Python, the varied keys of a study) are dotted keys applied after that:
 
 * ``bodies.vehicle.mass=800``; a body or system name may stand for its table (``vehicle.mass=800``,
@@ -59,7 +61,8 @@ from .tables import read_atmosphere_table
 
 _REQUIRED = object()
 _NO_VALUE = CaseError._NO_VALUE
-_TOP_KEYS = ("extends", "case", "planet", "start", "atmosphere", "bodies", "systems", "failures", "simulation")
+_TOP_KEYS = ("extends", "remove", "case", "planet", "start", "atmosphere", "bodies", "systems", "failures",
+             "simulation")
 _KEY_PART = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
 
 
@@ -123,9 +126,29 @@ def _load_merged(path: Path, origins: dict, chain: tuple = ()) -> dict:
         if not base_path.is_file():
             raise CaseError(label, "extends", f"base case file not found: {base_path}", value=base)
         _merge(merged, _load_merged(base_path, origins, chain + (path,)), origins, _display(base_path))
+    _remove_keys(merged, origins, data.pop("remove", []), label)
     _merge(merged, data, origins, label)
     _resolve_file_keys(merged, path.parent)
     return merged
+
+
+def _remove_keys(merged: dict, origins: dict, keys, label: str) -> None:
+    """Delete the dotted ``keys`` (``remove = [...]``) from what the base files set."""
+    if not isinstance(keys, list) or not all(isinstance(k, str) and k.strip() for k in keys):
+        raise CaseError(label, "remove", "must be a list of dotted keys the base files set, e.g. "
+                        "[\"planet.gravity\"]", value=keys)
+    for key in keys:
+        parts = key.strip().split(".")
+        table = merged
+        for part in parts[:-1]:
+            table = table.get(part) if isinstance(table, dict) else None
+        if not isinstance(table, dict) or parts[-1] not in table:
+            raise CaseError(label, "remove", f"{key!r} is not set by the base files ('extends'); nothing to remove",
+                            value=key)
+        del table[parts[-1]]
+        prefix = tuple(parts)
+        for path in [p for p in origins if p[:len(prefix)] == prefix]:
+            del origins[path]
 
 
 def _resolve_file_keys(data: dict, directory: Path) -> None:
@@ -961,7 +984,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     _check_connections(system_tables, bodies, systems, vehicle)
     failures = _read_failures(top.table("failures", None), systems, simulation.duration)
-    top.allowed.append("extends")
+    top.allowed.extend(("extends", "remove"))
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,

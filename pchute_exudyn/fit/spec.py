@@ -38,8 +38,8 @@ from pathlib import Path
 import numpy as np
 
 from ..case.loader import _Context, _load_merged, _Table, load_case, override_leaves, read_toml
+from ..csv_dialects import map_columns, parse_column_map, read_csv_columns
 from ..errors import CaseError, InputError
-from ..results import map_columns, parse_column_map, read_csv_columns
 from ..study.spec import Configuration, _read_configuration
 
 EVENT_HELP = "start, deploy <system>, cutaway <system>, descent_rate, touchdown"
@@ -199,7 +199,8 @@ def _read_target(t: _Table, folder: Path) -> Target:
         if not isinstance(entries, list):
             raise t.error("map", "must be a list of \"theirs=ours[*factor]\" entries", entries)
         try:
-            columns = map_columns(read_csv_columns(file), parse_column_map(entries), file)
+            raw, _, headers = read_csv_columns(file)
+            columns = map_columns(raw, parse_column_map(entries), file, headers)
         except InputError as exc:
             raise t.error("map", str(exc)) from None
         if "time" not in columns:

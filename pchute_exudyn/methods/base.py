@@ -7,6 +7,7 @@ Exudyn model for a phase, gives its explicit-step limit and names the per-system
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass, field
 from typing import ClassVar
 
@@ -90,10 +91,26 @@ class Method:
         confluence dynamics (nothing to limit)."""
         return None
 
+    def lumped_step_limit(self, system: ParachuteSystem) -> float:
+        """A geometry-free lower bound of ``step_limit`` (s) at free length, for choosing a step before any geometry
+        exists (``simulation.stability_step``); inf when the method has no confluence dynamics."""
+        return math.inf
+
     def settings(self) -> dict:
         """The options as ``summary.json`` reports them."""
         report = getattr(self.options, "summary", None)
         return report() if report is not None else asdict(self.options)
+
+
+def line_constants(system: ParachuteSystem) -> tuple[list, list]:
+    """The stiffest constants of a system's lines: K (N/m; a load-elongation table's steepest slope / L0) and
+    C (N s/m)."""
+    stiffness = []
+    for line in system.lines:
+        table = line.load_elongation
+        stiffness.append(line.stiffness if table is None else
+                         float(np.max(np.diff(table.tension) / np.diff(table.strain))) / line.free_length)
+    return stiffness, [line.damping for line in system.lines]
 
 
 def line_arrays(system: ParachuteSystem, attach_position=None, confluence_position=None) -> tuple[list, list, list]:

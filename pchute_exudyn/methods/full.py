@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 from ..case.method_table import OptionError
 from ..engine.full import build_full_model
-from ..physics.linearization import full_mass_step_limit
-from .base import Method, StepLimit, line_arrays, option_field
+from ..physics.linearization import full_mass_step_limit, lumped_step_limit
+from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
 LINE_LAWS = ("symbolic", "python")
 
@@ -47,3 +47,6 @@ class FullMass(Method):
         step, eigenvalue = full_mass_step_limit(system.confluence.mass, attach_position, confluence_position,
                                                 *line_arrays(system, attach_position, confluence_position))
         return StepLimit(system.name, step, eigenvalue)
+
+    def lumped_step_limit(self, system) -> float:
+        return lumped_step_limit(system.confluence.mass, *line_constants(system))

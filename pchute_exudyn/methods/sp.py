@@ -9,9 +9,9 @@ from dataclasses import dataclass
 from ..case.method_table import OptionError
 from ..engine.sp import SPConfluence, build_sp_model
 from ..errors import InputError
-from ..physics.linearization import sp_step_limit
+from ..physics.linearization import damped_line_step_limit, sp_step_limit
 from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS
-from .base import Method, StepLimit, line_arrays, option_field
+from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
 PRESETS = {"accurate": {"kappa_max": 10.0, "order": 1}, "thesis": {"kappa_max": 5.0, "order": 0}}
 """SP presets: kappa_max and the confluence-mass order they stand for. ``thesis``: the thesis's settings (Eq. 3.10,
@@ -112,3 +112,6 @@ class SingularPerturbation(Method):
         step, eigenvalue = sp_step_limit(attach_position, confluence_position,
                                          *line_arrays(system, attach_position, confluence_position))
         return StepLimit(system.name, step, eigenvalue)
+
+    def lumped_step_limit(self, system) -> float:
+        return damped_line_step_limit(*line_constants(system))

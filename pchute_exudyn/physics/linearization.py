@@ -164,6 +164,22 @@ def _stable_step_along(real, imag):
     return lo
 
 
+def lumped_step_limit(mass, stiffness, damping) -> float:
+    """Largest stable RK4 step (s) of ``mass`` (kg) on lines of ``stiffness`` (N/m) and ``damping`` (N s/m) all
+    pulling along one axis, mass s^2 + sum(C) s + sum(K) = 0. Needs no geometry: lines in parallel are the stiffest
+    and most damped a mass can hang on, so this is at or below the limit of any real layout at free length (MER's
+    confluence: 2.15e-4 s against 4.28e-4 s from its geometry)."""
+    return max_stable_step_rk4(np.roots([mass, float(np.sum(damping)), float(np.sum(stiffness))]))
+
+
+def damped_line_step_limit(stiffness, damping) -> float:
+    """Largest stable RK4 step (s) of a massless confluence's first-order mode, bounded without geometry: at free
+    length the eigenvalues of C_bar^-1 K_bar are Rayleigh quotients sum K (n.v)^2 / sum C (n.v)^2 <= max K/C, so
+    -max(K/C) (1/s) is the fastest mode (MER: -100 1/s, 2.79e-2 s). inf when no line has damping."""
+    rates = [k / c for k, c in zip(stiffness, damping) if c > 0.0]
+    return max_stable_step_rk4([-max(rates)]) if rates else math.inf
+
+
 def _all_taut(attach_position, confluence_position, free_length, stiffness, damping):
     """C_bar and K_bar with every line counted taut: a slack line adds neither stiffness nor damping, so this
     stiffest state bounds the step limit through slack events."""

@@ -1,0 +1,152 @@
+"""Other tools' CSV files and the column maps that rename them to this package's names.
+
+Dialects read (docs/tutorial.md, "Cross-checking against another tool"):
+
+* this package's ``timeseries.csv`` and any CSV with one header row of names, then numeric rows;
+* a header row that starts with ``#`` (RocketPy's ``Flight`` export: ``# Time (s),Z (m),Vz (m/s)``), after any
+  ``#`` comment lines (OpenRocket's export: comment lines, then ``# Time (s),Altitude (m),...``, with
+  ``# Event ... occurred at t=...`` lines between the data rows, which are skipped);
+* units in parentheses or brackets after a name (``Z (m)``, ``alt [ft]``): the column is named without them
+  (``Z``) and the unit kept; a column named ``time`` (any case) or ``t``, in seconds, is the time.
+
+The header is the last non-numeric line before the first numeric row. Cells are split by ``,`` (``;`` or a tab
+when the header has no comma).
+
+A column map entry ``THEIRS=OURS``, ``THEIRS=OURS*FACTOR``, ``THEIRS=OURS+OFFSET`` or ``THEIRS=OURS*FACTOR+OFFSET``
+(``-OFFSET`` too) reads their column as ours = theirs x FACTOR + OFFSET (feet to metres: ``*0.3048``; height above
+the ground to altitude: ``+1200``). THEIRS is a column's name with or without its unit.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+_UNIT = re.compile(r"^(?P<name>.*?)\s*[(\[](?P<unit>[^()\[\]]*)[)\]]\s*$")
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+_TARGET = re.compile(rf"^(?P<ours>[A-Za-z_][\w.]*)\s*(?:\*\s*(?P<factor>{_NUMBER}|[^+\-\s]\S*?))?"
+                     r"\s*(?:(?P<sign>[+-])\s*(?P<offset>.+?))?\s*$")
+
+
+def split_unit(header: str) -> tuple[str, str]:
+    """``"Z (m)"`` -> ``("Z", "m")``; a name without a unit -> ``(name, "")``."""
+    header = header.strip()
+    match = _UNIT.match(header)
+    return (match["name"].strip(), match["unit"].strip()) if match and match["name"].strip() else (header, "")
+
+
+def _numeric(row) -> bool:
+    try:
+        [float(cell) for cell in row]
+    except ValueError:
+        return False
+    return bool(row)
+
+
+def _cells(text: str, delimiter: str) -> list:
+    return [cell.strip() for cell in next(csv.reader([text], delimiter=delimiter))]
+
+
+def _delimiter(line: str) -> str:
+    return next((d for d in (",", ";", "\t") if d in line), ",")
+
+
+def read_csv_columns(path) -> tuple[dict, dict, dict]:
+    """Columns of a CSV file in any dialect above: (columns by name, units by name, header text by name)."""
+    path = Path(path)
+    lines = [line.rstrip("\r\n") for line in path.read_text(errors="replace").splitlines()]
+    lines = [line for line in lines if line.strip()]
+    header_text, first = None, None
+    for number, line in enumerate(lines):
+        if not line.lstrip().startswith("#") and _numeric(_cells(line, _delimiter(line))):
+            first = number
+            break
+        header_text = line.lstrip().lstrip("#").strip()
+    if first is None or header_text is None:
+        raise InputError(f"{path}: needs a header row and at least one numeric data row")
+    delimiter = _delimiter(lines[first])
+    headers = _cells(header_text, delimiter)
+    names, units, texts = [], {}, {}
+    for header in headers:
+        name, unit = split_unit(header)
+        if (name.lower() == "time" or name == "t") and unit in ("", "s"):
+            name = "time"
+        if name in texts:
+            raise InputError(f"{path}: column {name!r} appears twice in the header")
+        names.append(name)
+        units[name], texts[name] = unit, header
+    data = []
+    for number, line in enumerate(lines[first:], start=first + 1):
+        if line.lstrip().startswith("#"):   # OpenRocket's event lines between the rows
+            continue
+        row = _cells(line, delimiter)
+        if not _numeric(row):
+            raise InputError(f"{path}: row {number} is not numeric ({line[:60]!r}); expected numeric rows after the "
+                             "header")
+        if len(row) != len(names):
+            raise InputError(f"{path}: row {number} has {len(row)} values but the header names {len(names)} columns")
+        data.append([float(cell) for cell in row])
+    array = np.array(data)
+    return {name: array[:, i] for i, name in enumerate(names)}, units, texts
+
+
+def parse_column_map(entries) -> dict:
+    """Parse column map entries (module docstring) into ``{theirs: (ours, factor, offset)}``; a column mapped
+    twice, or two columns mapped to one of ours, is an error."""
+    mapping: dict = {}
+    for entry in entries:
+        theirs, sep, target = entry.partition("=")
+        theirs = theirs.strip()
+        match = _TARGET.match(target.strip()) if sep and theirs else None
+        if match is None:
+            raise InputError(f"column map entry {entry!r}: write THEIRS=OURS, THEIRS=OURS*FACTOR or "
+                             "THEIRS=OURS*FACTOR+OFFSET, e.g. alt_ft=vehicle_altitude*0.3048")
+        factor = _map_number(entry, "factor", match["factor"], 1.0)
+        offset = _map_number(entry, "offset", match["offset"], 0.0) * (-1.0 if match["sign"] == "-" else 1.0)
+        ours = match["ours"]
+        if theirs in mapping:
+            raise InputError(f"column map entry {entry!r}: column {theirs!r} is already mapped "
+                             f"(to {mapping[theirs][0]}); map each column once")
+        taken = [name for name, (target_name, _, _) in mapping.items() if target_name == ours]
+        if taken:
+            raise InputError(f"column map entry {entry!r}: {ours!r} is already mapped from {taken[0]!r}; one column "
+                             "of theirs per column of ours")
+        mapping[theirs] = (ours, factor, offset)
+    return mapping
+
+
+def _map_number(entry: str, what: str, text, default: float) -> float:
+    if text is None:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"column map entry {entry!r}: the {what} {text.strip()!r} is not a number") from None
+    if not math.isfinite(value) or (what == "factor" and value == 0.0):
+        kind = "finite, non-zero number" if what == "factor" else "finite number"
+        raise InputError(f"column map entry {entry!r}: the {what} must be a {kind}, not {text.strip()}")
+    return value
+
+
+def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = None) -> dict:
+    """Columns renamed and rescaled by ``mapping`` ``{theirs: (ours, factor, offset)}`` (theirs: a column's name or
+    its header text with the unit, ``headers``); the others kept as they are."""
+    by_text = {text: name for name, text in (headers or {}).items()}
+    resolved = {}
+    for theirs, target in mapping.items():
+        name = theirs if theirs in columns else by_text.get(theirs)
+        if name is None:
+            raise InputError(f"{source}: column map names column {theirs!r} that the file does not have; it has: "
+                             f"{', '.join(columns)}")
+        resolved[name] = target
+    mapped = {}
+    for name, values in columns.items():
+        ours, factor, offset = resolved.get(name, (name, 1.0, 0.0))
+        mapped[ours] = values * factor + offset if (factor, offset) != (1.0, 0.0) else values
+    return mapped

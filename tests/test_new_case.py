@@ -1,0 +1,181 @@
+"""`pchute new` / `new_case`, steps from the stability limit, `remove` in an extends chain, other tools' CSV dialects
+and the descent cross-check of `pchute compare`."""
+
+import math
+
+import numpy as np
+import pytest
+
+import pchute_exudyn as pc
+from pchute_exudyn.case.method_table import METHODS
+from pchute_exudyn.case.new import NewCase, layout
+from pchute_exudyn.cli import main
+from pchute_exudyn.compare import compare_results, descent_metrics
+from pchute_exudyn.csv_dialects import parse_column_map, read_csv_columns
+from pchute_exudyn.physics.atmosphere import US76
+from pchute_exudyn.simulation import stability_step
+from pchute_exudyn.state import initial_body_state, initial_confluence_state, initial_point
+
+from .conftest import MER, ROOT
+
+ROCKETPY = ROOT / "validation" / "rocketpy" / "descent.csv"
+PAYLOAD = ["--planet", "earth", "--mass", "100", "--drag-area", "40", "--altitude", "3000"]   # all non-default
+EARTH_MU, EARTH_RADIUS = 3.986004418e14, 6378137.0
+
+
+@pytest.fixture(scope="module")
+def payload(tmp_path_factory):
+    """The issue's new case, written by the command line, and its SP run to touchdown."""
+    folder = tmp_path_factory.mktemp("payload")
+    assert main(["new", str(folder / "payload.toml"), *PAYLOAD]) == 0
+    assert main(["run", str(folder / "payload.toml"), "--no-plot", "--quiet", "--out", str(folder / "sp")]) == 0
+    return folder / "payload.toml", pc.Result.load(folder / "sp")
+
+
+def test_new_case_descends_at_the_closed_form_rate(payload):
+    path, result = payload
+    case = pc.load_case(path)
+    assert result.summary["end"] == "touchdown"
+    mass = sum(body.mass for body in case.bodies.values()) + case.systems["main"].confluence.mass
+    assert mass == pytest.approx(layout(NewCase(planet="earth", mass=100.0, drag_area=40.0)).total_mass, abs=1e-5)
+    for altitude in (2500.0, 1500.0, 500.0):
+        when = np.interp(-altitude, -result["vehicle_altitude"], result.time)
+        rate = np.interp(when, result.time, result["vehicle_velocity_down"])
+        canopy = np.interp(when, result.time, result["canopy_altitude"])   # the drag acts in the canopy's air
+        gravity = EARTH_MU / (EARTH_RADIUS + altitude) ** 2
+        closed_form = math.sqrt(2.0 * mass * gravity / (US76().density(canopy) * 40.0))
+        assert rate == pytest.approx(closed_form, rel=1e-3), altitude
+        assert rate == pytest.approx(closed_form, rel=3e-4), altitude   # measured 1.2e-4 to 1.5e-4 (quasi-steady)
+
+
+@pytest.mark.parametrize("method, integrator", [(m.name, i) for m in METHODS.values() for i in m.integrators])
+def test_new_case_runs_with_each_method_as_written(payload, method, integrator, tmp_path, capsys):
+    args = ["run", str(payload[0]), "--method", method, "--integrator", integrator, "--t-end", "8", "--no-plot",
+            "--quiet", "--out", str(tmp_path / "r")]
+    assert main(args) == 0
+    printed = capsys.readouterr().out
+    case = pc.load_case(payload[0])
+    step, limit = stability_step(case, METHODS[method](), integrator)
+    assert f"step {step:g} s (none set: half its stability limit {limit:.3g} s)" in printed
+    assert 0.25 * limit < step <= 0.5 * limit
+    sp = payload[1]
+    result = pc.Result.load(tmp_path / "r")
+    # every method on the same descent: 8 s later the vehicle is where SP has it, within centimetres (full mass
+    # 2e-4 m; the equilibrium point, which ignores line damping, 0.055 m)
+    assert result.final("vehicle_altitude") == pytest.approx(np.interp(8.0, sp.time, sp["vehicle_altitude"]),
+                                                             abs=0.1)
+
+
+def test_lines_start_at_free_length_and_canopies_on_their_risers():
+    for canopies in (1, 3):
+        case = pc.new_case(planet="mars", canopies=canopies, bridles=4)
+        system = case.systems["main"]
+        confluence = initial_confluence_state(case, system).position
+        for line in system.lines:
+            length = np.linalg.norm(initial_point(case, line.body, line.point) - confluence)
+            assert length == pytest.approx(line.free_length, abs=1e-5)
+        for name in system.canopies:       # each canopy's +x along its riser, toward the confluence
+            state = initial_body_state(case, case.bodies[name])
+            toward = (confluence - state.position) / np.linalg.norm(confluence - state.position)
+            assert state.attitude[:, 0] @ toward == pytest.approx(1.0, abs=1e-9)
+
+
+def test_cluster_shares_the_load_evenly(tmp_path):
+    case = pc.new_case(planet="earth", mass=300.0, drag_area=30.0, canopies=3, altitude=2000.0)
+    result = pc.simulate(case, "sp", duration=15.0)
+    risers = np.array([result[f"tension_riser_canopy{i}"][-1] for i in (1, 2, 3)])
+    assert risers.min() > 0.0 and risers.max() / risers.min() - 1.0 < 1e-6
+    # the three canopies together hold the vehicle: the risers' vertical sum is its weight (steady descent)
+    assert result["vehicle_velocity_down"][-1] == pytest.approx(result["vehicle_velocity_down"][-101], rel=2e-3)
+
+
+def test_python_api_builds_what_the_file_holds(tmp_path):
+    choices = dict(planet="flat", mass=250.0, canopy_diameter=12.0, canopy_type="ringsail", altitude=1500.0,
+                   name="api")
+    (tmp_path / "api.toml").write_text(pc.new_case_text(**choices))
+    from_file = pc.simulate(pc.load_case(tmp_path / "api.toml"), "sp", duration=3.0)
+    in_memory = pc.simulate(pc.new_case(**choices), "sp", duration=3.0)
+    for name in from_file.names:
+        assert np.array_equal(from_file[name], in_memory[name], equal_nan=True), name
+
+
+def test_stability_steps_are_the_thesis_steps_for_mer():
+    case = pc.load_case(MER / "case1.toml", {"simulation.steps": {}})
+    assert stability_step(case, METHODS["full"](), "rk4")[0] == 1e-4
+    assert stability_step(case, METHODS["sp"](), "rk4")[0] == 1e-2
+    assert stability_step(case, METHODS["full"](), "implicit")[0] == 1e-2
+
+
+def test_extends_can_remove_a_key(tmp_path):
+    child = tmp_path / "child.toml"
+    child.write_text(f'extends = "{ROOT / "cases" / "simple" / "simple.toml"}"\nremove = ["planet"]\n[planet]\n'
+                     'name = "Earth"\ngravitational_parameter = 3.986004418e14\nequatorial_radius = 6378137.0\n'
+                     "polar_radius = 6356752.314\n")
+    assert type(pc.load_case(child).planet).__name__ == "Planet"
+    child.write_text(child.read_text().replace('remove = ["planet"]', 'remove = ["planet.radius"]'))
+    with pytest.raises(pc.CaseError, match="'planet.radius' is not set by the base files"):
+        pc.load_case(child)
+
+
+def test_csv_dialects(tmp_path):
+    columns, units, headers = read_csv_columns(ROCKETPY)    # RocketPy's export, unedited: '# Time (s),Z (m),...'
+    assert list(columns)[:3] == ["time", "Z", "Vz"] and units["Z"] == "m" and headers["Vz"] == "Vz (m/s)"
+    assert columns["Z"][0] == 3000.0 and np.all(np.diff(columns["time"]) > 0)
+    openrocket = tmp_path / "openrocket.csv"
+    openrocket.write_text("# OpenRocket simulation export\n# 3 data points written for 3 variables.\n"
+                          "# Time (s),Altitude (ft),Vertical velocity (ft/s)\n0,100,-10\n"
+                          "# Event PARACHUTE occurred at t=0.5 seconds\n1,90,-10\n2,80,-10\n")
+    columns, units, _ = read_csv_columns(openrocket)
+    assert units["Altitude"] == "ft" and list(columns["Altitude"]) == [100.0, 90.0, 80.0]
+    semicolons = tmp_path / "semicolons.csv"
+    semicolons.write_text("t [s];alt [m]\n0;5\n1;4\n")
+    assert list(read_csv_columns(semicolons)[0]) == ["time", "alt"]
+    mapping = parse_column_map(["Altitude=vehicle_altitude*0.3048+1200", "Vertical velocity (ft/s)=x*-0.3048",
+                                "a=b-2.5e-1"])
+    assert mapping == {"Altitude": ("vehicle_altitude", 0.3048, 1200.0),
+                       "Vertical velocity (ft/s)": ("x", -0.3048, 0.0), "a": ("b", 1.0, -0.25)}
+    result = pc.Result.load(openrocket, {k: v for k, v in mapping.items() if k != "a"})
+    assert result["vehicle_altitude"][0] == pytest.approx(100 * 0.3048 + 1200.0)
+    assert result["x"][0] == pytest.approx(3.048)
+
+
+def test_descent_metrics_closed_form():
+    """A linear descent at 5 m/s from 1000 m against one at 4 m/s ending 2 m above the ground."""
+    t = np.linspace(0.0, 200.0, 2001)
+    a = pc.Result({"time": t, "vehicle_altitude": 1000.0 - 5.0 * t})
+    tb = np.linspace(0.0, 249.5, 500)
+    b = pc.Result({"time": tb, "vehicle_altitude": 1000.0 - 4.0 * tb})
+    d = descent_metrics(a, b, altitudes=[800.0, 300.0])
+    assert d["a"]["rates"] == pytest.approx([5.0, 5.0]) and d["b"]["rates"] == pytest.approx([4.0, 4.0])
+    assert d["a"]["ground_time"] == pytest.approx(200.0) and d["b"]["ground_time"] == pytest.approx(250.0)
+    assert "extrapolated" in d["b"]["note"] and d["a"]["note"] == ""
+    c = compare_results(a, b)
+    assert c.columns["vehicle_altitude"]["max"] == pytest.approx(200.0)      # at A's last sample, t = 200 s
+    assert c.columns["vehicle_altitude"]["time"] == pytest.approx(200.0)
+
+
+def test_compare_against_rocketpy(payload, tmp_path, capsys):
+    """RocketPy's unedited export of the same descent: a report of rates, time to ground and figures, no sed."""
+    out = tmp_path / "cmp"
+    args = ["compare", str(payload[0].parent / "sp"), str(ROCKETPY), "--map", "Z=vehicle_altitude", "--map",
+            "Vz (m/s)=vehicle_velocity_down*-1", "--altitudes", "2500,1500,500", "--out", str(out)]
+    assert main(args) == 0
+    assert "| time to ground (s) |" in capsys.readouterr().out
+    report = __import__("json").loads((out / "comparison.json").read_text())["descent"]
+    for ours, theirs in zip(report["a"]["rates"], report["b"]["rates"]):
+        # RocketPy: rotating Earth's normal gravity (-0.09 % in rate), drag at the point mass (-0.085 %)
+        assert theirs / ours - 1.0 == pytest.approx(-0.00177, abs=3e-4)
+    assert report["b"]["ground_time"] - report["a"]["ground_time"] == pytest.approx(0.76, abs=0.1)
+    for name in ("comparison.md", "descent_rate.png", "vehicle_altitude.png", "vehicle_velocity_down.png"):
+        assert (out / name).is_file()
+
+
+def test_a_map_with_nothing_to_compare_is_an_error(tmp_path, capsys):
+    t = np.linspace(0.0, 10.0, 11)
+    pc.Result({"time": t, "tension_reserve": np.full(11, np.nan), "vehicle_altitude": 100.0 - t},
+              summary={"case": "synthetic"}).save(tmp_path / "ours", plot=False)
+    theirs = tmp_path / "theirs.csv"
+    theirs.write_text("time,T\n" + "".join(f"{v:g},{v:g}\n" for v in t))
+    assert main(["compare", str(tmp_path / "ours"), str(theirs), "--map", "T=tension_reserve"]) == 1
+    err = capsys.readouterr().err
+    assert "--map T=tension_reserve: no time in the common span" in err and len(err.strip().splitlines()) == 1
