@@ -129,7 +129,7 @@ def _print_run(result, out: Path, stability_limit: float | None = None) -> None:
     """The run's one-line summary; a step chosen from the stability limit says so."""
     s, f = result.summary, result.summary["final"]
     ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"
-    chosen = "" if stability_limit is None else f" (none set: half its stability limit {stability_limit:.3g} s)"
+    chosen = "" if stability_limit is None else f" (none set: from the stability limit {stability_limit:.3g} s)"
     print(f"{s['case']}: {s['method']}/{s['integrator']} step {s['step']:g} s{chosen}, {ending} {f['time']:.2f} s in "
           f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
           f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}")
@@ -185,6 +185,8 @@ def _new(args) -> int:
     path = Path(args.file)
     if path.exists() and not args.overwrite:
         raise InputError(f"{path} exists; pass --overwrite to replace it")
+    if not path.parent.is_dir():
+        raise InputError(f"{path}: the folder {path.parent} does not exist")
     text = new_case_text(choices)
     atomic_write_text(path, text)
     plan = layout(choices)

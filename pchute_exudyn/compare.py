@@ -160,7 +160,8 @@ def column_differences(a: Result, b: Result, names, time) -> dict:
 
 
 def _crossing(time, altitude, level) -> float | None:
-    """The first time (s) ``altitude`` falls through ``level`` (m), linear between samples; None if it never does."""
+    """The first time (s) ``altitude`` (m, one per ``time``, s) falls through ``level`` (m), linear between samples;
+    None if it never does."""
     below = np.flatnonzero((altitude[:-1] > level) & (altitude[1:] <= level))
     if not len(below):
         return None
@@ -194,7 +195,8 @@ def descent_side(result: Result, vehicle: str, altitudes, ground: float) -> dict
                 f"at its last rate, {rate[-1]:.4g} m/s")
     elif when is None:
         note = f"does not reach the ground (lowest {altitude.min():.4g} m)"
-    ground_rate = float(np.interp(when, time, rate)) if when is not None and when <= time[-1] else float(rate[-1])
+    ground_rate = (math.nan if when is None else float(np.interp(when, time, rate)) if when <= time[-1]
+                   else float(rate[-1]))
     return {"rates": rates, "ground_time": math.nan if when is None else when, "ground_rate": ground_rate,
             "note": note}
 

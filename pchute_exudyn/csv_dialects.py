@@ -30,8 +30,10 @@ from .errors import InputError
 
 _UNIT = re.compile(r"^(?P<name>.*?)\s*[(\[](?P<unit>[^()\[\]]*)[)\]]\s*$")
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
-_TARGET = re.compile(rf"^(?P<ours>[A-Za-z_][\w.]*)\s*(?:\*\s*(?P<factor>{_NUMBER}|[^+\-\s]\S*?))?"
-                     r"\s*(?:(?P<sign>[+-])\s*(?P<offset>.+?))?\s*$")
+_TARGET = re.compile(rf"^(?P<ours>[A-Za-z_][\w.-]*?)\s*(?:\*\s*(?P<factor>{_NUMBER}))?"
+                     rf"\s*(?:(?P<sign>[+-])\s*(?P<offset>{_NUMBER}))?\s*$")
+_LOOSE = re.compile(r"^(?P<ours>[A-Za-z_][\w.]*)\s*(?:\*\s*(?P<factor>[^+\-\s]\S*?|[+-]?[\d.]\S*?))?"
+                    r"\s*(?:(?P<sign>[+-])\s*(?P<offset>.+?))?\s*$")
 
 
 def split_unit(header: str) -> tuple[str, str]:
@@ -39,6 +41,10 @@ def split_unit(header: str) -> tuple[str, str]:
     header = header.strip()
     match = _UNIT.match(header)
     return (match["name"].strip(), match["unit"].strip()) if match and match["name"].strip() else (header, "")
+
+
+TIME_UNITS = {"": 1.0, "s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}
+"""Units of a time column (to seconds)."""
 
 
 def _numeric(row) -> bool:
@@ -50,40 +56,35 @@ def _numeric(row) -> bool:
 
 
 def _cells(text: str, delimiter: str) -> list:
-    return [cell.strip() for cell in next(csv.reader([text], delimiter=delimiter))]
+    cells = [cell.strip() for cell in next(csv.reader([text], delimiter=delimiter))]
+    while len(cells) > 1 and cells[-1] == "":   # a trailing delimiter
+        cells.pop()
+    return cells
 
 
-def _delimiter(line: str) -> str:
-    return next((d for d in (",", ";", "\t") if d in line), ",")
+def _is_comment(line: str) -> bool:
+    return line.lstrip().startswith("#")
 
 
 def read_csv_columns(path) -> tuple[dict, dict, dict]:
     """Columns of a CSV file in any dialect above: (columns by name, units by name, header text by name)."""
     path = Path(path)
-    lines = [line.rstrip("\r\n") for line in path.read_text(errors="replace").splitlines()]
-    lines = [line for line in lines if line.strip()]
-    header_text, first = None, None
-    for number, line in enumerate(lines):
-        if not line.lstrip().startswith("#") and _numeric(_cells(line, _delimiter(line))):
-            first = number
-            break
-        header_text = line.lstrip().lstrip("#").strip()
-    if first is None or header_text is None:
+    lines = [line for line in path.read_text(encoding="utf-8-sig", errors="replace").splitlines() if line.strip()]
+    plain = next((line for line in lines if not _is_comment(line)), "")
+    delimiter = next((d for d in (",", ";", "\t") if d in plain), ",")
+    first = next((i for i, line in enumerate(lines) if not _is_comment(line) and _numeric(_cells(line, delimiter))),
+                 None)
+    if not first:
         raise InputError(f"{path}: needs a header row and at least one numeric data row")
-    delimiter = _delimiter(lines[first])
-    headers = _cells(header_text, delimiter)
-    names, units, texts = [], {}, {}
-    for header in headers:
-        name, unit = split_unit(header)
-        if (name.lower() == "time" or name == "t") and unit in ("", "s"):
-            name = "time"
-        if name in texts:
-            raise InputError(f"{path}: column {name!r} appears twice in the header")
-        names.append(name)
-        units[name], texts[name] = unit, header
+    header_text = lines[first - 1].lstrip().lstrip("#").strip()
+    names, units, texts, scales = _header(path, _cells(header_text, delimiter))
+    width = len(_cells(lines[first], delimiter))
+    if width != len(names):
+        raise InputError(f"{path}: the header (the last line before the data: {header_text[:50]!r}) names "
+                         f"{len(names)} columns but the first data row has {width} values")
     data = []
     for number, line in enumerate(lines[first:], start=first + 1):
-        if line.lstrip().startswith("#"):   # OpenRocket's event lines between the rows
+        if _is_comment(line):   # OpenRocket's event lines between the rows
             continue
         row = _cells(line, delimiter)
         if not _numeric(row):
@@ -93,7 +94,25 @@ def read_csv_columns(path) -> tuple[dict, dict, dict]:
             raise InputError(f"{path}: row {number} has {len(row)} values but the header names {len(names)} columns")
         data.append([float(cell) for cell in row])
     array = np.array(data)
-    return {name: array[:, i] for i, name in enumerate(names)}, units, texts
+    return {name: array[:, i] * scales[name] for i, name in enumerate(names)}, units, texts
+
+
+def _header(path, headers) -> tuple[list, dict, dict, dict]:
+    """Names, units, header texts and scales (a time column to seconds) of a header row."""
+    names, units, texts, scales = [], {}, {}, {}
+    for header in headers:
+        name, unit = split_unit(header)
+        scale = 1.0
+        if name.lower() == "time" or name == "t":
+            if unit not in TIME_UNITS:
+                raise InputError(f"{path}: time column {header!r}: its unit must be one of "
+                                 f"{', '.join(u for u in TIME_UNITS if u)} (or none, seconds)")
+            name, scale, unit = "time", TIME_UNITS[unit], "s"
+        if name in texts:
+            raise InputError(f"{path}: column {name!r} appears twice in the header")
+        names.append(name)
+        units[name], texts[name], scales[name] = unit, header, scale
+    return names, units, texts, scales
 
 
 def parse_column_map(entries) -> dict:
@@ -103,7 +122,7 @@ def parse_column_map(entries) -> dict:
     for entry in entries:
         theirs, sep, target = entry.partition("=")
         theirs = theirs.strip()
-        match = _TARGET.match(target.strip()) if sep and theirs else None
+        match = (_TARGET.match(target.strip()) or _LOOSE.match(target.strip())) if sep and theirs else None
         if match is None:
             raise InputError(f"column map entry {entry!r}: write THEIRS=OURS, THEIRS=OURS*FACTOR or "
                              "THEIRS=OURS*FACTOR+OFFSET, e.g. alt_ft=vehicle_altitude*0.3048")
@@ -134,9 +153,9 @@ def _map_number(entry: str, what: str, text, default: float) -> float:
     return value
 
 
-def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = None) -> dict:
-    """Columns renamed and rescaled by ``mapping`` ``{theirs: (ours, factor, offset)}`` (theirs: a column's name or
-    its header text with the unit, ``headers``); the others kept as they are."""
+def _resolve(columns: dict, mapping: dict, source, headers: dict | None) -> dict:
+    """``mapping`` keyed by the columns' names (theirs given by name or by header text); a column mapped twice or
+    a target that another, unmapped column already has is an error."""
     by_text = {text: name for name, text in (headers or {}).items()}
     resolved = {}
     for theirs, target in mapping.items():
@@ -144,9 +163,26 @@ def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = 
         if name is None:
             raise InputError(f"{source}: column map names column {theirs!r} that the file does not have; it has: "
                              f"{', '.join(columns)}")
+        if name in resolved:
+            raise InputError(f"{source}: column {name!r} is mapped twice (as {theirs!r} too); map each column once")
         resolved[name] = target
-    mapped = {}
+    for name, (ours, _, _) in resolved.items():
+        if ours in columns and ours not in resolved and ours != name:
+            raise InputError(f"{source}: the map of {name!r} to {ours!r} collides with the file's own column "
+                             f"{ours!r}; map that one to another name too")
+    return resolved
+
+
+def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = None,
+                units: dict | None = None) -> dict | tuple[dict, dict]:
+    """Columns renamed and rescaled by ``mapping`` ``{theirs: (ours, factor, offset)}`` (theirs: a column's name or
+    its header text with the unit, ``headers``); the others kept as they are. With ``units`` also the units by the
+    new names (a rescaled column's is unknown, '')."""
+    resolved = _resolve(columns, mapping, source, headers)
+    mapped, mapped_units = {}, {}
     for name, values in columns.items():
         ours, factor, offset = resolved.get(name, (name, 1.0, 0.0))
-        mapped[ours] = values * factor + offset if (factor, offset) != (1.0, 0.0) else values
-    return mapped
+        same = (factor, offset) == (1.0, 0.0)
+        mapped[ours] = values if same else values * factor + offset
+        mapped_units[ours] = (units or {}).get(name, "") if same else ""
+    return mapped if units is None else (mapped, mapped_units)

@@ -171,10 +171,9 @@ class Result:
             path = path / CSV_NAME
         if not path.is_file():
             raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")
-        raw, units, headers = read_csv_columns(path)
-        columns = map_columns(raw, column_map or {}, path, headers)
+        raw, raw_units, headers = read_csv_columns(path)
+        columns, units = map_columns(raw, column_map or {}, path, headers, raw_units)
         if "time" not in columns:
             raise InputError(f"{path}: no 'time' column (name it with a column map, e.g. --map t=time); columns "
                              f"are: {', '.join(columns)}")
-        units = summary.get("units") or {(column_map or {}).get(n, (n,))[0]: u for n, u in units.items() if u}
-        return cls(columns, units, summary)
+        return cls(columns, summary.get("units") or {n: u for n, u in units.items() if u}, summary)

@@ -21,7 +21,7 @@ from .errors import InputError, Interrupted, SimulationError
 from .methods.base import Method, line_arrays, line_constants, unstable_step_message
 from .outputs import check_history, concatenate, derive_columns, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase
-from .physics.linearization import damped_line_step_limit, lumped_step_limit, sp_step_limit
+from .physics.linearization import damped_line_step_limit, sp_step_limit, spectral_step_bound
 from .results import Result
 from .state import initial_confluence_state, initial_point
 from .summary import (
@@ -43,7 +43,8 @@ MONITOR_STEPS = 500
 STEP_FRACTION = 0.5
 """A case without a step for the method runs at this fraction of the stability limit (``stability_step``): the limit
 falls as the lines stretch under load (MER's confluence: by 8 % over 60 s) and the bound is taken at free length.
-For MER it gives the thesis's own steps: 1e-4 s full mass, 1e-2 s SP."""
+For MER: 1e-2 s SP (the thesis's step) and 5e-5 s full mass (the any-layout bound, 1.99e-4 s, is below the 4.28e-4 s of
+the real layout; the thesis ran 1e-4 s)."""
 MAX_STEPS = 2**31 - 1
 """Steps the engine can count in one run (its step counter is a 32-bit integer)."""
 MAX_OUTPUT_BYTES = 4e9
@@ -122,33 +123,35 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
 def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, float]:
     """The step (s) of a case that sets none for the method, and the stability limit (s) it comes from.
 
-    The limit is the smallest of: each body on the lines attached to it and each confluence by the method's own
-    geometry-free bound at free length (``physics.linearization.lumped_step_limit``, ``Method.lumped_step_limit``),
-    and, for a system present from the start, its limit at the case's initial geometry (stretched lines stiffen a
-    confluence sideways). For the implicit integrator (stable at any step: the step is for accuracy) the confluence
-    counts with the damped mode SP resolves. The step is STEP_FRACTION of the limit, rounded down to 1, 2 or 5 x 10^k.
+    The limit is the smallest of: each body on the lines attached to it and each full-mass confluence by a bound that
+    holds in any layout (``physics.linearization.spectral_step_bound``; a body's rotation is left out), an SP
+    confluence by its damped mode at free length (``damped_line_step_limit``), and for a system present from the
+    start the method's limit at the case's initial geometry. For the implicit integrator (stable at any step: the
+    step is for accuracy) a confluence counts with the damped mode SP resolves. The step is STEP_FRACTION of the
+    limit, rounded down to 1, 2 or 5 x 10^k.
     """
+    key = method.name if integrator == "rk4" else f"{method.name}_{integrator}"
     limits = [math.inf]
     moving = {name for name, body in case.bodies.items() if not body.fixed}
     for system in case.systems.values():
-        limits.append(_confluence_limit(case, method, integrator, system))
+        limits.append(_confluence_limit(case, method, integrator, system, key))
         stiffness, damping = line_constants(system)
         for body in {line.body for line in system.lines} & moving:
             own = [i for i, line in enumerate(system.lines) if line.body == body]
-            limits.append(lumped_step_limit(case.bodies[body].mass, [stiffness[i] for i in own],
-                                            [damping[i] for i in own]))
+            limits.append(spectral_step_bound(case.bodies[body].mass, [stiffness[i] for i in own],
+                                              [damping[i] for i in own]))
     limit = min(limits)
     if not math.isfinite(limit):
-        key = method.name if integrator == "rk4" else f"{method.name}_{integrator}"
         raise InputError(f"no step given, the case sets no simulation.steps.{key} and nothing in it limits the step "
                          "(no line stiffness on a moving body or confluence): pass --dt")
     return _round_down(STEP_FRACTION * limit), limit
 
 
-def _confluence_limit(case: Case, method: Method, integrator: str, system) -> float:
+def _confluence_limit(case: Case, method: Method, integrator: str, system, key: str) -> float:
     """A confluence's stability limit (s) for ``stability_step``."""
     explicit = integrator == "rk4"
-    limits = [method.lumped_step_limit(system) if explicit else damped_line_step_limit(*line_constants(system))]
+    bound = method.lumped_step_limit(system) if explicit else damped_line_step_limit(*line_constants(system))
+    limits = [math.inf if bound is None else bound]
     if system.deploy_time is None:   # present from the start: its initial geometry is known
         attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
         where = initial_confluence_state(case, system).position
@@ -157,6 +160,10 @@ def _confluence_limit(case: Case, method: Method, integrator: str, system) -> fl
             limits.append(math.inf if found is None else found.step)
         else:
             limits.append(sp_step_limit(attach, where, *line_arrays(system, attach, where))[0])
+    elif bound is None:
+        raise InputError(f"no step given and the case sets no simulation.steps.{key}: the {system.name} system, "
+                         "deployed during the run, has a line with stiffness but no damping, which leaves its step "
+                         "limit unknown before deployment; pass --dt")
     return min(limits)
 
 
@@ -305,7 +312,8 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     integrator : {"rk4", "implicit"}, optional
         Default from the case; each method lists the integrators it supports.
     step : float, optional
-        Integration step (s); default from the case's ``simulation.steps``.
+        Integration step (s); default from the case's ``simulation.steps``, else from the stability limit
+        (``stability_step``).
     duration : float, optional
         Simulated time (s); default from the case.
     options : Options object of the method, optional

@@ -7,8 +7,10 @@ all moving straight down at ``speed``. Sizing rules (each written into the file 
 ``docs/tutorial.md``):
 
 * canopy: reference area S0 = drag area / C_D0 of its type (or from the nominal diameter, S0 = pi D0^2 / 4); mass
-  CANOPY_AREAL_MASS x S0 unless given; a thin hemispherical shell of the projected radius R_p = 0.67 D0 / 2 for the
-  inertia; the aerodynamic centre at the centre of mass; C_N(alpha) the zero-trim canopy table of MER;
+  CANOPY_AREAL_MASS x S0 unless given; the inertia of a thin hemispherical shell of the projected radius
+  R_p = 0.67 D0 / 2 about its own centre, but the centre of mass (and the aerodynamic centre) at the skirt's centre,
+  where the suspension lines of length L_s from the apex end (sqrt(L_s^2 - R_p^2) from it): a simplification, the
+  shell's own centre lies R_p / 2 higher; C_N(alpha) the zero-trim canopy table of MER;
 * vehicle: a solid cylinder of the given diameter, half as tall, the bridles on a circle of 0.35 diameters on its
   top face;
 * lines: stiffness from LINE_STRAIN of stretch under the vehicle's weight in steady descent, damping
@@ -19,6 +21,7 @@ all moving straight down at ``speed``. Sizing rules (each written into the file 
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import asdict, dataclass, fields
 
@@ -27,7 +30,9 @@ import numpy as np
 from ..errors import InputError
 from ..physics.atmosphere import US76, MarsGRC
 from ..physics.cluster import spread_directions, touching_spread
+from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
+from .model import Contact
 
 CANOPY_TYPES = {   # C_D0 on S0, subsonic, mid-range of Knacke, Parachute Recovery Systems Design Manual, Table 5-1
     "disk_gap_band": 0.55,
@@ -47,6 +52,8 @@ PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m
               3.986004418e14 / 6378137.0**2, US76),
     "flat": (['model = "flat"', "gravity = 9.80665                          # m/s^2"], "us76", 9.80665, US76),
 }
+MER_DRAG_AREA = 178.47 * 0.46
+"""The default canopy's drag area (m^2): MER's parachute, S0 178.47 m^2 at C_A 0.46 (cases/mer/base.toml)."""
 CANOPY_AREAL_MASS = 0.15
 """Canopy mass per reference area (kg/m^2) when none is given: canopy cloth, suspension lines and hardware
 (assumed; light nylon canopies run about 0.1 to 0.3 kg/m^2)."""
@@ -57,8 +64,7 @@ LINE_DAMPING_TIME = 0.01
 CONFLUENCE_MASS_FRACTION = 0.002
 """Confluence mass / vehicle mass (-) when none is given (assumed: links and swivel)."""
 COMMENT_COLUMN = 44
-PROJECTED_RATIO = 0.67
-"""Projected / nominal diameter of an inflated canopy (as the cluster contact model's default)."""
+"""Column at which the written file's comments start (the hand-written case files' layout)."""
 ATTACH_RADIUS = 0.35
 """Bridle attach circle / vehicle diameter (-)."""
 NORMAL_COEFFICIENT = ([0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0, 90.0],
@@ -141,7 +147,7 @@ class NewCase:
         """S0 of each canopy (m^2)."""
         if self.canopy_diameter is not None:
             return math.pi * self.canopy_diameter**2 / 4.0
-        drag_area = 178.47 * 0.46 if self.drag_area is None else self.drag_area   # default: MER's parachute
+        drag_area = MER_DRAG_AREA if self.drag_area is None else self.drag_area
         return drag_area / CANOPY_TYPES[self.canopy_type]
 
 
@@ -189,36 +195,56 @@ class _Layout:
         return c.mass + c.canopies * self.canopy_mass + self.confluence_mass
 
     def steady_rate(self, altitude: float) -> float:
-        """The closed-form steady rate of descent (m/s) with the canopies' density at ``altitude`` (m)."""
+        """The closed-form steady rate of descent (m/s), sqrt(2 m g / (rho C_D S)) with m the suspended mass and
+        rho at ``altitude`` (m)."""
         density = PLANETS[self.choices.planet][3]().density(altitude)
         drag_area = self.choices.canopies * CANOPY_TYPES[self.choices.canopy_type] * self.reference_area
         return math.sqrt(2.0 * self.total_mass * self.gravity / (density * drag_area))
 
 
 def layout(choices: NewCase) -> _Layout:
-    """The sizes the choices imply (module docstring)."""
+    """The sizes (m, m^2, kg) the choices imply (module docstring); InputError where they cannot be built."""
     area = choices.reference_area
-    nominal = math.sqrt(4.0 * area / math.pi)
+    nominal = nominal_diameter(area)
     canopy_mass = CANOPY_AREAL_MASS * area if choices.canopy_mass is None else choices.canopy_mass
-    radius = PROJECTED_RATIO * nominal / 2.0
+    radius = Contact().projected_radius(area)   # the cluster contact model's envelope (0.67 D0 / 2)
     line = choices.suspension_line_length or nominal
     if line <= radius:
         raise InputError(f"suspension_line_length = {line!r}: must exceed the canopy's projected radius, {radius:g} m")
-    return _Layout(choices, PLANETS[choices.planet][2], area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
+    plan = _Layout(choices, PLANETS[choices.planet][2], area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
                    choices.bridle_length or choices.diameter, choices.riser_length or 0.5 * nominal,
                    math.sqrt(line**2 - radius**2), radius)
+    try:
+        rate = plan.steady_rate(choices.altitude)
+    except (ValueError, ZeroDivisionError):   # outside the model's range, or no air left
+        rate = math.nan
+    if not (math.isfinite(rate) and rate > 0.0):
+        raise InputError(f"altitude = {choices.altitude!r}: outside the {PLANETS[choices.planet][1]} atmosphere "
+                         "(no finite air density there); start lower")
+    circle = radius if choices.canopies == 2 else radius / math.sin(math.pi / max(choices.canopies, 2))
+    if choices.canopies > 1 and circle >= plan.riser_length + plan.apex_distance:
+        raise InputError(f"canopies = {choices.canopies}: their envelopes (radius {radius:.3g} m) cannot sit side by "
+                         f"side on risers that reach {plan.riser_length + plan.apex_distance:.3g} m; lengthen "
+                         "riser_length or suspension_line_length")
+    return plan
+
+
+def _choices(choices: NewCase | None, kwargs: dict) -> NewCase:
+    if choices is not None and kwargs:
+        raise InputError(f"give a NewCase or its fields as keywords, not both (keywords: {', '.join(kwargs)})")
+    return choices if choices is not None else NewCase(**kwargs)
 
 
 def new_case_text(choices: NewCase | None = None, **kwargs) -> str:
     """The case file (TOML text) for ``choices`` (a NewCase, or its fields as keywords)."""
-    choices = choices if choices is not None else NewCase(**kwargs)
+    choices = _choices(choices, kwargs)
     return "\n".join(_aligned(row) for row in _Writer(layout(choices)).lines()) + "\n"
 
 
 def _aligned(row: str) -> str:
     """A key line with its comment at column COMMENT_COLUMN (the case files' layout)."""
     key, mark, comment = row.partition(" # ")
-    if not mark or row.startswith("#"):
+    if not mark or row.startswith("#") or '"' in key:   # a quoted value may hold " # " itself
         return row
     return f"{key.rstrip():<{COMMENT_COLUMN - 1}} # {comment.strip()}"
 
@@ -228,7 +254,7 @@ def new_case(choices: NewCase | None = None, **kwargs):
     writes, built in memory (for a notebook); ``pchute new`` writes the same text to a file."""
     from .loader import build_case, tomllib
 
-    choices = choices if choices is not None else NewCase(**kwargs)
+    choices = _choices(choices, kwargs)
     return build_case(tomllib.loads(new_case_text(choices)), {}, f"new_case({choices.name!r})")
 
 
@@ -239,8 +265,8 @@ def choice_fields() -> list:
 
 
 def _n(value: float) -> str:
-    """A number for the file: micrometre (and microgram) resolution, no float noise."""
-    text = repr(round(float(value), 6))
+    """A number for the file: 12 significant digits (micrometres on kilometres), no float noise."""
+    text = repr(float(f"{float(value):.12g}"))
     return "0.0" if text == "-0.0" else text
 
 
@@ -273,8 +299,9 @@ class _Writer:
                 f"# Suspended mass {_n(p.total_mass)} kg; steady rate of descent sqrt(2 m g / (rho C_D S)) = "
                 f"{p.steady_rate(c.altitude):.3f} m/s at the start, {p.steady_rate(0.0):.3f} m/s at 0 m.",
                 "# Reported altitudes are each body's centre of mass (`vehicle_altitude`: the vehicle's); the canopy's",
-                f"# drag acts {_n(self.canopy_height())} m higher, at its aerodynamic centre (`canopy_altitude`).", "",
-                "[case]", f'name = "{c.name}"',
+                f"# drag acts {_n(self.canopy_height())} m higher, at its aerodynamic centre "
+                f"(`{self.canopy_names()[0]}_altitude`).", "",
+                "[case]", f"name = {json.dumps(c.name)}",
                 f'description = "{c.mass:g} kg vehicle under {self.canopy_words()} ({c.planet})"',
                 'vehicle = "vehicle"', "", "[planet]", *planet_lines, "",
                 "[start]                                    # the start point", "latitude_deg = 0.0",
@@ -290,6 +317,7 @@ class _Writer:
         return self.confluence_altitude - self.c.altitude + self.canopy_reach() * math.cos(self.spread())
 
     def canopy_reach(self) -> float:
+        """Confluence to a canopy's centre (m): its riser and the apex-to-centre distance."""
         return self.plan.riser_length + self.plan.apex_distance
 
     def spread(self) -> float:
@@ -340,7 +368,7 @@ class _Writer:
                      + (" (0.15 kg per m^2 of S0, assumed)" if c.canopy_mass is None else ""),
                      f"inertia = {_vector([axial, lateral, lateral])}   # kg m^2",
                      f"points.riser = [{_n(p.apex_distance)}, 0.0, 0.0]   # m: the suspension lines' apex, "
-                     f"{_n(c.suspension_line_length or math.sqrt(4 * p.reference_area / math.pi))} m lines to the "
+                     f"{_n(c.suspension_line_length or nominal_diameter(p.reference_area))} m lines to the "
                      "skirt", f"[bodies.{name}.initial]",
                      f"altitude = {_n(-centre[0])}                  # m",
                      *([] if c.canopies == 1 else [f"east = {_n(centre[1])}", f"north = {_n(-centre[2])}",
@@ -362,7 +390,7 @@ class _Writer:
         alpha, value = NORMAL_COEFFICIENT
         return [f"[bodies.{name}.aerodynamics]",
                 f"reference_area = {_n(p.reference_area)}               # m^2: S0, D0 = "
-                f"{math.sqrt(4 * p.reference_area / math.pi):.4f} m",
+                f"{nominal_diameter(p.reference_area):.4f} m",
                 f"axial_coefficient = {CANOPY_TYPES[c.canopy_type]}                  # C_D0 of a {c.canopy_type} "
                 "(Knacke, Table 5-1, mid-range)",
                 "center = [0.0, 0.0, 0.0]                   # m: at the centre of mass",
@@ -388,6 +416,7 @@ class _Writer:
 
     @staticmethod
     def line(name: str, attach: str, length: float, tension: float) -> list:
+        """A line's table: free ``length`` (m), stiffness from LINE_STRAIN under ``tension`` (N)."""
         stiffness = tension / (LINE_STRAIN * length)
         return [f"[systems.main.lines.{name}]", f'attach = "{attach}"', f"free_length = {_n(length)}   # m",
                 f"stiffness = {_n(stiffness)}   # N/m: 2.5 % stretch under its share of the vehicle's weight",

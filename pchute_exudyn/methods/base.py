@@ -91,10 +91,11 @@ class Method:
         confluence dynamics (nothing to limit)."""
         return None
 
-    def lumped_step_limit(self, system: ParachuteSystem) -> float:
-        """A geometry-free lower bound of ``step_limit`` (s) at free length, for choosing a step before any geometry
-        exists (``simulation.stability_step``); inf when the method has no confluence dynamics."""
-        return math.inf
+    def lumped_step_limit(self, system: ParachuteSystem) -> float | None:
+        """A geometry-free bound of ``step_limit`` (s), for choosing a step before any geometry exists
+        (``simulation.stability_step``): inf when the method has no confluence dynamics; None (unknown: the run needs
+        a step) for a step-limited method that does not say."""
+        return None if self.step_limited else math.inf
 
     def settings(self) -> dict:
         """The options as ``summary.json`` reports them."""
@@ -105,11 +106,8 @@ class Method:
 def line_constants(system: ParachuteSystem) -> tuple[list, list]:
     """The stiffest constants of a system's lines: K (N/m; a load-elongation table's steepest slope / L0) and
     C (N s/m)."""
-    stiffness = []
-    for line in system.lines:
-        table = line.load_elongation
-        stiffness.append(line.stiffness if table is None else
-                         float(np.max(np.diff(table.tension) / np.diff(table.strain))) / line.free_length)
+    stiffness = [line.stiffness if line.load_elongation is None else
+                 max(line.load_elongation.slopes()) / line.free_length for line in system.lines]
     return stiffness, [line.damping for line in system.lines]
 
 

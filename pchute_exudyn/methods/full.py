@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from ..case.method_table import OptionError
 from ..engine.full import build_full_model
-from ..physics.linearization import full_mass_step_limit, lumped_step_limit
+from ..physics.linearization import full_mass_step_limit, spectral_step_bound
 from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
 LINE_LAWS = ("symbolic", "python")
@@ -49,4 +49,4 @@ class FullMass(Method):
         return StepLimit(system.name, step, eigenvalue)
 
     def lumped_step_limit(self, system) -> float:
-        return lumped_step_limit(system.confluence.mass, *line_constants(system))
+        return spectral_step_bound(system.confluence.mass, *line_constants(system))

@@ -164,18 +164,32 @@ def _stable_step_along(real, imag):
     return lo
 
 
-def lumped_step_limit(mass, stiffness, damping) -> float:
-    """Largest stable RK4 step (s) of ``mass`` (kg) on lines of ``stiffness`` (N/m) and ``damping`` (N s/m) all
-    pulling along one axis, mass s^2 + sum(C) s + sum(K) = 0. Needs no geometry: lines in parallel are the stiffest
-    and most damped a mass can hang on, so this is at or below the limit of any real layout at free length (MER's
-    confluence: 2.15e-4 s against 4.28e-4 s from its geometry)."""
-    return max_stable_step_rk4(np.roots([mass, float(np.sum(damping)), float(np.sum(stiffness))]))
+RK4_LEFT_RADIUS = 2.6155
+"""Radius (-) of the largest half-disc of the left half-plane inside RK4's stability region (its boundary is
+closest to 0 at about 2.6156, between the real axis's 2.785 and the imaginary axis's 2.828): RK4 is stable for
+every h lambda with Re(lambda) < 0 and |h lambda| below it."""
 
 
-def damped_line_step_limit(stiffness, damping) -> float:
-    """Largest stable RK4 step (s) of a massless confluence's first-order mode, bounded without geometry: at free
-    length the eigenvalues of C_bar^-1 K_bar are Rayleigh quotients sum K (n.v)^2 / sum C (n.v)^2 <= max K/C, so
-    -max(K/C) (1/s) is the fastest mode (MER: -100 1/s, 2.79e-2 s). inf when no line has damping."""
+def spectral_step_bound(mass, stiffness, damping) -> float:
+    """A stable RK4 step (s) for ``mass`` (kg) on lines of ``stiffness`` (N/m) and ``damping`` (N s/m) in any layout
+    with every line at or beyond its free length: with A = C_bar / m and B = K_bar / m, an eigenvalue of
+    lambda^2 + A lambda + B obeys |lambda|^2 <= |lambda| |A| + |B|, and |C_bar| <= sum C, |K_bar| <= sum K (each
+    line's K_bar term has norm K), so |lambda| <= rho = (a + sqrt(a^2 + 4 b)) / 2 with a = sum C / m,
+    b = sum K / m; the step is RK4_LEFT_RADIUS / rho (MER's confluence: 1.99e-4 s against 4.28e-4 s from its
+    geometry). inf without stiffness or damping."""
+    a, b = float(np.sum(damping)) / mass, float(np.sum(stiffness)) / mass
+    rho = 0.5 * (a + math.sqrt(a * a + 4.0 * b))
+    return RK4_LEFT_RADIUS / rho if rho > 0.0 else math.inf
+
+
+def damped_line_step_limit(stiffness, damping) -> float | None:
+    """Largest stable RK4 step (s) of a massless confluence's first-order mode at free length, without geometry:
+    there the eigenvalues of C_bar^-1 K_bar are Rayleigh quotients sum K (n.v)^2 / sum C (n.v)^2 <= max K/C, so
+    -max(K/C) (1/s) is the fastest mode (MER: -100 1/s, 2.79e-2 s). Stretched lines add sideways stiffness without
+    damping and can make the mode faster (the run's step monitor checks the real geometry). None (no bound) when a
+    line has stiffness without damping; inf when no line has stiffness."""
+    if any(k > 0.0 and c <= 0.0 for k, c in zip(stiffness, damping)):
+        return None
     rates = [k / c for k, c in zip(stiffness, damping) if c > 0.0]
     return max_stable_step_rk4([-max(rates)]) if rates else math.inf
 
