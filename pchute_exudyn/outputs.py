@@ -150,8 +150,10 @@ def _point_columns(case: Case, prefix: str, time, position, velocity, columns: d
         units[f"{prefix}_{name}"] = unit
 
 
-def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
-    """Named time histories and their units from an engine run; see the module docstring for the names."""
+def derive_columns(case: Case, raw: RawHistory, air_columns: bool = True) -> tuple[dict, dict]:
+    """Named time histories and their units from an engine run; see the module docstring for the names.
+    ``air_columns=False`` leaves out each aerodynamic body's air-relative columns (angles of attack, dynamic
+    pressure, Mach number, wind and turbulence at its centre): a per-sample loop nothing in the summary reads."""
     columns: dict = {"time": raw.time}
     units: dict = {"time": "s"}
     order = [case.vehicle] + [name for name in case.bodies if name != case.vehicle]
@@ -167,7 +169,7 @@ def derive_columns(case: Case, raw: RawHistory) -> tuple[dict, dict]:
             columns[f"{name}_rate_{axis}"] = body["angular_velocity"][:, i]
             units[f"{name}_rate_{axis}"] = "rad/s"
         aero = case.bodies[name].aerodynamics
-        if aero is not None and aero.enabled:
+        if air_columns and aero is not None and aero.enabled:
             total, alpha, beta, pressure, mach, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
             for key, value, unit in (("angle_of_attack_deg", total, "deg"), ("alpha_deg", alpha, "deg"),
                                      ("beta_deg", beta, "deg"), ("dynamic_pressure", pressure, "Pa"),

@@ -299,7 +299,7 @@ model every output step, for scripts that rebuild the model and open Exudyn's vi
 
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
              duration: float | None = None, *, options=None, progress=None, engine_solution: bool = False,
-             **option_values) -> Result:
+             air_columns: bool = True, **option_values) -> Result:
     """Simulate ``case``.
 
     Parameters
@@ -323,6 +323,10 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     engine_solution : bool
         Also keep Exudyn's own solution file of each phase (``ENGINE_SOLUTION``), saved with the result. Writing it
         is part of the timed solve.
+    air_columns : bool
+        False leaves out the aerodynamic bodies' air-relative columns (``outputs.derive_columns``), which nothing
+        in the summary reads: what a study run that keeps no time history skips (a third of a PA1 run's time
+        outside the solve).
     **option_values
         Or single options by name, on top of the case's (None: the case's): SP ``preset`` ("accurate",
         "thesis"), ``kappa_max`` (-, > 3), ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass
@@ -346,7 +350,7 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     with tempfile.TemporaryDirectory() as folder:
         raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
-    columns, units = derive_columns(case, raw)
+    columns, units = derive_columns(case, raw, air_columns)
     contacts = cluster_columns(case, raw, columns, units)
     pendulum_columns(case, raw, columns, units)
     summary = summarize(case, plan, raw, facts, events + contacts, columns, units,

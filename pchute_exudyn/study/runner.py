@@ -68,7 +68,8 @@ def execute(run: RunSpec) -> dict:
     try:
         case = load_case(run.case_file, run.overrides())
         c = run.configuration
-        result = simulate(case, c.method, c.integrator, c.step, **dict(c.options))
+        result = simulate(case, c.method, c.integrator, c.step, air_columns=run.history_dir is not None,
+                          **dict(c.options))
         record.update(scalar_outputs(result))
         record["wall_time"] = result.summary["wall_time"]
         record["steps"] = result.summary["steps"]

@@ -1,0 +1,95 @@
+"""What a study costs around its solves: the PA1 landing-footprint study on local worker processes.
+
+Run:  python validation/study_overhead.py [--before DIR] [--runs 200] [--large 2000] [--workers 2]
+
+Each side (this code, and with ``--before`` a checkout of the code before, ``git worktree add DIR COMMIT``) runs
+validation/studies/pa1_footprint.toml with ``runs`` draws in its own process on ``workers`` local worker processes
+(compiled kernels, warmed first) and reports the study's wall time, the sum of its runs' solve times (``wall_time``,
+the engine's solve of each run) and their ratio, wall time x workers / sum of solve times: 1 would be no time
+outside the solves at all. ``--large`` also runs a study of that many draws with this code. Writes
+validation/output/study_overhead.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+OUT = HERE / "output" / "study_overhead.md"
+STUDY = HERE / "studies" / "pa1_footprint.toml"
+
+SIDE = r"""
+import csv, json, sys, tempfile, time
+from pathlib import Path
+from pchute_exudyn.study import load_study, run_study
+runs, workers, study, cases = int(sys.argv[1]), int(sys.argv[2]), Path(sys.argv[3]), sys.argv[4]
+with tempfile.TemporaryDirectory() as folder:
+    text = study.read_text().replace("runs = 200", f"runs = {runs}").replace('"../../cases/', f'"{cases}/')
+    path = Path(folder) / "study.toml"
+    path.write_text(text)
+    started = time.perf_counter()
+    counts = run_study(load_study(path), Path(folder) / "out", None, workers, progress=False)
+    wall = time.perf_counter() - started
+    rows = list(csv.DictReader(open(Path(folder) / "out" / "runs.csv")))
+solves = [float(r["wall_time"]) for r in rows if r["status"] == "ok"]
+print(json.dumps({"runs": runs, "wall": wall, "solves": sum(solves), "failed": counts["failed"]}))
+"""
+
+
+def side(code: Path, runs: int, workers: int) -> dict:
+    """One study run by the package in ``code`` (its own process, compiled kernels)."""
+    environment = {**os.environ, "PYTHONPATH": str(code), "PCHUTE_KERNELS": "compiled"}
+    subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"], env=environment, check=True,
+                   capture_output=True)
+    done = subprocess.run([sys.executable, "-c", SIDE, str(runs), str(workers), str(STUDY), str(ROOT / "cases")],
+                          env=environment, check=True, capture_output=True, text=True)
+    result = json.loads(done.stdout.strip().splitlines()[-1])
+    result["ratio"] = result["wall"] * workers / result["solves"]
+    return result
+
+
+def commit_of(code: Path) -> str:
+    found = subprocess.run(["git", "-C", str(code), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+    return found.stdout.strip() or "?"
+
+
+def row(label: str, r: dict) -> str:
+    return (f"| {label} | {r['runs']} | {r['failed']} | {r['wall']:.1f} | {r['solves']:.1f} | {r['ratio']:.2f} | "
+            f"{r['solves'] / r['runs']:.3f} |")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", type=Path, default=None, help="checkout of the code before")
+    parser.add_argument("--runs", type=int, default=200)
+    parser.add_argument("--large", type=int, default=None, help="also a study of this many draws (this code)")
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args(argv)
+    rows = []
+    if args.before is not None:
+        rows.append(row(f"before ({commit_of(args.before)})", side(args.before, args.runs, args.workers)))
+    rows.append(row(f"now ({commit_of(ROOT)})", side(ROOT, args.runs, args.workers)))
+    if args.large:
+        rows.append(row(f"now ({commit_of(ROOT)}), {args.large} draws", side(ROOT, args.large, args.workers)))
+    lines = ["# A study's time around its solves", "",
+             f"`python validation/study_overhead.py{' --before DIR' if args.before else ''} --runs {args.runs}"
+             f"{f' --large {args.large}' if args.large else ''} --workers {args.workers}`: "
+             "validation/studies/pa1_footprint.toml (PA1 in wind and Dryden turbulence, SP 1e-2 s) on "
+             f"{args.workers} local worker processes, each side in its own process with compiled kernels; one "
+             "machine, one after the other. Ratio = wall time x workers / sum of the runs' solve times (1: no time "
+             "outside the solves).", "",
+             "| code | runs | failed | wall time (s) | sum of solve times (s) | wall x workers / solves | mean solve (s) |",
+             "|---|---|---|---|---|---|---|", *rows, ""]
+    OUT.write_text("\n".join(lines))
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
