@@ -324,9 +324,7 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         Also keep Exudyn's own solution file of each phase (``ENGINE_SOLUTION``), saved with the result. Writing it
         is part of the timed solve.
     air_columns : bool
-        False leaves out the aerodynamic bodies' air-relative columns (``outputs.derive_columns``), which nothing
-        in the summary reads: what a study run that keeps no time history skips (a third of a PA1 run's time
-        outside the solve).
+        False: without the air-relative columns (``outputs.derive_columns``), which the summary never reads.
     **option_values
         Or single options by name, on top of the case's (None: the case's): SP ``preset`` ("accurate",
         "thesis"), ``kappa_max`` (-, > 3), ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass

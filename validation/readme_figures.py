@@ -330,11 +330,25 @@ def new_case_lines() -> list:
             "[table](validation/output/new_case/checks.md))."]
 
 
+def study_overhead_lines() -> list:
+    """A study's time around its solves (study_overhead.py)."""
+    rows = [[c.strip() for c in line.split("|")[1:-1]] for line in
+            (OUT / "study_overhead.md").read_text().splitlines() if line.startswith("| before") or
+            line.startswith("| now")]
+    before, now, large = rows
+    return [f"Around the solves (`python validation/study_overhead.py --before DIR --runs 200 --large 2000`, "
+            f"[table](validation/output/study_overhead.md)): the 200-run PA1 footprint study on 2 workers takes "
+            f"{now[3]} s against {before[3]} s before a run without a kept history skipped the air-relative "
+            f"columns (wall time x workers / sum of solve times {now[5]}, was {before[5]}); {large[1]} runs take "
+            f"{large[3]} s ({large[5]})."]
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
-            *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines()]
+            *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines(),
+            *study_overhead_lines()]
 
 
 def _key(line: str) -> str:

@@ -17,6 +17,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -38,7 +39,9 @@ with tempfile.TemporaryDirectory() as folder:
     wall = time.perf_counter() - started
     rows = list(csv.DictReader(open(Path(folder) / "out" / "runs.csv")))
 solves = [float(r["wall_time"]) for r in rows if r["status"] == "ok"]
-print(json.dumps({"runs": runs, "wall": wall, "solves": sum(solves), "failed": counts["failed"]}))
+import pchute_exudyn
+print(json.dumps({"runs": runs, "wall": wall, "solves": sum(solves), "failed": counts["failed"],
+                  "package": str(Path(pchute_exudyn.__file__).parent)}))
 """
 
 
@@ -46,10 +49,13 @@ def side(code: Path, runs: int, workers: int) -> dict:
     """One study run by the package in ``code`` (its own process, compiled kernels)."""
     environment = {**os.environ, "PYTHONPATH": str(code), "PCHUTE_KERNELS": "compiled"}
     subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"], env=environment, check=True,
-                   capture_output=True)
-    done = subprocess.run([sys.executable, "-c", SIDE, str(runs), str(workers), str(STUDY), str(ROOT / "cases")],
-                          env=environment, check=True, capture_output=True, text=True)
+                   capture_output=True, cwd=code)
+    with tempfile.TemporaryDirectory() as elsewhere:   # not the repository: `python -c` puts its folder first
+        done = subprocess.run([sys.executable, "-c", SIDE, str(runs), str(workers), str(STUDY), str(ROOT / "cases")],
+                              env=environment, check=True, capture_output=True, text=True, cwd=elsewhere)
     result = json.loads(done.stdout.strip().splitlines()[-1])
+    if Path(result["package"]).resolve() != (code / "pchute_exudyn").resolve():
+        raise SystemExit(f"the side meant to run {code} ran {result['package']}")
     result["ratio"] = result["wall"] * workers / result["solves"]
     return result
 
