@@ -24,6 +24,7 @@ import numpy as np
 
 from .errors import InputError
 from .results import Result
+from .summary import first_fall_through
 
 
 @dataclass
@@ -159,16 +160,6 @@ def column_differences(a: Result, b: Result, names, time) -> dict:
     return found
 
 
-def _crossing(time, altitude, level) -> float | None:
-    """The first time (s) ``altitude`` (m, one per ``time``, s) falls through ``level`` (m), linear between samples;
-    None if it never does."""
-    below = np.flatnonzero((altitude[:-1] > level) & (altitude[1:] <= level))
-    if not len(below):
-        return None
-    i = below[0]
-    return float(time[i] + (time[i + 1] - time[i]) * (altitude[i] - level) / (altitude[i] - altitude[i + 1]))
-
-
 def descent_profile(result: Result, vehicle: str = "vehicle") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(time s, altitude m, rate of descent m/s) of a side: its ``<vehicle>_velocity_down`` where it has one, else
     -d(altitude)/dt; samples without an altitude left out."""
@@ -186,9 +177,9 @@ def descent_side(result: Result, vehicle: str, altitudes, ground: float) -> dict
     time, altitude, rate = descent_profile(result, vehicle)
     rates = []
     for level in altitudes:
-        when = _crossing(time, altitude, level)
+        when = first_fall_through(time, altitude, level)
         rates.append(float(np.interp(when, time, rate)) if when is not None else math.nan)
-    when, note = _crossing(time, altitude, ground), ""
+    when, note = first_fall_through(time, altitude, ground), ""
     if when is None and altitude[-1] > ground and rate[-1] > 0.0:
         when = float(time[-1] + (altitude[-1] - ground) / rate[-1])
         note = (f"ends {altitude[-1] - ground:.3g} m above the ground at {time[-1]:g} s; time to ground extrapolated "

@@ -174,10 +174,10 @@ def _resolve(columns: dict, mapping: dict, source, headers: dict | None) -> dict
 
 
 def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = None,
-                units: dict | None = None) -> dict | tuple[dict, dict]:
+                units: dict | None = None) -> tuple[dict, dict]:
     """Columns renamed and rescaled by ``mapping`` ``{theirs: (ours, factor, offset)}`` (theirs: a column's name or
-    its header text with the unit, ``headers``); the others kept as they are. With ``units`` also the units by the
-    new names (a rescaled column's is unknown, '')."""
+    its header text with the unit, ``headers``), the others kept as they are; and their ``units`` by the new names
+    (a rescaled column's unit is unknown, '')."""
     resolved = _resolve(columns, mapping, source, headers)
     mapped, mapped_units = {}, {}
     for name, values in columns.items():
@@ -185,4 +185,4 @@ def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = 
         same = (factor, offset) == (1.0, 0.0)
         mapped[ours] = values if same else values * factor + offset
         mapped_units[ours] = (units or {}).get(name, "") if same else ""
-    return mapped if units is None else (mapped, mapped_units)
+    return mapped, mapped_units

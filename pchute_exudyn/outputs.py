@@ -232,9 +232,10 @@ def _aero_columns(case: Case, body: dict, center, time):
         speed = float(np.linalg.norm(relative))
         alpha[i] = np.degrees(np.arctan2(w, u))
         beta[i] = np.degrees(np.arcsin(np.clip(v / speed, -1.0, 1.0))) if speed > 0 else 0.0
-        pressure[i] = 0.5 * atmosphere.density(altitude) * speed * speed
+        density, sound = atmosphere.state(altitude)   # one kernel call for both
+        pressure[i] = 0.5 * density * speed * speed
         if mach is not None:
-            mach[i] = speed / atmosphere.speed_of_sound(altitude)
+            mach[i] = speed / sound
     return total, alpha, beta, pressure, mach, wind, turbulence
 
 

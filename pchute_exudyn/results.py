@@ -167,7 +167,7 @@ class Result:
                     columns = {k: data[k] for k in data.files if k not in ("units", "summary", SCENE)
                                and not k.startswith(SCENE + "/")}
                     units = json.loads(str(data["units"])) if "units" in data.files else {}
-                return cls(map_columns(columns, column_map or {}, path), units, summary)
+                return cls(map_columns(columns, column_map or {}, path)[0], units, summary)
             path = path / CSV_NAME
         if not path.is_file():
             raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")

@@ -18,6 +18,7 @@ Events, in time order in the summary (times in s from the start of the run):
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields
 from typing import ClassVar
 
@@ -157,19 +158,25 @@ class TouchdownEvent(Event):
         return cls(float(time), float(np.linalg.norm(v)), float(-v[2]), float(np.hypot(v[0], v[1])))
 
 
+def first_fall_through(time, values, level: float, after: float = -math.inf) -> float | None:
+    """The first time (s) at or after ``after`` that ``values`` falls from above ``level`` to it or below between
+    two finite samples, linear between them; None if it never does (``time`` in s, ``values`` and ``level`` in one
+    unit: a rate of descent, an altitude)."""
+    time, values = np.asarray(time, float), np.asarray(values, float)
+    finite = np.isfinite(values) & (time >= after)
+    falls = np.flatnonzero((values[:-1] > level) & finite[:-1] & finite[1:] & (values[1:] <= level))
+    if not len(falls):
+        return None
+    i = int(falls[0]) + 1
+    w = (values[i - 1] - level) / (values[i - 1] - values[i])
+    return float(time[i - 1] + w * (time[i] - time[i - 1]))
+
+
 def descent_rate_events(thresholds, time, descent_rate, after: float) -> list:
     """First downward crossings of each threshold (m/s) by ``descent_rate`` (m/s) after time ``after`` (s),
     linearly interpolated."""
-    events = []
-    for threshold in thresholds:
-        finite = np.isfinite(descent_rate) & (time >= after)
-        above = (descent_rate > threshold) & finite
-        for i in range(1, len(time)):
-            if above[i - 1] and finite[i] and descent_rate[i] <= threshold:
-                w = (descent_rate[i - 1] - threshold) / (descent_rate[i - 1] - descent_rate[i])
-                events.append(DescentRateEvent(float(time[i - 1] + w * (time[i] - time[i - 1])), threshold))
-                break
-    return events
+    crossings = [(first_fall_through(time, descent_rate, threshold, after), threshold) for threshold in thresholds]
+    return [DescentRateEvent(when, threshold) for when, threshold in crossings if when is not None]
 
 
 def merge_facts(total: dict, facts: dict) -> None:

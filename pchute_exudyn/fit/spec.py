@@ -200,7 +200,7 @@ def _read_target(t: _Table, folder: Path) -> Target:
             raise t.error("map", "must be a list of \"theirs=ours[*factor]\" entries", entries)
         try:
             raw, _, headers = read_csv_columns(file)
-            columns = map_columns(raw, parse_column_map(entries), file, headers)
+            columns, _ = map_columns(raw, parse_column_map(entries), file, headers)
         except InputError as exc:
             raise t.error("map", str(exc)) from None
         if "time" not in columns:

@@ -96,7 +96,8 @@ class Atmosphere:
         """Whether the model gives the speed of sound (a Mach-number table needs it)."""
         return self.kernel_parameters()[1] != NO_SOUND
 
-    def _state(self, altitude: float) -> tuple:
+    def state(self, altitude: float) -> tuple:
+        """(density kg/m^3, speed of sound m/s or NaN) at geodetic ``altitude`` (m), from one kernel call."""
         density, sound, status = atmosphere_state(self.kernel_parameters(), float(altitude))
         if status != 0.0:
             raise self.outside(altitude)
@@ -104,11 +105,11 @@ class Atmosphere:
 
     def density(self, altitude: float) -> float:
         """Density (kg/m^3) at geodetic ``altitude`` (m)."""
-        return self._state(altitude)[0]
+        return self.state(altitude)[0]
 
     def speed_of_sound(self, altitude: float) -> float:
         """Speed of sound (m/s) at geodetic ``altitude`` (m) (NaN for a model that has none)."""
-        return self._state(altitude)[1]
+        return self.state(altitude)[1]
 
 
 MARS_GAMMA = 1.33
