@@ -9,21 +9,40 @@ Quick use::
 
 The confluence methods are classes in one table, ``pc.METHODS`` (name -> class), filled by
 :mod:`pchute_exudyn.methods`; ``simulate`` takes a name or a class.
+
+The names below are imported when first used (PEP 562), so that a command imports what it needs and no more
+(``import pchute_exudyn.physics.atmosphere`` needs neither Exudyn nor the method table).
 """
 
 __version__ = "0.1.0"
 
-from . import _kernel_mode  # noqa: E402
+from importlib import import_module
 
-_kernel_mode.select()   # compiled or Python kernels, before physics is imported (see _kernel_mode)
+from . import _kernel_mode
 
-from . import methods  # noqa: E402,F401  (registers the built-in methods in METHODS)
-from .case import Case, load_case  # noqa: E402
+_kernel_mode.select()   # compiled, jit or Python kernels, before physics is imported (see _kernel_mode)
+
 from .case.method_table import METHODS  # noqa: E402
-from .case.new import NewCase, new_case, new_case_text  # noqa: E402
-from .errors import CaseError, InputError, PchuteError, SimulationError  # noqa: E402
-from .results import Result  # noqa: E402
-from .simulation import simulate  # noqa: E402
+
+METHODS.fill_with(lambda: import_module(".methods", __name__))   # registers the built-in methods when first read
+
+_HOMES = {"Case": "case", "load_case": "case", "NewCase": "case.new",
+          "new_case": "case.new", "new_case_text": "case.new", "CaseError": "errors", "InputError": "errors",
+          "PchuteError": "errors", "SimulationError": "errors", "Result": "results", "simulate": "simulation"}
+"""Where each public name lives."""
 
 __all__ = ["METHODS", "Case", "CaseError", "InputError", "NewCase", "PchuteError", "Result", "SimulationError",
            "__version__", "load_case", "new_case", "new_case_text", "simulate"]
+
+
+def __getattr__(name: str):
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module 'pchute_exudyn' has no attribute {name!r}")
+    value = getattr(import_module(f".{home}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -1,19 +1,28 @@
-"""Whether this process runs the per-stage kernels compiled (numba) or as the Python they are written in.
+"""Which form of the per-stage kernels (``physics.compiled``) this process runs, and where the compiled form is found.
 
-Numba compiles the kernels (``physics.compiled``) on their first call and caches the machine code on disk; compiling
-all of them takes several seconds, which the first run on a machine would otherwise pay on top of its own time. So
-the package imports them compiled only when a complete cache is known to exist (a marker file written after every
-kernel was compiled, keyed by the kernels' source, numba's and Python's versions). Without it the run uses the same
-functions as Python (about six times slower per stage, still faster than the whole compilation for one run) and
-starts a background process that compiles them for the runs after it (``pchute_exudyn.kernel_cache``).
+Three forms of the same functions:
 
-``PCHUTE_KERNELS=compiled`` or ``=python`` in the environment decides instead (the test suite compiles; a test runs
-the Python form). Chosen once, before ``physics`` is imported (``pchute_exudyn/__init__.py``).
+* ``compiled``: one extension module, built ahead of time from the kernels by numba's AOT compiler
+  (``pchute_exudyn.kernel_cache``): when the package is installed (``setup.py``) and again whenever the kernels'
+  source changes. Importing it costs milliseconds and neither numba nor LLVM; the module is named after a digest of
+  the kernels' source (``source_key``), so a module built from other source is never used.
+* ``jit``: numba compiles each kernel at its first call and caches the machine code on disk (about 0.6 s of numba
+  start-up per process, more for a first compile); the module builder itself runs in it.
+* ``python``: the functions as written (the same results, several times slower per stage).
+
+``PCHUTE_KERNELS`` in the environment chooses: ``compiled`` (the compiled module, or ``jit`` when no module of the
+current source exists: the test suite), ``jit`` or ``python``. Unset: ``compiled`` when the module exists, else
+``python`` while a background process builds the module for the runs after this one (``start_background_build``).
+Chosen once per process, before ``physics`` is imported (``pchute_exudyn/__init__.py``); child processes inherit
+the choice.
 """
 
 from __future__ import annotations
 
 import hashlib
+import importlib.machinery
+import importlib.util
+import json
 import os
 import subprocess
 import sys
@@ -21,50 +30,86 @@ import sysconfig
 import time
 from pathlib import Path
 
-LOCK_AGE = 300.0
-"""Seconds after which a compile lock is taken to be left by a process that died."""
-VARIABLE = "PCHUTE_KERNELS"
-MODES = ("compiled", "python")
-PHYSICS = Path(__file__).resolve().parent / "physics"
+from ._kernel_form import EXPORTS, VARIABLE
 
+MODES = ("compiled", "jit", "python")
+LOCK_AGE = 600.0
+"""Seconds after which a build lock is taken to be left by a process that died."""
+PACKAGE = Path(__file__).resolve().parent
+PHYSICS = PACKAGE / "physics"
+SIGNATURES = PACKAGE / "kernel_signatures.json"
+"""The argument types each kernel is compiled for: the ones the package calls it with from Python
+(``kernel_cache --record`` writes it)."""
 
 def source_key() -> str:
-    """A digest of the kernels' source files and of the numba and Python versions that compile them."""
+    """A digest of the kernels' source, the signatures they are compiled for, and the Python that loads them."""
     digest = hashlib.sha256()
     for path in sorted(PHYSICS.glob("*.py")):
         digest.update(path.name.encode() + path.read_bytes())
-    try:
-        from importlib.metadata import version
-        digest.update(version("numba").encode())
-    except Exception:  # noqa: BLE001 - no numba metadata: the key still covers the sources
-        pass
+    digest.update(SIGNATURES.read_bytes() if SIGNATURES.is_file() else b"")
     digest.update(sys.version.encode() + sysconfig.get_platform().encode())
     return digest.hexdigest()[:16]
 
 
 def cache_directory() -> Path:
-    """Where numba caches the kernels and where the marker goes: NUMBA_CACHE_DIR when set, else beside the sources
-    (numba's own default when the package directory is writable), else the user's cache directory."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return Path(os.environ["NUMBA_CACHE_DIR"])
-    beside = PHYSICS / "__pycache__"
-    if os.access(PHYSICS, os.W_OK):
+    """Where the compiled module is built and looked for: ``PCHUTE_KERNEL_DIR`` when set, else the package's
+    ``_compiled`` folder (where the install puts it), else, when the package cannot be written, the user's cache."""
+    if os.environ.get("PCHUTE_KERNEL_DIR"):
+        return Path(os.environ["PCHUTE_KERNEL_DIR"])
+    beside = PACKAGE / "_compiled"
+    if os.access(beside if beside.is_dir() else PACKAGE, os.W_OK):
         return beside
     return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "pchute_exudyn"
 
 
-def marker() -> Path:
-    return cache_directory() / f"pchute_exudyn_kernels_{source_key()}.ok"
+def module_name(key: str | None = None) -> str:
+    return f"kernels_{key or source_key()}"
+
+
+def table_path(key: str | None = None, folder: Path | None = None) -> Path:
+    """The compiled module's table (which export serves which kernel): written after the module, so its presence
+    means the module is complete."""
+    return (folder or cache_directory()) / f"{module_name(key)}.json"
+
+
+def load_compiled(folder: Path | None = None) -> dict | None:
+    """The compiled module of the current source, as {kernel name: [(argument types, function)]}; None when there
+    is none (or it cannot be loaded). Looks in ``folder``, else the package's and the user's cache folders."""
+    key = source_key()
+    for place in ([folder] if folder else [cache_directory(), PACKAGE / "_compiled"]):
+        table = table_path(key, place)
+        if not table.is_file():
+            continue
+        try:
+            entries = json.loads(table.read_text())
+            path = place / entries["file"]
+            loader = importlib.machinery.ExtensionFileLoader(module_name(key), str(path))
+            spec = importlib.util.spec_from_file_location(module_name(key), path, loader=loader)
+            module = importlib.util.module_from_spec(spec)
+            loader.exec_module(module)
+            return {name: [(tuple(export["arguments"]), getattr(module, export["export"]))
+                           for export in exports] for name, exports in entries["kernels"].items()}
+        except (OSError, ImportError, KeyError, ValueError, AttributeError):   # damaged or foreign: not used
+            continue
+    return None
 
 
 def select() -> str:
-    """Decide the mode for this process (and its children): the environment's, else compiled when the marker
-    exists, else python. Sets the environment variable so every later import agrees."""
-    mode = os.environ.get(VARIABLE)
-    if mode not in MODES:
-        mode = "compiled" if marker().exists() else "python"
-        os.environ[VARIABLE] = mode
-        os.environ[VARIABLE + "_AUTO"] = "1"   # chosen here, not asked for: a background compile may help
+    """Decide the form for this process (and its children): see the module docstring. Sets the environment
+    variable so every later import agrees; the compiled module's exports go to ``_kernel_form.EXPORTS``."""
+    asked = os.environ.get(VARIABLE)
+    mode = asked if asked in MODES else None
+    if mode in (None, "compiled"):
+        exports = load_compiled()
+        if exports is not None:
+            EXPORTS.update(exports)
+            mode = "compiled"
+        elif mode == "compiled":
+            mode = "jit"         # asked for compiled kernels: numba compiles them in this process
+        else:
+            mode = "python"
+            os.environ[VARIABLE + "_AUTO"] = "1"   # chosen here, not asked for: a background build may help
+    os.environ[VARIABLE] = mode
     return mode
 
 
@@ -73,14 +118,14 @@ def chosen_automatically() -> bool:
 
 
 def lock() -> Path:
-    return marker().with_suffix(".compiling")
+    return table_path().with_suffix(".building")
 
 
-def start_background_compile() -> bool:
+def start_background_build() -> bool:
     """Spawn ``python -m pchute_exudyn.kernel_cache``, detached, when this process runs the Python kernels because
-    no compiled ones were found (not when a mode was asked for), unless another process is compiling them; True when
+    no compiled module was found (not when a form was asked for), unless another process is building it; True when
     it spawned one."""
-    if os.environ.get(VARIABLE) == "compiled" or not chosen_automatically() or marker().exists():
+    if os.environ.get(VARIABLE) != "python" or not chosen_automatically() or table_path().exists():
         return False
     path = lock()
     try:
@@ -88,10 +133,10 @@ def start_background_compile() -> bool:
         if path.exists() and time.time() - path.stat().st_mtime < LOCK_AGE:
             return False
         path.write_text(str(os.getpid()))
-        env = {**os.environ, VARIABLE: "compiled"}
-        env.pop(VARIABLE + "_AUTO", None)
-        subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernel_cache"], env=env, start_new_session=True,
-                         stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        env = {key: value for key, value in os.environ.items() if not key.startswith(VARIABLE)}
+        subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)], env=env,
+                         start_new_session=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
         return True
-    except OSError:   # a read-only cache directory: the runs keep the Python kernels
+    except OSError:   # a read-only cache folder: the runs keep the Python kernels
         return False

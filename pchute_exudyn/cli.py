@@ -111,7 +111,7 @@ def _run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     check_result_folder(out, args.overwrite)  # fail before a long run, not after it; nothing is created yet
     progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
-    if _kernel_mode.start_background_compile() and not args.quiet:
+    if _kernel_mode.start_background_build() and not args.quiet:
         print("pchute run: note: this machine has no compiled kernels yet; this run uses their Python form (slower) "
               "while a background process compiles them for the next runs", file=sys.stderr)
     try:

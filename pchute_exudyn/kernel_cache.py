@@ -1,18 +1,27 @@
-"""Compile the per-stage kernels into numba's disk cache (``_kernel_mode`` says why and when).
+"""Build the compiled kernel module (``_kernel_mode`` says why and when it is used).
 
-``python -m pchute_exudyn.kernel_cache`` compiles every kernel the methods call by running small models of each
-method (two bodies, a load-elongation line, SP of either order and slack rule, equilibrium point, full mass RK4 and
-implicit, a deployment) and then writes the marker that makes later processes import the kernels compiled.
-``_kernel_mode.start_background_compile`` spawns that command, detached, once per machine.
+``python -m pchute_exudyn.kernel_cache`` compiles every kernel for the argument types the package calls it with from
+Python (``kernel_signatures.json``) into one extension module, with numba's ahead-of-time compiler, into the
+kernel folder (``_kernel_mode.cache_directory``; ``--out DIR`` elsewhere). The package's install runs it
+(``setup.py``); a run that finds no module of the current source starts it in the background. The module's table,
+written last, says which export serves which kernel.
+
+``--record`` runs small models of every method (two bodies, a load-elongation line, SP of either order and slack
+rule, equilibrium point, full mass RK4 and implicit, a cluster) with numba compiling each kernel on first call, and
+writes the argument types each kernel was called with from Python to ``kernel_signatures.json``: rerun it when a
+kernel's arguments change (``tests/test_kernels.py`` fails until then).
 """
 
 from __future__ import annotations
 
+import argparse
+import json
 import os
 import subprocess
 import sys
 import tempfile
-import time
+import warnings
+from importlib import import_module
 from pathlib import Path
 
 from . import _kernel_mode
@@ -92,43 +101,200 @@ free_length = 0.7
 stiffness = 47000.0
 damping = 470.0
 """
+WINDS = """
+[atmosphere.wind]
+model = "power_law"
+reference_speed = 5.0
+reference_height = 10.0
+exponent = 0.14
+from_deg = 270.0
+[atmosphere.turbulence]
+model = "dryden"
+intensity = "light"
+seed = 3
+"""
+"""Earth air in motion (steady wind and turbulence), for the air-velocity kernels."""
 
 
-def compile_all() -> None:
-    """Compile every kernel the methods call (in this process, which must import them compiled), then write the
-    marker."""
-    if os.environ.get(_kernel_mode.VARIABLE) != "compiled":
-        raise RuntimeError(f"compile_all needs {_kernel_mode.VARIABLE}=compiled before pchute_exudyn is imported")
+# -- the types, as the compiled module's table names them (``physics.compiled.describe``) -------------------------
+
+def describe_type(numba_type) -> str:
+    """A numba type as ``physics.compiled.describe`` names the values numba gives it."""
+    from numba import types
+
+    if isinstance(numba_type, types.PyArray):
+        return f"array.{'d' if str(numba_type.dtype) == 'float64' else numba_type.dtype}"
+    if isinstance(numba_type, types.Array):
+        import numpy as np
+
+        dtype = np.dtype(str(numba_type.dtype)).str
+        return f"{dtype}:{numba_type.ndim}:{numba_type.layout}" + ("" if numba_type.mutable else ":r")
+    if isinstance(numba_type, types.BaseTuple):
+        return "(" + ",".join(describe_type(item) for item in numba_type) + ")"
+    if numba_type == types.none:
+        return "none"
+    return {types.float64: "f8", types.int64: "i8", types.boolean: "b1"}.get(numba_type, str(numba_type))
+
+
+def numba_type(text: str):
+    """The numba type ``describe_type`` named ``text``."""
+    import numpy as np
+    from numba import types
+    from numba.np.numpy_support import from_dtype
+
+    if text.startswith("("):
+        return types.Tuple([numba_type(item) for item in _split_top(text[1:-1])])
+    if text.startswith("array."):
+        return types.PyArray(types.float64, 1, "C")
+    if ":" in text:
+        dtype, ndim, layout, *flags = text.split(":")
+        return types.Array(from_dtype(np.dtype(dtype)), int(ndim), layout, readonly=flags == ["r"])
+    return {"f8": types.float64, "i8": types.int64, "b1": types.boolean, "none": types.none}[text]
+
+
+def _split_top(text: str) -> list:
+    """The comma-separated items of a tuple's text, nested tuples kept whole."""
+    items, depth, start = [], 0, 0
+    for i, char in enumerate(text):
+        depth += {"(": 1, ")": -1}.get(char, 0)
+        if char == "," and depth == 0:
+            items.append(text[start:i])
+            start = i + 1
+    return items + [text[start:]] if text else items
+
+
+# -- recording the signatures ----------------------------------------------------------------------------------
+
+def record(cases=()) -> dict:
+    """Run small models of every method, then each case file of ``cases`` with each method, with numba compiling
+    the kernels; the argument and return types of every kernel called from Python, by kernel name."""
     import pchute_exudyn as pc
     from pchute_exudyn.physics.singular_perturbation import confluence_velocity
 
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "warm.toml"
-        path.write_text(CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc")))
+        base = CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc"))
+        path.write_text(base)
         case = pc.load_case(path)
         for options in ({"order": 0}, {"order": 1}, {"slack_rule": "force"}):
             pc.simulate(case, "sp", "rk4", 1e-2, 0.05, **options)
         pc.simulate(case, "equilibrium", "rk4", 1e-2, 0.05)
         pc.simulate(case, "full", "rk4", 1e-4, 0.002)
         pc.simulate(case, "full", "implicit", 1e-2, 0.05)
-        path.write_text(CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc")) + CLUSTER)
+        path.write_text(base + CLUSTER)
         pc.simulate(pc.load_case(path), "sp", "rk4", 1e-2, 0.05)
     confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [1.0], [1e4],
                         [1e2])
-    target = _kernel_mode.marker()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    target.write_text(f"compiled {time.strftime('%Y-%m-%dT%H:%M:%S')}\n")
+    for path in cases:
+        case = pc.load_case(path)
+        pc.simulate(case, "sp", "rk4", 1e-2)
+        pc.simulate(case, "equilibrium", "rk4", 1e-2)
+        pc.simulate(case, "full", "implicit", 1e-2)
+    return signatures_in_use()
 
 
-def main() -> int:
-    if os.environ.get(_kernel_mode.VARIABLE) != "compiled":
-        # this process imported the kernels' Python form (no cache yet): compile in one that imports them compiled
-        return subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"],
-                              env={**os.environ, _kernel_mode.VARIABLE: "compiled"}).returncode
+def merged(old: dict, new: dict) -> dict:
+    """The signatures of ``old`` and ``new`` together (a recording adds to what earlier ones found)."""
+    table = {name: list(entries) for name, entries in old.items()}
+    for name, entries in new.items():
+        table.setdefault(name, []).extend(entry for entry in entries if entry not in table[name])
+    return dict(sorted(table.items()))
+
+
+def signatures_in_use() -> dict:
+    """Every kernel's compiled signatures in this (jit-form) process: {name: [[argument types], return type]}."""
+    from numba.core.registry import CPUDispatcher
+
+    found = {}
+    for name in sorted(sys.modules):
+        if not name.startswith("pchute_exudyn.physics."):
+            continue
+        for value in vars(sys.modules[name]).values():
+            if isinstance(value, CPUDispatcher) and value.py_func.__module__ == name:
+                kernel = f"{name}.{value.py_func.__qualname__}"
+                for arguments, result in value.overloads.items():
+                    entry = [[describe_type(t) for t in arguments], describe_type(result.signature.return_type)]
+                    if entry not in found.setdefault(kernel, []):
+                        found[kernel].append(entry)
+    return {name: entries for name, entries in found.items() if entries}
+
+
+# -- building the module ---------------------------------------------------------------------------------------
+
+def _forwarder(target, count: int):
+    """A function of ``count`` arguments that calls kernel ``target``: what is exported, so that the kernel itself
+    is compiled with its own options (numpy's error model) wherever it is called."""
+    names = ", ".join(f"a{i}" for i in range(count))
+    scope = {"target": target}
+    exec(f"def forward({names}):\n    return target({names})\n", scope)   # noqa: S102 - fixed text, our names
+    return scope["forward"]
+
+
+def build(folder: Path | None = None, verbose: bool = False) -> Path:
+    """Compile every kernel in ``kernel_signatures.json`` into the module of the current source in ``folder``
+    (default: the kernel folder); returns the module's table. Needs the jit form (numba) in this process."""
+    from numba import types
+    from numba.pycc import CC
+
+    folder = Path(folder) if folder is not None else _kernel_mode.cache_directory()
+    folder.mkdir(parents=True, exist_ok=True)
+    key = _kernel_mode.source_key()
+    wanted = json.loads(_kernel_mode.SIGNATURES.read_text())
+    name = _kernel_mode.module_name(key)
+    table = {"key": key, "kernels": {}}
+    with tempfile.TemporaryDirectory(dir=folder, prefix=".build-") as scratch:
+        cc = CC(name, source_module=__name__)
+        cc.output_dir = scratch
+        cc.verbose = verbose
+        for kernel, entries in wanted.items():
+            module_path, function_name = kernel.rsplit(".", 1)
+            target = getattr(import_module(module_path), function_name)
+            for arguments, result in entries:
+                export = f"k{sum(len(v) for v in table['kernels'].values())}"
+                signature = numba_type(result)(*(numba_type(a) for a in arguments)) if result != "none" else \
+                    types.none(*(numba_type(a) for a in arguments))
+                cc.export(export, signature)(_forwarder(target, len(arguments)))
+                table["kernels"].setdefault(kernel, []).append({"export": export, "arguments": arguments})
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")   # pycc's deprecation notice: the module is what we ship
+            cc.compile()
+        built = Path(cc._output_file)
+        table["file"] = built.name
+        os.replace(Path(scratch) / built.name, folder / built.name)
+    path = _kernel_mode.table_path(key, folder)
+    partial = path.with_suffix(".json.tmp")
+    partial.write_text(json.dumps(table, indent=1) + "\n")
+    os.replace(partial, path)   # the table last: its presence says the module is complete
+    for old in folder.glob("kernels_*"):   # modules of other source are never loaded again
+        if not old.name.startswith(name):
+            old.unlink(missing_ok=True)
+    return path
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m pchute_exudyn.kernel_cache", description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=None, help="folder for the module (default: the kernel folder)")
+    parser.add_argument("--record", nargs="*", metavar="CASE", default=None,
+                        help="add to kernel_signatures.json the signatures that small models of every method (and "
+                             "each CASE file, run with each method) call the kernels with")
+    parser.add_argument("--lock", type=Path, default=None, help=argparse.SUPPRESS)   # removed when done
+    parser.add_argument("--verbose", action="store_true")
+    args = parser.parse_args(argv)
+    if os.environ.get(_kernel_mode.VARIABLE) != "jit":
+        # compiling needs the kernels as numba dispatchers: in a process that imports them in the jit form
+        return subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", *(argv or sys.argv[1:])],
+                              env={**os.environ, _kernel_mode.VARIABLE: "jit"}).returncode
     try:
-        compile_all()
+        if args.record is not None:
+            old = json.loads(_kernel_mode.SIGNATURES.read_text()) if _kernel_mode.SIGNATURES.is_file() else {}
+            _kernel_mode.SIGNATURES.write_text(json.dumps(merged(old, record(args.record)), indent=1) + "\n")
+            print(f"wrote {_kernel_mode.SIGNATURES}")
+            return 0
+        table = build(args.out, args.verbose)
+        print(f"compiled kernels: {table.parent / json.loads(table.read_text())['file']}")
     finally:
-        _kernel_mode.lock().unlink(missing_ok=True)
+        if args.lock is not None:
+            args.lock.unlink(missing_ok=True)
     return 0
 
 

@@ -344,7 +344,7 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     if options is not None and option_values:
         raise InputError("give the method's options either as an Options object or by name, not both")
     plan = resolve_run(case, method, integrator, step, duration, options if options is not None else option_values)
-    _kernel_mode.start_background_compile()   # once per machine: the runs after this one get compiled kernels
+    _kernel_mode.start_background_build()   # the runs after this one get the compiled module
     with tempfile.TemporaryDirectory() as folder:
         raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}

@@ -53,7 +53,20 @@ class MethodTable(Mapping):
     """Method name -> method class; ``register`` adds one (also as a class decorator)."""
 
     def __init__(self):
-        self._classes: dict = {}
+        self._registered: dict = {}
+        self._fill = None   # called once before the first lookup (``fill_with``)
+
+    def fill_with(self, fill) -> None:
+        """Call ``fill`` (which registers the built-in methods) before the table is first read: the package wires
+        it, so that the methods and the engine below them are imported only by a process that uses them."""
+        self._fill = fill
+
+    @property
+    def _classes(self) -> dict:
+        if self._fill is not None:
+            fill, self._fill = self._fill, None
+            fill()
+        return self._registered
 
     def register(self, method_class):
         """Add ``method_class`` under its ``name``; a name already taken by another class is an error."""

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import Interrupted, PchuteError, SimulationError
 from ..physics.atmosphere import OutsideAtmosphereError
-from ..physics.compiled import COMPILED
+from ..physics.compiled import MODE as KERNEL_FORM
 from ..state import RawHistory
 from .model import Model
 
@@ -296,5 +296,5 @@ def versions() -> dict:
 
     from .._version import __version__
     return {"pchute_exudyn": __version__, "exudyn": exu.__version__, "numpy": np.__version__,
-            "numba": version("numba"), "kernels": "compiled" if COMPILED else "python",
+            "numba": version("numba"), "kernels": KERNEL_FORM,
             "python": sys.version.split()[0], "platform": platform.platform()}

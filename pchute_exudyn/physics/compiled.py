@@ -1,52 +1,116 @@
 """Compiled per-stage kernels: the one place that says how physics functions are compiled.
 
 The functions that run at every solver stage (body kinematics, the SP solve, small linear algebra, the line law of a
-load-elongation table) are written in the subset of Python that numba compiles (floats, ints, bools, numpy arrays,
-loops) and decorated with ``kernel``. They are the only home of their formulas: Python callers (tests, the
-equilibrium method, histories) call the same compiled functions.
+load-elongation table, the aerodynamics) are written in the subset of Python that numba compiles (floats, ints,
+bools, numpy arrays, loops) and decorated with ``kernel``. They are the only home of their formulas: Python callers
+(tests, the equilibrium method, histories) call the same functions.
 
-Compiled code is cached on disk (numba's ``cache=True``: beside the module, or in the user's cache directory when
-the package directory is read-only). Until a machine's cache is complete the kernels run as the Python they are
-(``pchute_exudyn._kernel_mode``), so no run pays the several seconds of compilation
-(``validation/benchmark_sp.py`` measures both). No ``fastmath``: results are IEEE-exact like the Python they replace.
-numpy's error model: a division by zero gives inf or NaN as numpy does (the solver's NaN check stops such a run)
-instead of raising, which also spares every division a check.
+What ``kernel`` returns depends on the form this process runs (``pchute_exudyn._kernel_mode``):
+
+* compiled: a ``CompiledKernel``, which calls the kernel's code in the ahead-of-time compiled module (no numba in
+  the process) when the arguments have the types it was compiled for, and its Python form otherwise;
+* jit: numba's dispatcher (nopython mode, cached on disk, GIL released); the compiled module is built in this form;
+* python: the function as it is.
+
+No ``fastmath``: results are IEEE-exact like the Python they replace, in every form. numpy's error model: a division
+by zero gives inf or NaN as numpy does (the solver's NaN check stops such a run) instead of raising.
 """
 
 from __future__ import annotations
 
 import os
+from array import array
 
-COMPILED = os.environ.get("PCHUTE_KERNELS", "compiled") == "compiled"
-"""Whether the kernels run compiled: chosen by ``pchute_exudyn._kernel_mode`` before this import (the Python form
-on a machine whose kernels are not compiled yet, while a background process compiles them)."""
+import numpy as np
+
+from .._kernel_form import EXPORTS, VARIABLE
+
+MODE = os.environ.get(VARIABLE, "compiled")
+"""The form this process runs: 'compiled', 'jit' or 'python' (chosen by ``_kernel_mode.select`` before this import)."""
+COMPILED = MODE != "python"
+"""Whether the kernels run as machine code (either compiled form)."""
+JIT = MODE == "jit"
+FALLBACKS: dict = {}
+"""Compiled form: calls that ran a kernel's Python form because no compiled code takes their argument types, by
+(kernel name, argument types). Empty in every run the package makes (``tests/test_kernels.py``)."""
+
+_SCALARS = {float: "f8", int: "i8", bool: "b1", np.float64: "f8", np.int64: "i8", np.bool_: "b1"}
+
+
+def describe(value) -> str:
+    """The type of an argument as the compiled module's table names it (as numba would type it): 'f8', 'i8', 'b1',
+    '<f8:2:C' (an array's dtype, dimensions, layout, ':r' when read-only), 'array.d' (a typed array), '(...)' (a
+    tuple); any other type by its Python name (never compiled)."""
+    kind = _SCALARS.get(type(value))
+    if kind is not None:
+        return kind
+    if type(value) is np.ndarray:
+        flags = value.flags
+        layout = "C" if flags.c_contiguous else "F" if flags.f_contiguous else "A"
+        return f"{value.dtype.str}:{value.ndim}:{layout}" + ("" if flags.writeable else ":r")
+    if type(value) is array:
+        return f"array.{value.typecode}"
+    if type(value) is tuple:
+        return "(" + ",".join(describe(item) for item in value) + ")"
+    return type(value).__name__
+
+
+class CompiledKernel:
+    """A kernel of the compiled module: called like the function, it runs the compiled code compiled for the
+    arguments' types (``describe``), else the function's Python form (the same result, slower; counted in
+    FALLBACKS)."""
+
+    __slots__ = ("py_func", "name", "codes", "__wrapped__")
+
+    def __init__(self, function, codes: list):
+        self.py_func = self.__wrapped__ = function
+        self.name = f"{function.__module__}.{function.__qualname__}"
+        self.codes = {types: code for types, code in codes}
+
+    def code_for(self, arguments):
+        """The compiled code for arguments of these types, or the Python form."""
+        types = tuple(describe(argument) for argument in arguments)
+        code = self.codes.get(types)
+        if code is None:
+            FALLBACKS[(self.name, types)] = FALLBACKS.get((self.name, types), 0) + 1
+            return self.py_func
+        return code
+
+    def __call__(self, *arguments):
+        return self.code_for(arguments)(*arguments)
+
+    def __repr__(self) -> str:
+        return f"<compiled kernel {self.name}>"
 
 
 def kernel(function):
-    """Compile ``function`` with numba (nopython mode, cached on disk, GIL released, numpy's error model); in the
-    Python mode, the function as it is."""
-    if not COMPILED:
+    """``function`` in the form this process runs (see the module docstring)."""
+    if MODE == "python":
         return function
-    import numba  # only when compiling: the Python mode (a machine's first run) is spared its import (0.15 s)
+    if MODE == "jit":
+        import numba  # only when compiling: the other forms are spared its import (0.2 s) and start-up (0.4 s)
 
-    return numba.njit(cache=True, nogil=True, error_model="numpy")(function)
+        return numba.njit(cache=True, nogil=True, error_model="numpy")(function)
+    name = f"{function.__module__}.{function.__qualname__}"
+    return CompiledKernel(function, EXPORTS.get(name, []))
 
 
 def machine_code(function, *arguments):
-    """The compiled code of kernel ``function`` for the types of ``arguments`` (loaded from the cache or compiled),
-    callable without numba's per-call type dispatch: a per-stage call saves about 0.25 us of its 1.5 us (measured
-    in ``validation/benchmark_sp.py``). Every call must pass arguments of exactly these types (arrays of the same
-    dtype, dimensions and layout; float, int and bool scalars as Python floats, ints and bools): the code converts
-    what it is given without checking. In the Python mode, ``function`` itself."""
-    if not COMPILED:
+    """The machine code of kernel ``function`` for the types of ``arguments``, callable without any per-call type
+    check (a per-stage call saves about 0.25 us of its 1.5 us): the compiled module's export, or numba's compiled
+    code for these types (loaded from its cache or compiled). Every call must pass arguments of exactly these types
+    (arrays of the same dtype, dimensions and layout; float, int and bool scalars as Python floats, ints and bools):
+    the code converts what it is given without checking. In the Python form, ``function`` itself."""
+    if MODE == "python":
         return function
-    import numba
+    if MODE == "jit":
+        import numba
 
-    return function.compile(tuple(numba.typeof(argument) for argument in arguments))
+        return function.compile(tuple(numba.typeof(argument) for argument in arguments))
+    return function.code_for(arguments)
 
 
 def python_form(function):
     """Kernel ``function`` as the Python it is written in: for a check made from Python, where calling tiny
     compiled code costs more than the arithmetic it saves."""
     return getattr(function, "py_func", function)
-

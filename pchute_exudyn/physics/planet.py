@@ -19,7 +19,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .compiled import COMPILED, kernel
+from .compiled import JIT, kernel
 
 _MATH = SimpleNamespace(sin=math.sin, cos=math.cos, atan2=math.atan2, hypot=math.hypot, sqrt=math.sqrt)
 _NUMPY = SimpleNamespace(sin=np.sin, cos=np.cos, atan2=np.arctan2, hypot=np.hypot, sqrt=np.sqrt)
@@ -80,7 +80,7 @@ def hypot(a, b):
     return factor * (h / scale)
 
 
-if not COMPILED:   # the Python form of the port is the function it ports
+if not JIT:   # Python callers (and compiled code, built in the jit form) get the same bits from the function ported
     hypot = math.hypot  # noqa: F811
 
 
