@@ -6,3 +6,5 @@ VARIABLE = "PCHUTE_KERNELS"
 EXPORTS: dict = {}
 """The loaded compiled module's exports: kernel name -> [(argument types, function)]; empty unless this process
 runs the compiled form."""
+BUILDER: dict = {}
+"""What built the loaded compiled module ({"numba": version}); empty unless this process runs the compiled form."""

@@ -24,13 +24,12 @@ import importlib.machinery
 import importlib.util
 import json
 import os
-import subprocess
 import sys
 import sysconfig
 import time
 from pathlib import Path
 
-from ._kernel_form import EXPORTS, VARIABLE
+from ._kernel_form import BUILDER, EXPORTS, VARIABLE
 
 MODES = ("compiled", "jit", "python")
 LOCK_AGE = 600.0
@@ -87,8 +86,10 @@ def load_compiled(folder: Path | None = None) -> dict | None:
             spec = importlib.util.spec_from_file_location(module_name(key), path, loader=loader)
             module = importlib.util.module_from_spec(spec)
             loader.exec_module(module)
-            return {name: [(tuple(export["arguments"]), getattr(module, export["export"]))
-                           for export in exports] for name, exports in entries["kernels"].items()}
+            exports = {name: [(tuple(export["arguments"]), getattr(module, export["export"]))
+                              for export in exports] for name, exports in entries["kernels"].items()}
+            BUILDER.update(numba=entries.get("numba"))
+            return exports
         except (OSError, ImportError, KeyError, ValueError, AttributeError):   # damaged or foreign: not used
             continue
     return None
@@ -133,6 +134,8 @@ def start_background_build() -> bool:
         if path.exists() and time.time() - path.stat().st_mtime < LOCK_AGE:
             return False
         path.write_text(str(os.getpid()))
+        import subprocess  # here only: most processes never start a build
+
         env = {key: value for key, value in os.environ.items() if not key.startswith(VARIABLE)}
         subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)], env=env,
                          start_new_session=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,

@@ -214,9 +214,19 @@ def signatures_in_use() -> dict:
                 kernel = f"{name}.{value.py_func.__qualname__}"
                 for arguments, result in value.overloads.items():
                     entry = [[describe_type(t) for t in arguments], describe_type(result.signature.return_type)]
-                    if entry not in found.setdefault(kernel, []):
+                    if _exportable(entry) and entry not in found.setdefault(kernel, []):
                         found[kernel].append(entry)
     return {name: entries for name, entries in found.items() if entries}
+
+
+def _exportable(entry) -> bool:
+    """Whether a signature's types can cross from Python (a kernel called by another kernel may have been compiled
+    for constants, 'Literal[int](0)': that is not a call from Python)."""
+    try:
+        [numba_type(text) for text in [*entry[0], entry[1]]]
+    except (KeyError, ValueError):
+        return False
+    return True
 
 
 # -- building the module ---------------------------------------------------------------------------------------
@@ -241,7 +251,9 @@ def build(folder: Path | None = None, verbose: bool = False) -> Path:
     key = _kernel_mode.source_key()
     wanted = json.loads(_kernel_mode.SIGNATURES.read_text())
     name = _kernel_mode.module_name(key)
-    table = {"key": key, "kernels": {}}
+    import numba
+
+    table = {"key": key, "numba": numba.__version__, "kernels": {}}
     with tempfile.TemporaryDirectory(dir=folder, prefix=".build-") as scratch:
         cc = CC(name, source_module=__name__)
         cc.output_dir = scratch

@@ -22,7 +22,7 @@ import numpy as np
 
 from .case.model import Case
 from .errors import SimulationError
-from .physics.aerodynamics import angle_of_attack_deg
+from .physics.aerodynamics import angles_of_attack_deg
 from .physics.kinematics import body_point, relative_to_body
 from .physics.lines import line_states
 from .physics.rotations import attitude_angles_deg, tilt_deg
@@ -219,23 +219,20 @@ def _aero_columns(case: Case, body: dict, center, time):
     present = np.flatnonzero(np.isfinite(position).all(axis=1))
     altitudes = np.full(n, np.nan)
     altitudes[present] = case.start.altitude(position[present])   # vectorised geodetic
-    wind = np.full((n, 3), np.nan) if air.moving else None
-    turbulence = np.full((n, 3), np.nan) if air.moving else None
+    wind, turbulence = air.local_history(altitudes, time) if air.moving else (None, None)
     relatives = air.relative(position, velocity, altitudes, time)
-    for i in present:
-        altitude = float(altitudes[i])
-        if air.moving:
-            wind[i], turbulence[i] = air.local(altitude, float(time[i]))
-        relative = relatives[i]
-        total[i] = angle_of_attack_deg(relative, rotation[i][:, 0])
-        u, v, w = rotation[i].T @ relative                    # body axes
-        speed = float(np.linalg.norm(relative))
-        alpha[i] = np.degrees(np.arctan2(w, u))
-        beta[i] = np.degrees(np.arcsin(np.clip(v / speed, -1.0, 1.0))) if speed > 0 else 0.0
-        density, sound = atmosphere.state(altitude)   # one kernel call for both
-        pressure[i] = 0.5 * density * speed * speed
-        if mach is not None:
-            mach[i] = speed / sound
+    angles_of_attack_deg(relatives, np.ascontiguousarray(rotation), present, total)
+    # body axes and speed sample by sample as one matrix product each (numpy calls BLAS per sample either way)
+    relative = relatives[present]
+    u, v, w = np.matmul(rotation[present].transpose(0, 2, 1), relative[:, :, None])[:, :, 0].T
+    speed = np.sqrt(np.matmul(relative[:, None, :], relative[:, :, None])[:, 0, 0])
+    alpha[present] = np.degrees(np.arctan2(w, u))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        beta[present] = np.where(speed > 0, np.degrees(np.arcsin(np.clip(v / speed, -1.0, 1.0))), 0.0)
+    density, sound = atmosphere.states(altitudes[present])   # one kernel call for all samples
+    pressure[present] = 0.5 * density * speed * speed
+    if mach is not None:
+        mach[present] = speed / sound
     return total, alpha, beta, pressure, mach, wind, turbulence
 
 

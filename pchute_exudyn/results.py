@@ -14,7 +14,6 @@ Files written by :meth:`Result.save` (each atomically):
 
 from __future__ import annotations
 
-import io
 import json
 from pathlib import Path
 
@@ -22,7 +21,7 @@ import numpy as np
 
 from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
 from .errors import InputError
-from .io import atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
+from .io import atomic_write_text, atomic_writer, check_result_folder, csv_text, json_text, staged_folder
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
 SCENE = "scene"
@@ -128,17 +127,13 @@ class Result:
         paths = {"npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
         if csv:
             paths["csv"] = folder / CSV_NAME
-            names = self.names
-            table = np.column_stack([self.columns[n] for n in names])
-            buffer = io.StringIO()
-            buffer.write(",".join(names) + "\n")
-            np.savetxt(buffer, table, delimiter=",", fmt="%.12g")
-            atomic_write_text(paths["csv"], buffer.getvalue())
+            atomic_write_text(paths["csv"], csv_text(self.names, [self.columns[n] for n in self.names]))
         scene = {f"{SCENE}/{k}": v for k, v in self.scene_arrays.items()}
         if self.scene is not None:
             scene[SCENE] = json_text(self.scene)
         with atomic_writer(paths["npz"], "wb") as handle:
-            np.savez_compressed(handle, **self.columns, units=json_text(self.units),
+            # not compressed: deflate takes 40 times longer to write a history (0.1 s for MER's 60 s) and saves 20 %
+            np.savez(handle, **self.columns, units=json_text(self.units),
                                 summary=json_text(self.summary), **scene)
         atomic_write_text(paths["summary"], json_text(self.summary, indent=2) + "\n")
         for name, text in self.attachments.items():

@@ -12,6 +12,7 @@ calls the post-step hook once before the first step too, at t = 0.
 
 from __future__ import annotations
 
+import functools
 import gc
 import math
 import platform
@@ -23,6 +24,7 @@ import time as _time
 import exudyn as exu
 import numpy as np
 
+from .._kernel_form import BUILDER as KERNEL_BUILDER
 from ..errors import Interrupted, PchuteError, SimulationError
 from ..physics.atmosphere import OutsideAtmosphereError
 from ..physics.compiled import MODE as KERNEL_FORM
@@ -290,11 +292,16 @@ def _user_error(failure: Exception, time: float) -> Exception:
     return SimulationError(f"a user function failed at t = {time:.4f} s: {failure!r}", time)
 
 
+@functools.cache
 def versions() -> dict:
-    """Versions of this package and the libraries the numbers depend on (for result files)."""
-    from importlib.metadata import version  # not numba itself: a run with the Python kernels never imports it
-
+    """Versions of this package and the libraries the numbers depend on (for result files); numba's is the one that
+    compiled the kernels (the compiled module records it; a run with the Python kernels never imports numba)."""
     from .._version import __version__
+
+    numba_version = KERNEL_BUILDER.get("numba")
+    if numba_version is None:
+        from importlib.metadata import version
+        numba_version = version("numba")
     return {"pchute_exudyn": __version__, "exudyn": exu.__version__, "numpy": np.__version__,
-            "numba": version("numba"), "kernels": KERNEL_FORM,
+            "numba": numba_version, "kernels": KERNEL_FORM,
             "python": sys.version.split()[0], "platform": platform.platform()}

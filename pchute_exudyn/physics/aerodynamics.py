@@ -353,11 +353,25 @@ def pack_tables(tables) -> tuple[np.ndarray, list]:
 
 def angle_of_attack_deg(velocity, axis) -> float:
     """Total angle of attack alpha (deg, in [0, 180]) between velocity ``velocity`` and the body axis ``axis``."""
-    vx, vy, vz = velocity
-    ex, ey, ez = axis
+    return total_angle_deg(*map(float, velocity), *map(float, axis))
+
+
+@kernel
+def total_angle_deg(vx, vy, vz, ex, ey, ez):
+    """The angle (deg, in [0, 180]) between the vectors (vx, vy, vz) and (ex, ey, ez): atan2 of the cross
+    product's length and the dot product (accurate at every angle)."""
     along = vx * ex + vy * ey + vz * ez
     cx, cy, cz = vy * ez - vz * ey, vz * ex - vx * ez, vx * ey - vy * ex
     return math.degrees(math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), along))
+
+
+@kernel
+def angles_of_attack_deg(velocities, rotations, rows, out):
+    """``total_angle_deg`` between each of ``velocities`` (n, 3) and the body x axis of ``rotations`` (n, 3, 3), at
+    the sample indices ``rows``, into ``out`` (n,)."""
+    for i in rows:
+        out[i] = total_angle_deg(velocities[i, 0], velocities[i, 1], velocities[i, 2], rotations[i, 0, 0],
+                                 rotations[i, 1, 0], rotations[i, 2, 0])
 
 
 def aerodynamic_force(velocity, axis, density: float, reference_area: float, axial_coefficient,

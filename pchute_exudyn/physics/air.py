@@ -71,12 +71,28 @@ class AirMotion:
     def relative(self, positions, velocities, altitudes, times) -> np.ndarray:
         """Velocities (m/s) relative to the air of points at start-frame ``positions`` (n, 3) (m) moving at
         ``velocities`` (n, 3) (m/s), of geodetic ``altitudes`` (n,) (m) at ``times`` (n,) (s): for whole histories;
-        NaN rows where the altitude is not finite (a body absent then)."""
-        velocities = np.asarray(velocities, float)
-        out = np.full(velocities.shape, np.nan)
-        for i in np.flatnonzero(np.isfinite(altitudes)):
-            out[i] = velocities[i] - np.array(self(*positions[i].tolist(), float(altitudes[i]), float(times[i])))
-        return out
+        NaN rows where the altitude is not finite (a body absent then). One kernel call (``relative_velocities``)."""
+        arguments = (np.ascontiguousarray(positions, float), np.ascontiguousarray(velocities, float),
+                     np.ascontiguousarray(altitudes, float), np.ascontiguousarray(times, float))
+        out = np.full(arguments[1].shape, np.nan)
+        while True:
+            needed = relative_velocities(self.parameters, self.wind_parameters, self.gust_rows,
+                                         self.turbulence_parameters, self.field(), *arguments, out)
+            if not needed:
+                return out
+            self.extend(needed)
+
+    def local_history(self, altitudes, times) -> tuple:
+        """``local`` at every sample of geodetic ``altitudes`` (n,) (m) and ``times`` (n,) (s): two (n, 3) arrays
+        (m/s), NaN rows where the altitude is not finite. One kernel call (``local_air``)."""
+        altitudes, times = np.ascontiguousarray(altitudes, float), np.ascontiguousarray(times, float)
+        steady, turbulence = np.full((len(altitudes), 3), np.nan), np.full((len(altitudes), 3), np.nan)
+        while True:
+            needed = local_air(self.wind_parameters, self.gust_rows, self.turbulence_parameters, self.field(),
+                               self.turbulence is not None, altitudes, times, steady, turbulence)
+            if not needed:
+                return steady, turbulence
+            self.extend(needed)
 
     def __call__(self, x: float, y: float, z: float, altitude: float, time: float):
         """Air velocity at start-frame point (x, y, z) (m) of geodetic ``altitude`` (m) at ``time`` (s)."""
@@ -123,3 +139,39 @@ def air_velocity(parameters, wind, gusts, turbulence, field, x, y, z, altitude, 
         vy += oz * dx - ox * dz
         vz += ox * dy - oy * dx
     return vx, vy, vz, 0
+
+
+@kernel
+def relative_velocities(parameters, wind, gusts, turbulence, field, positions, velocities, altitudes, times, out):
+    """Each sample's velocity relative to the air (``air_velocity``) into ``out`` (n, 3) (m/s), where its altitude is
+    finite; 0, or the cells the turbulence field must first grow to. The arguments as ``AirMotion.relative``'s."""
+    for i in range(altitudes.shape[0]):
+        if not math.isfinite(altitudes[i]):
+            continue
+        vx, vy, vz, needed = air_velocity(parameters, wind, gusts, turbulence, field, positions[i, 0],
+                                          positions[i, 1], positions[i, 2], altitudes[i], times[i])
+        if needed:
+            return needed
+        out[i, 0], out[i, 1], out[i, 2] = velocities[i, 0] - vx, velocities[i, 1] - vy, velocities[i, 2] - vz
+    return 0
+
+
+@kernel
+def local_air(wind, gusts, turbulence, field, has_turbulence, altitudes, times, steady, local_turbulence):
+    """``AirMotion.local`` at each sample of finite altitude: the steady wind plus gusts into ``steady`` and the
+    turbulence into ``local_turbulence`` ((n, 3) east, north, up, m/s); 0, or the cells the field must first grow
+    to."""
+    for i in range(altitudes.shape[0]):
+        altitude = altitudes[i]
+        if not math.isfinite(altitude):
+            continue
+        east, north = steady_wind(wind, altitude)
+        ge, gn, gu = gust_sum(gusts, times[i])
+        tx = ty = tz = 0.0
+        if has_turbulence:
+            tx, ty, tz, needed = turbulence_velocity(field, turbulence, altitude, east, north)
+            if needed:
+                return needed
+        steady[i, 0], steady[i, 1], steady[i, 2] = east + ge, north + gn, gu
+        local_turbulence[i, 0], local_turbulence[i, 1], local_turbulence[i, 2] = tx, ty, tz
+    return 0

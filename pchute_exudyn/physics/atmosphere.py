@@ -103,6 +103,16 @@ class Atmosphere:
             raise self.outside(altitude)
         return density, sound
 
+    def states(self, altitudes) -> tuple:
+        """(densities kg/m^3, speeds of sound m/s or NaN) at geodetic ``altitudes`` (n,) (m), from one kernel call
+        (``atmosphere_states``); each value as ``state`` gives it."""
+        altitudes = np.ascontiguousarray(altitudes, float)
+        out = np.empty((2, len(altitudes)))
+        outside = atmosphere_states(self.kernel_parameters(), altitudes, out)
+        if outside >= 0:
+            raise self.outside(float(altitudes[outside]))
+        return out[0], out[1]
+
     def density(self, altitude: float) -> float:
         """Density (kg/m^3) at geodetic ``altitude`` (m)."""
         return self.state(altitude)[0]
@@ -408,3 +418,15 @@ class Wind:
     def at(self, altitude: float):
         """(east, north) wind (m/s) at ``altitude`` (m)."""
         return steady_wind(self.kernel_parameters(), float(altitude))
+
+
+@kernel
+def atmosphere_states(parameters, altitudes, out):
+    """``atmosphere_state`` at each of ``altitudes`` (m): densities (kg/m^3) into ``out[0]``, speeds of sound (m/s)
+    into ``out[1]``; -1, or the index of the first altitude outside the model."""
+    for i in range(altitudes.shape[0]):
+        density, sound, status = atmosphere_state(parameters, altitudes[i])
+        if status != 0.0:
+            return i
+        out[0, i], out[1, i] = density, sound
+    return -1
