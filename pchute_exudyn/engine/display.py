@@ -23,9 +23,23 @@ PARKED = 1.0e5
 GREY, DARK, LINE = [0.6, 0.6, 0.65, 1.0], [0.3, 0.3, 0.35, 1.0], [0.1, 0.1, 0.6, 1.0]
 
 
+_DRAWN: dict = {}
+"""Graphics already made, by drawing: every phase model of every run draws its bodies (10 ms a canopy)."""
+
+
 def body_graphics(body: dict) -> list:
     """Exudyn graphics of a body in body axes from its drawing (``Case.drawing``): a cylinder of its diameter, half
-    as long, along body x; a canopy a dome with its suspension lines to its attach points."""
+    as long, along body x; a canopy a dome with its suspension lines to its attach points. Made once per drawing
+    (the engine copies them into each model)."""
+    key = repr(sorted(body.items()))
+    if key not in _DRAWN:
+        if len(_DRAWN) > 100:   # a long study of changing geometry: keep the memory bounded
+            _DRAWN.clear()
+        _DRAWN[key] = _draw(body)
+    return _DRAWN[key]
+
+
+def _draw(body: dict) -> list:
     radius = 0.5 * body["diameter"]
     if body["role"] != "canopy":
         length = 0.5 * body["diameter"]
