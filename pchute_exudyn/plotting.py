@@ -15,17 +15,19 @@ from matplotlib.figure import Figure
 from .io import atomic_writer
 
 
-def new_figure(rows: int = 1, cols: int = 1, size=(9.0, 6.0), **kwargs):
-    """A figure with an Agg canvas and its axes."""
-    figure = Figure(figsize=size, layout="constrained")
+def new_figure(rows: int = 1, cols: int = 1, size=(9.0, 6.0), layout="constrained", **kwargs):
+    """A figure with an Agg canvas and its axes (``layout``: matplotlib's, or None for fixed margins)."""
+    figure = Figure(figsize=size, layout=layout)
     FigureCanvasAgg(figure)
     axes = figure.subplots(rows, cols, squeeze=False, **kwargs)
     return figure, axes
 
 
 def plot_overview(result, title: str | None = None) -> Figure:
-    """Line tensions (top) and vehicle altitude (bottom) against time."""
-    figure, axes = new_figure(2, 1, sharex=True)
+    """Line tensions (top) and vehicle altitude (bottom) against time. Fixed margins: every run draws it, and a
+    layout engine would double the time to save it."""
+    figure, axes = new_figure(2, 1, sharex=True, layout=None)
+    figure.subplots_adjust(left=0.1, right=0.98, bottom=0.08, top=0.93, hspace=0.08)
     top, bottom = axes[0, 0], axes[1, 0]
     time = result.time
     draw_curves(top, [(name.removeprefix("tension_"), time, result[name]) for name in result.tension_names()])
@@ -46,9 +48,9 @@ def plot_overview(result, title: str | None = None) -> Figure:
 
 
 def save_figure(figure: Figure, path, dpi: int = 120) -> None:
-    """Save ``figure`` as a PNG atomically."""
+    """Save ``figure`` as a PNG atomically (the fastest deflate: a tenth of the time, a slightly larger file)."""
     with atomic_writer(path, "wb") as handle:
-        figure.savefig(handle, format="png", dpi=dpi)
+        figure.savefig(handle, format="png", dpi=dpi, pil_kwargs={"compress_level": 1})
 
 
 def plot_tension_overlay(results: dict, lines=None, title: str = "", t_max: float | None = None) -> Figure:
