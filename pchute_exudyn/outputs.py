@@ -68,16 +68,18 @@ def concatenate(case: Case, histories: list) -> RawHistory:
     return out
 
 
-def attach_points(case: Case, raw: RawHistory, system) -> tuple[np.ndarray, np.ndarray]:
-    """Positions and velocities (n_samples, n_lines, 3) of a system's attach points, from the body histories."""
-    positions, velocities = [], []
+def attach_points(case: Case, raw: RawHistory, system, velocities: bool = True) -> tuple:
+    """Positions and velocities (n_samples, n_lines, 3) of a system's attach points, from the body histories
+    (``velocities=False``: None for the velocities, not computed)."""
+    positions, speeds = [], []
     for line in system.lines:
         body = raw.bodies[line.body]
-        position, velocity = body_point(body["position"], body["rotation"], body["velocity"],
-                                        body["angular_velocity"], case.bodies[line.body].points[line.point])
+        position, velocity = body_point(body["position"], body["rotation"],
+                                        body["velocity"] if velocities else None, body["angular_velocity"],
+                                        case.bodies[line.body].points[line.point])
         positions.append(position)
-        velocities.append(velocity)
-    return np.stack(positions, axis=1), np.stack(velocities, axis=1)
+        speeds.append(velocity)
+    return np.stack(positions, axis=1), np.stack(speeds, axis=1) if velocities else None
 
 
 def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
@@ -97,7 +99,7 @@ def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
         if system.name not in raw.confluences:
             continue
         arrays[f"{system.name}/confluence"] = raw.confluences[system.name]["position"]
-        positions, _ = attach_points(case, raw, system)
+        positions, _ = attach_points(case, raw, system, velocities=False)
         lines = []
         for i, line in enumerate(system.lines):
             arrays[f"{system.name}/{line.name}"] = positions[:, i]
@@ -125,7 +127,7 @@ def check_history(case: Case, raw: RawHistory, step: float) -> None:
         if system.name not in raw.confluences:
             continue
         system = system.with_bodies(raw.bodies)   # without the lines of canopies not in this phase
-        positions, _ = attach_points(case, raw, system)
+        positions, _ = attach_points(case, raw, system, velocities=False)
         length = np.linalg.norm(positions - raw.confluences[system.name]["position"][:, None, :], axis=-1)
         free = np.array([line.free_length for line in system.lines])
         strain = (length - free) / free
@@ -150,16 +152,19 @@ def _point_columns(case: Case, prefix: str, time, position, velocity, columns: d
         units[f"{prefix}_{name}"] = unit
 
 
-def derive_columns(case: Case, raw: RawHistory, air_columns: bool = True) -> tuple[dict, dict]:
+def derive_columns(case: Case, raw: RawHistory, history: bool = True) -> tuple[dict, dict]:
     """Named time histories and their units from an engine run; see the module docstring for the names.
-    ``air_columns=False`` leaves out each aerodynamic body's air-relative columns (angles of attack, dynamic
-    pressure, Mach number, wind and turbulence at its centre): a per-sample loop nothing in the summary reads."""
+    ``history=False`` (a run whose history nobody keeps: a study's) leaves out what the summary never reads: each
+    aerodynamic body's air-relative columns (angles of attack, dynamic pressure, Mach number, wind and turbulence at
+    its centre), the bodies' attitude angles, the other bodies' point columns and every relative column."""
     columns: dict = {"time": raw.time}
     units: dict = {"time": "s"}
     order = [case.vehicle] + [name for name in case.bodies if name != case.vehicle]
-    for name in order:
+    for name in order if history else [case.vehicle]:
         body = raw.bodies[name]
         _point_columns(case, name, raw.time, body["position"], body["velocity"], columns, units)
+        if not history:
+            continue
         yaw, pitch, roll = attitude_angles_deg(body["rotation"])
         for key, value in (("yaw_deg", yaw), ("pitch_deg", pitch), ("roll_deg", roll),
                            ("tilt_deg", tilt_deg(body["rotation"]))):
@@ -169,7 +174,7 @@ def derive_columns(case: Case, raw: RawHistory, air_columns: bool = True) -> tup
             columns[f"{name}_rate_{axis}"] = body["angular_velocity"][:, i]
             units[f"{name}_rate_{axis}"] = "rad/s"
         aero = case.bodies[name].aerodynamics
-        if air_columns and aero is not None and aero.enabled:
+        if aero is not None and aero.enabled:
             total, alpha, beta, pressure, mach, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
             for key, value, unit in (("angle_of_attack_deg", total, "deg"), ("alpha_deg", alpha, "deg"),
                                      ("beta_deg", beta, "deg"), ("dynamic_pressure", pressure, "Pa"),
@@ -187,7 +192,7 @@ def derive_columns(case: Case, raw: RawHistory, air_columns: bool = True) -> tup
             point = raw.confluences[system.name]
             label = case.confluence_label(system)
             _point_columns(case, label, raw.time, point["position"], point["velocity"], columns, units)
-            if not case.bodies[case.vehicle].fixed:
+            if history and not case.bodies[case.vehicle].fixed:
                 _relative_columns(label, raw.bodies[case.vehicle], point["position"], point["velocity"], columns,
                                   units)
     for system in case.systems.values():

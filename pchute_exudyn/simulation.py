@@ -156,7 +156,7 @@ def _confluence_limit(case: Case, method: Method, integrator: str, system, key: 
         attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
         where = initial_confluence_state(case, system).position
         if explicit:
-            found = method.step_limit(system, attach, where)
+            found = step_limit_at(method, system, attach, where)
             limits.append(math.inf if found is None else found.step)
         else:
             limits.append(sp_step_limit(attach, where, *line_arrays(system, attach, where))[0])
@@ -189,6 +189,22 @@ def _check_size(case: Case, step: float, duration: float) -> None:
                          "shorten the run")
 
 
+_LIMITS: dict = {}
+"""Step limits by method, system and geometry: a phase's first check, and the step chosen from the stability limit
+before the run, look at the same geometry (``step_limit_at``)."""
+
+
+def step_limit_at(method: Method, system, attach_position, confluence_position):
+    """``method.step_limit`` at this geometry (attach points and confluence, m), computed once per geometry."""
+    key = (type(method), method.options, system, tuple(np.ravel(attach_position).tolist()),
+           tuple(np.ravel(confluence_position).tolist()))
+    if key not in _LIMITS:
+        if len(_LIMITS) > 1000:
+            _LIMITS.clear()
+        _LIMITS[key] = method.step_limit(system, attach_position, confluence_position)
+    return _LIMITS[key]
+
+
 def add_step_monitor(model, method: Method, step: float, interval: float = MONITOR_INTERVAL) -> None:
     """Stop an RK4 run as soon as ``step`` (s) exceeds a confluence's current stability limit (``method.step_limit``).
 
@@ -205,7 +221,7 @@ def add_step_monitor(model, method: Method, step: float, interval: float = MONIT
         next_check[0] = t + max(interval, MONITOR_STEPS * step)
         for system in model.systems:
             where = model.confluences[system.name].state_position()
-            limit = method.step_limit(system, model.attach_positions(system), where)
+            limit = step_limit_at(method, system, model.attach_positions(system), where)
             if step > limit.step:
                 raise SimulationError(unstable_step_message(method, step, limit, t - step), t - step)
 
@@ -299,7 +315,7 @@ model every output step, for scripts that rebuild the model and open Exudyn's vi
 
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
              duration: float | None = None, *, options=None, progress=None, engine_solution: bool = False,
-             air_columns: bool = True, **option_values) -> Result:
+             history: bool = True, **option_values) -> Result:
     """Simulate ``case``.
 
     Parameters
@@ -323,8 +339,9 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     engine_solution : bool
         Also keep Exudyn's own solution file of each phase (``ENGINE_SOLUTION``), saved with the result. Writing it
         is part of the timed solve.
-    air_columns : bool
-        False: without the air-relative columns (``outputs.derive_columns``), which the summary never reads.
+    history : bool
+        False: a run whose history nobody keeps (a study's): without the columns the summary never reads
+        (``outputs.derive_columns``) and without the scene (its files hold no scene to animate).
     **option_values
         Or single options by name, on top of the case's (None: the case's): SP ``preset`` ("accurate",
         "thesis"), ``kappa_max`` (-, > 3), ``slack_rule`` ("stretch", "force"), ``order`` (0, 1); full mass
@@ -348,10 +365,10 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     with tempfile.TemporaryDirectory() as folder:
         raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
-    columns, units = derive_columns(case, raw, air_columns)
+    columns, units = derive_columns(case, raw, history)
     contacts = cluster_columns(case, raw, columns, units)
     pendulum_columns(case, raw, columns, units)
     summary = summarize(case, plan, raw, facts, events + contacts, columns, units,
                         opening_loads(case, openings, columns))
-    return Result(columns, units, summary.to_dict(), run_summary=summary, scene=scene(case, raw),
-                  attachments=attachments)
+    return Result(columns, units, summary.to_dict(), run_summary=summary,
+                  scene=scene(case, raw) if history else None, attachments=attachments)

@@ -299,12 +299,14 @@ def test_a_dask_worker_killed_mid_study_loses_and_duplicates_no_run(tmp_path):
 
 
 def test_a_run_without_history_skips_only_columns_nothing_reads():
-    """A study run that keeps no history leaves out the air-relative columns: its record and summary are the same."""
+    """A study run that keeps no history leaves out the columns the summary never reads and the scene: its record and
+    summary are the same."""
     from pchute_exudyn.study.runner import scalar_outputs
 
     case = pc.load_case(ROOT / "cases" / "cev_pa1_winds.toml")
-    full, lean = (pc.simulate(case, "sp", duration=12.0, air_columns=keep) for keep in (True, False))
+    full, lean = (pc.simulate(case, "sp", duration=12.0, history=keep) for keep in (True, False))
     assert "capsule_mach" in full and "capsule_mach" not in lean and "capsule_wind_east" not in lean
+    assert "main_canopy_altitude" in full and "main_canopy_altitude" not in lean and lean.scene is None
     timing = ("wall_time", "steps_per_second", "created", "units")
     assert repr({k: v for k, v in full.summary.items() if k not in timing}) == \
         repr({k: v for k, v in lean.summary.items() if k not in timing})

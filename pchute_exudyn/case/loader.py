@@ -70,14 +70,24 @@ _KEY_PART = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
 # reading and merging files
 
 
+_PARSED: dict = {}
+"""Parsed TOML files by (path, modification time, size)."""
+
+
 def read_toml(path: Path, kind: str = "case") -> dict:
     """Parse one TOML file (a ``kind`` file: case, study); a missing file or a syntax error becomes a CaseError
     naming the file."""
     if not path.is_file():
         raise CaseError(str(path), "", f"{kind} file not found" if not path.exists() else "not a file")
     try:
-        with path.open("rb") as handle:
-            return tomllib.load(handle)
+        status = path.stat()
+        stamp = (str(path.resolve()), status.st_mtime_ns, status.st_size)
+        if stamp not in _PARSED:   # a study's worker loads the same files for every run: parsed once
+            if len(_PARSED) > 256:
+                _PARSED.clear()
+            with path.open("rb") as handle:
+                _PARSED[stamp] = tomllib.load(handle)
+        return copy.deepcopy(_PARSED[stamp])   # the callers change what they are given
     except tomllib.TOMLDecodeError as exc:
         twice = re.search(r"Cannot declare \(([^)]*)\) twice", str(exc))
         if twice:  # e.g. two systems with the same name

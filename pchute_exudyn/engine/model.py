@@ -106,8 +106,9 @@ class Model:
 
     def add_channel_group(self, keys, reader: Reader, split) -> None:
         """Sample the channels ``keys`` (each also added alone) with one call of ``reader`` per sample instead of
-        one call per channel; ``split`` turns the list of its samples into one array per key, in order, equal to
-        what each channel's own reader would have given."""
+        one call per channel. ``reader`` returns a list holding one 1-D array (which may be filled after the step:
+        ``engine.sp``); ``split`` turns the samples, rows of one 2-D array, into one array per key, in order, equal
+        to what each channel's own reader would have given."""
         self.channel_groups.append((tuple(keys), reader, split))
 
     def add_pre_step(self, hook) -> None:

@@ -105,14 +105,25 @@ def grid_time(t: float, start: float, step: float, output_step: float) -> float:
     """The time (s) to record for a sample taken at solver time ``t``: the step's own time start + n step, and the
     output grid's k output_step when it falls there, free of the solver's accumulated round-off and printed to 15
     significant digits (55.41, not 55.409999999997545). A time off both (an implicit run's shortened step) is kept."""
-    steps = round((t - start) / step)
-    exact = start + steps * step
-    if abs(t - exact) > ROUND_OFF * step:
-        return t
-    k = round(exact / output_step)
-    if abs(exact - k * output_step) <= ROUND_OFF * step:
-        exact = k * output_step
-    return float(f"{exact:.15g}")
+    return grid_times([t], start, step, output_step)[0]
+
+
+def grid_times(times, start: float, step: float, output_step: float) -> list:
+    """``grid_time`` of each of ``times`` (s), in one pass over arrays (Python's round and numpy's rint both round
+    half to even: the same times)."""
+    t = np.asarray(times, float)
+    exact = start + np.rint((t - start) / step) * step
+    k_output = np.rint(exact / output_step) * output_step
+    on_output = np.where(np.abs(exact - k_output) <= ROUND_OFF * step, k_output, exact)
+    off_step = np.abs(t - exact) > ROUND_OFF * step
+    return [time if off else _printed(grid) for time, off, grid in zip(t.tolist(), off_step.tolist(),
+                                                                       on_output.tolist())]
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _printed(time: float) -> float:
+    """``time`` to 15 significant digits (a study's runs share their sample times: formatted once per worker)."""
+    return float(f"{time:.15g}")
 
 
 REPORT_EVERY = 100
@@ -223,8 +234,12 @@ def _samples(model: Model, rows: list) -> dict:
     """``{channel key: its samples}`` from the sampled rows: the single channels' values, then each group's."""
     single, groups = _sampled_channels(model)
     samples = {key: [row[i] for row in rows] for i, (key, _) in enumerate(single)}
+    tables: dict = {}   # a group's samples as one array, shared by groups whose reader handed out the same lists
     for j, (keys, _, split) in enumerate(groups, start=len(single)):
-        samples.update(zip(keys, split([row[j] for row in rows])))
+        first = id(rows[0][j]) if rows else None
+        if first not in tables:
+            tables[first] = np.array([row[j][0] for row in rows], float).reshape(len(rows), -1)
+        samples.update(zip(keys, split(tables[first])))
     return samples
 
 
@@ -261,7 +276,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
             f"at step {step:g} s: try a smaller step", progress["bad"])
     model.finish()
     samples = _samples(model, rows)
-    times = [grid_time(t, start, step, output_step) for t in times]
+    times = grid_times(times, start, step, output_step)
     raw = RawHistory.from_samples(times, samples, progress["steps"], wall)
     raw.stopped_at = progress["stopped"]
     return raw

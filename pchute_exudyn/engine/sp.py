@@ -263,8 +263,7 @@ class SPConfluence(ReducedConfluence):
 
         first = self.stage.states.size   # the record after the body states: position, end-of-step tuple, tensions
 
-        def split(samples):
-            records = np.array([sample[0] for sample in samples], float)
+        def split(records):
             return ([records[:, first:first + 3], records[:, first + 3:first + 6]]
                     + [records[:, first + 6 + k] for k in range(len(self.OUTPUTS))]
                     + [records[:, first + 9 + i] for i in range(len(self.system.lines))])

@@ -211,7 +211,6 @@ class Stage:
                 columns.append((r, start, stop))
 
         def split(samples):
-            size = self.states.size
-            table = np.array([sample[0][:size] for sample in samples], float).reshape(-1, *self.states.shape)
+            table = samples[:, :self.states.size].reshape(-1, *self.states.shape)
             return [table[:, r, start:stop] for r, start, stop in columns]
         model.add_channel_group(keys, self.sample, split)

@@ -317,9 +317,7 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
         if name == "seed" and relative:
             raise t.error("relative", "a seed cannot be relative", True)
         if name == "truncated_normal":
-            from scipy.stats import norm
-            mass = norm.cdf(arguments["high"], arguments["mean"], arguments["std"]) - \
-                norm.cdf(arguments["low"], arguments["mean"], arguments["std"])
+            mass = _normal_mass(arguments["low"], arguments["high"], arguments["mean"], arguments["std"])
             if mass < 1e-6:
                 raise t.error("low", "the bounds leave almost none of the normal distribution's probability")
         t.finish()
@@ -352,6 +350,14 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
         values = tuple(float(v) for v in np.linspace(start, stop, num))
     t.finish()
     return Parameter(key, values, None, {}, relative)
+
+
+def _normal_mass(low: float, high: float, mean: float, std: float) -> float:
+    """The probability (-) of a normal distribution between ``low`` and ``high`` (a check of a truncated normal's
+    bounds when the study file is read: without scipy.stats, whose import takes 0.6 s)."""
+    def cdf(x):
+        return 0.5 * math.erfc(-(x - mean) / (std * math.sqrt(2.0)))
+    return cdf(high) - cdf(low)
 
 
 def _read_choice(key: str, t: _Table, relative: bool) -> Parameter:

@@ -4,7 +4,9 @@
 * ``inputs.csv``: every planned run and its inputs, written before the first run;
 * ``runs.jsonl``: one line per finished run (inputs, outputs, status, error), appended and flushed to disk as each
   run finishes: the record that survives a crash (a torn last line is ignored, so that run simply runs again);
-* ``runs.csv``: the same as a table, rewritten atomically as runs finish;
+* ``runs.csv``: the same as a table: a row appended as each run finishes (in the order they finish; the whole table
+  rewritten, atomically, only when a run brings a column the table lacks), rewritten in run order when the study
+  ends or is interrupted;
 * ``histories/run_NNNNN/``: time histories, when the study keeps them.
 
 Rerunning a study into the same folder skips the runs in ``runs.jsonl``; a study whose file, cases or inputs changed
@@ -18,7 +20,6 @@ import io
 import json
 import math
 import os
-import time
 from pathlib import Path
 
 from ..errors import InputError
@@ -36,7 +37,7 @@ class StudyStore:
         self.spec = spec
         self.runs = runs
         self.records: dict = {}
-        self._last_table = 0.0
+        self._columns = None   # runs.csv's header as last written
 
     # -- set up and resume --------------------------------------------------------------------------------------
 
@@ -58,6 +59,7 @@ class StudyStore:
                                                     "parameter_units": self.spec.parameter_units},
                                                    indent=2) + "\n")
         self.records = self.load_records(self.folder)
+        self.write_table()   # the runs recorded so far (none for a new study): the header the rows append to
 
     @staticmethod
     def load_records(folder) -> dict:
@@ -80,38 +82,51 @@ class StudyStore:
     # -- recording ------------------------------------------------------------------------------------------------
 
     def record(self, record: dict) -> None:
-        """Append one finished run to disk at once, then refresh the table (at most once a second)."""
+        """Append one finished run to disk at once: its line in ``runs.jsonl`` (flushed to the disk) and its row in
+        ``runs.csv`` (nothing is read back: a study of thousands of runs records each in the same time)."""
         line = json_text(record) + "\n"
         with open(self.folder / "runs.jsonl", "a", encoding="utf-8") as handle:
             handle.write(line)
             handle.flush()
             os.fsync(handle.fileno())
         self.records[record["run"]] = record
-        if time.monotonic() - self._last_table > 1.0:
-            self.write_table()
+        row = {**self._input_row(self.runs[record["run"]]), **record}
+        if self._columns is None or any(key not in self._columns for key in row):
+            self.write_table()   # a new column: the whole table with it
+            return
+        with open(self.folder / "runs.csv", "a", encoding="utf-8", newline="") as handle:
+            handle.write(self._rows_text([row], self._columns))
 
     def write_table(self, final: bool = False) -> None:
-        """Rewrite ``runs.csv``; ``final`` (the study's end, or its interruption) also ``runs.parquet``."""
+        """Rewrite ``runs.csv`` in run order; ``final`` (the study's end, or its interruption) also
+        ``runs.parquet``."""
         rows = [{**self._input_row(self.runs[i]), **self.records[i]} for i in sorted(self.records)]
+        self._columns = self._keys(rows)
         atomic_write_text(self.folder / "runs.csv", self._csv(rows))
         if final:
             write_parquet(self.folder)
-        self._last_table = time.monotonic()
 
     # -- helpers ----------------------------------------------------------------------------------------------------
 
     def _input_row(self, run) -> dict:
         return run.row(Path(run.case_file).stem)
 
-    def _csv(self, rows: list) -> str:
+    def _keys(self, rows: list) -> list:
         keys = list(FIRST_COLUMNS) + [p.key for p in self.spec.parameters]
         for row in rows:
             for key in row:
                 if key not in keys:
                     keys.append(key)
+        return keys
+
+    def _csv(self, rows: list, keys: list | None = None) -> str:
+        keys = keys or self._keys(rows)
+        return ",".join(keys) + "\n" + self._rows_text(rows, keys)
+
+    @staticmethod
+    def _rows_text(rows: list, keys: list) -> str:
         buffer = io.StringIO()
         writer = csv.DictWriter(buffer, fieldnames=keys, extrasaction="ignore", lineterminator="\n")
-        writer.writeheader()
         for row in rows:
             writer.writerow({k: _cell(v) for k, v in row.items()})
         return buffer.getvalue()
