@@ -36,6 +36,8 @@ LOCK_AGE = 600.0
 """Seconds after which a build lock is taken to be left by a process that died."""
 PACKAGE = Path(__file__).resolve().parent
 PHYSICS = PACKAGE / "physics"
+KERNEL_MODULES = ("pchute_exudyn.physics.", "pchute_exudyn.number_text")
+"""The modules whose functions are kernels (``physics.compiled.kernel``): the physics and the number formatter."""
 SIGNATURES = PACKAGE / "kernel_signatures.json"
 """The argument types each kernel is compiled for: the ones the package calls it with from Python
 (``kernel_cache --record`` writes it)."""
@@ -43,7 +45,7 @@ SIGNATURES = PACKAGE / "kernel_signatures.json"
 def source_key() -> str:
     """A digest of the kernels' source, the signatures they are compiled for, and the Python that loads them."""
     digest = hashlib.sha256()
-    for path in sorted(PHYSICS.glob("*.py")):
+    for path in [*sorted(PHYSICS.glob("*.py")), PACKAGE / "number_text.py"]:
         digest.update(path.name.encode() + path.read_bytes())
     digest.update(SIGNATURES.read_bytes() if SIGNATURES.is_file() else b"")
     digest.update(sys.version.encode() + sysconfig.get_platform().encode())
@@ -51,8 +53,8 @@ def source_key() -> str:
 
 
 def cache_directory() -> Path:
-    """Where the compiled module is built and looked for: ``PCHUTE_KERNEL_DIR`` when set, else the package's
-    ``_compiled`` folder (where the install puts it), else, when the package cannot be written, the user's cache."""
+    """Where the compiled module is built: ``PCHUTE_KERNEL_DIR`` when set, else the package's ``_compiled`` folder
+    (where the install puts it), else, when the package cannot be written, the user's cache."""
     if os.environ.get("PCHUTE_KERNEL_DIR"):
         return Path(os.environ["PCHUTE_KERNEL_DIR"])
     beside = PACKAGE / "_compiled"
@@ -73,9 +75,13 @@ def table_path(key: str | None = None, folder: Path | None = None) -> Path:
 
 def load_compiled(folder: Path | None = None) -> dict | None:
     """The compiled module of the current source, as {kernel name: [(argument types, function)]}; None when there
-    is none (or it cannot be loaded). Looks in ``folder``, else the package's and the user's cache folders."""
+    is none (or it cannot be loaded). Looks in ``folder``, else in ``PCHUTE_KERNEL_DIR`` alone when that is set,
+    else in the kernel folder and the package's ``_compiled`` folder."""
     key = source_key()
-    for place in ([folder] if folder else [cache_directory(), PACKAGE / "_compiled"]):
+    places = [folder] if folder else [cache_directory()]
+    if folder is None and not os.environ.get("PCHUTE_KERNEL_DIR"):
+        places.append(PACKAGE / "_compiled")
+    for place in dict.fromkeys(places):
         table = table_path(key, place)
         if not table.is_file():
             continue

@@ -36,25 +36,6 @@ def atomic_writer(path, mode: str = "w", **kwargs):
         raise
 
 
-CSV_BLOCK = 10000
-"""Rows formatted in one operation by ``csv_text`` (bounds the memory of a long history's text)."""
-
-
-def csv_text(names, columns) -> str:
-    """A CSV table: the header ``names``, then one row per sample of ``columns`` (arrays of one length), each value
-    formatted '%.12g' (nan, inf as Python writes them): the text ``numpy.savetxt(fmt="%.12g")`` writes, formatted a
-    block of rows at a time in one operation (a fifth faster; the formatting is most of a run's file writing)."""
-    import numpy as np
-
-    table = np.column_stack(columns) if columns else np.zeros((0, 0))
-    row = ",".join(["%.12g"] * table.shape[1]) + "\n"
-    parts = [",".join(names) + "\n"]
-    for start in range(0, len(table), CSV_BLOCK):
-        block = table[start:start + CSV_BLOCK]
-        parts.append((row * len(block)) % tuple(block.ravel().tolist()))
-    return "".join(parts)
-
-
 def atomic_write_text(path, text: str) -> None:
     """Write ``text`` to ``path`` atomically (UTF-8)."""
     with atomic_writer(path, "w", encoding="utf-8", newline="") as handle:

@@ -7,7 +7,8 @@ kernel folder (``_kernel_mode.cache_directory``; ``--out DIR`` elsewhere). The p
 written last, says which export serves which kernel.
 
 ``--record`` runs small models of every method (two bodies, a load-elongation line, SP of either order and slack
-rule, equilibrium point, full mass RK4 and implicit, a cluster) with numba compiling each kernel on first call, and
+rule, equilibrium point, full mass RK4 and implicit, a cluster) and formats a table (``number_text``) with numba
+compiling each kernel on first call, and
 writes the argument types each kernel was called with from Python to ``kernel_signatures.json``: rerun it when a
 kernel's arguments change (``tests/test_kernels.py`` fails until then).
 """
@@ -168,7 +169,10 @@ def _split_top(text: str) -> list:
 def record(cases=()) -> dict:
     """Run small models of every method, then each case file of ``cases`` with each method, with numba compiling
     the kernels; the argument and return types of every kernel called from Python, by kernel name."""
+    import numpy as np
+
     import pchute_exudyn as pc
+    from pchute_exudyn.number_text import table_text
     from pchute_exudyn.physics.singular_perturbation import confluence_velocity
 
     with tempfile.TemporaryDirectory() as folder:
@@ -185,6 +189,7 @@ def record(cases=()) -> dict:
         pc.simulate(pc.load_case(path), "sp", "rk4", 1e-2, 0.05)
     confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [1.0], [1e4],
                         [1e2])
+    table_text(["a", "b"], [np.zeros(2), np.ones(2)])
     for path in cases:
         case = pc.load_case(path)
         pc.simulate(case, "sp", "rk4", 1e-2)
@@ -207,7 +212,7 @@ def signatures_in_use() -> dict:
 
     found = {}
     for name in sorted(sys.modules):
-        if not name.startswith("pchute_exudyn.physics."):
+        if not name.startswith(_kernel_mode.KERNEL_MODULES):
             continue
         for value in vars(sys.modules[name]).values():
             if isinstance(value, CPUDispatcher) and value.py_func.__module__ == name:
@@ -289,9 +294,13 @@ def main(argv=None) -> int:
     parser.add_argument("--record", nargs="*", metavar="CASE", default=None,
                         help="add to kernel_signatures.json the signatures that small models of every method (and "
                              "each CASE file, run with each method) call the kernels with")
+    parser.add_argument("--if-missing", action="store_true",
+                        help="build only when the folder has no module of the current source")
     parser.add_argument("--lock", type=Path, default=None, help=argparse.SUPPRESS)   # removed when done
     parser.add_argument("--verbose", action="store_true")
     args = parser.parse_args(argv)
+    if args.if_missing and _kernel_mode.table_path(folder=args.out).is_file():
+        return 0
     if os.environ.get(_kernel_mode.VARIABLE) != "jit":
         # compiling needs the kernels as numba dispatchers: in a process that imports them in the jit form
         return subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", *(argv or sys.argv[1:])],

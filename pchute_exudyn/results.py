@@ -21,7 +21,8 @@ import numpy as np
 
 from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
 from .errors import InputError
-from .io import atomic_write_text, atomic_writer, check_result_folder, csv_text, json_text, staged_folder
+from .io import atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
+from .number_text import table_text
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
 SCENE = "scene"
@@ -127,7 +128,7 @@ class Result:
         paths = {"npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
         if csv:
             paths["csv"] = folder / CSV_NAME
-            atomic_write_text(paths["csv"], csv_text(self.names, [self.columns[n] for n in self.names]))
+            atomic_write_text(paths["csv"], table_text(self.names, [self.columns[n] for n in self.names]))
         scene = {f"{SCENE}/{k}": v for k, v in self.scene_arrays.items()}
         if self.scene is not None:
             scene[SCENE] = json_text(self.scene)

@@ -1,15 +1,21 @@
 """Shared fixtures: paths, and the expensive MER runs computed once per test session.
 
-The suite runs the kernels compiled (the first test to need one compiles it into numba's cache; its subprocesses
-inherit the setting); tests/test_fast_path.py runs the Python form and the automatic choice on purpose.
+The suite runs the kernels compiled: the module the install built (rebuilt here first when a kernel's source changed
+since; its subprocesses inherit the setting); tests/test_fast_path.py runs the jit and Python forms and the automatic
+choice on purpose.
 """
 
 import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 os.environ.setdefault("PCHUTE_KERNELS", "compiled")
+if os.environ["PCHUTE_KERNELS"] == "compiled":   # a source edited since the install: rebuild the module first
+    subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--if-missing"], check=True,
+                   stdout=subprocess.DEVNULL)
 
 import pchute_exudyn as pc  # noqa: E402
 

@@ -203,7 +203,9 @@ def test_pa1_with_databases_sp_agrees_with_full_mass_and_reports_mach():
 def test_the_compiled_hypot_is_cpythons_to_the_last_bit():
     """``physics.planet.hypot`` (compiled in the tests) reproduces ``math.hypot`` exactly: the compiled altitude and
     turbulence kernels then give the bits the Python they replaced gave."""
-    from pchute_exudyn.physics.planet import hypot
+    from pchute_exudyn.physics.compiled import MODE
+    from pchute_exudyn.physics.planet import hypot_port as hypot
+    assert MODE != "python" and hypot is not math.hypot
     rng = np.random.default_rng(7)
     a = rng.uniform(-1e7, 1e7, 20000) * 10.0 ** rng.integers(-300, 300, 20000)
     b = rng.uniform(-1e7, 1e7, 20000)

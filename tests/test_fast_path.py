@@ -171,22 +171,24 @@ def test_sp_is_faster_than_the_implicit_full_mass_model_at_the_same_step():
     assert best["sp"] < best["full"], best
 
 
-def test_a_first_run_compiles_the_kernels_and_gives_the_cached_runs_results(tmp_path):
-    """With an empty numba cache every kernel is compiled in the run; the results equal a run with the cache."""
+def test_numba_compiling_the_kernels_in_the_run_gives_the_compiled_modules_results(tmp_path):
+    """The jit form with an empty numba cache compiles every kernel in the run, before the timed solve; its results
+    are those of the ahead-of-time compiled module, bit for bit."""
     env = {**os.environ, "NUMBA_CACHE_DIR": tempfile.mkdtemp(dir=tmp_path)}
     outputs = []
-    for label in ("cold", "warm"):
+    for label, form in (("jit", "jit"), ("compiled", "compiled")):
         out = tmp_path / label
         done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(MER / "case1.toml"), "--method",
-                               "sp", "--t-end", "2", "--no-plot", "--quiet", "--out", str(out)], env=env,
-                              capture_output=True, text=True, timeout=300)
+                               "sp", "--t-end", "2", "--no-plot", "--quiet", "--out", str(out)],
+                              env={**env, "PCHUTE_KERNELS": form}, capture_output=True, text=True, timeout=300)
         assert done.returncode == 0, done.stderr
         outputs.append(np.load(out / "result.npz"))
     assert any(Path(env["NUMBA_CACHE_DIR"]).rglob("*.nbi"))
     for name in outputs[0].files:
         if outputs[0][name].dtype.kind == "f":   # (the summary's text differs in its wall time)
             np.testing.assert_array_equal(outputs[0][name], outputs[1][name])
-    summaries = [json.loads((tmp_path / label / "summary.json").read_text()) for label in ("cold", "warm")]
+    summaries = [json.loads((tmp_path / label / "summary.json").read_text()) for label in ("jit", "compiled")]
+    assert [s["versions"]["kernels"] for s in summaries] == ["jit", "compiled"]
     assert summaries[0]["final"] == summaries[1]["final"]
     # the compilation happens before the timed solve: the cold run's solve is not slower than 0.5 s
     assert summaries[0]["wall_time"] < 0.5, summaries[0]["wall_time"]
@@ -210,19 +212,21 @@ def test_the_python_form_of_the_kernels_gives_the_compiled_results(tmp_path):
             np.testing.assert_allclose(runs["python"][1][name], runs["compiled"][1][name], rtol=1e-12, atol=1e-12)
 
 
-def test_a_machine_without_compiled_kernels_runs_their_python_form_and_compiles_them_for_the_next_run(tmp_path):
+def test_a_machine_without_the_compiled_module_runs_the_python_form_and_builds_it_for_the_next_run(tmp_path):
+    """No module of the current source in the kernel folder (``PCHUTE_KERNEL_DIR``, empty here): the run uses the
+    Python form and starts a background build; the next run loads the module and gives the same results."""
     import time
 
     env = {k: v for k, v in os.environ.items() if not k.startswith("PCHUTE_KERNELS")}
-    env["NUMBA_CACHE_DIR"] = str(tmp_path / "cache")
+    env["PCHUTE_KERNEL_DIR"] = str(tmp_path / "kernels")
     first, _ = _run(tmp_path, "first", env)
     assert first["versions"]["kernels"] == "python"
-    deadline = time.monotonic() + 240.0   # the background compile: about 7 s here, alone
-    while not list((tmp_path / "cache").glob("pchute_exudyn_kernels_*.ok")) and time.monotonic() < deadline:
+    deadline = time.monotonic() + 300.0   # the background build: about 10 s here, alone
+    while not list((tmp_path / "kernels").glob("kernels_*.json")) and time.monotonic() < deadline:
         time.sleep(0.5)
     second, _ = _run(tmp_path, "second", env)
     assert second["versions"]["kernels"] == "compiled"
-    assert not list((tmp_path / "cache").glob("*.compiling"))   # the compiler removed its lock
+    assert not list((tmp_path / "kernels").glob("*.building"))   # the builder removed its lock
     for key, value in first["final"].items():
         assert second["final"][key] == pytest.approx(value, rel=1e-12, abs=1e-12)
 

@@ -57,7 +57,7 @@ def write_study(tmp_path, runs=20, duration=3.0, name="mc.toml", text=None):
     return path
 
 
-def table(folder, drop=("wall_time",)):
+def table(folder, drop=("wall_time", "run_time")):
     with open(folder / "runs.csv", newline="") as handle:
         return [{k: v for k, v in row.items() if k not in drop} for row in csv.DictReader(handle)]
 

@@ -1,7 +1,8 @@
 """Compiled per-stage kernels: the one place that says how physics functions are compiled.
 
 The functions that run at every solver stage (body kinematics, the SP solve, small linear algebra, the line law of a
-load-elongation table, the aerodynamics) are written in the subset of Python that numba compiles (floats, ints,
+load-elongation table, the aerodynamics), and a few that run over whole histories (the air-relative outputs, the
+numbers of timeseries.csv: ``number_text``), are written in the subset of Python that numba compiles (floats, ints,
 bools, numpy arrays, loops) and decorated with ``kernel``. They are the only home of their formulas: Python callers
 (tests, the equilibrium method, histories) call the same functions.
 

@@ -80,7 +80,9 @@ def hypot(a, b):
     return factor * (h / scale)
 
 
-if not JIT:   # Python callers (and compiled code, built in the jit form) get the same bits from the function ported
+hypot_port = hypot
+"""The port itself, whatever the form (the tests check it against ``math.hypot``)."""
+if not JIT:   # Python callers get the same bits from the function ported (compiled code is built in the jit form)
     hypot = math.hypot  # noqa: F811
 
 

@@ -1,0 +1,114 @@
+"""The compiled kernel module: built from the current source, loaded without numba, serving every kernel call the
+package makes from Python with compiled code, and naming argument types as numba does."""
+
+from __future__ import annotations
+
+import inspect
+import json
+import subprocess
+import sys
+from array import array
+from importlib import import_module
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pchute_exudyn as pc
+from pchute_exudyn import _kernel_mode
+from pchute_exudyn.physics import compiled
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_the_suite_runs_the_compiled_module_of_the_current_source():
+    assert compiled.MODE == "compiled"
+    assert _kernel_mode.table_path().is_file()
+    table = json.loads(_kernel_mode.table_path().read_text())
+    assert table["key"] == _kernel_mode.source_key()
+
+
+def test_a_process_that_runs_the_compiled_module_never_imports_numba():
+    done = subprocess.run([sys.executable, "-c", "import sys, pchute_exudyn as pc; "
+                           "pc.simulate(pc.load_case(sys.argv[1]), 'sp', duration=1.0); "
+                           "print(sorted(m for m in sys.modules if m.split('.')[0] in ('numba', 'llvmlite')))",
+                           str(ROOT / "cases" / "mer" / "case1.toml")], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("value", [
+    1.5, 3, True, np.float64(2.0), np.int64(4), np.bool_(False), np.zeros(3), np.zeros((2, 3)), np.zeros((2, 3, 4)),
+    np.zeros((3, 2), order="F"), np.zeros((4, 4))[:, 1], np.zeros(3, np.int64), np.zeros(2, bool),
+    np.frombuffer(b"\0" * 24), array("d", [1.0, 2.0]), (1.0, 2), (np.zeros(2), 1.0)])
+def test_argument_types_are_named_as_numba_types_them(value):
+    """``describe`` (no numba at run time) and the builder's ``describe_type`` of numba's own type agree."""
+    numba = pytest.importorskip("numba")
+    from pchute_exudyn.kernel_cache import describe_type, numba_type
+
+    assert compiled.describe(value) == describe_type(numba.typeof(value))
+    assert describe_type(numba_type(compiled.describe(value))) == compiled.describe(value)
+
+
+def test_every_recorded_signature_names_an_existing_kernel_with_its_argument_count():
+    signatures = json.loads(_kernel_mode.SIGNATURES.read_text())
+    assert signatures
+    for name, entries in signatures.items():
+        module, function = name.rsplit(".", 1)
+        kernel = getattr(import_module(module), function)
+        if not isinstance(kernel, compiled.CompiledKernel):   # a name Python callers get another function for
+            kernel = getattr(import_module(module), f"{function}_port")
+        parameters = inspect.signature(compiled.python_form(kernel)).parameters
+        for arguments, _ in entries:
+            assert len(arguments) == len(parameters), name
+
+
+def test_every_kernel_call_of_every_method_runs_compiled_code():
+    """Small models of every method, a cluster, a load-elongation line, winds and turbulence, with outputs and
+    summaries: no call fell back to the Python form (the signatures cover what the package calls)."""
+    from pchute_exudyn.kernel_cache import BRIDLE, CASE, CLUSTER
+
+    compiled.FALLBACKS.clear()
+    base = CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc"))
+    runs = [(base, method, integrator, step) for method, integrator, step in
+            (("sp", "rk4", 1e-2), ("equilibrium", "rk4", 1e-2), ("full", "rk4", 1e-4), ("full", "implicit", 1e-2))]
+    runs.append((base + CLUSTER, "sp", "rk4", 1e-2))
+    for text, method, integrator, step in runs:
+        pc.simulate(_load(text), method, integrator, step, 0.05)
+    winds = pc.load_case(ROOT / "cases" / "cev_pa1_winds.toml")
+    pc.simulate(winds, "sp", duration=3.0)
+    pc.simulate(pc.load_case(ROOT / "cases" / "cev_pa1_aero.toml"), "sp", duration=3.0)
+    assert compiled.FALLBACKS == {}
+
+
+def _load(text: str):
+    import tempfile
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "case.toml"
+        path.write_text(text)
+        return pc.load_case(path)
+
+
+def test_a_call_with_other_argument_types_runs_the_python_form_and_is_counted():
+    """Compiled code converts its arguments without checking them: a call whose types differ from the ones compiled
+    (here a strided array) must run the Python form, with the same result."""
+    from pchute_exudyn.physics.atmosphere import atmosphere_state
+
+    parameters = pc.load_case(ROOT / "cases" / "mer" / "case1.toml").atmosphere.kernel_parameters()
+    compiled.FALLBACKS.clear()
+    as_compiled = atmosphere_state(parameters, 5000.0)
+    assert compiled.FALLBACKS == {}
+    strided = np.repeat(parameters, 2)[::2]
+    assert atmosphere_state(strided, 5000.0) == as_compiled
+    assert list(compiled.FALLBACKS) == [("pchute_exudyn.physics.atmosphere.atmosphere_state", ("<f8:1:A", "f8"))]
+    compiled.FALLBACKS.clear()
+
+
+def test_a_module_of_other_source_is_not_loaded(tmp_path):
+    """A kernel folder holding only a module built from other source (its table under another key) gives no
+    compiled module: the run would use the Python form and build one."""
+    current = _kernel_mode.table_path()
+    table = json.loads(current.read_text())
+    (tmp_path / "kernels_0000000000000000.json").write_text(json.dumps({**table, "key": "0000000000000000"}))
+    (tmp_path / table["file"]).write_bytes((current.parent / table["file"]).read_bytes())
+    assert _kernel_mode.load_compiled(tmp_path) is None
+    assert _kernel_mode.load_compiled(current.parent) is not None
