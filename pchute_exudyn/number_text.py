@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+
 import numpy as np
 
 from .physics.compiled import COMPILED, kernel
