@@ -521,8 +521,21 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def command() -> None:
+    """The ``pchute`` console script and ``python -m pchute_exudyn``: ``main``, then the process ends without
+    tearing the interpreter down (freeing every module's objects: 0.04 s, 0.1 s once matplotlib is loaded). By then
+    every file is written and closed, pools and clusters shut down, and the output streams are flushed here."""
+    code = main()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):   # a closed or broken stream: nothing more can reach it
+            pass
+    os._exit(code)
+
+
 def main(argv=None) -> int:
-    """Entry point of the ``pchute`` console script."""
+    """The command line: returns the exit status (``command`` is the entry point)."""
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
@@ -538,4 +551,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    command()

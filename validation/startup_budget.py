@@ -76,7 +76,7 @@ if os.environ.get("TIMED_FIGURE"):
     parts["importing matplotlib"] = time.perf_counter() - begun
     timed(results.Result, "plot", "drawing the overview figure")
     timed(plotting, "save_figure", "rendering and writing overview.png")
-cli.main(sys.argv[1:])
+code = cli.main(sys.argv[1:])
 ended = time.perf_counter()
 import json
 print("PARTS" + json.dumps({"importing numpy": numpy_loaded - started,
@@ -84,7 +84,8 @@ print("PARTS" + json.dumps({"importing numpy": numpy_loaded - started,
                                package_loaded - numpy_loaded,
                            "importing the engine, Exudyn, the command line and the simulation layer":
                                imported - package_loaded,
-                           "main": ended - imported, **parts}))
+                           "main": ended - imported, **parts}), flush=True)
+os._exit(code)   # as the command does (pchute_exudyn.cli.command)
 """
 MODULE_LOAD = ("import os, time; os.environ['PCHUTE_KERNELS'] = 'python'; import pchute_exudyn._kernel_mode as k; "
                "t = time.perf_counter(); assert k.load_compiled() is not None; print(time.perf_counter() - t)")
