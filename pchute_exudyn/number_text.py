@@ -150,26 +150,39 @@ def _format_value(x, high, low, out, position):
         return position + 1
     if x < SMALLEST or x > LARGEST:
         return -1
+    digits, exponent = _rounded(x, high, low)
+    if digits < 0:
+        return -1
+    return _layout(out, position, digits, exponent)
+
+
+@kernel
+def _rounded(x, high, low):
+    """(the 12 significant digits of x > 0 rounded half to even, as an integer, its decimal exponent); (-1, 0)
+    when the rounding is left to Python (a tie or too near one)."""
     exponent = int(math.floor(math.log10(x)))
-    digits = 0
-    for attempt in range(4):   # the estimate can be one off either way
-        if attempt == 3:
-            return -1
+    for _ in range(3):   # the estimate can be one off either way
         k = 11 - exponent
         value, error = _scaled(x, high[k + POWER_RANGE], low[k + POWER_RANGE])
         whole = math.floor(value)
         fraction = (value - whole) + error
         if abs(fraction - 0.5) < 1e-6:
-            return -1   # a tie (or too near one to tell): Python rounds it
+            return -1, 0
         digits = int(whole) + (1 if fraction > 0.5 else 0)
         if digits < 100000000000:
             exponent -= 1
         elif digits > 1000000000000:
             exponent += 1
+        elif digits == 1000000000000:   # rounded up to the next power of ten
+            return 100000000000, exponent + 1
         else:
-            break
-    if digits == 1000000000000:   # rounded up to the next power of ten
-        digits, exponent = 100000000000, exponent + 1
+            return digits, exponent
+    return -1, 0
+
+
+@kernel
+def _layout(out, position, digits, exponent):
+    """C's %g layout of the 12 digits ``digits`` times 10^(exponent - 11) at ``position``; the position after."""
     significant = 12
     quotient = digits // 10
     while digits == 10 * quotient:   # trailing zeros off
@@ -178,18 +191,15 @@ def _format_value(x, high, low, out, position):
     if -4 <= exponent < 12:   # fixed notation
         if exponent < 0:
             out[position], out[position + 1] = 48, 46   # '0.'
-            position += 2
-            for _ in range(-exponent - 1):
-                out[position] = 48
-                position += 1
-            return _write_digits(out, position, digits, significant)
+            for k in range(-exponent - 1):
+                out[position + 2 + k] = 48
+            return _write_digits(out, position + 1 - exponent, digits, significant)
         whole_digits = exponent + 1
         if significant <= whole_digits:
             position = _write_digits(out, position, digits, significant)
-            for _ in range(whole_digits - significant):
-                out[position] = 48
-                position += 1
-            return position
+            for k in range(whole_digits - significant):
+                out[position + k] = 48
+            return position + whole_digits - significant
         scale = _power_of_ten(significant - whole_digits)
         position = _write_digits(out, position, digits // scale, whole_digits)
         out[position] = 46   # '.'

@@ -9,6 +9,7 @@ Each figure comes from the output of the script named beside it in the README, w
 `validation/benchmark_sp.py` (benchmark_sp.md), `validation/benchmark_full.py` (benchmark_full.md),
 `validation/cev_pa1.py` (cev_pa1/pa1.md), `validation/benchmark_study.py` (benchmark_study.md),
 `validation/run_studies.py` (studies/step_method/report/errors.csv, studies/pa1_footprint/report/footprint.json),
+`validation/startup_budget.py` (startup_budget.md), `validation/study_overhead.py` (study_overhead.md),
 `validation/canopy_checks.py`
 (canopy/closed_forms.json), `validation/canopy_effects.py` (canopy/effects.md), `validation/cluster_checks.py`
 (cluster/closed_forms.md), `validation/cev_pa1_cluster.py` (cluster/pa1_cluster.md), `validation/cluster_study.py`
@@ -53,7 +54,7 @@ def sp_lines() -> list:
     """The SP speed tables (MER case 1 and PA1) and the first-run costs, from benchmark_sp.md."""
     path = OUT / "benchmark_sp.md"
     rows = table(path, "mer ") | table(path, "pa1 ")
-    first = next(iter(table(path, "first run on a machine").values()))
+    first = next(iter(table(path, "first run without a compiled module").values()))
     later = next(iter(table(path, "later runs").values()))
     lines = []
     names = {"full implicit 0.01": "full mass implicit, SP's step", "sp thesis 0.01": "SP, thesis's settings",
@@ -69,9 +70,10 @@ def sp_lines() -> list:
                  f"{float(rows['mer full rk4 0.0001'][1]):.0f} s (RK4 at 1e-2 s instead of")
     before = next(iter(table(path, "the code before").values()))
     size = re.search(r"numba and llvmlite installed: (\d+) MB", path.read_text()).group(1)
-    lines.append(f"first run on a machine {float(first[1]):.1f} s, later runs {float(later[1]):.1f} s, the code before "
-                 f"the compiled aerodynamics {float(before[1]):.1f} s; numba and llvmlite add {size} MB to the "
-                 "environment.")
+    commit = re.search(r"the code before \((\w+)\)", path.read_text()).group(1)
+    lines.append(f"first run without a compiled module of its source {float(first[1]):.1f} s, later runs "
+                 f"{float(later[1]):.1f} s, the code before ({commit}) {float(before[1]):.1f} s; numba and llvmlite add "
+                 f"{size} MB to the environment.")
     implicit = float(rows["mer full implicit 0.01"][1])
     lines.append(f"  RK4 1e-4 s result within 1 cm in altitude and 1.2 N in tension at "
                  f"1/{float(rows['mer full rk4 0.0001'][1]) / implicit:.0f} of the cost (table below).")
@@ -338,16 +340,37 @@ def study_overhead_lines() -> list:
     before, now, large = rows
     return [f"Around the solves (`python validation/study_overhead.py --before DIR --runs 200 --large 2000`, "
             f"[table](validation/output/study_overhead.md)): the 200-run PA1 footprint study on 2 workers takes "
-            f"{now[3]} s against {before[3]} s before a run without a kept history skipped the air-relative "
-            f"columns (wall time x workers / sum of solve times {now[5]}, was {before[5]}); {large[1]} runs take "
-            f"{large[3]} s ({large[5]})."]
+            f"{now[3]} s against {before[3]} s before (wall time x workers / sum of solve times {now[5]}, was "
+            f"{before[5]}); {large[1]} runs take {large[3]} s ({large[5]})."]
+
+
+def startup_lines() -> list:
+    """A warm run around its solve and a fresh install's first runs (startup_budget.py)."""
+    text = (OUT / "startup_budget.md").read_text()
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")] for line in text.splitlines()
+            if line.startswith(("| now", "| before"))]
+    warm = {cells[0].split(" ")[0]: cells for cells in rows if not cells[1].startswith(("440", "MER"))}
+    runs = {(cells[0].split(" ")[0], cells[1]): cells for cells in rows if cells[1].startswith(("440", "MER"))}
+    now, before = warm["now"], warm["before"]
+
+    def first(side, label):
+        cells = runs[(side, label)]
+        return f"{cells[2]} s against {cells[3]} s later ({cells[4]})"
+    long, mer = "440-s descent (descent_440s.toml), with the figure", "MER case 1 SP, with the figure"
+    commit = re.search(r"\| before \((\w+)", text).group(1)
+    return [f"Around the solve (`python validation/startup_budget.py --repeat 5 --before DIR`, "
+            f"[table](validation/output/startup_budget.md), DIR a checkout of {commit}): a warm `pchute run "
+            f"cases/mer/case1.toml --method sp --no-plot` takes {now[1]} s for its {now[2]} s solve ({now[3]}; "
+            f"before: {before[1]} s, {before[3]}) and the overview figure adds {now[5]} s (before: {before[5]} s); "
+            f"after a fresh install the first run of the 440-s descent takes {first('now', long)}, before "
+            f"{first('before', long)}; of MER case 1 {first('now', mer)}, before {first('before', mer)}."]
 
 
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
-            *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines(),
+            *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines(), *startup_lines(),
             *study_overhead_lines()]
 
 
