@@ -120,6 +120,36 @@ def select() -> str:
     return mode
 
 
+BUILD_SECONDS = 12.0
+"""About what building the compiled module takes (9 to 10 s measured on a 2-core machine; setup.py prints it)."""
+PYTHON_STEP_SECONDS = 4.5e-4
+"""About what an integration step costs with the kernels' Python form (an SP step of MER case 1 or of a
+single-canopy descent, aerodynamics included: validation/startup_budget.py's first runs without a module)."""
+
+
+def worth_building_first(steps: float) -> bool:
+    """Whether a run of ``steps`` integration steps, in a process that runs the Python form because no module was
+    found, would take longer that way than building the module first (a foreground build pays for itself when the
+    Python form would take over 1.5 times the build: about 40 000 steps, a 400-s descent at 1e-2 s)."""
+    return (os.environ.get(VARIABLE) == "python" and chosen_automatically() and not table_path().exists()
+            and steps * PYTHON_STEP_SECONDS > 1.5 * BUILD_SECONDS)
+
+
+def build_now() -> bool:
+    """Build the compiled module in the foreground (``python -m pchute_exudyn.kernel_cache``); True when built."""
+    import subprocess
+
+    env = fresh_environment()
+    done = subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"], env=env,
+                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return done.returncode == 0 and table_path().exists()
+
+
+def fresh_environment() -> dict:
+    """The environment for a process that should choose the form anew (after a build)."""
+    return {key: value for key, value in os.environ.items() if not key.startswith(VARIABLE)}
+
+
 def chosen_automatically() -> bool:
     return os.environ.get(VARIABLE + "_AUTO") == "1"
 
@@ -142,7 +172,7 @@ def start_background_build() -> bool:
         path.write_text(str(os.getpid()))
         import subprocess  # here only: most processes never start a build
 
-        env = {key: value for key, value in os.environ.items() if not key.startswith(VARIABLE)}
+        env = fresh_environment()
         subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)], env=env,
                          start_new_session=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                          stderr=subprocess.DEVNULL)

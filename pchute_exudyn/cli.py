@@ -99,6 +99,18 @@ def _method_options(args, method_class) -> dict:
 
 
 def _run(args) -> int:
+    from .figure_process import FigureProcess
+
+    # imports matplotlib on another core while the run goes on (started by ``command`` when it runs the process)
+    figure = None if args.no_plot else (_entry.pop("figure", None) or FigureProcess())
+    try:
+        return _run_case(args, figure)
+    finally:
+        if figure is not None:
+            figure.close()
+
+
+def _run_case(args, figure) -> int:
     from .case import load_case
     from .io import check_result_folder
     from .progress import TerminalProgress
@@ -111,6 +123,9 @@ def _run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     check_result_folder(out, args.overwrite)  # fail before a long run, not after it; nothing is created yet
     progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
+    steps = plan.duration / plan.step
+    if _entry["process"] and _kernel_mode.worth_building_first(steps):
+        _build_then_restart(steps, args.quiet)
     if _kernel_mode.start_background_build() and not args.quiet:
         print("pchute run: note: this machine has no compiled kernels yet; this run uses their Python form (slower) "
               "while a background process compiles them for the next runs", file=sys.stderr)
@@ -120,7 +135,7 @@ def _run(args) -> int:
     finally:
         if progress is not None:
             progress.close()
-    result.save(out, plot=not args.no_plot, overwrite=args.overwrite)
+    result.save(out, plot=not args.no_plot, overwrite=args.overwrite, draw=figure.draw if figure else None)
     _print_run(result, out, plan.stability_limit)
     return 0
 
@@ -521,10 +536,32 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+_entry: dict = {"process": False}
+"""Whether main runs as the process's command (``command``: it may then restart the process) and the figure process
+``command`` started for a ``run``."""
+
+
+def _build_then_restart(steps: float, quiet: bool) -> None:
+    """A long run with no compiled module: build it first, then run this command again in a process that loads it
+    (the kernels' form is chosen once per process). A failed build leaves the run to the Python form."""
+    if not quiet:
+        print(f"pchute run: note: no compiled kernels for this source yet: building them first (about "
+              f"{_kernel_mode.BUILD_SECONDS:.0f} s, once); with their Python form these {steps:.0f} steps would take "
+              f"about {steps * _kernel_mode.PYTHON_STEP_SECONDS:.0f} s", file=sys.stderr, flush=True)
+    if _kernel_mode.build_now():
+        sys.stdout.flush()
+        os.execve(sys.executable, [sys.executable, "-m", "pchute_exudyn", *sys.argv[1:]],
+                  _kernel_mode.fresh_environment())
+
+
 def command() -> None:
     """The ``pchute`` console script and ``python -m pchute_exudyn``: ``main``, then the process ends without
     tearing the interpreter down (freeing every module's objects: 0.04 s, 0.1 s once matplotlib is loaded). By then
     every file is written and closed, pools and clusters shut down, and the output streams are flushed here."""
+    _entry["process"] = True
+    if sys.argv[1:2] == ["run"] and "--no-plot" not in sys.argv and not {"-h", "--help"} & set(sys.argv):
+        from .figure_process import FigureProcess
+        _entry["figure"] = FigureProcess()   # as early as can be: its import overlaps everything before the save
     code = main()
     for stream in (sys.stdout, sys.stderr):
         try:

@@ -112,19 +112,20 @@ class Result:
 
     # -- files ---------------------------------------------------------------------------------------------------
 
-    def save(self, folder, plot: bool = True, csv: bool = True, overwrite: bool = False) -> dict:
+    def save(self, folder, plot: bool = True, csv: bool = True, overwrite: bool = False, draw=None) -> dict:
         """Write the result files into ``folder``; returns their paths. ``csv=False`` keeps the time histories in
-        ``result.npz`` only (a study's many runs).
+        ``result.npz`` only (a study's many runs); ``draw(result, path)``, when given, writes the overview figure
+        (True when it did: ``figure_process.FigureProcess.draw``), else this process draws it.
 
         The files are written into a fresh folder beside ``folder`` that then takes its place, so ``folder`` holds
         exactly this run's files. ``folder`` may be absent or empty; an earlier result folder is replaced only with
         ``overwrite``; any other non-empty folder is refused (InputError)."""
         folder = check_result_folder(folder, overwrite)
         with staged_folder(folder) as staging:
-            written = self._write(staging, plot, csv)
+            written = self._write(staging, plot, csv, draw)
         return {key: folder / path.name for key, path in written.items()}
 
-    def _write(self, folder: Path, plot: bool, csv: bool) -> dict:
+    def _write(self, folder: Path, plot: bool, csv: bool, draw=None) -> dict:
         paths = {"npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
         if csv:
             paths["csv"] = folder / CSV_NAME
@@ -141,9 +142,10 @@ class Result:
             paths[name] = folder / name
             atomic_write_text(paths[name], text)
         if plot:
-            from .plotting import save_figure
             paths["plot"] = folder / PLOT_NAME
-            save_figure(self.plot(), paths["plot"])
+            if draw is None or not draw(self, paths["plot"]):
+                from .plotting import save_figure
+                save_figure(self.plot(), paths["plot"])
         return paths
 
     @classmethod

@@ -231,6 +231,21 @@ def test_a_machine_without_the_compiled_module_runs_the_python_form_and_builds_i
         assert second["final"][key] == pytest.approx(value, rel=1e-12, abs=1e-12)
 
 
+def test_a_long_run_without_the_compiled_module_builds_it_first_and_runs_compiled(tmp_path):
+    """The 440-s descent (44 000 steps) would take about 20 s with the Python form: the command builds the module in
+    the foreground (about 10 s), then runs again in a process that loads it."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PCHUTE_KERNELS")}
+    env["PCHUTE_KERNEL_DIR"] = str(tmp_path / "kernels")
+    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(ROOT / "cases" / "simple" /
+                           "descent_440s.toml"), "--no-plot", "--out", str(tmp_path / "long")], env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert "building them first" in done.stderr and "Python form" in done.stderr
+    summary = json.loads((tmp_path / "long" / "summary.json").read_text())
+    assert summary["versions"]["kernels"] == "compiled" and summary["end"] == "touchdown"
+    assert list((tmp_path / "kernels").glob("kernels_*.json"))
+
+
 def _columns(case, **options) -> dict:
     return pc.simulate(case, "sp", "rk4", 1e-2, **options).columns
 

@@ -250,7 +250,14 @@ CROSSING_COUNT = {"before": 1.5, "after": 1.5}
 def aerodynamics_in_kernel() -> float:
     """Microseconds per stage of MER case 1's aerodynamics as the fused stage kernel runs them
     (``physics.aerodynamics.aerodynamics_stage``: py-spy sees no further into the compiled call than the SP kernel
-    that makes it): the kernel on the model's own packed arguments, called 200 000 times from a compiled loop."""
+    that makes it): the kernel on the model's own packed arguments, called 200 000 times from a compiled loop (in a
+    process of its own running the jit form: a compiled loop calls the kernel as numba compiles it)."""
+    from pchute_exudyn.physics.compiled import MODE
+    if MODE != "jit":
+        done = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); import benchmark_sp; "
+                               "print(benchmark_sp.aerodynamics_in_kernel())", str(HERE)], check=True,
+                              capture_output=True, text=True, env={**os.environ, "PCHUTE_KERNELS": "jit"})
+        return float(done.stdout.strip().splitlines()[-1])
     import numba
 
     from pchute_exudyn.engine.solver import integrate

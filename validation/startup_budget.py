@@ -217,9 +217,10 @@ def install_section(results: dict) -> list:
     lines = ["| code | run | first run after the install (s) | later runs (s, median of 3) | first / later | "
              "first run's solve (s) |", "|---|---|---|---|---|---|"]
     for side, found in results.items():
-        for label, (first, later) in found.items():
+        for label, times in found.items():
             if label == "install":
                 continue
+            first, later = times
             lines.append(f"| {side} | {label} | {first[0]:.2f} | {later[0]:.2f} | {first[0] / later[0]:.2f}x | "
                          f"{first[1]:.2f} |")
     lines += [""] + [f"Install command took {found['install']:.0f} s ({side})." for side, found in results.items()]

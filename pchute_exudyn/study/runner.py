@@ -10,7 +10,7 @@ import os
 import sys
 import threading
 import time
-from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, ThreadPoolExecutor, wait
+from concurrent.futures import Executor, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -233,21 +233,20 @@ def _record_as_they_finish(executor: Executor, pending: list, store: StudyStore,
     futures = {}
     try:
         futures = {executor.submit(execute, run): run for run in pending}
-        remaining = set(futures)
-        while remaining:
-            finished, remaining = wait(remaining, return_when=FIRST_COMPLETED)
-            for future in finished:
-                run = futures[future]
-                try:
-                    record = future.result()
-                except Exception as exc:  # the executor itself failed (a worker died, transport error)
-                    record = {"run": run.index, "status": "failed", "error": f"executor error: {exc!r}"}
-                store.record(record)
-                executed += 1
-                failed += record["status"] != "ok"
-                if bar is not None:
-                    bar.update(1)
-                    bar.set_postfix(failed=failed)
+        # as_completed watches each future once (``wait`` in a loop re-registers on every pending future: quadratic
+        # in the runs, seconds of this process's time in a 2000-run study, taken from the workers)
+        for future in as_completed(futures):
+            run = futures[future]
+            try:
+                record = future.result()
+            except Exception as exc:  # the executor itself failed (a worker died, transport error)
+                record = {"run": run.index, "status": "failed", "error": f"executor error: {exc!r}"}
+            store.record(record)
+            executed += 1
+            failed += record["status"] != "ok"
+            if bar is not None:
+                bar.update(1)
+                bar.set_postfix(failed=failed)
     except KeyboardInterrupt:
         for future in futures:
             future.cancel()

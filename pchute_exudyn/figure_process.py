@@ -1,0 +1,84 @@
+"""The overview figure drawn by a process of its own, started with the command, so that matplotlib's import (0.3 s,
+most of what the figure costs) runs on another core while the case is loaded and run.
+
+``FigureProcess()`` starts ``python -m pchute_exudyn.figure_process``, which imports the plotting module and waits;
+``draw(result, path)`` sends it the columns and summary entries the figure shows and waits for ``path`` to be written
+(``plotting.plot_overview``, ``plotting.save_figure``: the same figure as drawn in the command's own process).
+Where it cannot (one core, the process failed), ``draw`` returns False and the caller draws the figure itself.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import subprocess
+import sys
+
+SUMMARY_KEYS = ("vehicle", "case", "method", "integrator", "step")
+"""What the figure reads of the summary (its title and the vehicle's name)."""
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+class FigureProcess:
+    """A process that draws one overview figure (see the module docstring); ``close`` ends it if still running."""
+
+    def __init__(self):
+        self.process = None
+        if cores() < 2:   # nothing to overlap with: the command draws it
+            return
+        try:
+            self.process = subprocess.Popen([sys.executable, "-m", "pchute_exudyn.figure_process"],
+                                            stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                                            stderr=subprocess.DEVNULL, start_new_session=True)
+        except OSError:
+            self.process = None
+
+    def draw(self, result, path) -> bool:
+        """Have the process draw ``result``'s overview figure into ``path``; True when it did."""
+        if self.process is None:
+            return False
+        names = ["time", *result.tension_names()]
+        altitude = f"{result.summary.get('vehicle', 'vehicle')}_altitude"
+        if altitude in result:
+            names.append(altitude)
+        message = {"columns": {name: result[name] for name in names},
+                   "summary": {key: result.summary[key] for key in SUMMARY_KEYS if key in result.summary},
+                   "path": str(path)}
+        try:
+            self.process.stdin.write(pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))
+            self.process.stdin.close()
+            return self.process.wait() == 0 and os.path.isfile(path)
+        except OSError:   # the process ended early (a broken pipe): the command draws the figure
+            return False
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        if self.process is not None and self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
+        self.process = None
+
+
+def main() -> int:
+    from .plotting import plot_overview, save_figure  # the import this process exists for
+    from .results import Result
+
+    message = pickle.load(sys.stdin.buffer)
+    save_figure(plot_overview(Result(message["columns"], {}, message["summary"])), message["path"])
+    return 0
+
+
+if __name__ == "__main__":
+    try:
+        code = main()
+    except Exception:   # the command sees the exit status and draws the figure itself
+        code = 1
+    os._exit(code)   # the file is written and closed: no interpreter teardown (0.1 s with matplotlib loaded)
