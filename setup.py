@@ -24,7 +24,10 @@ class BuildWithKernels(build_py):
     def run(self):
         super().run()
         package = ROOT / "pchute_exudyn" if self.editable_mode else Path(self.build_lib) / "pchute_exudyn"
-        environment = {**os.environ, "PCHUTE_KERNELS": "jit", "PYTHONPATH": str(ROOT)}
+        # the sources first, then whatever the build environment put on the path (pip's isolated build finds its
+        # packages, numba and numpy among them, through PYTHONPATH)
+        path = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+        environment = {**os.environ, "PCHUTE_KERNELS": "jit", "PYTHONPATH": path}
         built = subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--out",
                                 str(package / "_compiled")], env=environment, cwd=ROOT)
         if built.returncode != 0:

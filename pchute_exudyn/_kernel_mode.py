@@ -135,13 +135,34 @@ def worth_building_first(steps: float) -> bool:
             and steps * PYTHON_STEP_SECONDS > 1.5 * BUILD_SECONDS)
 
 
+def building() -> bool:
+    """Whether another process is building the module now (its lock is younger than LOCK_AGE)."""
+    path = lock()
+    try:
+        return time.time() - path.stat().st_mtime < LOCK_AGE
+    except OSError:
+        return False
+
+
 def build_now() -> bool:
-    """Build the compiled module in the foreground (``python -m pchute_exudyn.kernel_cache``); True when built."""
+    """The compiled module of this source, built in the foreground (``python -m pchute_exudyn.kernel_cache``), or
+    the build another process is making, waited for; True when it exists."""
     import subprocess
 
-    env = fresh_environment()
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"], env=env,
-                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    if building():
+        deadline = time.monotonic() + LOCK_AGE
+        while building() and not table_path().exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        if table_path().exists():
+            return True
+    path = lock()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(str(os.getpid()))
+    except OSError:   # a read-only kernel folder: nothing can be built
+        return False
+    done = subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)],
+                          env=fresh_environment(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return done.returncode == 0 and table_path().exists()
 
 

@@ -70,12 +70,10 @@ for name in ("derive_columns", "cluster_columns", "pendulum_columns", "summarize
 timed(results, "table_text", "formatting timeseries.csv")
 timed(results, "atomic_write_text", "writing timeseries.csv and summary.json")
 timed(numpy, "savez", "writing result.npz")
-if os.environ.get("TIMED_FIGURE"):
-    begun = time.perf_counter()
-    import pchute_exudyn.plotting as plotting
-    parts["importing matplotlib"] = time.perf_counter() - begun
-    timed(results.Result, "plot", "drawing the overview figure")
-    timed(plotting, "save_figure", "rendering and writing overview.png")
+if os.environ.get("TIMED_FIGURE"):   # the figure process, started as the command starts it (cli.command)
+    import pchute_exudyn.figure_process as figure_process
+    timed(figure_process.FigureProcess, "draw", "waiting for the figure process to draw overview.png")
+    cli._entry["figure"] = figure_process.FigureProcess()
 code = cli.main(sys.argv[1:])
 ended = time.perf_counter()
 import json
