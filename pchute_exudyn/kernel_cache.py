@@ -102,19 +102,6 @@ free_length = 0.7
 stiffness = 47000.0
 damping = 470.0
 """
-WINDS = """
-[atmosphere.wind]
-model = "power_law"
-reference_speed = 5.0
-reference_height = 10.0
-exponent = 0.14
-from_deg = 270.0
-[atmosphere.turbulence]
-model = "dryden"
-intensity = "light"
-seed = 3
-"""
-"""Earth air in motion (steady wind and turbulence), for the air-velocity kernels."""
 
 
 # -- the types, as the compiled module's table names them (``physics.compiled.describe``) -------------------------

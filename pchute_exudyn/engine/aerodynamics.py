@@ -25,7 +25,7 @@ from ..physics.aerodynamics import (
     pack_tables,
     work_size,
 )
-from ..physics.compiled import machine_code
+from ..physics.compiled import bound, machine_code
 from .model import CURRENT, OV, Model
 
 
@@ -93,6 +93,7 @@ class AerodynamicLoads:
         self._arguments = ()             # the kernel's arguments after the stage time (``bind``)
         self.parts = ()                  # (data, field, work) of those arguments
         self.work = np.zeros(work_size(0))   # physics.aerodynamics.work_size: status, fractions, values (``pack``)
+        self._centre_load = bound(centre_load)   # single evaluations (outputs, a canopy's measured speed): per step
         self.status, self.fractions = self.work[:2], self.work[2:2]
 
     def add(self, body: Body, schedule, deployed_at: float, efficiency: float) -> BodyAerodynamics:
@@ -186,7 +187,7 @@ class AerodynamicLoads:
         body-axis rates (rad/s): (force, moment, dynamic pressure, Mach, angle of attack)."""
         air = self.air
         while True:
-            code, value, fx, fy, fz, mx, my, mz, pressure, mach, alpha = centre_load(
+            code, value, fx, fy, fz, mx, my, mz, pressure, mach, alpha = self._centre_load(
                 float(t), *map(float, centre), rotation, rates, self.bodies[index], self.tables, float(fraction),
                 self.frame, self.atmosphere_parameters, air.parameters, air.wind_parameters, air.gust_rows,
                 air.turbulence_parameters, air.field())

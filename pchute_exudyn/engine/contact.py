@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
+from ..physics.compiled import bound
 from ..physics.contact import PAIR_COLUMNS, contact_forces, default_stiffness_damping, envelope_radius
 from ..physics.kinematics import add_point_forces, point_motions
 from .model import Model
@@ -32,6 +33,8 @@ class CanopyContact:
         self.motion = np.zeros((len(bodies), 6))
         self.radii = np.zeros(len(bodies))
         self.forces = np.zeros((len(bodies), 3))
+        self._point_motions, self._contact_forces, self._add_point_forces = (
+            bound(point_motions), bound(contact_forces), bound(add_point_forces))   # the same arrays every stage
 
     def add_forces(self, states, generalized) -> None:
         """Add the contact forces at the stage's body ``states`` to ``generalized`` (after the aerodynamic loads,
@@ -39,9 +42,9 @@ class CanopyContact:
         radii = self.radii
         for i, (load, projected) in enumerate(zip(self.loads, self.projected)):
             radii[i] = envelope_radius(projected, load.fraction)
-        point_motions(states, self.points, self.motion)
-        contact_forces(self.motion, radii, self.pairs, self.forces)
-        add_point_forces(states, self.points, self.forces, generalized)
+        self._point_motions(states, self.points, self.motion)
+        self._contact_forces(self.motion, radii, self.pairs, self.forces)
+        self._add_point_forces(states, self.points, self.forces, generalized)
 
 
 def add_contact(model: Model, case: Case, system: ParachuteSystem, loads: list) -> CanopyContact:

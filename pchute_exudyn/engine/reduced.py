@@ -21,6 +21,7 @@ from functools import partial
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
+from ..physics.compiled import bound
 from ..physics.kinematics import add_point_forces, point_motions
 from ..physics.singular_perturbation import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
 from ..state import ConfluenceChannel, MethodChannel, TensionChannel
@@ -58,6 +59,7 @@ class ReducedConfluence(Confluence):
         self.part = model.stage.add_part()                  # the lines' generalized forces on the bodies
         self.attach_motion = np.zeros((len(system.lines), 6))
         self.line_forces = np.zeros((len(system.lines), 3))
+        self._point_motions, self._add_point_forces = bound(point_motions), bound(add_point_forces)   # every stage
         self.coordinates = [float(x) for x in initial_states]   # q_n, at the start of the step under way
         self.step_start = model.phase.start                     # t_n (s)
         self.step_size = 0.0                                    # h (s) of the step under way
@@ -116,13 +118,13 @@ class ReducedConfluence(Confluence):
         """The method's solve on the stage's body states: attach points, ``compute``, the forces -T n on the
         bodies into ``part``."""
         states, motion = self.stage.states, self.attach_motion
-        point_motions(states, self.points, motion)
+        self._point_motions(states, self.points, motion)
         solution = self.compute(t, q, motion[:, :3].tolist(), motion[:, 3:].tolist())
         forces = self.line_forces
         for i, (t_i, (nx, ny, nz)) in enumerate(zip(solution.tensions, solution.directions)):
             forces[i] = -t_i * nx, -t_i * ny, -t_i * nz   # on the body: -T n
         self.part.fill(0.0)
-        add_point_forces(states, self.points, forces, self.part)
+        self._add_point_forces(states, self.points, forces, self.part)
         return solution
 
     def acceleration(self):

@@ -22,6 +22,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case
+from ..physics.compiled import bound
 from ..physics.kinematics import POINT_COLUMNS, STATE_COLUMNS, body_states
 from ..state import BodyChannel, initial_body_state
 from .aerodynamics import AerodynamicLoads
@@ -64,6 +65,8 @@ class Stage:
         self.rows = self.states.tolist()  # the states at the last refresh, as lists
         system_data = model.mbs.systemData
         self._read, self._read_t = system_data.GetODE2Coordinates, system_data.GetODE2Coordinates_t
+        self._stage_states = bound(body_states)     # from the force function's arguments, at every stage
+        self._step_states = bound(body_states)      # from the engine's state, after a step
         self.has_item = False
 
     def _set_reference(self, case: Case, name: str) -> None:
@@ -141,7 +144,7 @@ class Stage:
         once per post-step call however many confluences ask."""
         key = (t, self.model.post_step_count[0])
         if key != self.refreshed:
-            body_states(self._read(), self._read_t(), self.global_layout, self.states)
+            self._step_states(self._read(), self._read_t(), self.global_layout, self.states)
             self.refreshed = key
             self.rows = self.states.tolist()   # the body channels' values, as lists
 
@@ -164,7 +167,7 @@ class Stage:
                 if loads.status[0] != 0.0:   # the aerodynamics met a problem and added nothing: mend, add them
                     loads.apply_after(t)
             else:
-                body_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
+                self._stage_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
                 for confluence in self.confluences:
                     confluence.stage_solve(t)
                 parts = self.parts

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .compiled import kernel
+from .compiled import bound, kernel
 from .interpolation import bracket_packed
 from .wind import TABLE_WIND, steady_wind
 
@@ -98,7 +98,7 @@ class Atmosphere:
 
     def state(self, altitude: float) -> tuple:
         """(density kg/m^3, speed of sound m/s or NaN) at geodetic ``altitude`` (m), from one kernel call."""
-        density, sound, status = atmosphere_state(self.kernel_parameters(), float(altitude))
+        density, sound, status = _atmosphere_state(self.kernel_parameters(), float(altitude))
         if status != 0.0:
             raise self.outside(altitude)
         return density, sound
@@ -430,3 +430,6 @@ def atmosphere_states(parameters, altitudes, out):
             return i
         out[0, i], out[1, i] = density, sound
     return -1
+
+
+_atmosphere_state = bound(atmosphere_state)   # ``Atmosphere.state``: per stage where a canopy's apparent mass needs it

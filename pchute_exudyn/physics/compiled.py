@@ -61,12 +61,16 @@ class CompiledKernel:
     arguments' types (``describe``), else the function's Python form (the same result, slower; counted in
     FALLBACKS)."""
 
-    __slots__ = ("py_func", "name", "codes", "__wrapped__")
+    __slots__ = ("py_func", "name", "codes", "floats", "__wrapped__")
 
     def __init__(self, function, codes: list):
         self.py_func = self.__wrapped__ = function
         self.name = f"{function.__module__}.{function.__qualname__}"
         self.codes = {types: code for types, code in codes}
+        # compiled for float arguments only: any number converts to a float exactly as the code reads it, so the
+        # call needs no check (3x3 linear algebra called per stage by the equilibrium point, hypot, gust speed)
+        only = len(codes) == 1 and all(kind == "f8" for kind in codes[0][0])
+        self.floats = codes[0][1] if only else None
 
     def code_for(self, arguments):
         """The compiled code for arguments of these types, or the Python form."""
@@ -78,6 +82,8 @@ class CompiledKernel:
         return code
 
     def __call__(self, *arguments):
+        if self.floats is not None:
+            return self.floats(*arguments)
         return self.code_for(arguments)(*arguments)
 
     def __repr__(self) -> str:
@@ -109,6 +115,19 @@ def machine_code(function, *arguments):
 
         return function.compile(tuple(numba.typeof(argument) for argument in arguments))
     return function.code_for(arguments)
+
+
+def bound(function):
+    """A caller of kernel ``function`` that runs the machine code for the types of its first call's arguments
+    (``machine_code``) from then on: for a per-stage call site whose arguments always have the same types (a
+    model's arrays), where a ``CompiledKernel``'s check of every call costs more than the kernel."""
+    codes = []
+
+    def call(*arguments):
+        if not codes:
+            codes.append(machine_code(function, *arguments))
+        return codes[0](*arguments)
+    return call
 
 
 def python_form(function):

@@ -19,7 +19,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .compiled import JIT, kernel
+from .compiled import JIT, bound, kernel
 
 _MATH = SimpleNamespace(sin=math.sin, cos=math.cos, atan2=math.atan2, hypot=math.hypot, sqrt=math.sqrt)
 _NUMPY = SimpleNamespace(sin=np.sin, cos=np.cos, atan2=np.arctan2, hypot=np.hypot, sqrt=np.sqrt)
@@ -353,7 +353,7 @@ class StartFrame:
     def altitude_scalar(self, x: float, y: float, z: float) -> float:
         """Geodetic altitude (m) of one start-frame position (m) (``start_altitude``: what the per-stage kernels
         compute)."""
-        return start_altitude(self.kernel_frame, x, y, z)
+        return _start_altitude(self.kernel_frame, float(x), float(y), float(z))
 
     @property
     def kernel_frame(self) -> np.ndarray:
@@ -394,3 +394,6 @@ def _rotate(vectors, axis_rate, time):
     kv = np.cross(k, vectors)
     kdot = (vectors @ k)[..., None]
     return vectors * c + kv * s + kdot * k * (1.0 - c)
+
+
+_start_altitude = bound(start_altitude)   # ``StartFrame.altitude_scalar``: per stage for a canopy's apparent mass
