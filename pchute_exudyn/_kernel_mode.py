@@ -132,7 +132,7 @@ def worth_building_first(steps: float) -> bool:
     found, would take longer that way than building the module first (a foreground build pays for itself when the
     Python form would take over 1.5 times the build: about 40 000 steps, a 400-s descent at 1e-2 s)."""
     return (os.environ.get(VARIABLE) == "python" and chosen_automatically() and not table_path().exists()
-            and steps * PYTHON_STEP_SECONDS > 1.5 * BUILD_SECONDS)
+            and not failed().exists() and steps * PYTHON_STEP_SECONDS > 1.5 * BUILD_SECONDS)
 
 
 def building() -> bool:
@@ -179,11 +179,18 @@ def lock() -> Path:
     return table_path().with_suffix(".building")
 
 
+def failed() -> Path:
+    """Written by a build of this source that failed (no C compiler, say): runs then stop starting builds that would
+    fail the same way; ``python -m pchute_exudyn.kernel_cache`` still tries, and removes it when it succeeds."""
+    return table_path().with_suffix(".failed")
+
+
 def start_background_build() -> bool:
     """Spawn ``python -m pchute_exudyn.kernel_cache``, detached, when this process runs the Python kernels because
     no compiled module was found (not when a form was asked for), unless another process is building it; True when
     it spawned one."""
-    if os.environ.get(VARIABLE) != "python" or not chosen_automatically() or table_path().exists():
+    if os.environ.get(VARIABLE) != "python" or not chosen_automatically() or table_path().exists() or \
+            failed().exists():
         return False
     path = lock()
     try:

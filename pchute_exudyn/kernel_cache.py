@@ -292,13 +292,22 @@ def main(argv=None) -> int:
         # compiling needs the kernels as numba dispatchers: in a process that imports them in the jit form
         return subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", *(argv or sys.argv[1:])],
                               env={**os.environ, _kernel_mode.VARIABLE: "jit"}).returncode
+    failed = _kernel_mode.failed() if args.out is None else None
     try:
         if args.record is not None:
             old = json.loads(_kernel_mode.SIGNATURES.read_text()) if _kernel_mode.SIGNATURES.is_file() else {}
             _kernel_mode.SIGNATURES.write_text(json.dumps(merged(old, record(args.record)), indent=1) + "\n")
             print(f"wrote {_kernel_mode.SIGNATURES}")
             return 0
-        table = build(args.out, args.verbose)
+        try:
+            table = build(args.out, args.verbose)
+        except Exception as exc:   # recorded, so that runs stop starting builds that fail the same way
+            if failed is not None:
+                failed.parent.mkdir(parents=True, exist_ok=True)
+                failed.write_text(f"{type(exc).__name__}: {exc}\n")
+            raise
+        if failed is not None:
+            failed.unlink(missing_ok=True)
         print(f"compiled kernels: {table.parent / json.loads(table.read_text())['file']}")
     finally:
         if args.lock is not None:

@@ -241,9 +241,13 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
     try:
         raw = integrate(model, plan.integrator, plan.step, phase.end, output_step, case.simulation.spectral_radius,
                         start=phase.start, report=report, solution_file=solution_file)
+        check_history(case, raw, plan.step)
     except Interrupted as exc:   # say how far the whole run got, not the phase
+        model.release()
         raise Interrupted(exc.time, plan.duration) from None
-    check_history(case, raw, plan.step)
+    except BaseException:
+        model.release()
+        raise
     return model, raw, touchdown
 
 
@@ -265,12 +269,15 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
         events.extend(phase.events)
         solution_file = None if solution_folder is None else Path(solution_folder) / ENGINE_SOLUTION.format(number)
         model, raw, touchdown = _run_phase(case, plan, phase, output_step, report, solution_file)
-        histories.append(raw)
-        merge_facts(facts, model.facts())
-        if touchdown is not None and touchdown.crossing is not None:
-            events.append(TouchdownEvent.from_crossing(*touchdown.crossing))
-            break
-        body_states, confluence_states = model.end_state()
+        try:
+            histories.append(raw)
+            merge_facts(facts, model.facts())
+            if touchdown is not None and touchdown.crossing is not None:
+                events.append(TouchdownEvent.from_crossing(*touchdown.crossing))
+                break
+            body_states, confluence_states = model.end_state()
+        finally:
+            model.release()   # every phase model's engine system freed as soon as it is read
     raw = concatenate(case, histories)
     return raw, facts, events + opening_events(case, openings, float(raw.time[-1])), openings
 

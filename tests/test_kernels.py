@@ -112,3 +112,15 @@ def test_a_module_of_other_source_is_not_loaded(tmp_path):
     (tmp_path / table["file"]).write_bytes((current.parent / table["file"]).read_bytes())
     assert _kernel_mode.load_compiled(tmp_path) is None
     assert _kernel_mode.load_compiled(current.parent) is not None
+
+
+def test_a_build_that_failed_is_not_started_again_by_every_run(tmp_path, monkeypatch):
+    """Where no module can be built (no C compiler, say) the builder leaves a mark: runs stop starting builds in the
+    background or first, and keep the Python form; without the mark a long run builds first."""
+    monkeypatch.setenv("PCHUTE_KERNEL_DIR", str(tmp_path))
+    monkeypatch.setenv(_kernel_mode.VARIABLE, "python")
+    monkeypatch.setenv(_kernel_mode.VARIABLE + "_AUTO", "1")
+    assert _kernel_mode.worth_building_first(100_000) and not _kernel_mode.worth_building_first(1_000)
+    _kernel_mode.failed().write_text("CompileError: no C compiler\n")
+    assert not _kernel_mode.worth_building_first(100_000)
+    assert not _kernel_mode.start_background_build() and not _kernel_mode.lock().exists()

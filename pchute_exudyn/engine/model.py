@@ -165,6 +165,13 @@ class Model:
         return np.array([get(self.bodies[line.body].point_markers[line.point], OV.Position, CURRENT)
                          for line in system.lines])
 
+    def release(self) -> None:
+        """After the phase: drop the engine's system and with it the user functions it holds. Exudyn keeps those from
+        C++, out of the garbage collector's sight, so a model left to the collector was never freed (7 MB and 16 000
+        objects a PA1 run: 7 GB in each worker of a 2000-run study)."""
+        self.system_container.Reset()
+        self._keep_alive.clear()
+
     def end_state(self) -> tuple[dict, dict]:
         """Body and confluence states at the current (end-of-phase) time, to start the next phase from."""
         bodies = {name: BodyState(self.read(BodyChannel(name, "position")),
