@@ -229,8 +229,8 @@ def commit_of(code: Path | None) -> str:
     if code is None:
         return "-"
     found = subprocess.run(["git", "-C", str(code), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
-    dirty = subprocess.run(["git", "-C", str(code), "status", "--porcelain", "--untracked-files=no"],
-                           capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "-C", str(code), "status", "--porcelain", "--untracked-files=no", "--", ".",
+                            ":(exclude)validation/output"], capture_output=True, text=True).stdout.strip()
     return (found.stdout.strip() or "?") + (" with uncommitted changes" if dirty else "")
 
 
