@@ -11,10 +11,10 @@ Three forms of the same functions:
 * ``python``: the functions as written (the same results, several times slower per stage).
 
 ``PCHUTE_KERNELS`` in the environment chooses: ``compiled`` (the compiled module, or ``jit`` when no module of the
-current source exists: the test suite), ``jit`` or ``python``. Unset: ``compiled`` when the module exists, else
-``python`` while a background process builds the module for the runs after this one (``start_background_build``).
-Chosen once per process, before ``physics`` is imported (``pchute_exudyn/__init__.py``); child processes inherit
-the choice.
+current source exists: the test suite), ``jit`` or ``python``; any other value is an input error
+(``rejected_choice``). Unset: ``compiled`` when the module exists, else ``python`` while a background process
+builds the module for the runs after this one (``start_background_build``). Chosen once per process, before
+``physics`` is imported (``pchute_exudyn/__init__.py``); child processes inherit the choice.
 """
 
 from __future__ import annotations
@@ -101,11 +101,25 @@ def load_compiled(folder: Path | None = None) -> dict | None:
     return None
 
 
+REJECTED: list = []
+"""A value of ``PCHUTE_KERNELS`` that names no form, when one was given (the process chose as if unset)."""
+
+
+def rejected_choice() -> str | None:
+    """One line naming a ``PCHUTE_KERNELS`` value that is not a form, or None. Not raised at import: the command
+    line prints it as its error, ``simulate`` raises it."""
+    if not REJECTED:
+        return None
+    return f"{VARIABLE}={REJECTED[0]!r} in the environment: allowed {', '.join(MODES)}, or unset (automatic)"
+
+
 def select() -> str:
     """Decide the form for this process (and its children): see the module docstring. Sets the environment
     variable so every later import agrees; the compiled module's exports go to ``_kernel_form.EXPORTS``."""
     asked = os.environ.get(VARIABLE)
     mode = asked if asked in MODES else None
+    if asked and mode is None:   # reported by rejected_choice (the command line and simulate), not at import
+        REJECTED.append(asked)
     if mode in (None, "compiled"):
         exports = load_compiled()
         if exports is not None:
@@ -136,12 +150,28 @@ def worth_building_first(steps: float) -> bool:
 
 
 def building() -> bool:
-    """Whether another process is building the module now (its lock is younger than LOCK_AGE)."""
+    """Whether another process is building the module now: its lock is younger than LOCK_AGE and the process whose
+    id it holds (the builder's, once started) is alive: a builder killed outright leaves a lock nobody waits for."""
     path = lock()
     try:
-        return time.time() - path.stat().st_mtime < LOCK_AGE
+        if time.time() - path.stat().st_mtime >= LOCK_AGE:
+            return False
+        holder = int(path.read_text() or 0)
+    except (OSError, ValueError):
+        return False
+    return holder == 0 or alive(holder)   # 0: the lock is being written
+
+
+def alive(pid: int) -> bool:
+    if os.name == "nt":   # os.kill would end the process there; the lock's age decides alone
+        return True
+    try:
+        os.kill(pid, 0)
+    except PermissionError:   # alive, another user's
+        return True
     except OSError:
         return False
+    return True
 
 
 def build_now() -> bool:
@@ -195,7 +225,7 @@ def start_background_build() -> bool:
     path = lock()
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        if path.exists() and time.time() - path.stat().st_mtime < LOCK_AGE:
+        if building():
             return False
         path.write_text(str(os.getpid()))
         import subprocess  # here only: most processes never start a build

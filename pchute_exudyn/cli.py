@@ -574,13 +574,16 @@ def command() -> None:
 def main(argv=None) -> int:
     """The command line: returns the exit status (``command`` is the entry point)."""
     args = build_parser().parse_args(argv)
+    if _kernel_mode.rejected_choice():
+        print(f"pchute: error: {_kernel_mode.rejected_choice()}", file=sys.stderr)
+        return EXIT_USAGE
     try:
         return args.func(args)
     except PchuteError as exc:
         print(f"pchute {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
     except KeyboardInterrupt as exc:   # Ctrl-C: not an error; a run says where it stopped (errors.Interrupted)
-        print(f"pchute {args.command}: {exc or 'interrupted'}", file=sys.stderr)
+        print(f"pchute {args.command}: {str(exc) or 'interrupted'}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except BrokenPipeError:   # the reader of the output went away (`pchute compare ... | head`): stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

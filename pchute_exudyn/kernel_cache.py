@@ -288,6 +288,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.if_missing and _kernel_mode.table_path(folder=args.out).is_file():
         return 0
+    if args.lock is not None and os.environ.get(_kernel_mode.VARIABLE) != "jit":
+        args.lock.write_text(str(os.getpid()))   # the builder holds the lock now, not the run that started it
     if os.environ.get(_kernel_mode.VARIABLE) != "jit":
         # compiling needs the kernels as numba dispatchers: in a process that imports them in the jit form
         return subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", *(argv or sys.argv[1:])],

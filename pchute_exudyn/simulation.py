@@ -100,6 +100,8 @@ def _check_number(name: str, value, flag: str) -> float:
 def resolve_run(case: Case, method=None, integrator: str | None = None, step: float | None = None,
                 duration: float | None = None, options=None) -> RunPlan:
     """Fill in the case's defaults and validate method, options, integrator, step (s) and duration (s)."""
+    if _kernel_mode.rejected_choice():   # the environment's kernel form, checked with the run's other inputs
+        raise InputError(_kernel_mode.rejected_choice())
     resolved = resolve_method(case, method, options)
     integrator = case.simulation.integrator if integrator is None else integrator
     try:

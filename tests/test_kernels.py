@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import inspect
 import json
+import os
 import subprocess
 import sys
 from array import array
@@ -34,6 +35,20 @@ def test_a_process_that_runs_the_compiled_module_never_imports_numba():
                            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('numba', 'llvmlite')))",
                            str(ROOT / "cases" / "mer" / "case1.toml")], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "[]"
+
+
+def test_a_kernel_form_that_does_not_exist_is_one_line_naming_it_and_exit_2(tmp_path):
+    environment = {**os.environ, "PCHUTE_KERNELS": "fast"}
+    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(ROOT / "cases" / "mer" / "case1.toml"),
+                           "--no-plot", "--out", str(tmp_path / "r")], capture_output=True, text=True, env=environment)
+    assert done.returncode == 2 and not (tmp_path / "r").exists()
+    assert done.stderr.splitlines() == [
+        "pchute: error: PCHUTE_KERNELS='fast' in the environment: allowed compiled, jit, python, or unset (automatic)"]
+    done = subprocess.run([sys.executable, "-c", "import sys, pchute_exudyn as pc\ntry:\n"
+                           " pc.simulate(pc.load_case(sys.argv[1]), 'sp', duration=0.1)\n"
+                           "except pc.InputError as error:\n print(error)", str(ROOT / "cases" / "mer" / "case1.toml")],
+                          capture_output=True, text=True, env=environment, check=True)
+    assert "PCHUTE_KERNELS='fast'" in done.stdout and done.stderr == ""
 
 
 @pytest.mark.parametrize("value", [
@@ -124,3 +139,22 @@ def test_a_build_that_failed_is_not_started_again_by_every_run(tmp_path, monkeyp
     _kernel_mode.failed().write_text("CompileError: no C compiler\n")
     assert not _kernel_mode.worth_building_first(100_000)
     assert not _kernel_mode.start_background_build() and not _kernel_mode.lock().exists()
+
+
+def test_a_build_lock_counts_only_while_its_builder_lives(tmp_path, monkeypatch):
+    """A run waits for a build in progress, never for the lock of a builder that was killed outright (it would wait
+    LOCK_AGE, ten minutes, without progress)."""
+    monkeypatch.setenv("PCHUTE_KERNEL_DIR", str(tmp_path))
+    builder = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        _kernel_mode.lock().write_text(str(builder.pid))
+        assert _kernel_mode.building()
+    finally:
+        builder.kill()
+        builder.wait()
+    assert not _kernel_mode.building()
+    _kernel_mode.lock().write_text("")   # being written by a starting build
+    assert _kernel_mode.building()
+    old = _kernel_mode.lock().stat().st_mtime - _kernel_mode.LOCK_AGE - 1
+    os.utime(_kernel_mode.lock(), (old, old))
+    assert not _kernel_mode.building()
