@@ -145,8 +145,14 @@ def worth_building_first(steps: float) -> bool:
     """Whether a run of ``steps`` integration steps, in a process that runs the Python form because no module was
     found, would take longer that way than building the module first (a foreground build pays for itself when the
     Python form would take over 1.5 times the build: about 40 000 steps, a 400-s descent at 1e-2 s)."""
+    return build_would_help() and steps * PYTHON_STEP_SECONDS > 1.5 * BUILD_SECONDS
+
+
+def build_would_help() -> bool:
+    """Whether this process runs the Python form because no module was found (not because a form was asked for),
+    and no build of this source failed."""
     return (os.environ.get(VARIABLE) == "python" and chosen_automatically() and not table_path().exists()
-            and not failed().exists() and steps * PYTHON_STEP_SECONDS > 1.5 * BUILD_SECONDS)
+            and not failed().exists())
 
 
 def building() -> bool:
@@ -185,15 +191,23 @@ def build_now() -> bool:
             time.sleep(0.2)
         if table_path().exists():
             return True
+    command = builder_command()
+    if command is None:
+        return False
+    done = subprocess.run(command, env=fresh_environment(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return done.returncode == 0 and table_path().exists()
+
+
+def builder_command() -> list | None:
+    """The command that builds the module, with the build lock taken for it (the builder removes it); None when the
+    kernel folder cannot be written."""
     path = lock()
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(str(os.getpid()))
-    except OSError:   # a read-only kernel folder: nothing can be built
-        return False
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)],
-                          env=fresh_environment(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return done.returncode == 0 and table_path().exists()
+    except OSError:
+        return None
+    return [sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)]
 
 
 def fresh_environment() -> dict:
@@ -219,21 +233,17 @@ def start_background_build() -> bool:
     """Spawn ``python -m pchute_exudyn.kernel_cache``, detached, when this process runs the Python kernels because
     no compiled module was found (not when a form was asked for), unless another process is building it; True when
     it spawned one."""
-    if os.environ.get(VARIABLE) != "python" or not chosen_automatically() or table_path().exists() or \
-            failed().exists():
+    if not build_would_help() or building():
         return False
-    path = lock()
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        if building():
-            return False
-        path.write_text(str(os.getpid()))
-        import subprocess  # here only: most processes never start a build
+    command = builder_command()
+    if command is None:   # a read-only kernel folder: the runs keep the Python kernels
+        return False
+    import subprocess  # here only: most processes never start a build
 
-        env = fresh_environment()
-        subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)], env=env,
-                         start_new_session=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL)
-        return True
-    except OSError:   # a read-only cache folder: the runs keep the Python kernels
+    try:
+        subprocess.Popen(command, env=fresh_environment(), start_new_session=True, stdin=subprocess.DEVNULL,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except OSError:
+        lock().unlink(missing_ok=True)
         return False
+    return True

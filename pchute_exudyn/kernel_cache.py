@@ -16,6 +16,7 @@ kernel's arguments change (``tests/test_kernels.py`` fails until then).
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import os
 import subprocess
@@ -235,7 +236,7 @@ def _forwarder(target, count: int):
 def build(folder: Path | None = None, verbose: bool = False) -> Path:
     """Compile every kernel in ``kernel_signatures.json`` into the module of the current source in ``folder``
     (default: the kernel folder); returns the module's table. Needs the jit form (numba) in this process."""
-    from numba import types
+    import numba
     from numba.pycc import CC
 
     folder = Path(folder) if folder is not None else _kernel_mode.cache_directory()
@@ -243,20 +244,18 @@ def build(folder: Path | None = None, verbose: bool = False) -> Path:
     key = _kernel_mode.source_key()
     wanted = json.loads(_kernel_mode.SIGNATURES.read_text())
     name = _kernel_mode.module_name(key)
-    import numba
-
     table = {"key": key, "numba": numba.__version__, "kernels": {}}
     with tempfile.TemporaryDirectory(dir=folder, prefix=".build-") as scratch:
         cc = CC(name, source_module=__name__)
         cc.output_dir = scratch
         cc.verbose = verbose
+        exports = (f"k{number}" for number in itertools.count())
         for kernel, entries in wanted.items():
             module_path, function_name = kernel.rsplit(".", 1)
             target = getattr(import_module(module_path), function_name)
             for arguments, result in entries:
-                export = f"k{sum(len(v) for v in table['kernels'].values())}"
-                signature = numba_type(result)(*(numba_type(a) for a in arguments)) if result != "none" else \
-                    types.none(*(numba_type(a) for a in arguments))
+                export = next(exports)
+                signature = numba_type(result)(*(numba_type(a) for a in arguments))
                 cc.export(export, signature)(_forwarder(target, len(arguments)))
                 table["kernels"].setdefault(kernel, []).append({"export": export, "arguments": arguments})
         with warnings.catch_warnings():
@@ -275,6 +274,31 @@ def build(folder: Path | None = None, verbose: bool = False) -> Path:
     return path
 
 
+STOP_SECONDS = 5.0
+"""How long a Ctrl-C'd build is given to stop by itself before it is killed."""
+
+
+def _build_in_jit_process(arguments: list, lock: Path | None) -> int:
+    """This command again in a process that imports the kernels in the jit form (compiling needs them as numba
+    dispatchers). It holds the build lock meanwhile; on Ctrl-C (which reaches both) it gives that process
+    STOP_SECONDS to stop and remove its scratch folder before killing it."""
+    if lock is not None:
+        lock.write_text(str(os.getpid()))   # the builder holds the lock now, not the run that started it
+    builder = subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernel_cache", *arguments],
+                               env={**os.environ, _kernel_mode.VARIABLE: "jit"})
+    try:
+        return builder.wait()
+    except KeyboardInterrupt:
+        try:
+            builder.wait(timeout=STOP_SECONDS)
+        except (subprocess.TimeoutExpired, KeyboardInterrupt):
+            builder.kill()
+        raise
+    finally:
+        if lock is not None:
+            lock.unlink(missing_ok=True)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pchute_exudyn.kernel_cache", description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=None, help="folder for the module (default: the kernel folder)")
@@ -288,12 +312,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.if_missing and _kernel_mode.table_path(folder=args.out).is_file():
         return 0
-    if args.lock is not None and os.environ.get(_kernel_mode.VARIABLE) != "jit":
-        args.lock.write_text(str(os.getpid()))   # the builder holds the lock now, not the run that started it
     if os.environ.get(_kernel_mode.VARIABLE) != "jit":
-        # compiling needs the kernels as numba dispatchers: in a process that imports them in the jit form
-        return subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", *(argv or sys.argv[1:])],
-                              env={**os.environ, _kernel_mode.VARIABLE: "jit"}).returncode
+        return _build_in_jit_process(argv or sys.argv[1:], args.lock)
     failed = _kernel_mode.failed() if args.out is None else None
     try:
         if args.record is not None:

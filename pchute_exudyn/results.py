@@ -135,8 +135,7 @@ class Result:
             scene[SCENE] = json_text(self.scene)
         with atomic_writer(paths["npz"], "wb") as handle:
             # not compressed: deflate takes 40 times longer to write a history (0.1 s for MER's 60 s) and saves 20 %
-            np.savez(handle, **self.columns, units=json_text(self.units),
-                                summary=json_text(self.summary), **scene)
+            np.savez(handle, **self.columns, units=json_text(self.units), summary=json_text(self.summary), **scene)
         atomic_write_text(paths["summary"], json_text(self.summary, indent=2) + "\n")
         for name, text in self.attachments.items():
             paths[name] = folder / name

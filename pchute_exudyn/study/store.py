@@ -102,7 +102,7 @@ class StudyStore:
         ``runs.parquet``."""
         rows = [{**self._input_row(self.runs[i]), **self.records[i]} for i in sorted(self.records)]
         self._columns = self._keys(rows)
-        atomic_write_text(self.folder / "runs.csv", self._csv(rows))
+        atomic_write_text(self.folder / "runs.csv", self._csv(rows, self._columns))
         if final:
             write_parquet(self.folder)
 
