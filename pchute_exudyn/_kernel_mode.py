@@ -131,7 +131,23 @@ def select() -> str:
             mode = "python"
             os.environ[VARIABLE + "_AUTO"] = "1"   # chosen here, not asked for: a background build may help
     os.environ[VARIABLE] = mode
+    if mode == "jit":
+        use_jit_cache_of_this_source()
     return mode
+
+
+JIT_CACHE_BASE = VARIABLE + "_NUMBA_BASE"
+"""The folder the jit form's per-source caches go in (set for child processes, so that they agree)."""
+
+
+def use_jit_cache_of_this_source() -> None:
+    """Point numba's on-disk cache at a folder of this kernel source (``jit_<source_key>``), under the folder a user
+    gave in ``NUMBA_CACHE_DIR`` or the kernel folder. numba keys a cached kernel by its own file only: a kernel that
+    calls one in another file that was edited would otherwise be loaded as compiled before the edit (an edited
+    aerodynamic law reached the full-mass kernels but not SP's, and the module built from them)."""
+    base = os.environ.get(JIT_CACHE_BASE) or os.environ.get("NUMBA_CACHE_DIR") or str(cache_directory())
+    os.environ[JIT_CACHE_BASE] = base
+    os.environ["NUMBA_CACHE_DIR"] = str(Path(base) / f"jit_{source_key()}")
 
 
 BUILD_SECONDS = 12.0

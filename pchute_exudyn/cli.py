@@ -166,6 +166,15 @@ _NEW_HELP = {   # NewCase field -> (metavar, help); the defaults come from NewCa
     "altitude": ("M", "start altitude of the vehicle's centre of mass in m"),
     "speed": ("M/S", "start descent speed in m/s; default the steady rate of descent there"),
     "name": ("TEXT", "the case's name"),
+    "drag_coefficient": ("C", "each canopy's drag coefficient C_D0 on its nominal area S0; default its type's"),
+    "wind_speed": ("M/S", "a constant wind's speed in m/s (the descent starts moving with the air)"),
+    "wind_from_deg": ("DEG", "where the wind comes from, deg clockwise from north"),
+    "release_airspeed": ("M/S", "release the vehicle from an aircraft at this airspeed in m/s: its canopies deploy "
+                                "at line stretch after --static-line-time and open by their type's fill constant"),
+    "release_heading_deg": ("DEG", "the aircraft's heading at the release, deg clockwise from north"),
+    "release_flight_path_deg": ("DEG", "the aircraft's flight-path angle at the release, deg (-90 to 90, climbing "
+                                       "> 0)"),
+    "static_line_time": ("S", "time from the release to line stretch in s"),
 }
 
 

@@ -19,6 +19,7 @@ import argparse
 import itertools
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -271,6 +272,9 @@ def build(folder: Path | None = None, verbose: bool = False) -> Path:
     for old in folder.glob("kernels_*"):   # modules of other source are never loaded again
         if not old.name.startswith(name):
             old.unlink(missing_ok=True)
+    for old in folder.glob("jit_*"):   # nor numba's caches of other source (_kernel_mode.use_jit_cache_of_this_source)
+        if old.name != f"jit_{key}":
+            shutil.rmtree(old, ignore_errors=True)
     return path
 
 

@@ -113,12 +113,14 @@ def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
 
 
 def check_history(case: Case, raw: RawHistory, step: float) -> None:
-    """Raise SimulationError if any sample is NaN/inf or a line is torn (strain > MAX_LINE_STRAIN)."""
+    """Raise SimulationError if a body ran away (``check_runaway``), any sample is NaN/inf or a line is torn
+    (strain > MAX_LINE_STRAIN)."""
     arrays = [raw.time] + [a for b in raw.bodies.values() for a in b.values()] \
         + [a for c in raw.confluences.values() for a in c.values()] + list(raw.tensions.values())
     bad_rows = np.zeros(len(raw.time), dtype=bool)
     for array in arrays:
         bad_rows |= ~np.isfinite(array.reshape(len(raw.time), -1)).all(axis=1)
+    check_runaway(case, raw, np.argmax(bad_rows) if bad_rows.any() else len(raw.time))
     if bad_rows.any():
         t = raw.time[np.argmax(bad_rows)]
         raise SimulationError(f"the state became NaN or infinite at t = {t:.4f} s: the integration diverged; "
@@ -138,6 +140,22 @@ def check_history(case: Case, raw: RawHistory, step: float) -> None:
                 f"line {case.line_label(system, line)} reached {length[row, col] / free[col]:.2f} times its free "
                 f"length at t = {raw.time[row]:.4f} s: the integration diverged; try a smaller step than {step:g} s",
                 float(raw.time[row]))
+
+
+def check_runaway(case: Case, raw: RawHistory, rows: int) -> None:
+    """Raise SimulationError naming the first body whose sampled speed or angular rate, in the first ``rows``
+    samples, is beyond the case's limits (``Case.runaway_limits``: a body without aerodynamics, which the per-stage
+    check does not see)."""
+    limits, first = case.runaway_limits(), None
+    for name, body in raw.bodies.items():
+        for quantity, values, limit in (("speed", body["velocity"], limits.speed),
+                                        ("rate", body["angular_velocity"], limits.rate(name))):
+            beyond = np.flatnonzero(np.linalg.norm(values[:rows], axis=1) > limit)
+            if len(beyond) and (first is None or beyond[0] < first[0]):
+                first = (beyond[0], name, quantity, float(np.linalg.norm(values[beyond[0]])))
+    if first is not None:
+        row, name, quantity, value = first
+        raise SimulationError(limits.message(name, quantity, value, float(raw.time[row])), float(raw.time[row]))
 
 
 def _point_columns(case: Case, prefix: str, time, position, velocity, columns: dict, units: dict) -> None:

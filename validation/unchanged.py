@@ -42,6 +42,17 @@ RUNS = [
     ("PA1 winds, SP, to touchdown", "cases/cev_pa1_winds.toml", dict(method="sp")),
     ("PA1 calibrated, SP, to touchdown", "cases/cev_pa1_calibrated.toml", dict(method="sp")),
     ("simple (chapter 2), full", "cases/simple/simple.toml", dict(method="full")),
+    # every other case file (issue 33: the aerodynamics beyond 90 deg and the runaway bounds change none of them)
+    ("MER 2, SP, 10 s", "cases/mer/case2.toml", dict(method="sp", duration=10.0)),
+    ("MER 6, SP, 10 s", "cases/mer/case6.toml", dict(method="sp", duration=10.0)),
+    ("MER 5 aero, SP, 20 s", "cases/mer/case5_aero.toml", dict(method="sp", duration=20.0)),
+    ("PA1 aero, SP, to touchdown", "cases/cev_pa1_aero.toml", dict(method="sp")),
+    ("PA1 cluster, SP, to touchdown", "cases/cev_pa1_cluster.toml", dict(method="sp")),
+    ("PA1 cluster main out, SP, to touchdown", "cases/cev_pa1_cluster_main_out.toml", dict(method="sp")),
+    ("PA1 cluster winds, SP, to touchdown", "cases/cev_pa1_cluster_winds.toml", dict(method="sp")),
+    ("PA1 cluster, full implicit, 30 s", "cases/cev_pa1_cluster.toml",
+     dict(method="full", integrator="implicit", duration=30.0)),
+    ("440-s descent, SP, to touchdown", "cases/simple/descent_440s.toml", dict(method="sp")),
 ]
 MACHINE = ("wall_time", "created", "versions", "steps_per_second", "case_file")
 """Summary keys that describe the machine or the moment, not the result."""

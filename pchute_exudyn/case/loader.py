@@ -57,6 +57,7 @@ from .model import (
     SimulationSettings,
     canopy_opening,
 )
+from .start import VELOCITY_FRAMES, Release, ground_relative
 from .tables import read_atmosphere_table
 
 _REQUIRED = object()
@@ -967,10 +968,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
             raise p.error("polar_radius", f"must be <= equatorial_radius ({planet.equatorial_radius:g} m)",
                           planet.polar_radius)
     p.finish()
-    s = top.table("start", {})
-    start = StartFrame(planet, s.number("latitude_deg", "deg", 0.0, minimum=-90.0, maximum=90.0),
-                       s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
-    s.finish()
+    start, frame, release = _read_start(top.table("start", {}), planet)
     atmosphere_table = top.table("atmosphere", None)
 
     body_tables = top.named_tables("bodies")
@@ -989,24 +987,74 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     atmosphere, wind, turbulence, gusts = None, None, None, ()
     if atmosphere_table is not None:
         ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
-        atmosphere, wind, turbulence, gusts = _read_atmosphere(atmosphere_table, ground, _heading(bodies[vehicle]))
+        atmosphere, wind, turbulence, gusts = _read_atmosphere(atmosphere_table, ground,
+                                                               _heading(bodies[vehicle], release))
     _check_mach(body_tables, bodies, atmosphere)
+    if release is not None:
+        _check_release(body_tables, system_tables, bodies, systems, vehicle)
     _check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
+    bodies, systems = ground_relative(bodies, systems, vehicle, wind, frame, release)
     _check_connections(system_tables, bodies, systems, vehicle)
     failures = _read_failures(top.table("failures", None), systems, simulation.duration)
     top.allowed.extend(("extends", "remove"))
     top.finish()
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
-                wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units), failures=failures)
+                wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units), failures=failures,
+                velocities_relative_to=frame, release=release)
 
 
-def _heading(vehicle: Body) -> tuple:
-    """Unit (east, north) direction of the vehicle's initial horizontal velocity (east when it has none): where
-    turbulence's u points without a mean wind."""
-    east, north = vehicle.initial.velocity_east, vehicle.initial.velocity_north
+def _heading(vehicle: Body, release: Release | None) -> tuple:
+    """Unit (east, north) direction of the vehicle's initial horizontal velocity as the case gives it (a release's
+    heading; east when it has none): where turbulence's u points without a mean wind."""
+    east, north = (release.air_velocity()[:2] if release is not None
+                   else (vehicle.initial.velocity_east, vehicle.initial.velocity_north))
     speed = math.hypot(east, north)
     return (east / speed, north / speed) if speed > 0.0 else (1.0, 0.0)
+
+
+def _read_start(s: _Table, planet) -> tuple:
+    """``[start]``: the start frame, what the initial velocities are relative to, and the release (or None)."""
+    start = StartFrame(planet, s.number("latitude_deg", "deg", 0.0, minimum=-90.0, maximum=90.0),
+                       s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
+    frame = s.string("velocities_relative_to", "ground", VELOCITY_FRAMES)
+    release = _read_release(s.table("release", None))
+    s.finish()
+    return start, frame, release
+
+
+def _read_release(t: _Table | None) -> Release | None:
+    """``[start.release]``: the aircraft's airspeed (m/s), heading and flight-path angle (deg)."""
+    if t is None:
+        return None
+    release = Release(t.number("airspeed", "m/s", minimum=0.0),
+                      t.number("heading_deg", "deg", minimum=-360.0, maximum=360.0),
+                      t.number("flight_path_deg", "deg", 0.0, minimum=-90.0, maximum=90.0))
+    t.finish()
+    return release
+
+
+RELEASED_KEYS = ("velocity_north", "velocity_east", "velocity_down", "rate_x", "rate_y", "rate_z")
+"""Initial-state keys a released vehicle may not have: its motion is the release's."""
+
+
+def _check_release(body_tables, system_tables, bodies, systems, vehicle: str) -> None:
+    """A release gives the vehicle its velocity and deploys every system at line stretch: the vehicle has no
+    velocities or rates of its own, every system a deploy_time (the static line's time from the release), and no
+    other free body an initial state."""
+    given = [key for key in RELEASED_KEYS if key in body_tables[vehicle].data.get("initial", {})]
+    if given:
+        raise body_tables[vehicle].error(f"initial.{given[0]}", "a vehicle released from an aircraft "
+                                         "(start.release) takes its velocity and rates from the release; remove it",
+                                         body_tables[vehicle].data["initial"][given[0]])
+    for name, system in systems.items():
+        if system.deploy_time is None:
+            raise system_tables[name].error("deploy_time", "required with start.release (s: the static line's time "
+                                                           "from the release to line stretch)")
+    for name, body in bodies.items():
+        if name != vehicle and not body.fixed and body.initial is not None:
+            raise body_tables[name].error("initial", "with start.release only the vehicle starts with a state; its "
+                                                     "canopies are placed at line stretch: remove this table")
 
 
 def _check_mach(body_tables, bodies, atmosphere) -> None:

@@ -19,6 +19,8 @@ from ..physics.inflation import Inflation, nominal_diameter, skipping, with_disr
 from ..physics.interpolation import interpolate_held
 from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
+from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
+from .start import Release
 
 
 @dataclass(frozen=True)
@@ -439,6 +441,11 @@ class Case:
         The unit of every case key the loader read ("m/s", "" for a pure number), by full dotted key.
     failures : Failures
         The canopies that fail, and how (none by default).
+    velocities_relative_to : {"ground", "air"}
+        What the case file's initial velocities were relative to (``case.start``); the ``InitialState`` velocities
+        of a loaded case are relative to the ground either way.
+    release : Release or None
+        The release from an aircraft that gave the vehicle its initial velocity (``case.start``); None: none.
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -461,6 +468,8 @@ class Case:
     gusts: tuple = ()
     key_units: dict = field(default_factory=dict)
     failures: Failures = field(default_factory=Failures)
+    velocities_relative_to: str = "ground"
+    release: Release | None = None
 
     def unit_of(self, key: str) -> str | None:
         """The unit of ``key`` in override syntax (``main.lines.*.stiffness``, body and system names leading),
@@ -475,6 +484,28 @@ class Case:
     def air_motion(self) -> AirMotion:
         """The air's motion (``physics.air.AirMotion``): planet rotation, steady wind, turbulence and gusts."""
         return AirMotion(self.start, self.wind, self.turbulence, self.gusts)
+
+    def runaway_limits(self) -> RunawayLimits:
+        """The speed and rates no body of this case reaches unless its run diverged (``physics.runaway``): from the
+        bodies' start speeds and rates, the fall from the highest start altitude to the ground (0 m when the case
+        flies on below it), the air's largest speed up there and the planet's rotation."""
+        starting = [body.initial for body in self.free_bodies() if body.initial is not None]
+        top = max([state.altitude for state in starting], default=0.0)
+        ground = self.simulation.ground_altitude or 0.0
+        start = self.start
+        gravity = float(np.linalg.norm(self.planet.gravity(self.planet.cartesian(start.latitude_deg,
+                                                                                 start.longitude_deg, 0.0))))
+        steady = self.wind.largest_speed(top) if self.wind is not None else 0.0
+        sigma = self.turbulence.largest_sigma(top) if self.turbulence is not None else 0.0
+        radius = 0.0 if isinstance(self.planet, FlatPlanet) else self.planet.equatorial_radius + top
+        return RunawayLimits(
+            start_speed=max([float(np.linalg.norm(state.velocity_enu)) for state in starting], default=0.0),
+            fall_speed=fall_speed(gravity, top - ground),
+            wind_speed=wind_bound(steady, sigma, [gust.amplitude for gust in self.gusts]),
+            ground_speed=abs(self.planet.rotation_rate) * radius,
+            start_rate=max([float(np.linalg.norm(state.angular_velocity)) for state in starting], default=0.0),
+            radii={body.name: float(np.sqrt(np.linalg.eigvalsh(body.inertia)[0] / body.mass))
+                   for body in self.free_bodies()})
 
     def drawing(self, body_name: str) -> dict:
         """How pictures draw body ``body_name`` (JSON-able): its role (vehicle, canopy or body), diameter (m: from

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..physics.atmosphere import US76, MarsGRC
-from ..physics.cluster import spread_directions, touching_spread
+from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency, spread_directions, touching_spread
 from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
 from .model import Contact
@@ -41,16 +41,17 @@ CANOPY_TYPES = {   # C_D0 on S0, subsonic, mid-range of Knacke, Parachute Recove
     "flat_circular": 0.77,
     "cross": 0.70,
 }
-PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2 for sizing, density model)
+PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2, density model, radius m)
     "mars": (['name = "Mars"', "gravitational_parameter = 4.282828685e13   # m^3/s^2 (MER's, thesis Table 3.3)",
               "equatorial_radius = 3393940.0              # m", "polar_radius = 3376780.0                   # m",
               "rotation_rate = 0.0                        # rad/s"], "mars_grc", 4.282828685e13 / 3393940.0**2,
-             MarsGRC),
+             MarsGRC, 3393940.0),
     "earth": (['name = "Earth"', "gravitational_parameter = 3.986004418e14   # m^3/s^2 (WGS-84)",
                "equatorial_radius = 6378137.0              # m", "polar_radius = 6356752.314                # m",
                "rotation_rate = 0.0                        # rad/s (7.292115e-5 for a rotating Earth)"], "us76",
-              3.986004418e14 / 6378137.0**2, US76),
-    "flat": (['model = "flat"', "gravity = 9.80665                          # m/s^2"], "us76", 9.80665, US76),
+              3.986004418e14 / 6378137.0**2, US76, 6378137.0),
+    "flat": (['model = "flat"', "gravity = 9.80665                          # m/s^2"], "us76", 9.80665, US76,
+             math.inf),
 }
 MER_DRAG_AREA = 178.47 * 0.46
 """The default canopy's drag area (m^2): MER's parachute, S0 178.47 m^2 at C_A 0.46 (cases/mer/base.toml)."""
@@ -67,9 +68,31 @@ COMMENT_COLUMN = 44
 """Column at which the written file's comments start (the hand-written case files' layout)."""
 ATTACH_RADIUS = 0.35
 """Bridle attach circle / vehicle diameter (-)."""
+OPENINGS = {   # canopy type -> (fill constant n, opening exponent, overinflation C_x) of an unreefed canopy
+    "disk_gap_band": (8.0, 2.0, 1.0),   # assumed: no handbook value found (the solid flat canopy's n and exponent)
+    "ringsail": (7.0, 2.0, 1.10),       # n, C_x: Knacke; exponent assumed (solid cloth's, as the PA1 mains)
+    "ribbon": (14.0, 1.0, 1.05),        # Knacke: n, linear growth of a slotted canopy, C_x
+    "flat_circular": (8.0, 2.0, 1.7),   # Knacke: n, quadratic growth of solid cloth, C_x
+    "cross": (11.7, 2.0, 1.15),         # Knacke: n, C_x (1.1-1.2); exponent assumed (solid cloth's)
+}
+"""How ``pchute new`` opens a released vehicle's canopies (``physics.inflation``; docs/tutorial.md): the fill time
+n D0 / V (Knacke, Parachute Recovery Systems Design Manual, NWC TP 6575, March 1991, p. 5-43, n from Table 5-6's
+unreefed column), the drag area growing as (t / t_fill)^exponent (Pflanz's exponents, Knacke Fig. 5-51: 2 for solid
+cloth, 1 for slotted canopies) and overshooting to C_x times the full drag area at the end of the fill (C_x, the
+opening-force coefficient at infinite mass, Knacke Tables 5-1 and 5-2), falling back over OVERINFLATION_DECAY fill
+times. The handbook values were read from secondary transcriptions of the manual and are typical, not a design's."""
+OVERINFLATION_DECAY = 0.25
+"""The overshoot's fall (``overinflation_decay``) as a fraction of the fill time at the release airspeed (assumed)."""
+EDGE_ON_NORMAL = 0.25
+"""C_N at 90 deg (-, on S0), assumed: an edge-on canopy's side-on projected area (half the disc of its projected
+diameter 0.67 D0, about 0.22 S0) at a bluff body's drag coefficient near 1.1. A canopy with a constant C_A and no
+force at 90 deg slides edge-on through the air without drag once the flow turns it there (the axial force, opposing
+the axial airspeed, holds that at zero: docs/models/aerodatabase.md); with it, a canopy thrown past 90 deg by an
+opening or a gust is slowed and pulled back by its riser."""
 NORMAL_COEFFICIENT = ([0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0, 90.0],
-                      [0.0, 0.040, 0.080, 0.110, 0.130, 0.150, 0.140, 0.110, 0.0])
-"""C_N(alpha') of MER's parachute, zero trim (docs/models/mer.md): a stable canopy's restoring force."""
+                      [0.0, 0.040, 0.080, 0.110, 0.130, 0.150, 0.140, 0.110, EDGE_ON_NORMAL])
+"""C_N(alpha'): MER's zero-trim parachute table (docs/models/mer.md: a stable canopy's restoring force) to 60 deg,
+then rising to the cross-flow drag of a canopy seen edge-on, EDGE_ON_NORMAL at 90 deg (MER's table ends at 0)."""
 
 
 @dataclass(frozen=True)
@@ -101,9 +124,24 @@ class NewCase:
     altitude : float
         Start altitude of the vehicle's centre of mass (m).
     speed : float or None
-        Start descent speed (m/s, down); None: the steady rate of descent at the start altitude.
+        Start descent speed (m/s, down, relative to the air); None: the steady rate of descent at the start altitude.
     name : str
         The case's name.
+    drag_coefficient : float or None
+        Each canopy's C_D0 on its nominal area S0 (-); None: its type's (CANOPY_TYPES).
+    wind_speed : float
+        A constant wind's speed (m/s); 0: still air. The descent starts moving with the air either way
+        (``[start] velocities_relative_to = "air"``), so a wind set later (``--set atmosphere.wind.east=6``) does too.
+    wind_from_deg : float
+        The direction the wind comes from, clockwise from north (deg).
+    release_airspeed : float or None
+        Release the vehicle from an aircraft flying at this airspeed (m/s) instead of starting in steady descent:
+        its canopies deploy at line stretch after ``static_line_time`` and open by the fill-constant law of their
+        type (OPENINGS).
+    release_heading_deg, release_flight_path_deg : float
+        The aircraft's heading (deg, clockwise from north) and flight-path angle (deg, climbing > 0, -90 to 90).
+    static_line_time : float
+        Time (s, >= 0) from the release to line stretch.
     """
 
     planet: str = "mars"
@@ -121,6 +159,13 @@ class NewCase:
     altitude: float = 8000.0
     speed: float | None = None
     name: str = "new case"
+    drag_coefficient: float | None = None
+    wind_speed: float = 0.0
+    wind_from_deg: float = 270.0
+    release_airspeed: float | None = None
+    release_heading_deg: float = 0.0
+    release_flight_path_deg: float = 0.0
+    static_line_time: float = 1.0
 
     def __post_init__(self):
         _choice("planet", self.planet, PLANETS)
@@ -131,6 +176,11 @@ class NewCase:
                       unit=_UNITS.get(key, "m"))
         if self.speed is not None:
             _number("speed", self.speed, self.speed >= 0.0, "must be >= 0 (m/s, downward)")
+        _positive("drag_coefficient", self.drag_coefficient, optional=True, unit="-")
+        _number("wind_speed", self.wind_speed, self.wind_speed >= 0.0, "must be >= 0 (m/s)")
+        _number("wind_from_deg", self.wind_from_deg, -360.0 <= self.wind_from_deg <= 360.0,
+                "must be within -360..360 (deg, clockwise from north)")
+        self._check_release()
         if self.drag_area is not None and self.canopy_diameter is not None:
             raise InputError(f"drag_area = {self.drag_area!r} and canopy_diameter = {self.canopy_diameter!r}: give "
                              "one of them, not both")
@@ -142,13 +192,36 @@ class NewCase:
             raise InputError(f"bridle_length = {self.bridle_length!r}: must exceed the attach circle's radius, "
                              f"{ATTACH_RADIUS * self.diameter:g} m (0.35 x diameter)")
 
+    def _check_release(self) -> None:
+        if self.release_airspeed is not None:
+            _number("release_airspeed", self.release_airspeed, self.release_airspeed >= 0.0, "must be >= 0 (m/s)")
+        _number("release_heading_deg", self.release_heading_deg, -360.0 <= self.release_heading_deg <= 360.0,
+                "must be within -360..360 (deg, clockwise from north)")
+        _number("release_flight_path_deg", self.release_flight_path_deg,
+                -90.0 <= self.release_flight_path_deg <= 90.0, "must be within -90..90 (deg, climbing > 0)")
+        _number("static_line_time", self.static_line_time, self.static_line_time >= 0.0,
+                "must be >= 0 (s from the release to line stretch)")
+        if self.release_airspeed is not None and self.speed is not None:
+            raise InputError(f"speed = {self.speed!r} and release_airspeed = {self.release_airspeed!r}: a released "
+                             "vehicle starts at the aircraft's airspeed; give one of them")
+
+    @property
+    def released(self) -> bool:
+        """Whether the vehicle is released from an aircraft (else it starts in steady descent)."""
+        return self.release_airspeed is not None
+
+    @property
+    def canopy_drag_coefficient(self) -> float:
+        """Each canopy's C_D0 on S0 (-): the one given, else its type's."""
+        return CANOPY_TYPES[self.canopy_type] if self.drag_coefficient is None else float(self.drag_coefficient)
+
     @property
     def reference_area(self) -> float:
         """S0 of each canopy (m^2)."""
         if self.canopy_diameter is not None:
             return math.pi * self.canopy_diameter**2 / 4.0
         drag_area = MER_DRAG_AREA if self.drag_area is None else self.drag_area
-        return drag_area / CANOPY_TYPES[self.canopy_type]
+        return drag_area / self.canopy_drag_coefficient
 
 
 def _number(key, value, ok, allowed):
@@ -180,7 +253,7 @@ class _Layout:
     """Sizes and positions (m, kg, N/m; altitudes above the reference surface) derived from the choices."""
 
     choices: NewCase
-    gravity: float
+    gravity: float          # at the surface (m/s^2): the lines' sizing
     reference_area: float
     canopy_mass: float
     confluence_mass: float
@@ -194,12 +267,63 @@ class _Layout:
         c = self.choices
         return c.mass + c.canopies * self.canopy_mass + self.confluence_mass
 
+    @property
+    def height(self) -> float:
+        """The vehicle cylinder's height (m)."""
+        return 0.5 * self.choices.diameter
+
+    @property
+    def attach_radius(self) -> float:
+        """The bridles' attach circle's radius (m)."""
+        return ATTACH_RADIUS * self.choices.diameter
+
+    @property
+    def rise(self) -> float:
+        """The bridles' height from their attach points to the confluence, every bridle at free length (m)."""
+        if self.choices.bridles == 1:
+            return self.bridle_length
+        return math.sqrt(self.bridle_length**2 - self.attach_radius**2)
+
+    @property
+    def canopy_reach(self) -> float:
+        """Confluence to a canopy's centre (m): its riser and the apex-to-centre distance."""
+        return self.riser_length + self.apex_distance
+
+    @property
+    def spread(self) -> float:
+        """The cluster cone's half-angle (rad): the canopies' envelopes just touch."""
+        return touching_spread(self.projected_radius, self.canopy_reach, self.choices.canopies)
+
+    @property
+    def canopy_height(self) -> float:
+        """Vehicle centre of mass to a canopy's centre of mass (where its drag acts), vertically (m)."""
+        return 0.5 * self.height + self.rise + self.canopy_reach * math.cos(self.spread)
+
+    @property
+    def drag_efficiency(self) -> float:
+        """eta(n) of the cluster (``physics.cluster``; 1 for one canopy): what each canopy's C_A delivers."""
+        return drag_efficiency(DEFAULT_DRAG_EFFICIENCY, self.choices.canopies)
+
+    @property
+    def vertical_coefficient(self) -> float:
+        """Each canopy's force coefficient along the vertical (-) in steady descent: a cluster's canopies fly at
+        its spread theta off the vertical (their envelopes touching), where eta C_D0 along their axis and C_N(theta)
+        across it give eta C_D0 cos(theta) + C_N(theta) sin(theta); eta C_D0 for one canopy."""
+        theta = self.spread
+        normal = float(np.interp(math.degrees(theta), *NORMAL_COEFFICIENT))
+        return self.drag_efficiency * self.choices.canopy_drag_coefficient * math.cos(theta) + normal * math.sin(theta)
+
     def steady_rate(self, altitude: float) -> float:
-        """The closed-form steady rate of descent (m/s), sqrt(2 m g / (rho C_D S)) with m the suspended mass and
-        rho at ``altitude`` (m)."""
-        density = PLANETS[self.choices.planet][3]().density(altitude)
-        drag_area = self.choices.canopies * CANOPY_TYPES[self.choices.canopy_type] * self.reference_area
-        return math.sqrt(2.0 * self.total_mass * self.gravity / (density * drag_area))
+        """The closed-form steady rate of descent (m/s) of the vehicle at ``altitude`` (m), sqrt(2 m g / (rho n C_V
+        S0)): m the suspended mass (vehicle, canopies and confluence), g there, n canopies of vertical coefficient
+        C_V (``vertical_coefficient``: eta C_D0 for one canopy), rho where their drag acts (``canopy_height`` above
+        the vehicle)."""
+        c = self.choices
+        _, _, surface, atmosphere, radius = PLANETS[c.planet]
+        gravity = surface * (radius / (radius + altitude)) ** 2 if math.isfinite(radius) else surface
+        density = atmosphere().density(altitude + self.canopy_height)
+        drag_area = c.canopies * self.vertical_coefficient * self.reference_area
+        return math.sqrt(2.0 * self.total_mass * gravity / (density * drag_area))
 
 
 def layout(choices: NewCase) -> _Layout:
@@ -214,6 +338,11 @@ def layout(choices: NewCase) -> _Layout:
     plan = _Layout(choices, PLANETS[choices.planet][2], area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
                    choices.bridle_length or choices.diameter, choices.riser_length or 0.5 * nominal,
                    math.sqrt(line**2 - radius**2), radius)
+    circle = radius if choices.canopies == 2 else radius / math.sin(math.pi / max(choices.canopies, 2))
+    if choices.canopies > 1 and circle >= plan.canopy_reach:
+        raise InputError(f"canopies = {choices.canopies}: their envelopes (radius {radius:.3g} m) cannot sit side by "
+                         f"side on risers that reach {plan.riser_length + plan.apex_distance:.3g} m; lengthen "
+                         "riser_length or suspension_line_length")
     try:
         rate = plan.steady_rate(choices.altitude)
     except (ValueError, ZeroDivisionError):   # outside the model's range, or no air left
@@ -221,11 +350,6 @@ def layout(choices: NewCase) -> _Layout:
     if not (math.isfinite(rate) and rate > 0.0):
         raise InputError(f"altitude = {choices.altitude!r}: outside the {PLANETS[choices.planet][1]} atmosphere "
                          "(no finite air density there); start lower")
-    circle = radius if choices.canopies == 2 else radius / math.sin(math.pi / max(choices.canopies, 2))
-    if choices.canopies > 1 and circle >= plan.riser_length + plan.apex_distance:
-        raise InputError(f"canopies = {choices.canopies}: their envelopes (radius {radius:.3g} m) cannot sit side by "
-                         f"side on risers that reach {plan.riser_length + plan.apex_distance:.3g} m; lengthen "
-                         "riser_length or suspension_line_length")
     return plan
 
 
@@ -280,9 +404,7 @@ class _Writer:
     def __init__(self, plan: _Layout):
         self.plan, self.c = plan, plan.choices
         c = self.c
-        self.height = 0.5 * c.diameter                      # the vehicle cylinder's height (m)
-        self.attach_radius = ATTACH_RADIUS * c.diameter
-        self.rise = math.sqrt(plan.bridle_length**2 - self.attach_radius**2) if c.bridles > 1 else plan.bridle_length
+        self.height, self.attach_radius, self.rise = plan.height, plan.attach_radius, plan.rise
         self.confluence_altitude = c.altitude + 0.5 * self.height + self.rise
         self.speed = plan.steady_rate(c.altitude) if c.speed is None else c.speed
 
@@ -291,38 +413,61 @@ class _Writer:
 
     def header(self) -> list:
         c, p = self.c, self.plan
-        rate = "the steady rate there" if c.speed is None else "as chosen"
         planet_lines, atmosphere = PLANETS[c.planet][:2]
         return [f"# {c.name}: written by `pchute new` (pchute_exudyn.case.new; docs/tutorial.md). Units SI;",
-                "# angles in degrees only where named _deg. Every line starts at its free length, the confluence",
-                f"# where the lines' free lengths put it, everything moving down at {_n(self.speed)} m/s ({rate}).",
-                f"# Suspended mass {_n(p.total_mass)} kg; steady rate of descent sqrt(2 m g / (rho C_D S)) = "
-                f"{p.steady_rate(c.altitude):.3f} m/s at the start, {p.steady_rate(0.0):.3f} m/s at 0 m.",
+                "# angles in degrees only where named _deg. " + self.start_words()[0], *self.start_words()[1:],
+                f"# Suspended mass {_n(p.total_mass)} kg; steady rate of descent sqrt(2 m g / (rho n C_V S0)) = "
+                f"{p.steady_rate(c.altitude):.3f} m/s at the start,", f"# {p.steady_rate(0.0):.3f} m/s at 0 m: "
+                + ("C_V = C_D0 for one canopy" if c.canopies == 1 else
+                   f"C_V = eta C_D0 cos(theta) + C_N(theta) sin(theta) = {p.vertical_coefficient:.5g}, the drag "
+                   f"efficiency eta = {p.drag_efficiency:g}\n# of {c.canopies} canopies flying theta = "
+                   f"{math.degrees(p.spread):.2f} deg off the vertical (where their envelopes touch)") + ".",
                 "# Reported altitudes are each body's centre of mass (`vehicle_altitude`: the vehicle's); the canopy's",
-                f"# drag acts {_n(self.canopy_height())} m higher, at its aerodynamic centre "
+                f"# drag acts {_n(self.plan.canopy_height)} m higher in steady descent, at its aerodynamic centre "
                 f"(`{self.canopy_names()[0]}_altitude`).", "",
                 "[case]", f"name = {json.dumps(c.name)}",
                 f'description = "{c.mass:g} kg vehicle under {self.canopy_words()} ({c.planet})"',
                 'vehicle = "vehicle"', "", "[planet]", *planet_lines, "",
                 "[start]                                    # the start point", "latitude_deg = 0.0",
-                "longitude_deg = 0.0", "", "[atmosphere]", f'model = "{atmosphere}"', ""]
+                "longitude_deg = 0.0", "# initial velocities relative to the air (the wind at the vehicle's "
+                "start altitude): the descent starts moving with the wind", 'velocities_relative_to = "air"',
+                *self.release(), "",
+                "[atmosphere]", f'model = "{atmosphere}"', *self.wind(), ""]
+
+    def start_words(self) -> list:
+        """The header's lines on how the run starts."""
+        c = self.c
+        if c.released:
+            return [f"Released from an aircraft at {_n(c.release_airspeed)} m/s through the air",
+                    f"# (heading {c.release_heading_deg:g} deg, flight path {c.release_flight_path_deg:g} deg); the "
+                    f"canopies deploy at line stretch {c.static_line_time:g} s later", f"# and open with the "
+                    f"fill-constant law of a {c.canopy_type} canopy ([systems.main.inflation])."]
+        rate = "the steady rate there" if c.speed is None else "as chosen"
+        return ["Every line starts at its free length, the confluence",
+                "# where the lines' free lengths put it, everything moving with the air and down through it at",
+                f"# {_n(self.speed)} m/s ({rate})."]
+
+    def release(self) -> list:
+        c = self.c
+        if not c.released:
+            return []
+        return ["[start.release]                            # released from an aircraft: the vehicle leaves at the "
+                "aircraft's velocity through the air",
+                f"airspeed = {_n(c.release_airspeed)}   # m/s", f"heading_deg = {_n(c.release_heading_deg)}   # deg, "
+                "clockwise from north", f"flight_path_deg = {_n(c.release_flight_path_deg)}   # deg, climbing > 0"]
+
+    def wind(self) -> list:
+        c = self.c
+        if c.wind_speed == 0.0:
+            return ["# [atmosphere.wind] (none): e.g. speed = 6.0 and from_deg = 270.0 for a 6 m/s west wind"]
+        return ["[atmosphere.wind]                          # constant with altitude",
+                f"speed = {_n(c.wind_speed)}   # m/s",
+                f"from_deg = {_n(c.wind_from_deg)}   # deg: where it comes from, clockwise from north"]
 
     def canopy_words(self) -> str:
         c = self.c
         kind = c.canopy_type.replace("_", "-")
         return f"a {kind} canopy" if c.canopies == 1 else f"a cluster of {c.canopies} {kind} canopies"
-
-    def canopy_height(self) -> float:
-        """Vehicle centre of mass to a canopy's centre of mass, vertically (m)."""
-        return self.confluence_altitude - self.c.altitude + self.canopy_reach() * math.cos(self.spread())
-
-    def canopy_reach(self) -> float:
-        """Confluence to a canopy's centre (m): its riser and the apex-to-centre distance."""
-        return self.plan.riser_length + self.plan.apex_distance
-
-    def spread(self) -> float:
-        """The cluster cone's half-angle (rad): the canopies' envelopes just touch."""
-        return touching_spread(self.plan.projected_radius, self.canopy_reach(), self.c.canopies)
 
     def vehicle(self) -> list:
         c = self.c
@@ -335,10 +480,14 @@ class _Writer:
                 "the bridles' attach points"]
         for i, point in enumerate(self.attach_points(), start=1):
             rows.append(f"bridle{i} = {_vector(point)}")
+        if c.released:
+            rows.append(f"line_stretch = {_vector([-(0.5 * self.height + self.rise), 0.0, 0.0])}   # the confluence "
+                        "at deployment: every bridle at its free length")
         rows += ["[bodies.vehicle.initial]                   # attitude: body +x down (the descent attitude)",
-                 f"altitude = {_n(c.altitude)}                        # m: the centre of mass",
-                 f"velocity_down = {_n(self.speed)}                  # m/s", ""]
-        return rows
+                 f"altitude = {_n(c.altitude)}                        # m: the centre of mass"]
+        if not c.released:
+            rows.append(f"velocity_down = {_n(self.speed)}                  # m/s")
+        return rows + [""]
 
     def attach_points(self) -> list:
         c = self.c
@@ -356,11 +505,11 @@ class _Writer:
         axial = 2.0 / 3.0 * p.canopy_mass * p.projected_radius**2
         lateral = 5.0 / 12.0 * p.canopy_mass * p.projected_radius**2
         up = np.array([-1.0, 0.0, 0.0])    # descent frame (x down, y east, z south)
-        directions = spread_directions(-up, np.array([0.0, 1.0, 0.0]), self.spread(), c.canopies)
+        directions = spread_directions(-up, np.array([0.0, 1.0, 0.0]), self.plan.spread, c.canopies)
         confluence = np.array([-self.confluence_altitude, 0.0, 0.0])
         rows = []
         for name, toward_confluence in zip(self.canopy_names(), directions):
-            centre = confluence - self.canopy_reach() * toward_confluence
+            centre = confluence - self.plan.canopy_reach * toward_confluence
             yaw, pitch, roll = self.attitude(toward_confluence)
             rows += [f"[bodies.{name}]                            # {c.canopy_type}: a hemispherical shell of the "
                      "projected radius",
@@ -369,13 +518,17 @@ class _Writer:
                      f"inertia = {_vector([axial, lateral, lateral])}   # kg m^2",
                      f"points.riser = [{_n(p.apex_distance)}, 0.0, 0.0]   # m: the suspension lines' apex, "
                      f"{_n(c.suspension_line_length or nominal_diameter(p.reference_area))} m lines to the "
-                     "skirt", f"[bodies.{name}.initial]",
-                     f"altitude = {_n(-centre[0])}                  # m",
-                     *([] if c.canopies == 1 else [f"east = {_n(centre[1])}", f"north = {_n(-centre[2])}",
+                     "skirt", *([] if c.released else self.canopy_initial(name, centre, yaw, pitch, roll)),
+                     *self.aerodynamics(name), ""]
+        return rows
+
+    def canopy_initial(self, name: str, centre, yaw: float, pitch: float, roll: float) -> list:
+        """A canopy's initial table in steady descent (a released one gets its state at line stretch)."""
+        return [f"[bodies.{name}.initial]", f"altitude = {_n(-centre[0])}                  # m",
+                *([] if self.c.canopies == 1 else [f"east = {_n(centre[1])}", f"north = {_n(-centre[2])}",
                                                    f"yaw_deg = {_n(yaw)}", f"pitch_deg = {_n(pitch)}",
                                                    f"roll_deg = {_n(roll)}"]),
-                     f"velocity_down = {_n(self.speed)}", *self.aerodynamics(name), ""]
-        return rows
+                f"velocity_down = {_n(self.speed)}"]
 
     @staticmethod
     def attitude(toward_confluence) -> tuple:
@@ -391,28 +544,52 @@ class _Writer:
         return [f"[bodies.{name}.aerodynamics]",
                 f"reference_area = {_n(p.reference_area)}               # m^2: S0, D0 = "
                 f"{nominal_diameter(p.reference_area):.4f} m",
-                f"axial_coefficient = {CANOPY_TYPES[c.canopy_type]}                  # C_D0 of a {c.canopy_type} "
-                "(Knacke, Table 5-1, mid-range)",
+                f"axial_coefficient = {_n(c.canopy_drag_coefficient)}                  # C_D0 "
+                + (f"of a {c.canopy_type} (Knacke, Table 5-1, mid-range)" if c.drag_coefficient is None
+                   else "as given"),
                 "center = [0.0, 0.0, 0.0]                   # m: at the centre of mass",
-                f"[bodies.{name}.aerodynamics.normal_coefficient]   # MER's zero-trim canopy table; optional "
-                "(absent: C_N = 0)", f"alpha_deg = {alpha}", f"value = {value}"]
+                f"[bodies.{name}.aerodynamics.normal_coefficient]   # MER's zero-trim canopy table to 60 deg, "
+                f"then the edge-on canopy's cross-flow drag ({EDGE_ON_NORMAL:g} at 90 deg, assumed)",
+                f"alpha_deg = {alpha}", f"value = {value}"]
 
     def system(self) -> list:
         c, p = self.c, self.plan
         weight = c.mass * p.gravity
         bridle_tension = weight / max(c.bridles, 1) * (p.bridle_length / self.rise)
-        riser_tension = (weight + p.confluence_mass * p.gravity) / c.canopies / math.cos(self.spread())
+        riser_tension = (weight + p.confluence_mass * p.gravity) / c.canopies / math.cos(self.plan.spread)
         rows = ["[systems.main]", f"canopies = {self.canopy_names()}".replace("'", '"') if c.canopies > 1
-                else 'canopy = "canopy"', "[systems.main.confluence]",
-                f"mass = {_n(p.confluence_mass)}                            # kg (0.2 % of the vehicle's, assumed)",
-                "[systems.main.confluence.initial]", f"altitude = {_n(self.confluence_altitude)}   # m: where the "
-                "bridles' free lengths put it", f"velocity_down = {_n(self.speed)}", ""]
+                else 'canopy = "canopy"', *self.deployment(), "[systems.main.confluence]",
+                f"mass = {_n(p.confluence_mass)}                            # kg (0.2 % of the vehicle's, assumed)"]
+        if not c.released:
+            rows += ["[systems.main.confluence.initial]", f"altitude = {_n(self.confluence_altitude)}   # m: where "
+                     "the bridles' free lengths put it", f"velocity_down = {_n(self.speed)}"]
+        rows.append("")
         for i in range(1, c.bridles + 1):
             rows += self.line(f"bridle{i}", f"vehicle.bridle{i}", p.bridle_length, bridle_tension)
         for name in self.canopy_names():
             rows += self.line(f"riser_{name}" if c.canopies > 1 else "riser", f"{name}.riser", p.riser_length,
                               riser_tension)
         return rows
+
+    def deployment(self) -> list:
+        """A released vehicle's system: deployed at line stretch after the static line's time, opening by its type's
+        fill constant (OPENINGS)."""
+        c = self.c
+        if not c.released:
+            return []
+        fill, exponent, overinflation = OPENINGS[c.canopy_type]
+        fill_time = fill * nominal_diameter(self.plan.reference_area) / max(c.release_airspeed, 1.0)
+        decay = OVERINFLATION_DECAY * fill_time if overinflation > 1.0 else 0.0
+        return [f"deploy_time = {_n(c.static_line_time)}   # s: the static line's time from the release to line "
+                "stretch", 'deploy_point = "vehicle.line_stretch"',
+                f"[systems.main.inflation]                   # one stage from line stretch; {c.canopy_type} values "
+                "(OPENINGS in pchute_exudyn/case/new.py, docs/tutorial.md)",
+                "stage_start = [0.0]                        # s after line stretch", "fraction = [1.0]",
+                f"fill_constant = [{_n(fill)}]   # -: fill time n D0 / V, V the canopy's speed at line stretch",
+                f"exponent = [{_n(exponent)}]   # -: the drag area grows as (t / t_fill)^exponent",
+                f"overinflation = {_n(overinflation)}   # -: the drag area's overshoot at the end of the fill",
+                f"overinflation_decay = {_n(decay)}   # s: a quarter of the fill time at the release airspeed "
+                "(assumed)"]
 
     @staticmethod
     def line(name: str, attach: str, length: float, tension: float) -> list:
@@ -424,7 +601,8 @@ class _Writer:
 
     def simulation(self) -> list:
         c, p = self.c, self.plan
-        duration = 10.0 * math.ceil((1.25 * c.altitude / p.steady_rate(0.0) + 10.0) / 10.0)
+        before = c.static_line_time + 30.0 if c.released else 0.0   # a release: the deployment and the opening
+        duration = 10.0 * math.ceil((1.25 * c.altitude / p.steady_rate(0.0) + 10.0 + before) / 10.0)
         return ["[simulation]", f"duration = {_n(duration)}   # s: an upper bound; the run ends at touchdown "
                 "(the vehicle's centre of mass at 0 m)", "output_step = 0.02                         # s",
                 'method = "sp"', 'integrator = "rk4"',

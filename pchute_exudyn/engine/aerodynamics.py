@@ -13,6 +13,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Body, Case
+from ..errors import SimulationError
 from ..physics.aerodynamics import (
     FIELD,
     LOAD_COLUMNS,
@@ -25,7 +26,9 @@ from ..physics.aerodynamics import (
     pack_tables,
     work_size,
 )
-from ..physics.compiled import bound, machine_code
+from ..physics.compiled import bound, machine_code, python_form
+from ..physics.kinematics import point_motion
+from ..physics.runaway import RUNAWAY
 from .model import CURRENT, OV, Model
 
 
@@ -94,6 +97,7 @@ class AerodynamicLoads:
         self.parts = ()                  # (data, field, work) of those arguments
         self.work = np.zeros(work_size(0))   # physics.aerodynamics.work_size: status, fractions, values (``pack``)
         self._centre_load = bound(centre_load)   # single evaluations (outputs, a canopy's measured speed): per step
+        self.limits = case.runaway_limits()      # beyond them a body has run away (physics.runaway)
         self.status, self.fractions = self.work[:2], self.work[2:2]
 
     def add(self, body: Body, schedule, deployed_at: float, efficiency: float) -> BodyAerodynamics:
@@ -105,8 +109,9 @@ class AerodynamicLoads:
             offsets[key] = float(len(self.tables_list))
             self.tables_list.append(table)
         uses_mach = any(table.uses_mach for table in coefficients.values())
+        limits = self.limits
         self.rows.append(pack_body(aero.reference_area, aero.reference_length or 0.0, offsets, efficiency,
-                                   uses_mach))
+                                   uses_mach, limits.speed, limits.rate(body.name)))
         member = BodyAerodynamics(self, self.model, body, len(self.members), schedule, deployed_at)
         self.members.append(member)
         return member
@@ -168,19 +173,35 @@ class AerodynamicLoads:
         until the loads are added."""
         status = self.status
         while status[0] != 0.0:
-            self._mend(status[0], status[1])
+            self._mend(status[0], status[1], t)
             arguments = self._arguments
             self.bind(arguments[0], arguments[4])   # the field may be a new array
             self._kernel(t, *self._arguments)
 
-    def _mend(self, code: float, value: float) -> None:
-        """Grow the turbulence field (FIELD) or raise the atmosphere's error (OUTSIDE)."""
+    def _mend(self, code: float, value: float, t: float) -> None:
+        """Grow the turbulence field (FIELD), or raise the atmosphere's error (OUTSIDE) or a body's runaway
+        (RUNAWAY) at stage time ``t`` (s)."""
         if code == FIELD:
             self.air.extend(int(value))
             return
         if code == OUTSIDE:
             raise self.atmosphere.outside(value)
+        if code == RUNAWAY:
+            raise self.runaway(int(value), t)
         raise RuntimeError(f"aerodynamics kernel status {code}")   # pragma: no cover - no other codes
+
+    def runaway(self, index: int, t: float) -> SimulationError:
+        """The error of member ``index``, beyond its limits at stage time ``t`` (s): its speed or its rate, the
+        one furthest beyond."""
+        member, states = self.members[index], self._arguments[0]
+        point = self.points[index]
+        row = states[int(point[0])]
+        velocity = python_form(point_motion)(row, point[1], point[2], point[3])[3:]
+        speed, rate = math.sqrt(sum(v * v for v in velocity)), float(np.linalg.norm(row[18:21]))
+        limits = self.limits
+        quantity, value = (("speed", speed) if speed / limits.speed >= rate / limits.rate(member.body)
+                           else ("rate", rate))
+        return SimulationError(limits.message(member.body, quantity, value, t), t)
 
     def single(self, t: float, index: int, centre, rotation, rates, fraction: float) -> tuple:
         """One body's load at ``t`` (s) from its centre's (x, y, z, vx, vy, vz) (m, m/s), rotation (9) and

@@ -10,9 +10,14 @@ velocity (p, q, r)::
                                               alpha' = min(alpha, 180 - alpha) (a canopy, symmetric fore and aft)
     M     = |V| / a                           Mach number, a the speed of sound there
     V_perp = V - (V.e) e
-    F     = -qS C_A e  -  qS C_N V_perp / |V_perp|                       (the second term 0 when V_perp = 0)
-    M_b   = -qS d C_m (0, -V_z, V_y) / |(V_y, V_z)|                       (body axes; V_y, V_z of V in body axes)
+    F     = -s qS C_A e  -  qS C_N V_perp / |V_perp|                     (the second term 0 when V_perp = 0)
+    M_b   = -s qS d C_m (0, -V_z, V_y) / |(V_y, V_z)|                     (body axes; V_y, V_z of V in body axes)
             + qS d (d / (2 |V|)) (C_lp p, C_mq q, C_mq r)
+    s     = -1 when V.e < 0 (alpha > 90 deg) and the coefficient is folded (a constant, or a table ending at 90
+            deg), else +1: a body symmetric fore and aft flying backwards is the same body flying forwards turned
+            round, so its axial force opposes the axial airspeed and F.V = -qS (C_A |V.e| + C_N |V_perp|) <= 0
+            for C_A, C_N >= 0 at every attitude. A table to 180 deg is the body-axis data as given (a capsule's
+            C_A < 0 apex forward).
 
 C_A, C_N, C_m and the damping derivatives C_mq (= C_mq + C_malphadot, per radian) and C_lp are each a constant or a
 table over (Mach, alpha), linear in each (bilinear) and held at the edges. C_m is about the aerodynamic centre, the
@@ -38,6 +43,7 @@ from .interpolation import bracket_packed
 from .invalid import InvalidField
 from .kinematics import POINT_COLUMNS, add_point_force, point_motion
 from .planet import start_altitude
+from .runaway import RUNAWAY
 from .wind import GUST_COLUMNS
 
 
@@ -149,6 +155,14 @@ def _row_value(tables, start, n, angle_index, weight, row):
 
 
 @kernel
+def folded(tables, offset):
+    """Whether the packed table at ``offset`` is over the folded angle (a table ending at 90 deg, or a constant): a
+    body symmetric fore and aft, whose loads flying backwards (alpha > 90 deg) are those at 180 - alpha turned
+    round with it."""
+    return tables[offset + 2] == 0.0
+
+
+@kernel
 def coefficient(tables, offset, mach, alpha_deg):
     """The packed coefficient table at ``offset`` in ``tables`` (``CoefficientTable.packed``: Mach count, angle
     count, 1 for the total angle, the Mach numbers, the angles, the values row by row) at ``mach`` and the total angle
@@ -167,11 +181,13 @@ def coefficient(tables, offset, mach, alpha_deg):
     return low + u * (high - low)
 
 
-LOAD_COLUMNS = 9
+LOAD_COLUMNS = 11
 """A body's aerodynamics for the kernels (``pack_body``): reference area S (m^2), reference length d (m), the
 offsets in the packed tables of C_A, C_N, C_m, C_mq, C_lp (-1: none), the cluster drag efficiency multiplying C_A
-(-), and 1 when a coefficient depends on Mach."""
-AREA, LENGTH, AXIAL, NORMAL, MOMENT, PITCH_DAMPING, ROLL_DAMPING, EFFICIENCY, USES_MACH = range(LOAD_COLUMNS)
+(-), 1 when a coefficient depends on Mach, and the start-frame speed (m/s) and angular rate (rad/s) beyond which the
+body has run away (``physics.runaway``)."""
+(AREA, LENGTH, AXIAL, NORMAL, MOMENT, PITCH_DAMPING, ROLL_DAMPING, EFFICIENCY, USES_MACH, SPEED_LIMIT,
+ RATE_LIMIT) = range(LOAD_COLUMNS)
 VALUE_COLUMNS = 9
 """Per body and stage (``aerodynamics_stage``): force (N, start frame), moment (N m, body axes), dynamic pressure
 1/2 rho V^2 (Pa), Mach number (-; NaN when no coefficient needs it), total angle of attack (deg)."""
@@ -199,6 +215,8 @@ def aerodynamic_load(tables, body, vx, vy, vz, rotation, rates, density, sound, 
     if body[EFFICIENCY] != 1.0:
         axial = axial * body[EFFICIENCY]
     fa = -qs * axial
+    if along < 0.0 and folded(tables, int(body[AXIAL])):   # flying backwards: the same body turned round
+        fa = -fa
     if perp == 0.0:
         fx, fy, fz = fa * ex, fa * ey, fa * ez
     else:
@@ -212,6 +230,8 @@ def aerodynamic_load(tables, body, vx, vy, vz, rotation, rates, density, sound, 
         cross = math.sqrt(by * by + bz * bz)
         if cross > 0.0:
             moment = -qs * d * coefficient(tables, int(body[MOMENT]), look_up, alpha) / cross
+            if along < 0.0 and folded(tables, int(body[MOMENT])):   # turned round, it turns the other way
+                moment = -moment
             my, mz = -moment * bz, moment * by
     if body[PITCH_DAMPING] >= 0.0 or body[ROLL_DAMPING] >= 0.0:
         damping = qs * d * d / (2.0 * math.sqrt(speed2))
@@ -226,7 +246,18 @@ def aerodynamic_load(tables, body, vx, vy, vz, rotation, rates, density, sound, 
 
 OUTSIDE, FIELD = 1.0, 2.0
 """Status codes of ``centre_load`` and ``aerodynamics_stage``: an aerodynamic centre outside the atmosphere (the
-value: its altitude, m), the turbulence field too short (the value: the cells it needs)."""
+value: its altitude, m), the turbulence field too short (the value: the cells it needs); and ``aerodynamics_stage``'s
+``physics.runaway.RUNAWAY``."""
+
+
+@kernel
+def ran_away(body, vx, vy, vz, rates):
+    """Whether a body (its LOAD_COLUMNS row) whose aerodynamic centre moves at (vx, vy, vz) (m/s, start frame) and
+    turns at body-axis ``rates`` (rad/s) is beyond its limits: checked before the air is looked up, so that a
+    runaway is named before it leaves the atmosphere."""
+    speed_limit, rate_limit = body[SPEED_LIMIT], body[RATE_LIMIT]
+    return (vx * vx + vy * vy + vz * vz > speed_limit * speed_limit
+            or rates[0] * rates[0] + rates[1] * rates[1] + rates[2] * rates[2] > rate_limit * rate_limit)
 
 
 @kernel
@@ -305,15 +336,18 @@ def aerodynamics_stage(t, states, data, field, work, generalized):
     for j in range(count):
         point = points[j * POINT_COLUMNS:(j + 1) * POINT_COLUMNS]
         row = states[int(point[0])]
+        body = bodies[j * LOAD_COLUMNS:(j + 1) * LOAD_COLUMNS]
         x, y, z, vx, vy, vz = point_motion(row, point[1], point[2], point[3])
+        if ran_away(body, vx, vy, vz, row[18:21]):
+            work[0], work[1] = RUNAWAY, float(j)
+            return
         code, value, density, sound, ux, uy, uz = air_at(t, x, y, z, frame, atmosphere, air, wind, gusts, turbulence,
                                                          field)
         if code != 0.0:
             work[0], work[1] = code, value
             return
         vx, vy, vz = vx - ux, vy - uy, vz - uz
-        load = aerodynamic_load(tables, bodies[j * LOAD_COLUMNS:(j + 1) * LOAD_COLUMNS], vx, vy, vz, row[3:12],
-                                row[18:21], density, sound, work[2 + j])
+        load = aerodynamic_load(tables, body, vx, vy, vz, row[3:12], row[18:21], density, sound, work[2 + j])
         v = 2 + count + j * VALUE_COLUMNS
         for c in range(6):
             work[v + c] = load[c]
@@ -333,13 +367,15 @@ def aerodynamics_stage(t, states, data, field, work, generalized):
             generalized[k + 5] += work[v + 5]
 
 
-def pack_body(area: float, length: float, offsets: dict, efficiency: float = 1.0, uses_mach: bool = False) -> list:
+def pack_body(area: float, length: float, offsets: dict, efficiency: float = 1.0, uses_mach: bool = False,
+              speed_limit: float = math.inf, rate_limit: float = math.inf) -> list:
     """A body's row of LOAD_COLUMNS from its reference area (m^2) and length (m), the packed-table ``offsets`` of
     its coefficients (keys ``axial``, ``normal`` and, when it has them, ``moment``, ``pitch_damping``,
-    ``roll_damping``), its cluster drag efficiency (-) and whether a coefficient depends on Mach."""
+    ``roll_damping``), its cluster drag efficiency (-), whether a coefficient depends on Mach, and its runaway
+    limits: speed (m/s) and angular rate (rad/s)."""
     return [area, length, offsets["axial"], offsets["normal"], offsets.get("moment", -1.0),
             offsets.get("pitch_damping", -1.0), offsets.get("roll_damping", -1.0), efficiency,
-            1.0 if uses_mach else 0.0]
+            1.0 if uses_mach else 0.0, speed_limit, rate_limit]
 
 
 def pack_tables(tables) -> tuple[np.ndarray, list]:

@@ -419,6 +419,11 @@ class Wind:
         """(east, north) wind (m/s) at ``altitude`` (m)."""
         return steady_wind(self.kernel_parameters(), float(altitude))
 
+    def largest_speed(self, top: float) -> float:
+        """The wind's largest speed (m/s) at any altitude (``top``, m, unused: a table holds its ends beyond them,
+        and its speed is largest at one of its points)."""
+        return max(math.hypot(e, n) for e, n in zip(self.east, self.north))
+
 
 @kernel
 def atmosphere_states(parameters, altitudes, out):

@@ -103,6 +103,10 @@ class PowerLawWind:
         """(east, north) wind (m/s) at geodetic ``altitude`` (m)."""
         return steady_wind(self.kernel_parameters(), float(altitude))
 
+    def largest_speed(self, top: float) -> float:
+        """The wind's largest speed (m/s) up to geodetic altitude ``top`` (m): the power law grows with height."""
+        return math.hypot(*self.at(top))
+
 
 # -- Dryden turbulence --------------------------------------------------------------------------------------------
 
@@ -179,6 +183,12 @@ class DrydenTurbulence:
         if self.sigma is not None:
             return self.sigma, self.length
         return low_altitude_scales(height, self.wind_speed_6m)
+
+    def largest_sigma(self, top: float) -> float:
+        """The largest intensity (m/s) of any component between the ground and geodetic altitude ``top`` (m)
+        (the low-altitude forms' sigma_u and sigma_v fall with height: largest at the ground)."""
+        heights = np.linspace(0.0, max(top - self.ground_altitude, 0.0), 21)
+        return max(max(self.scales(float(h))[0]) for h in heights)
 
     def _extend(self) -> None:
         """Generate the next BLOCK cells from block k's own seed, continuing the recursions."""

@@ -1,0 +1,78 @@
+"""How a descent starts: the meaning of the case's initial velocities (relative to the ground or to the air) and the
+release from an aircraft (``[start]``, ``[start.release]``; docs/case-format.md).
+
+Both are resolved when the case is loaded: every ``InitialState`` of a loaded case holds velocities relative to the
+ground, whatever the file said, so that nothing downstream needs to know how the run began.
+
+The air the start moves with is the steady wind at the vehicle's start altitude (turbulence and gusts are departures
+from it, not the air a payload was carried in). A release gives the vehicle the aircraft's air-relative velocity
+
+    v_air = V (cos(gamma) sin(psi), cos(gamma) cos(psi), sin(gamma))        (east, north, up; m/s)
+
+V the airspeed, psi the heading (clockwise from north), gamma the flight-path angle (positive climbing); its systems
+deploy at line stretch at their ``deploy_time`` (a static line's time from the release).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+VELOCITY_FRAMES = ("ground", "air")
+"""What the ``velocity_*`` keys of the ``initial`` tables are relative to (``[start] velocities_relative_to``)."""
+
+
+@dataclass(frozen=True)
+class Release:
+    """A payload released from an aircraft.
+
+    Attributes
+    ----------
+    airspeed : float
+        The aircraft's speed through the air (m/s, >= 0).
+    heading_deg : float
+        Its direction of flight, clockwise from north (deg).
+    flight_path_deg : float
+        Its flight-path angle above the horizontal (deg, -90 to 90; 0 in level flight).
+    """
+
+    airspeed: float
+    heading_deg: float
+    flight_path_deg: float = 0.0
+
+    def air_velocity(self) -> tuple:
+        """The released payload's velocity relative to the air (east, north, up) (m/s)."""
+        heading, climb = math.radians(self.heading_deg), math.radians(self.flight_path_deg)
+        horizontal = self.airspeed * math.cos(climb)
+        return horizontal * math.sin(heading), horizontal * math.cos(heading), self.airspeed * math.sin(climb)
+
+
+def moved_with(initial, east: float, north: float, up: float = 0.0):
+    """``initial`` (an ``InitialState``) with (east, north, up) (m/s) added to its velocity."""
+    return replace(initial, velocity_east=initial.velocity_east + east, velocity_north=initial.velocity_north + north,
+                   velocity_down=initial.velocity_down - up)
+
+
+def ground_relative(bodies: dict, systems: dict, vehicle: str, wind, frame: str, release: Release | None) -> tuple:
+    """The ``bodies`` and ``systems`` with every initial velocity relative to the ground: the air's (the steady
+    ``wind`` at the vehicle's start altitude) added where the case's velocities are relative to the air
+    (``frame`` "air") and to a released vehicle's air-relative velocity."""
+    if frame == "ground" and release is None:
+        return bodies, systems
+    altitude = bodies[vehicle].initial.altitude
+    east, north = wind.at(altitude) if wind is not None else (0.0, 0.0)
+    if frame == "air":
+        bodies = {name: body if body.initial is None or body.fixed else
+                  replace(body, initial=moved_with(body.initial, east, north)) for name, body in bodies.items()}
+        systems = {name: system if system.confluence.initial is None else
+                   replace(system, confluence=replace(system.confluence,
+                                                      initial=moved_with(system.confluence.initial, east, north)))
+                   for name, system in systems.items()}
+    if release is not None:
+        air_east, air_north, air_up = release.air_velocity()
+        released = bodies[vehicle]
+        if frame == "ground":   # the release is relative to the air whatever the file's velocities are
+            air_east, air_north = air_east + east, air_north + north
+        bodies = {**bodies, vehicle: replace(released, initial=moved_with(released.initial, air_east, air_north,
+                                                                          air_up))}
+    return bodies, systems
