@@ -262,7 +262,7 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
     """
     output_step = min(case.simulation.output_step, plan.duration)
     body_states, confluence_states = initial_states(case)
-    events, histories, facts = [StartEvent(0.0)], [], {}
+    events, histories, facts = [StartEvent.of(case)], [], {}
     times = boundaries(case, plan.duration)
     openings = inflation_progress(case)
     for number, (start, end) in enumerate(zip(times, times[1:])):

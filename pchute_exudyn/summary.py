@@ -45,7 +45,17 @@ OPTIONAL = {"optional": True}
 
 @dataclass(frozen=True)
 class StartEvent(Event):
+    moving_with: str | None = field(default=None, metadata=OPTIONAL)   # "air": the start moved with the wind
+    release: dict | None = field(default=None, metadata=OPTIONAL)      # airspeed (m/s), heading, flight path (deg)
     kind: ClassVar[str] = "start"
+
+    @classmethod
+    def of(cls, case) -> StartEvent:
+        """The start of ``case`` (``case.start``: moving with the air, released from an aircraft)."""
+        release = case.release
+        return cls(0.0, "air" if case.velocities_relative_to == "air" else None,
+                   None if release is None else {"airspeed": release.airspeed, "heading_deg": release.heading_deg,
+                                                 "flight_path_deg": release.flight_path_deg})
 
 
 @dataclass(frozen=True)

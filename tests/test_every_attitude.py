@@ -126,3 +126,18 @@ def test_a_model_that_adds_energy_is_stopped_as_a_named_runaway(tmp_path):
     assert f"{SPEED_MULTIPLE:g} times" in text and "\n" not in text
     with_the_law = pc.load_case(path, {key: value for key, value in overrides.items() if "axial" not in key})
     assert pc.simulate(with_the_law, "sp").summary["end"] == "duration"   # the same start, every attitude's law
+
+
+def test_an_implicit_step_across_a_constant_coefficients_jump_names_the_edge_on_canopy(tmp_path):
+    """A constant C_A changes sign at 90 deg: the implicit integrator's step has no solution while a canopy slides
+    along it, so the run stops naming the canopy and its angle, and what to use instead (`pchute new`'s table, which
+    falls to 0 at 90 deg, runs: tests/test_starts.py and validation/release.py)."""
+    path = tmp_path / "release.toml"
+    path.write_text(pc.new_case_text(planet="earth", mass=2000.0, canopy_diameter=30.5, canopy_type="flat_circular",
+                                     canopies=3, altitude=1500.0, release_airspeed=65.0, release_heading_deg=90.0))
+    constant = {f"canopy{i}.aerodynamics.axial_coefficient": 0.77 for i in (1, 2, 3)}
+    with pytest.raises(SimulationError) as caught:
+        pc.simulate(pc.load_case(path, constant), "full", "implicit", 1e-2, duration=10.0)
+    text = str(caught.value)
+    assert "flies edge-on to the air (angle of attack" in text and "use RK4" in text and text.startswith(
+        "the implicit integration stopped at t = ")

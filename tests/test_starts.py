@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
+from pchute_exudyn.case.loader import Scale, apply_override, tomllib
 from pchute_exudyn.case.new import NewCase, layout
 
 from .conftest import ROOT
@@ -84,6 +85,8 @@ def test_a_released_cluster_opens_with_per_canopy_loads_and_settles(tmp_path):
     path.write_text(pc.new_case_text(**choices))
     result = pc.simulate(pc.load_case(path), "sp")
     summary = result.summary
+    assert summary["events"][0] == {"event": "start", "time": 0.0, "moving_with": "air",
+                                    "release": {"airspeed": 65.0, "heading_deg": 90.0, "flight_path_deg": 0.0}}
     starts = [e for e in summary["events"] if e["event"] == "stage_start"]
     assert [e["canopy"] for e in starts] == ["canopy1", "canopy2", "canopy3"]
     assert all(e["time"] == pytest.approx(1.0) and e["speed"] == pytest.approx(65.0, rel=0.05) for e in starts)
@@ -93,3 +96,17 @@ def test_a_released_cluster_opens_with_per_canopy_loads_and_settles(tmp_path):
         assert peak["tension"] == pytest.approx(np.nanmax(result[f"tension_riser_{canopy}"]))   # the largest of the run
     assert summary["end"] == "touchdown"
     assert summary["descent"]["mean_rate"] == pytest.approx(layout(NewCase(**choices)).steady_rate(0.0), rel=0.01)
+
+
+def test_a_relative_dispersion_scales_a_coefficient_tables_values():
+    """`relative = true` on a coefficient table (what `pchute new` writes for C_A) scales its values, not its
+    breakpoints; a list of numbers is scaled entry by entry."""
+    text = pc.new_case_text(planet="earth", mass=100.0, drag_area=40.0, altitude=3000.0)
+    data = tomllib.loads(text)
+    apply_override(data, {}, "canopy.aerodynamics.axial_coefficient", Scale(1.1))
+    apply_override(data, {}, "vehicle.inertia", Scale(2.0))
+    table = data["bodies"]["canopy"]["aerodynamics"]["axial_coefficient"]
+    assert table["alpha_deg"] == [0.0, 60.0, 90.0]
+    assert table["value"] == pytest.approx([0.55 * 1.1, 0.55 * 1.1, 0.0], rel=1e-15)
+    inertia = tomllib.loads(text)["bodies"]["vehicle"]["inertia"]
+    assert data["bodies"]["vehicle"]["inertia"] == pytest.approx([2.0 * value for value in inertia], rel=1e-15)

@@ -13,7 +13,8 @@ Each figure comes from the output of the script named beside it in the README, w
 `validation/canopy_checks.py`
 (canopy/closed_forms.json), `validation/canopy_effects.py` (canopy/effects.md), `validation/cluster_checks.py`
 (cluster/closed_forms.md), `validation/cev_pa1_cluster.py` (cluster/pa1_cluster.md), `validation/cluster_study.py`
-(cluster/study_executors.md, studies/pa1_cluster/report/percentiles.json); the test count
+(cluster/study_executors.md, studies/pa1_cluster/report/percentiles.json), `validation/wind_envelope.py`
+(winds/envelope.md), `validation/release.py` (release/release.md); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
 the check (tests/test_architecture.py), so a README that disagrees with the committed outputs fails CI.
 """
@@ -366,12 +367,30 @@ def startup_lines() -> list:
             f"{first('before', long)}; of MER case 1 {first('now', mer)}, before {first('before', mer)}."]
 
 
+def attitude_lines() -> list:
+    """Every attitude in real winds (wind_envelope.py: its summary table) and the release (release.py: opening loads
+    and the swing), as README table rows."""
+    lines = [f"| {cells[0]} | {cells[1]} |" for cells in table(OUT / "winds" / "envelope.md", "").values()
+             if len(cells) == 2 and cells[0] not in ("summary", "---")]
+    release = OUT / "release" / "release.md"
+    for name, cells in table(release, "canopy").items():
+        if name == "canopy":   # the header
+            continue
+        loads = [re.match(r"([\d.]+) kN at ([\d.]+) s \(([-+][\d.]+)%\)", cell).groups() for cell in cells[1:]]
+        lines.append(f"| release: {name}'s opening load, SP / full mass RK4 / full mass implicit (kN) | "
+                     + " / ".join(load[0] for load in loads) + f" (SP {loads[0][2]} %) |")
+    sp = table(release, "SP")["SP"]
+    lines.append(f"| release: swing below 2 deg after (s); rate at 500 m and settled, SP, against the stated rate | "
+                 f"{sp[3]}; {sp[4].split('(')[1].rstrip(')')} and {sp[5].split('(')[1].rstrip(')')} |")
+    return lines
+
+
 def figures() -> list:
     """Every README line these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
             *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines(), *startup_lines(),
-            *study_overhead_lines()]
+            *study_overhead_lines(), *attitude_lines()]
 
 
 def _key(line: str) -> str:

@@ -234,6 +234,22 @@ def _expand(data: Any, parts: list, done: tuple, source: str, key: str) -> list:
     return _expand(child, rest, done + (head,), source, key)
 
 
+def _scaled(base: Any, factor: float) -> Any:
+    """``base`` times ``factor``: a number, every number of a (nested) list, or a coefficient table's ``value``
+    (its breakpoints kept); None when ``base`` holds nothing to scale."""
+    if isinstance(base, bool):
+        return None
+    if isinstance(base, (int, float)):
+        return base * factor
+    if isinstance(base, list) and base:
+        items = [_scaled(item, factor) for item in base]
+        return None if any(item is None for item in items) else items
+    if isinstance(base, dict) and "value" in base:
+        values = _scaled(base["value"], factor)
+        return None if values is None else {**base, "value": values}
+    return None
+
+
 def apply_override(data: dict, origins: dict, key: str, value: Any, source: str | None = None) -> None:
     """Set the dotted ``key`` to ``value`` in merged case ``data`` (see the module docstring for the key syntax)."""
     source = source or f"--set {key}={value}"
@@ -270,10 +286,11 @@ def apply_override(data: dict, origins: dict, key: str, value: Any, source: str 
         new = value
         if isinstance(value, Scale):   # relative: multiply what the case holds there
             base = node[last] if isinstance(last, int) else node.get(last)
-            if isinstance(base, bool) or not isinstance(base, (int, float)):
-                raise CaseError(source, _dotted(path), "a relative value needs a number in the case to scale, "
-                                                       f"found {base!r}")
-            new = base * value.factor
+            new = _scaled(base, value.factor)
+            if new is None:
+                raise CaseError(source, _dotted(path), "a relative value needs a number in the case to scale (or "
+                                                       "numbers: a list, a coefficient table's values), found "
+                                                       f"{base!r}")
         node[last] = copy.deepcopy(new)
         _record(origins, tuple(p for p in path if not isinstance(p, int)), value, source)
 

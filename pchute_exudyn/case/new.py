@@ -83,12 +83,15 @@ opening-force coefficient at infinite mass, Knacke Tables 5-1 and 5-2), falling 
 times. The handbook values were read from secondary transcriptions of the manual and are typical, not a design's."""
 OVERINFLATION_DECAY = 0.25
 """The overshoot's fall (``overinflation_decay``) as a fraction of the fill time at the release airspeed (assumed)."""
+AXIAL_FLAT_TO_DEG = 60.0
+"""C_A(alpha') is C_D0 up to this angle (deg), then falls linearly to 0 at 90 deg (assumed shape): a canopy
+symmetric fore and aft has no axial force edge-on, so the force is continuous as the canopy turns past 90 deg (a
+constant C_A changes sign there: a jump no implicit step can cross, and an attitude the canopy slides along;
+docs/models/aerodatabase.md, "Edge-on"). Measured canopy tables fall with the angle too (cases/cev_pa1_aero.toml)."""
 EDGE_ON_NORMAL = 0.25
 """C_N at 90 deg (-, on S0), assumed: an edge-on canopy's side-on projected area (half the disc of its projected
-diameter 0.67 D0, about 0.22 S0) at a bluff body's drag coefficient near 1.1. A canopy with a constant C_A and no
-force at 90 deg slides edge-on through the air without drag once the flow turns it there (the axial force, opposing
-the axial airspeed, holds that at zero: docs/models/aerodatabase.md); with it, a canopy thrown past 90 deg by an
-opening or a gust is slowed and pulled back by its riser."""
+diameter 0.67 D0, about 0.22 S0) at a bluff body's drag coefficient near 1.1: the cross-flow drag that slows a canopy
+thrown edge-on by an opening or a gust, so that its riser pulls it back (MER's table ends at 0)."""
 NORMAL_COEFFICIENT = ([0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0, 90.0],
                       [0.0, 0.040, 0.080, 0.110, 0.130, 0.150, 0.140, 0.110, EDGE_ON_NORMAL])
 """C_N(alpha'): MER's zero-trim parachute table (docs/models/mer.md: a stable canopy's restoring force) to 60 deg,
@@ -544,9 +547,10 @@ class _Writer:
         return [f"[bodies.{name}.aerodynamics]",
                 f"reference_area = {_n(p.reference_area)}               # m^2: S0, D0 = "
                 f"{nominal_diameter(p.reference_area):.4f} m",
-                f"axial_coefficient = {_n(c.canopy_drag_coefficient)}                  # C_D0 "
-                + (f"of a {c.canopy_type} (Knacke, Table 5-1, mid-range)" if c.drag_coefficient is None
-                   else "as given"),
+                f"axial_coefficient = {{ alpha_deg = [0.0, {AXIAL_FLAT_TO_DEG}, 90.0], value = "
+                f"[{_n(c.canopy_drag_coefficient)}, {_n(c.canopy_drag_coefficient)}, 0.0] }}",
+                "# C_A: C_D0 " + (f"of a {c.canopy_type} (Knacke, Table 5-1, mid-range)" if c.drag_coefficient is None
+                                  else "as given") + f" to {AXIAL_FLAT_TO_DEG:g} deg, then to 0 edge-on (assumed)",
                 "center = [0.0, 0.0, 0.0]                   # m: at the centre of mass",
                 f"[bodies.{name}.aerodynamics.normal_coefficient]   # MER's zero-trim canopy table to 60 deg, "
                 f"then the edge-on canopy's cross-flow drag ({EDGE_ON_NORMAL:g} at 90 deg, assumed)",

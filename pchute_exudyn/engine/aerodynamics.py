@@ -31,6 +31,9 @@ from ..physics.kinematics import point_motion
 from ..physics.runaway import RUNAWAY
 from .model import CURRENT, OV, Model
 
+EDGE_ON_DEG = 5.0
+"""How close to 90 deg (deg) a body's angle of attack counts as edge-on for a failed implicit step's message."""
+
 
 class BodyAerodynamics:
     """One body's aerodynamics in its model's ``AerodynamicLoads``: its drag-area ``schedule`` (a schedule or an
@@ -202,6 +205,19 @@ class AerodynamicLoads:
         quantity, value = (("speed", speed) if speed / limits.speed >= rate / limits.rate(member.body)
                            else ("rate", rate))
         return SimulationError(limits.message(member.body, quantity, value, t), t)
+
+    def edge_on(self, within: float = EDGE_ON_DEG) -> list:
+        """(body, angle of attack in deg) of the bodies whose last stage had them within ``within`` deg of 90 with an
+        axial force that changes sign there (a folded C_A not 0 at 90 deg: docs/models/aerodatabase.md, "Edge-on"),
+        which an implicit step cannot cross."""
+        found = []
+        for member in self.members:
+            axial = self.case.bodies[member.body].aerodynamics.axial_coefficient
+            alpha = float(self.values[member.index, 8]) if len(self.members) else math.nan
+            folded = not axial.angle_deg or axial.angle_deg[-1] == 90.0
+            if folded and abs(alpha - 90.0) <= within and axial(90.0, 0.0) != 0.0:
+                found.append((member.body, alpha))
+        return found
 
     def single(self, t: float, index: int, centre, rotation, rates, fraction: float) -> tuple:
         """One body's load at ``t`` (s) from its centre's (x, y, z, vx, vy, vz) (m, m/s), rotation (9) and

@@ -214,7 +214,8 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
         if model.failure is not None:
             raise _user_error(model.failure, progress["time"]) from None
-        raise SimulationError(engine_stop_message(str(exc), integrator, step, progress["time"]),
+        edge_on = model.stage.loads.edge_on() if model.stage is not None and integrator == "implicit" else []
+        raise SimulationError(engine_stop_message(str(exc), integrator, step, progress["time"], edge_on),
                               progress["time"]) from None
     finally:
         wall = _time.perf_counter() - started
@@ -282,10 +283,17 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     return raw
 
 
-def engine_stop_message(engine_text: str, integrator: str, step: float, time: float) -> str:
+def engine_stop_message(engine_text: str, integrator: str, step: float, time: float, edge_on=()) -> str:
     """The user's words for an engine that stopped at ``time`` (s) without a failure of ours: its own text names
-    C++ classes and options the user never sees, so it is read here and not repeated."""
+    C++ classes and options the user never sees, so it is read here and not repeated. ``edge_on``: (body, angle of
+    attack in deg) of bodies flying edge-on with an axial force that changes sign there (``AerodynamicLoads``)."""
     where = f"the {integrator} integration stopped at t = {time:.4f} s"
+    if edge_on:
+        body, alpha = edge_on[0]
+        return (f"{where}: body {body} flies edge-on to the air (angle of attack {alpha:.1f} deg), where its constant "
+                "or 0-90 deg axial coefficient changes sign (docs/models/aerodatabase.md, 'Edge-on'): an implicit "
+                "step has no solution across that jump at any step size; use RK4 (--integrator rk4, SP or full "
+                "mass), or give the canopy a C_A table that falls to 0 at 90 deg")
     if "ConnectorGravity" in engine_text and "length = 0" in engine_text:
         cause = ("a body or confluence reached the planet's centre: the state blew up (a mass or inertia far too "
                  "small for its lines, or a step far too large)")
