@@ -110,12 +110,13 @@ def test_the_axial_force_below_90_degrees_is_the_constant_coefficient_law():
 
 def test_a_model_that_adds_energy_is_stopped_as_a_named_runaway(tmp_path):
     """A total C_A table kept positive beyond 90 deg (the old constant-C_A law, with MER's C_N) pumps energy into a
-    cluster's canopy that a sudden crosswind turns past 90 deg (the issue's cargo drop): the run stops with one line naming the body, the quantity, its value
-    and the time (not 'altitude outside the atmosphere')."""
+    cluster's canopy that a sudden 10 m/s crosswind turns past 90 deg (the issue's cargo drop, started still over the
+    ground): the run stops with one line naming the body, the quantity, its value and the time (not 'altitude
+    outside the atmosphere'); with the law of every attitude the same start flies on."""
     path = tmp_path / "cargo.toml"
     path.write_text(pc.new_case_text(planet="earth", mass=2000.0, canopy_diameter=30.5, canopy_type="flat_circular",
                                      canopies=3, altitude=1500.0))
-    overrides = {"start.velocities_relative_to": "ground", "atmosphere.wind.east": 6.0, "simulation.duration": 2.0}
+    overrides = {"start.velocities_relative_to": "ground", "atmosphere.wind.east": 10.0, "simulation.duration": 2.0}
     for i in (1, 2, 3):   # C_A positive beyond 90 deg (a total table), C_N of MER's canopy (0 at 90 deg)
         overrides[f"canopy{i}.aerodynamics.axial_coefficient"] = {"alpha_deg": [0.0, 180.0], "value": [0.77, 0.77]}
         overrides[f"canopy{i}.aerodynamics.normal_coefficient.value"] = [0, 0.04, 0.08, 0.11, 0.13, 0.15, 0.14, 0.11, 0]

@@ -158,3 +158,19 @@ def test_a_build_lock_counts_only_while_its_builder_lives(tmp_path, monkeypatch)
     old = _kernel_mode.lock().stat().st_mtime - _kernel_mode.LOCK_AGE - 1
     os.utime(_kernel_mode.lock(), (old, old))
     assert not _kernel_mode.building()
+
+
+def test_the_jit_form_keeps_numbas_cache_per_kernel_source(tmp_path):
+    """numba keys a cached kernel by its own file only: the jit form's cache is a folder of the kernels' source key
+    (under the user's NUMBA_CACHE_DIR), so a kernel calling one in an edited file is compiled anew; child processes
+    (the module builder) agree on it."""
+    code = ("import os, pchute_exudyn; from pchute_exudyn import _kernel_mode as k; "
+            "print(os.environ['NUMBA_CACHE_DIR']); print(k.source_key())")
+    env = {**os.environ, "PCHUTE_KERNELS": "jit", "NUMBA_CACHE_DIR": str(tmp_path)}
+    env.pop(_kernel_mode.JIT_CACHE_BASE, None)
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    folder, key = done.stdout.split()
+    assert Path(folder) == tmp_path / f"jit_{key}"
+    child = {**env, "NUMBA_CACHE_DIR": folder, _kernel_mode.JIT_CACHE_BASE: str(tmp_path)}
+    again = subprocess.run([sys.executable, "-c", code], env=child, capture_output=True, text=True, timeout=120)
+    assert again.stdout.split()[0] == folder   # not nested a second time

@@ -2,15 +2,17 @@
 
 The vehicle hangs under one canopy (or a cluster) on ``bridles`` lines that meet at a confluence, and one riser per
 canopy from the confluence to the canopy's suspension-line apex (the canopy body's ``riser`` point). Everything is
-placed in the descent attitude, every line at its free length, the confluence where the lines' free lengths put it,
-all moving straight down at ``speed``. Sizing rules (each written into the file beside its number, and in
-``docs/tutorial.md``):
+placed in the descent attitude, in steady descent: every line stretched by its share of the steady load (LINE_STRAIN),
+the confluence where the stretched bridles put it, all moving with the air and straight down through it at
+``speed``; or released from an aircraft, every system placed at line stretch at its deployment. Sizing rules (each
+written into the file beside its number, and in ``docs/tutorial.md``):
 
 * canopy: reference area S0 = drag area / C_D0 of its type (or from the nominal diameter, S0 = pi D0^2 / 4); mass
   CANOPY_AREAL_MASS x S0 unless given; the inertia of a thin hemispherical shell of the projected radius
   R_p = 0.67 D0 / 2 about its own centre, but the centre of mass (and the aerodynamic centre) at the skirt's centre,
   where the suspension lines of length L_s from the apex end (sqrt(L_s^2 - R_p^2) from it): a simplification, the
-  shell's own centre lies R_p / 2 higher; C_N(alpha) the zero-trim canopy table of MER;
+  shell's own centre lies R_p / 2 higher; C_A(alpha') C_D0 to AXIAL_FLAT_TO_DEG, then to 0 edge-on, and C_N(alpha')
+  the zero-trim canopy table of MER to 60 deg, then to EDGE_ON_NORMAL;
 * vehicle: a solid cylinder of the given diameter, half as tall, the bridles on a circle of 0.35 diameters on its
   top face;
 * lines: stiffness from LINE_STRAIN of stretch under the vehicle's weight in steady descent, damping
@@ -280,17 +282,19 @@ class _Layout:
         """The bridles' attach circle's radius (m)."""
         return ATTACH_RADIUS * self.choices.diameter
 
-    @property
-    def rise(self) -> float:
-        """The bridles' height from their attach points to the confluence, every bridle at free length (m)."""
+    def rise(self, strain: float = LINE_STRAIN) -> float:
+        """The bridles' height from their attach points to the confluence (m), every bridle stretched by ``strain``
+        (-): its steady stretch, or 0 at line stretch."""
+        length = self.bridle_length * (1.0 + strain)
         if self.choices.bridles == 1:
-            return self.bridle_length
-        return math.sqrt(self.bridle_length**2 - self.attach_radius**2)
+            return length
+        return math.sqrt(length**2 - self.attach_radius**2)
 
     @property
     def canopy_reach(self) -> float:
-        """Confluence to a canopy's centre (m): its riser and the apex-to-centre distance."""
-        return self.riser_length + self.apex_distance
+        """Confluence to a canopy's centre in steady descent (m): its riser, stretched by LINE_STRAIN, and the
+        apex-to-centre distance."""
+        return self.riser_length * (1.0 + LINE_STRAIN) + self.apex_distance
 
     @property
     def spread(self) -> float:
@@ -300,7 +304,7 @@ class _Layout:
     @property
     def canopy_height(self) -> float:
         """Vehicle centre of mass to a canopy's centre of mass (where its drag acts), vertically (m)."""
-        return 0.5 * self.height + self.rise + self.canopy_reach * math.cos(self.spread)
+        return 0.5 * self.height + self.rise() + self.canopy_reach * math.cos(self.spread)
 
     @property
     def drag_efficiency(self) -> float:
@@ -407,7 +411,7 @@ class _Writer:
     def __init__(self, plan: _Layout):
         self.plan, self.c = plan, plan.choices
         c = self.c
-        self.height, self.attach_radius, self.rise = plan.height, plan.attach_radius, plan.rise
+        self.height, self.attach_radius, self.rise = plan.height, plan.attach_radius, plan.rise()
         self.confluence_altitude = c.altitude + 0.5 * self.height + self.rise
         self.speed = plan.steady_rate(c.altitude) if c.speed is None else c.speed
 
@@ -446,9 +450,9 @@ class _Writer:
                     f"canopies deploy at line stretch {c.static_line_time:g} s later", f"# and open with the "
                     f"fill-constant law of a {c.canopy_type} canopy ([systems.main.inflation])."]
         rate = "the steady rate there" if c.speed is None else "as chosen"
-        return ["Every line starts at its free length, the confluence",
-                "# where the lines' free lengths put it, everything moving with the air and down through it at",
-                f"# {_n(self.speed)} m/s ({rate})."]
+        return [f"In steady descent: every line stretched {LINE_STRAIN:.1%} by its share of",
+                "# the steady load, the confluence where the stretched bridles put it, everything moving with the air "
+                "and down", f"# through it at {_n(self.speed)} m/s ({rate})."]
 
     def release(self) -> list:
         c = self.c
@@ -484,8 +488,8 @@ class _Writer:
         for i, point in enumerate(self.attach_points(), start=1):
             rows.append(f"bridle{i} = {_vector(point)}")
         if c.released:
-            rows.append(f"line_stretch = {_vector([-(0.5 * self.height + self.rise), 0.0, 0.0])}   # the confluence "
-                        "at deployment: every bridle at its free length")
+            rows.append(f"line_stretch = {_vector([-(0.5 * self.height + self.plan.rise(0.0)), 0.0, 0.0])}   # the "
+                        "confluence at deployment: every bridle at its free length")
         rows += ["[bodies.vehicle.initial]                   # attitude: body +x down (the descent attitude)",
                  f"altitude = {_n(c.altitude)}                        # m: the centre of mass"]
         if not c.released:
@@ -559,14 +563,14 @@ class _Writer:
     def system(self) -> list:
         c, p = self.c, self.plan
         weight = c.mass * p.gravity
-        bridle_tension = weight / max(c.bridles, 1) * (p.bridle_length / self.rise)
+        bridle_tension = weight / max(c.bridles, 1) * (p.bridle_length * (1.0 + LINE_STRAIN) / self.rise)
         riser_tension = (weight + p.confluence_mass * p.gravity) / c.canopies / math.cos(self.plan.spread)
         rows = ["[systems.main]", f"canopies = {self.canopy_names()}".replace("'", '"') if c.canopies > 1
                 else 'canopy = "canopy"', *self.deployment(), "[systems.main.confluence]",
                 f"mass = {_n(p.confluence_mass)}                            # kg (0.2 % of the vehicle's, assumed)"]
         if not c.released:
             rows += ["[systems.main.confluence.initial]", f"altitude = {_n(self.confluence_altitude)}   # m: where "
-                     "the bridles' free lengths put it", f"velocity_down = {_n(self.speed)}"]
+                     "the stretched bridles put it", f"velocity_down = {_n(self.speed)}"]
         rows.append("")
         for i in range(1, c.bridles + 1):
             rows += self.line(f"bridle{i}", f"vehicle.bridle{i}", p.bridle_length, bridle_tension)

@@ -213,7 +213,7 @@ class AerodynamicLoads:
         found = []
         for member in self.members:
             axial = self.case.bodies[member.body].aerodynamics.axial_coefficient
-            alpha = float(self.values[member.index, 8]) if len(self.members) else math.nan
+            alpha = float(self.values[member.index, 8])
             folded = not axial.angle_deg or axial.angle_deg[-1] == 90.0
             if folded and abs(alpha - 90.0) <= within and axial(90.0, 0.0) != 0.0:
                 found.append((member.body, alpha))
