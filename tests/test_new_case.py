@@ -57,8 +57,11 @@ def test_new_case_runs_with_each_method_as_written(payload, method, integrator, 
     printed = capsys.readouterr().out
     case = pc.load_case(payload[0])
     step, limit = stability_step(case, METHODS[method](), integrator)
-    assert f"step {step:g} s (none set: from the stability limit {limit:.3g} s)" in printed
-    assert 0.2 * limit <= step <= 0.5 * limit     # half, rounded down to 1, 2 or 5 x 10^k
+    if (method, integrator) == ("sp", "rk4"):   # the case sets SP's (the thesis's) step, within its limit
+        assert "sp/rk4 step 0.01 s, " in printed and 0.01 < 0.6 * limit
+    else:
+        assert f"step {step:g} s (none set: from the stability limit {limit:.3g} s)" in printed
+        assert 0.2 * limit <= step <= 0.5 * limit     # half, rounded down to 1, 2 or 5 x 10^k
     sp = payload[1]
     result = pc.Result.load(tmp_path / "r")
     # every method on the same descent: 8 s later the vehicle is where SP has it, within centimetres (full mass

@@ -17,8 +17,8 @@ written into the file beside its number, and in ``docs/tutorial.md``):
   top face;
 * lines: stiffness from LINE_STRAIN of stretch under the vehicle's weight in steady descent, damping
   LINE_DAMPING_TIME x stiffness (MER's ratio); the confluence CONFLUENCE_MASS_FRACTION of the vehicle's mass;
-* the run: SP, to touchdown on the reference surface; no ``[simulation.steps]``, so each method runs at half its
-  stability limit (``simulation.stability_step``).
+* the run: SP at SP_STEP, to touchdown on the reference surface; the other methods at half their stability limit
+  (``simulation.stability_step``).
 """
 
 from __future__ import annotations
@@ -64,6 +64,9 @@ LINE_STRAIN = 0.025
 """Stretch (-) of each line under its share of the vehicle's weight in steady descent (MER's riser: 2.6 %)."""
 LINE_DAMPING_TIME = 0.01
 """Line damping / stiffness (s): MER's 470 N s/m on 47 000 N/m."""
+SP_STEP = 0.01
+"""SP's step (s) in a new case: the thesis's, within the stability limit of a confluence whose lines have
+LINE_DAMPING_TIME (about 0.02 s with the lines under their steady load, where half of it would round to 5e-3 s)."""
 CONFLUENCE_MASS_FRACTION = 0.002
 """Confluence mass / vehicle mass (-) when none is given (assumed: links and swivel)."""
 COMMENT_COLUMN = 44
@@ -613,6 +616,8 @@ class _Writer:
         duration = 10.0 * math.ceil((1.25 * c.altitude / p.steady_rate(0.0) + 10.0 + before) / 10.0)
         return ["[simulation]", f"duration = {_n(duration)}   # s: an upper bound; the run ends at touchdown "
                 "(the vehicle's centre of mass at 0 m)", "output_step = 0.02                         # s",
-                'method = "sp"', 'integrator = "rk4"',
-                "# No [simulation.steps]: each method runs at half its stability limit, rounded down (printed in "
-                "the run", "# line); set e.g. `sp = 0.01` under [simulation.steps] to fix a step."]
+                'method = "sp"', 'integrator = "rk4"', "[simulation.steps]",
+                f"sp = {_n(SP_STEP)}   # s: the thesis's SP step. Its confluence relaxes at K/C = "
+                f"{1.0 / LINE_DAMPING_TIME:g} 1/s (RK4 stable to 0.028 s",
+                "# with the lines at free length, about 0.02 s loaded; the run checks it as it goes). The other "
+                "methods run at half", "# their stability limit, rounded down (printed in the run line)."]
