@@ -146,7 +146,7 @@ def check_runaway(case: Case, raw: RawHistory, rows: int) -> None:
     """Raise SimulationError naming the first body whose sampled speed or angular rate, in the first ``rows``
     samples, is beyond the case's limits (``Case.runaway_limits``: a body without aerodynamics, which the per-stage
     check does not see)."""
-    limits, first = case.runaway_limits(), None
+    limits, first = case.runaway_limits, None
     for name, body in raw.bodies.items():
         for quantity, values, limit in (("speed", body["velocity"], limits.speed),
                                         ("rate", body["angular_velocity"], limits.rate(name))):

@@ -6,7 +6,9 @@ the body's centre of mass. Attitude angles follow :mod:`pchute_exudyn.physics.ro
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -485,16 +487,16 @@ class Case:
         """The air's motion (``physics.air.AirMotion``): planet rotation, steady wind, turbulence and gusts."""
         return AirMotion(self.start, self.wind, self.turbulence, self.gusts)
 
+    @cached_property
     def runaway_limits(self) -> RunawayLimits:
-        """The speed and rates no body of this case reaches unless its run diverged (``physics.runaway``): from the
+        """The speed and rates no body of this case reaches unless its run diverged (``physics.runaway``; computed once
+        per case): from the
         bodies' start speeds and rates, the fall from the highest start altitude to the ground (0 m when the case
         flies on below it), the air's largest speed up there and the planet's rotation."""
         starting = [body.initial for body in self.free_bodies() if body.initial is not None]
         top = max([state.altitude for state in starting], default=0.0)
         ground = self.simulation.ground_altitude or 0.0
-        start = self.start
-        gravity = float(np.linalg.norm(self.planet.gravity(self.planet.cartesian(start.latitude_deg,
-                                                                                 start.longitude_deg, 0.0))))
+        gravity = math.hypot(*self.start.gravity_scalar(0.0, 0.0, 0.0))   # at the start point, on the ground
         steady = self.wind.largest_speed(top) if self.wind is not None else 0.0
         sigma = self.turbulence.largest_sigma(top) if self.turbulence is not None else 0.0
         radius = 0.0 if isinstance(self.planet, FlatPlanet) else self.planet.equatorial_radius + top

@@ -351,7 +351,7 @@ def layout(choices: NewCase) -> _Layout:
     circle = radius if choices.canopies == 2 else radius / math.sin(math.pi / max(choices.canopies, 2))
     if choices.canopies > 1 and circle >= plan.canopy_reach:
         raise InputError(f"canopies = {choices.canopies}: their envelopes (radius {radius:.3g} m) cannot sit side by "
-                         f"side on risers that reach {plan.riser_length + plan.apex_distance:.3g} m; lengthen "
+                         f"side on risers that reach {plan.canopy_reach:.3g} m; lengthen "
                          "riser_length or suspension_line_length")
     try:
         rate = plan.steady_rate(choices.altitude)

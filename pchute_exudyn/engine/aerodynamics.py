@@ -100,7 +100,7 @@ class AerodynamicLoads:
         self.parts = ()                  # (data, field, work) of those arguments
         self.work = np.zeros(work_size(0))   # physics.aerodynamics.work_size: status, fractions, values (``pack``)
         self._centre_load = bound(centre_load)   # single evaluations (outputs, a canopy's measured speed): per step
-        self.limits = case.runaway_limits()      # beyond them a body has run away (physics.runaway)
+        self.limits = case.runaway_limits      # beyond them a body has run away (physics.runaway)
         self.status, self.fractions = self.work[:2], self.work[2:2]
 
     def add(self, body: Body, schedule, deployed_at: float, efficiency: float) -> BodyAerodynamics:
