@@ -26,8 +26,8 @@ from .case.method_table import METHODS  # noqa: E402
 
 METHODS.fill_with(lambda: import_module(".methods", __name__))   # registers the built-in methods when first read
 
-_HOMES = {"Case": "case", "load_case": "case", "NewCase": "case.new",
-          "new_case": "case.new", "new_case_text": "case.new", "CaseError": "errors", "InputError": "errors",
+_HOMES = {"Case": "case", "load_case": "boundary", "NewCase": "case.new",
+          "new_case": "boundary", "new_case_text": "boundary", "CaseError": "errors", "InputError": "errors",
           "PchuteError": "errors", "SimulationError": "errors", "Result": "results", "simulate": "simulation"}
 """Where each public name lives."""
 

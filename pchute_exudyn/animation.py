@@ -12,6 +12,8 @@ Sizes come from the result's scene description (``outputs.scene``): diameters fr
 
 from __future__ import annotations
 
+import math
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,6 +25,9 @@ from .results import Result, load_scene
 
 FPS = 12
 """Frames per second of the written animation."""
+MAX_FRAMES = 10000
+"""Most frames an animation may have (14 minutes at FPS; each frame is held in memory, about 1 MB, until the file
+is written): a --speed or window beyond it is refused before drawing."""
 TRAIL = 10.0
 """Seconds of the followed body's path drawn behind it."""
 SLACK = 1.0
@@ -74,8 +79,9 @@ class Animation:
         self.follow = follow or run.description["vehicle"]
         if self.follow not in bodies:
             raise InputError(f"--follow {self.follow}: no such body; the bodies are: {', '.join(bodies)}")
-        if not speed > 0.0:
-            raise InputError(f"--speed {speed:g}: must be > 0 (seconds of run per second of animation)")
+        if isinstance(speed, bool) or not isinstance(speed, (int, float)) or not (math.isfinite(speed) and speed > 0):
+            raise InputError(f"--speed {speed!r}: must be a finite number > 0 (seconds of run per second of "
+                             "animation)")
         self.run, self.compare = run, compare
         first, last = float(run.time[0]), float(run.time[-1])
         self.start = first if start is None else float(start)
@@ -84,6 +90,7 @@ class Animation:
             raise InputError(f"the time window {self.start:g} s to {self.end:g} s is empty: the run spans "
                              f"{first:g} s to {last:g} s")
         self.start, self.end = max(self.start, first), min(self.end, last)
+        _check_frames(self.end - self.start, speed)
         self.times = np.arange(self.start, self.end + 1e-9, speed / FPS)
         self.peak = max([np.nanmax(np.abs(v)) for v in run.tensions.values() if np.isfinite(v).any()] + [1.0])
         self.radius = self._radius()
@@ -215,13 +222,11 @@ class Animation:
     def save(self, path, progress=None) -> Path:
         """Write the animation to ``path`` (.gif, or .mp4 with imageio-ffmpeg), atomically; ``progress`` receives
         the run time of each frame."""
-        path = Path(path)
+        path = check_animation_path(path)
         suffix = path.suffix.lower()
-        if suffix not in (".gif", ".mp4"):
-            raise InputError(f"--out {path}: write a .gif or an .mp4 file")
         if suffix == ".mp4":
             try:
-                import imageio_ffmpeg
+                import imageio_ffmpeg  # noqa: F401  (there before any frame is drawn)
             except ImportError:
                 raise InputError("writing MP4 needs imageio-ffmpeg (pip install imageio-ffmpeg); or write a .gif") \
                     from None
@@ -230,23 +235,67 @@ class Animation:
             frames.append(self.frame(float(t)))
             if progress is not None:
                 progress(float(t))
-        if suffix == ".gif":
+        try:
+            return self._write(path, frames)
+        except OSError as exc:   # a full disk: the partial file is gone, the message names the file
+            raise InputError(f"--out {path}: cannot be written: {exc.strerror or type(exc).__name__}; nothing was "
+                             "written") from None
+
+    def _write(self, path: Path, frames: list) -> Path:
+        if path.suffix.lower() == ".gif":
             from PIL import Image
             images = [Image.fromarray(f).convert("P", palette=Image.Palette.ADAPTIVE, colors=128) for f in frames]
             with atomic_writer(path, "wb") as handle:
                 images[0].save(handle, format="GIF", save_all=True, append_images=images[1:],
                                duration=round(1000 / FPS), loop=0, optimize=True)
             return path
+        import imageio_ffmpeg
         height, width = frames[0].shape[:2]
         staging = path.with_name(f".{path.name}.partial.mp4")
-        writer = imageio_ffmpeg.write_frames(str(staging), (width, height), fps=FPS, macro_block_size=1,
-                                             quality=7)
-        writer.send(None)
-        for f in frames:
-            writer.send(np.ascontiguousarray(f))
-        writer.close()
-        staging.replace(path)
+        try:
+            writer = imageio_ffmpeg.write_frames(str(staging), (width, height), fps=FPS, macro_block_size=1,
+                                                 quality=7)
+            writer.send(None)
+            for f in frames:
+                writer.send(np.ascontiguousarray(f))
+            writer.close()
+            staging.replace(path)
+        except BaseException:   # a full disk, an interrupt: no partial file left
+            staging.unlink(missing_ok=True)
+            raise
         return path
+
+
+def _check_frames(window: float, speed: float) -> None:
+    """InputError when ``window`` s of run at ``speed`` would make more than MAX_FRAMES frames (each is held in
+    memory until the file is written: about 1 MB)."""
+    frames = window * FPS / speed + 1
+    if frames > MAX_FRAMES:
+        raise InputError(f"--speed {speed:g}: {window:g} s of run would be {frames:.3g} frames at {FPS} frames/s; at "
+                         f"most {MAX_FRAMES}: use --speed >= {window * FPS / (MAX_FRAMES - 1):.3g}, or a shorter "
+                         "--from/--to window")
+
+
+def check_animation_path(path) -> Path:
+    """``path`` if an animation can be written there: a .gif or .mp4 name, not a folder, in a writable folder;
+    InputError otherwise, before any frame is drawn."""
+    path = Path(path)
+    if path.suffix.lower() not in (".gif", ".mp4"):
+        raise InputError(f"--out {path}: write a .gif or an .mp4 file")
+    if path.is_dir():
+        raise InputError(f"--out {path}: is a folder; name the .gif or .mp4 file to write")
+    blocking = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+    if blocking is not None:
+        raise InputError(f"--out {path}: {blocking} is a file, not a folder")
+    if not path.parent.is_dir():
+        raise InputError(f"--out {path}: the folder {path.parent} does not exist")
+    try:   # a real try: permission bits do not stop root, a read-only file system does
+        with tempfile.NamedTemporaryFile(dir=path.parent, prefix=".pchute-write-test-"):
+            pass
+    except OSError as exc:
+        raise InputError(f"--out {path}: the folder {path.parent} cannot be written: "
+                         f"{exc.strerror or type(exc).__name__}") from None
+    return path
 
 
 def _force(tension: float) -> str:

@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
+import re
+import signal
 import sys
+import threading
 from dataclasses import fields
 from pathlib import Path
 
@@ -16,6 +20,8 @@ from .errors import InputError, PchuteError
 EXIT_ERROR = 1
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130   # 128 + SIGINT, as shells report an interrupted command
+EXIT_TERMINATED = 143    # 128 + SIGTERM
+DEFAULT_SETTLE = 2.0     # s: pchute compare's settling time without --settle
 FIGURE_COLUMNS = 12      # pchute compare draws at most this many single-column figures (the first compared)
 
 
@@ -111,7 +117,7 @@ def _run(args) -> int:
 
 
 def _run_case(args, figure) -> int:
-    from .case import load_case
+    from .boundary import load_case
     from .io import check_result_folder
     from .progress import TerminalProgress
     from .simulation import resolve_method, resolve_run, simulate
@@ -122,6 +128,8 @@ def _run_case(args, figure) -> int:
     method, integrator, step = method_class.name, plan.integrator, plan.step
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     check_result_folder(out, args.overwrite)  # fail before a long run, not after it; nothing is created yet
+    for warning in case.warnings:   # implausible but possible values (case.plausible): the run goes on
+        print(f"pchute run: warning: {warning}", file=sys.stderr)
     progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
     steps = plan.duration / plan.step
     if _entry["process"] and _kernel_mode.worth_building_first(steps):
@@ -147,7 +155,8 @@ def _print_run(result, out: Path, stability_limit: float | None = None) -> None:
     chosen = "" if stability_limit is None else f" (none set: from the stability limit {stability_limit:.3g} s)"
     print(f"{s['case']}: {s['method']}/{s['integrator']} step {s['step']:g} s{chosen}, {ending} {f['time']:.2f} s in "
           f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
-          f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}")
+          f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}"
+          + (f" ({len(s['warnings'])} warning(s): see summary.json)" if s.get("warnings") else ""))
 
 
 _NEW_HELP = {   # NewCase field -> (metavar, help); the defaults come from NewCase
@@ -233,7 +242,7 @@ def _add_compare(subparsers) -> None:
     compare.add_argument("a", help="reference result: a result folder or a CSV file with a time column (s)")
     compare.add_argument("b", help="result to check: a result folder or a CSV file with a time column (s)")
     compare.add_argument("--out", default=None, metavar="DIR", help="folder for the report and the figures")
-    compare.add_argument("--settle", type=float, default=2.0, metavar="S",
+    compare.add_argument("--settle", type=float, default=None, metavar="S",
                          help="settling time in s after which tension differences are also reported (default 2)")
     compare.add_argument("--altitudes", default=None, metavar="H1,H2,...",
                          help="altitudes in m of the vehicle at which to report each side's rate of descent "
@@ -267,8 +276,9 @@ def _compare(args) -> int:
     from .compare import compare_results
     from .results import Result, parse_column_map
 
-    if not (args.settle >= 0.0):
-        raise InputError(f"--settle = {args.settle!r}: must be >= 0 (s)")
+    settle = DEFAULT_SETTLE if args.settle is None else args.settle
+    if not (math.isfinite(settle) and settle >= 0.0):
+        raise InputError(f"--settle = {settle!r}: must be >= 0 (s) and finite")
     if args.ground is not None and not math.isfinite(args.ground):
         raise InputError(f"--ground = {args.ground!r}: must be a finite altitude (m)")
     altitudes = _altitudes(args.altitudes)
@@ -281,9 +291,13 @@ def _compare(args) -> int:
                 raise InputError(f"{flag} {theirs}={ours}: {label} has no column {ours!r}; its columns are: "
                                  f"{', '.join(other.names)}")
     mapped = [ours for mapping in maps.values() for ours, _, _ in mapping.values() if ours != "time"]
-    vehicle = a.summary.get("vehicle") or b.summary.get("vehicle") or "vehicle"
-    comparison = compare_results(a, b, args.a, args.b, args.settle, vehicle=vehicle, columns=mapped or None,
+    vehicle = next((str(r.summary["vehicle"]) for r in (a, b) if isinstance(r.summary.get("vehicle"), str)),
+                   "vehicle")
+    comparison = compare_results(a, b, args.a, args.b, settle, vehicle=vehicle, columns=mapped or None,
                                  altitudes=altitudes, ground=args.ground)
+    if args.settle is not None and not settle < comparison.time[-1]:   # no settled sample: nothing to report
+        raise InputError(f"--settle = {settle:g}: must be before the end of the common time span "
+                         f"({comparison.time[0]:g} to {comparison.time[-1]:g} s)")
     for flag, mapping in maps.items():
         for theirs, (ours, _, _) in mapping.items():
             if ours != "time" and ours not in comparison.columns:
@@ -350,7 +364,7 @@ def _add_linearize(subparsers) -> None:
 
 def _linearize(args) -> int:
 
-    from .case import load_case
+    from .boundary import load_case
     from .io import json_text
     from .linear_report import format_report, linearization_report
 
@@ -370,6 +384,9 @@ def _add_study(subparsers) -> None:
     study.add_argument("--out", default=None, metavar="DIR", help="study folder; default: studies/<study file name>")
     study.add_argument("--retry-failed", action="store_true", help="run again the runs recorded as failed")
     study.add_argument("--no-progress", action="store_true", help="no progress bar")
+    study.add_argument("--allow-failures", type=float, default=0.0, metavar="F",
+                       help="fraction 0..1 of the finished runs that may fail with exit status 0 (default 0: any "
+                            "failed run makes the exit status 1)")
     study.set_defaults(func=_study)
     report = subparsers.add_parser(
         "study-report", help="summaries and plots of a study folder",
@@ -387,8 +404,20 @@ def _add_executor_arguments(parser, workers_help: str) -> None:
                        help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (install the dask extra)")
     where.add_argument("--dask-local", type=int, default=None, metavar="N",
                        help="start a local Dask cluster of N worker processes")
-    parser.add_argument("--dask-timeout", type=float, default=10.0, metavar="S",
+    parser.add_argument("--dask-timeout", type=_timeout_seconds, default=10.0, metavar="S",
                         help="seconds to wait for the Dask scheduler (default 10)")
+
+
+def _timeout_seconds(text: str) -> float:
+    """--dask-timeout S: a finite number of seconds > 0, checked as the command line is read (before any folder is
+    made or cluster started)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a finite number of seconds > 0")
+    return value
 
 
 def _executor(args):
@@ -399,32 +428,79 @@ def _executor(args):
         raise InputError(f"--workers = {args.workers}: must be >= 1")
     if args.dask_local is not None and args.dask_local < 1:
         raise InputError(f"--dask-local = {args.dask_local}: must be >= 1")
-    if not args.dask_timeout > 0:
-        raise InputError(f"--dask-timeout = {args.dask_timeout}: must be > 0 (s)")
+    if not (math.isfinite(args.dask_timeout) and args.dask_timeout > 0):
+        raise InputError(f"--dask-timeout = {args.dask_timeout}: must be a finite number of seconds > 0")
     if args.dask_scheduler is None and args.dask_local is None:
         return None, None
     return dask_executor(args.dask_scheduler, args.dask_local, args.dask_timeout)
 
 
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM during a study or a fit: the same clean stop as Ctrl-C, exit status 143."""
+
+
+@contextlib.contextmanager
+def _signals_interrupt():
+    """While a study or fit runs, SIGTERM stops it as Ctrl-C does: its workers stopped, finished runs kept, one line
+    (signals reach only the main thread: elsewhere nothing changes)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum, frame):
+        raise _Terminated()
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupted_status(exc: KeyboardInterrupt) -> int:
+    return EXIT_TERMINATED if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
+
+
 def _study(args) -> int:
+    from .io import ensure_writable_dir
     from .study import load_study, run_study
 
+    if not 0.0 <= args.allow_failures <= 1.0:
+        raise InputError(f"--allow-failures = {args.allow_failures}: must be a fraction of the runs from 0 to 1")
     spec = load_study(args.study_file)
     out = Path(args.out) if args.out else Path("studies") / Path(args.study_file).stem
-    executor, close = _executor(args)
-    try:
-        counts = run_study(spec, out, executor, args.workers, progress=not args.no_progress,
-                           retry_failed=args.retry_failed)
-    except KeyboardInterrupt:
-        print(f"pchute study: interrupted; finished runs are recorded in {out}: rerun the same command to resume",
-              file=sys.stderr)
-        return EXIT_INTERRUPTED
-    finally:
-        if close is not None:
-            close()
+    ensure_writable_dir(out)   # before a Dask cluster starts
+    with _signals_interrupt():
+        executor, close = _executor(args)
+        try:
+            counts = run_study(spec, out, executor, args.workers, progress=not args.no_progress,
+                               retry_failed=args.retry_failed)
+        except KeyboardInterrupt as exc:
+            print(f"pchute study: interrupted; finished runs are recorded in {out}: rerun the same command to "
+                  "resume", file=sys.stderr)
+            return _interrupted_status(exc)
+        finally:
+            if close is not None:
+                close()
     print(f"{spec.name}: {counts['executed']} runs in {counts['wall_time']:.1f} s ({counts['skipped']} already done, "
-          f"{counts['failed']} failed of {counts['planned']}) -> {out}")
-    return 0
+          f"{counts['failed']} failed of {counts['planned']}{_rate(counts)}) -> {out}")
+    return _failures_status(counts, args.allow_failures)
+
+
+def _rate(counts: dict) -> str:
+    """': 37.5 % of the finished runs' when runs failed, else nothing."""
+    finished = counts["skipped"] + counts["executed"]
+    return f": {100.0 * counts['failed'] / finished:.1f} % of the finished runs" if counts["failed"] else ""
+
+
+def _failures_status(counts: dict, allowed: float) -> int:
+    """Exit status 1, with a line saying so, when more of the finished runs failed than the fraction ``allowed``."""
+    finished = counts["skipped"] + counts["executed"]
+    if counts["failed"] == 0 or counts["failed"] <= allowed * finished:
+        return 0
+    rate = 100.0 * counts["failed"] / finished
+    print(f"pchute study: {counts['failed']} of {finished} finished runs failed ({rate:.1f} %), more than "
+          f"--allow-failures {allowed:g} allows: `pchute study-report` lists them", file=sys.stderr)
+    return 1
 
 
 def _study_report(args) -> int:
@@ -458,19 +534,21 @@ def _add_animate(subparsers) -> None:
 
 
 def _animate(args) -> int:
-    from .animation import Animation, Run
+    from .animation import Animation, Run, check_animation_path
     from .progress import TerminalProgress
 
     run = Run.load(args.folder)
     other = Run.load(args.compare) if args.compare else None
+    out = check_animation_path(Path(args.out) if args.out else Path(args.folder) / "animation.gif")
     animation = Animation(run, other, args.follow, args.start, args.end, args.speed)
-    out = Path(args.out) if args.out else Path(args.folder) / "animation.gif"
     progress = None
     if TerminalProgress.wanted(args.quiet):
         progress = TerminalProgress(animation.end)
-    path = animation.save(out, progress)
-    if progress is not None:
-        progress.close()
+    try:
+        path = animation.save(out, progress)
+    finally:
+        if progress is not None:
+            progress.close()
     print(f"{len(animation.times)} frames of {animation.start:g} s to {animation.end:g} s -> {path}")
     return 0
 
@@ -492,19 +570,22 @@ def _add_fit(subparsers) -> None:
 def _fit(args) -> int:
     from .fit import load_fit, run_fit
     from .fit.report import write_report
+    from .io import ensure_writable_dir
 
     spec = load_fit(args.fit_file)
     out = Path(args.out) if args.out else Path("fits") / Path(args.fit_file).stem
-    executor, close = _executor(args)
-    try:
-        result = run_fit(spec, out, executor, args.workers)
-    except KeyboardInterrupt:
-        print(f"pchute fit: interrupted; the runs so far are recorded in {out}: rerun the same command to resume",
-              file=sys.stderr)
-        return EXIT_INTERRUPTED
-    finally:
-        if close is not None:
-            close()
+    ensure_writable_dir(out)   # before a Dask cluster starts
+    with _signals_interrupt():
+        executor, close = _executor(args)
+        try:
+            result = run_fit(spec, out, executor, args.workers)
+        except KeyboardInterrupt as exc:
+            print(f"pchute fit: interrupted; the runs so far are recorded in {out}: rerun the same command to "
+                  "resume", file=sys.stderr)
+            return _interrupted_status(exc)
+        finally:
+            if close is not None:
+                close()
     paths = write_report(spec, result, out)
     fitted = ", ".join(f"{k} = {v:.6g} +- {e:.2g}" for k, v, e in zip(result["keys"], result["fitted"],
                                                                        result["standard_error"]))
@@ -598,6 +679,32 @@ def main(argv=None) -> int:
     except BrokenPipeError:   # the reader of the output went away (`pchute compare ... | head`): stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_ERROR
+    except OSError as exc:   # a full disk, a read-only file system, a file that vanished: the file and the reason
+        where = f"{_shown_path(exc.filename)!r}: " if exc.filename else ""
+        print(f"pchute {args.command}: error: {where}{exc.strerror or _first_line(exc)}", file=sys.stderr)
+        return EXIT_ERROR
+    except MemoryError:
+        print(f"pchute {args.command}: error: out of memory; shorten the run or raise its output step",
+              file=sys.stderr)
+        return EXIT_ERROR
+    except Exception as exc:   # the last resort: a bug of ours, still one line (every known fault has its own)
+        print(f"pchute {args.command}: internal error: {type(exc).__name__}: {_first_line(exc)} (please report this "
+              "with the command line)", file=sys.stderr)
+        return EXIT_ERROR
+
+
+def _shown_path(filename) -> str:
+    """The file a user asked for behind a failed write: io.atomic_writer's temporary '.NAME.XXXXXXXX.tmp' is NAME."""
+    path = Path(os.fsdecode(filename))
+    match = re.fullmatch(r"\.(.+)\.[^.]+\.tmp", path.name)
+    return str(path.with_name(match.group(1)) if match else path)
+
+
+def _first_line(exc: BaseException, limit: int = 200) -> str:
+    """The first line of an exception's text, at most ``limit`` characters."""
+    lines = str(exc).strip().splitlines()
+    text = lines[0] if lines else type(exc).__name__
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 if __name__ == "__main__":  # pragma: no cover

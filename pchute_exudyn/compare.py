@@ -76,10 +76,15 @@ class Comparison:
         rows += ["| quantity | difference |", "|---|---|"]
         for name, value in self.final.items():
             rows.append(f"| final {name} | {value:+.4g} m |")
+        settled = bool((self.time >= self.settle_time).any())
         for line, m in self.lines.items():
             rows.append(f"| tension {line}: max / RMS | {m['max']:.4g} / {m['rms']:.4g} N |")
-            rows.append(f"| tension {line} after {self.settle_time:g} s: max / RMS | "
-                        f"{m['max_settled']:.4g} / {m['rms_settled']:.4g} N |")
+            if settled:
+                rows.append(f"| tension {line} after {self.settle_time:g} s: max / RMS | "
+                            f"{m['max_settled']:.4g} / {m['rms_settled']:.4g} N |")
+        if self.lines and not settled:   # say why, rather than rows of nan
+            rows.append(f"| tensions after {self.settle_time:g} s | none: the common span ends at "
+                        f"{self.time[-1]:g} s |")
         if self.confluence_velocity:
             c = self.confluence_velocity
             rows.append(f"| confluence lateral velocity: max / RMS | {c['max']:.4g} / {c['rms']:.4g} m/s |")
@@ -91,6 +96,10 @@ class Comparison:
                 "settle_time": self.settle_time, "final": self.final, "lines": self.lines,
                 "confluence_lateral_velocity": self.confluence_velocity, "compared": self.common,
                 "columns": self.columns, "descent": self.descent}
+
+
+def _finite_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
 def _rms(values) -> float:
@@ -238,9 +247,9 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     time = a.time[inside]
     comparison = Comparison(label_a, label_b, time, settle_time, common=common)
     comparison.columns = column_differences(a, b, common if columns is None else columns, time)
-    if ground is None:
-        ground = next((r.summary["ground_altitude"] for r in (a, b) if r.summary.get("ground_altitude") is not None),
-                      0.0)
+    if ground is None:   # a summary's ground that is not a finite number (a file edited by hand) is not used
+        ground = next((float(r.summary["ground_altitude"]) for r in (a, b)
+                       if _finite_number(r.summary.get("ground_altitude"))), 0.0)
     comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)
     for suffix in ("altitude", "east", "north"):
         name = f"{vehicle}_{suffix}"

@@ -7,6 +7,22 @@ line prints that line and exits non-zero; it never shows a traceback for these.
 
 from __future__ import annotations
 
+LARGEST_DIGITS = 12
+"""Digits of an oversized integer shown in a message (the rest counted)."""
+
+
+def short_repr(value, limit: int = 60) -> str:
+    """``repr(value)`` cut to ``limit`` characters (an integer of 400 digits, a long list), so a message stays one
+    readable line."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10 ** LARGEST_DIGITS:
+        try:
+            text = str(value)
+        except ValueError:   # beyond Python's 4300 digits for int to str
+            return f"an integer of about {value.bit_length() * 0.30103:.0f} digits"
+        return f"{text[:LARGEST_DIGITS]}... ({len(text.lstrip('-'))} digits)"
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
 
 class PchuteError(Exception):
     """Base class of every error this package raises on purpose."""
@@ -36,7 +52,7 @@ class CaseError(PchuteError):
         self.detail = message
         where = source if not field else f"{source}: {field}"
         if value is not CaseError._NO_VALUE:
-            where = f"{where} = {value!r}"
+            where = f"{where} = {short_repr(value, 200)}"
         super().__init__(f"{where}: {message}")
 
 

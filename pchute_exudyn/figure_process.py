@@ -45,9 +45,8 @@ class FigureProcess:
         if self.process is None:
             return False
         names = ["time", *result.tension_names()]
-        altitude = f"{result.summary.get('vehicle', 'vehicle')}_altitude"
-        if altitude in result:
-            names.append(altitude)
+        vehicle = result.summary.get("vehicle", "vehicle")
+        names += [name for name in (f"{vehicle}_altitude", f"{vehicle}_velocity_down") if name in result]
         message = {"columns": {name: result[name] for name in names},
                    "summary": {key: result.summary[key] for key in SUMMARY_KEYS if key in result.summary},
                    "path": str(path)}

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .case.model import Case, Contact, ParachuteSystem
+from .errors import SimulationError
 from .physics.cluster import touching_spread
 from .physics.deployment import cluster_placement, line_stretch_placement
 from .physics.inflation import Inflation, InflationProgress, nominal_diameter
@@ -64,6 +65,20 @@ def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) 
     return states, ConfluenceState(confluence, velocity)
 
 
+def check_above_ground(case: Case, system: str, canopies: dict, time: float) -> None:
+    """Refuse a deployment that places a canopy below the ground (a run that stops there): the vehicle is too low,
+    or climbing, at the deploy time. Raises SimulationError naming the system, the canopy and the altitudes."""
+    ground = case.simulation.ground_altitude
+    if ground is None:
+        return
+    for canopy, state in canopies.items():
+        altitude = float(case.start.altitude(state.position))
+        if altitude < ground:
+            raise SimulationError(f"systems.{system}.deploy_time = {time:g} s places canopy '{canopy}' at line "
+                                  f"stretch at {altitude:.2f} m, below the ground (simulation.ground_altitude = "
+                                  f"{ground:g} m): deploy it earlier or start higher", time)
+
+
 def default_spread(case: Case, system: ParachuteSystem, canopies: list) -> float:
     """The cone half-angle (rad) on which ``canopies`` of a cluster deploy when the case gives none: where their
     envelopes, fully inflated, just touch (``physics.cluster.touching_spread``; the mean radius and reach of the
@@ -93,6 +108,7 @@ def next_phase(case: Case, start: float, end: float, body_states: dict, confluen
         system = case.systems[name]
         if system.deploy_time is not None and system.deploy_time == start:
             canopies, confluence = deploy(case, system, body_states, start)
+            check_above_ground(case, name, canopies, start)
             body_states = {**body_states, **canopies}
             confluence_states = {**confluence_states, name: confluence}
             phase.events.append(DeployEvent(start, name))

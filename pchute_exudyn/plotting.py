@@ -24,11 +24,16 @@ def new_figure(rows: int = 1, cols: int = 1, size=(9.0, 6.0), layout="constraine
 
 
 def plot_overview(result, title: str | None = None) -> Figure:
-    """Line tensions (top) and vehicle altitude (bottom) against time. Fixed margins: every run draws it, and a
-    layout engine would double the time to save it."""
-    figure, axes = new_figure(2, 1, sharex=True, layout=None)
-    figure.subplots_adjust(left=0.1, right=0.98, bottom=0.08, top=0.93, hspace=0.08)
-    top, bottom = axes[0, 0], axes[1, 0]
+    """Line tensions (top left) and vehicle altitude (bottom left) against time, and the vehicle's rate of descent
+    against its altitude (right, altitude up). Fixed margins: every run draws it, and a layout engine would double the
+    time to save it."""
+    figure = Figure(figsize=(12.0, 6.0))
+    FigureCanvasAgg(figure)
+    grid = figure.add_gridspec(2, 2, width_ratios=(3.0, 1.0), left=0.075, right=0.985, bottom=0.08, top=0.93,
+                               hspace=0.08, wspace=0.18)
+    top = figure.add_subplot(grid[0, 0])
+    bottom = figure.add_subplot(grid[1, 0], sharex=top)
+    top.tick_params(labelbottom=False)
     time = result.time
     draw_curves(top, [(name.removeprefix("tension_"), time, result[name]) for name in result.tension_names()])
     top.set_ylabel("line tension (N)")
@@ -41,10 +46,22 @@ def plot_overview(result, title: str | None = None) -> Figure:
     bottom.set_ylabel(f"{vehicle} altitude (m)")
     bottom.set_xlabel("time (s)")
     bottom.grid(True, alpha=0.3)
+    _descent_panel(figure.add_subplot(grid[:, 1]), result, vehicle)
     s = result.summary
     figure.suptitle(title or f"{s.get('case', '')}: {s.get('method', '')} / {s.get('integrator', '')}, "
                              f"step {s.get('step', '')} s")
     return figure
+
+
+def _descent_panel(ax, result, vehicle: str) -> None:
+    """The vehicle's rate of descent (m/s, its downward velocity in the start frame) against its altitude (m)."""
+    altitude, down = f"{vehicle}_altitude", f"{vehicle}_velocity_down"
+    if altitude in result and down in result:
+        ax.plot(result[down], result[altitude], color="tab:blue", linewidth=0.9)
+    ax.set_xlabel("rate of descent (m/s)")
+    ax.set_ylabel(f"{vehicle} altitude (m)")
+    ax.set_title("rate of descent", fontsize="medium")
+    ax.grid(True, alpha=0.3)
 
 
 def save_figure(figure: Figure, path, dpi: int = 120) -> None:

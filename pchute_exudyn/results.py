@@ -6,22 +6,24 @@ Files written by :meth:`Result.save` (each atomically):
 * ``result.npz``: the same arrays plus ``units`` and ``summary`` (JSON strings), and the scene an animation draws
   (``scene/<name>`` arrays and ``scene`` JSON: ``outputs.scene``), when the run made one;
 * ``summary.json``: case, method, integrator, step, duration, steps, wall time, final vehicle state, peak tensions,
-  column units and the versions of this package, Exudyn, numpy and Python;
+  column units and the versions of this package, Exudyn, numpy and Python; and ``result_files``, the files of the
+  folder the run wrote (all that a later ``overwrite`` replaces: ``io.result_files``);
 * ``exudyn_solution_phase<k>.txt``: Exudyn's own solution file of each phase, when the run kept them
   (``simulate(engine_solution=True)``, ``pchute run --exudyn-solution``);
-* ``overview.png``: line tensions and vehicle altitude against time.
+* ``overview.png``: line tensions and vehicle altitude against time, and the rate of descent against altitude.
 """
 
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
 
 from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
 from .errors import InputError
-from .io import atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
+from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 from .number_text import table_text
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
@@ -33,14 +35,78 @@ def load_scene(folder) -> tuple[np.ndarray, dict, dict]:
     """Sample times (s), scene arrays and description from a result folder's ``result.npz`` (InputError when the
     folder has none: a result saved before scenes were stored, a study's scalar record, or a CSV)."""
     path = Path(folder) / NPZ_NAME
+    if not Path(folder).is_dir():
+        raise InputError(f"{folder}: not a folder: give the result folder of `pchute run`")
     if not path.is_file():
         raise InputError(f"{folder}: no {NPZ_NAME}: not a result folder of `pchute run`")
-    with np.load(path) as data:
-        if SCENE not in data.files:
-            raise InputError(f"{folder}: {NPZ_NAME} holds no scene (body attitudes and attach points); rerun the case "
-                             "with this version to animate it")
-        arrays = {k[len(SCENE) + 1:]: data[k] for k in data.files if k.startswith(SCENE + "/")}
-        return data["time"], arrays, json.loads(str(data[SCENE]))
+    data = read_npz(path, lambda key: key in ("time", SCENE) or key.startswith(SCENE + "/"))
+    if SCENE not in data:
+        raise InputError(f"{folder}: {NPZ_NAME} holds no scene (body attitudes and attach points); rerun the case "
+                         "with this version to animate it")
+    arrays = {k[len(SCENE) + 1:]: v for k, v in data.items() if k.startswith(SCENE + "/")}
+    try:
+        description = json.loads(str(data[SCENE]))
+    except ValueError:
+        description = None
+    missing = _scene_gap(description, arrays) if "time" in data else "the time array"
+    if missing:
+        raise InputError(f"{path}: its scene is not one pchute run wrote (no {missing}); rerun the case")
+    return data["time"], arrays, description
+
+
+def _scene_gap(description, arrays: dict) -> str | None:
+    """What a scene (``outputs.scene``) lacks that an animation reads, or None when it is whole."""
+    if not isinstance(description, dict):
+        return "description as a JSON object"
+    for key, kind in (("vehicle", str), ("bodies", dict), ("systems", dict)):
+        if not isinstance(description.get(key), kind):
+            return f"{key!r} in its description"
+    if description["vehicle"] not in description["bodies"]:
+        return f"body {description['vehicle']!r}, the vehicle"
+    needed = [f"{name}/{kind}" for name in description["bodies"] for kind in ("position", "rotation")]
+    for name, system in description["systems"].items():
+        lines = system.get("lines") if isinstance(system, dict) else None
+        if not isinstance(lines, list) or not all(isinstance(line, dict) and "name" in line for line in lines):
+            return f"lines of system {name!r}"
+        needed += [f"{name}/confluence"] + [f"{name}/{line['name']}" for line in lines]
+    return next((f"array {SCENE}/{key}" for key in needed if key not in arrays), None)
+
+
+def read_npz(path, wanted=None) -> dict:
+    """The arrays of ``path`` (a result.npz) whose names ``wanted(name)`` accepts (default all), read whole;
+    InputError naming the file when it is truncated or not an npz archive (no traceback from zipfile or numpy)."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            return {key: data[key] for key in data.files if wanted is None or wanted(key)}
+    except OSError as exc:
+        reason = exc.strerror or str(exc).splitlines()[0]
+    except Exception as exc:   # zipfile.BadZipFile, EOFError, ValueError, zlib.error: a truncated or foreign file
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    raise InputError(f"{path}: cannot be read ({reason}): truncated or not a {NPZ_NAME} written by pchute run; rerun "
+                     "the case")
+
+
+def read_summary(folder) -> dict:
+    """A result folder's summary.json ({} without one), without the list of the folder's files; InputError naming
+    the file when it is empty, not JSON or not a JSON object."""
+    path = Path(folder) / SUMMARY_NAME
+    if not path.is_file():
+        return {}
+    try:
+        text = path.read_text(encoding="utf-8")
+        summary = json.loads(text)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot be read: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not UTF-8 text: not a summary written by pchute run") from None
+    except (ValueError, RecursionError) as exc:
+        what = "empty" if not text.strip() else f"not JSON ({getattr(exc, 'msg', type(exc).__name__)})"
+        raise InputError(f"{path}: {what}: not a summary written by pchute run; rerun the case") from None
+    if not isinstance(summary, dict):
+        raise InputError(f"{path}: a JSON {type(summary).__name__}, not an object: not a summary written by pchute "
+                         "run; rerun the case")
+    summary.pop(FILES_KEY, None)
+    return summary
 
 
 class Result:
@@ -117,10 +183,14 @@ class Result:
         ``result.npz`` only (a study's many runs); ``draw(result, path)``, when given, writes the overview figure
         (True when it did: ``figure_process.FigureProcess.draw``), else this process draws it.
 
-        The files are written into a fresh folder beside ``folder`` that then takes its place, so ``folder`` holds
-        exactly this run's files. ``folder`` may be absent or empty; an earlier result folder is replaced only with
-        ``overwrite``; any other non-empty folder is refused (InputError)."""
-        folder = check_result_folder(folder, overwrite)
+        The files are written into a fresh folder beside ``folder``, then put in its place. ``folder`` may be absent
+        or empty; an earlier result is replaced only with ``overwrite``, and then only its own files (the user's
+        other files stay); any other non-empty folder is refused (InputError), as is a failed write (a full disk:
+        nothing of this run is left, an earlier result is untouched)."""
+        for flag, value in (("plot", plot), ("csv", csv), ("overwrite", overwrite)):
+            if not isinstance(value, bool):
+                raise InputError(f"{flag} = {value!r}: must be True or False")
+        folder = check_result_folder(_checked_path(folder, "folder"), overwrite)
         with staged_folder(folder) as staging:
             written = self._write(staging, plot, csv, draw)
         return {key: folder / path.name for key, path in written.items()}
@@ -136,7 +206,9 @@ class Result:
         with atomic_writer(paths["npz"], "wb") as handle:
             # not compressed: deflate takes 40 times longer to write a history (0.1 s for MER's 60 s) and saves 20 %
             np.savez(handle, **self.columns, units=json_text(self.units), summary=json_text(self.summary), **scene)
-        atomic_write_text(paths["summary"], json_text(self.summary, indent=2) + "\n")
+        written = [p.name for p in paths.values()] + list(self.attachments) + ([PLOT_NAME] if plot else [])
+        # the folder's own summary.json lists its files: all that a later --overwrite replaces (io.result_files)
+        atomic_write_text(paths["summary"], json_text({**self.summary, FILES_KEY: written}, indent=2) + "\n")
         for name, text in self.attachments.items():
             paths[name] = folder / name
             atomic_write_text(paths[name], text)
@@ -154,17 +226,21 @@ class Result:
         ``column_map`` (``csv_dialects.parse_column_map``) renames and rescales another tool's columns to this
         package's names before the ``time`` column (s) is required; ``csv_dialects`` lists the CSV dialects read.
         """
-        path = Path(path)
+        path = _checked_path(path, "path")
         summary: dict = {}
         if path.is_dir():
-            if (path / SUMMARY_NAME).is_file():
-                summary = json.loads((path / SUMMARY_NAME).read_text())
+            summary = read_summary(path)
             if not (path / CSV_NAME).is_file() and (path / NPZ_NAME).is_file():
-                with np.load(path / NPZ_NAME) as data:
-                    columns = {k: data[k] for k in data.files if k not in ("units", "summary", SCENE)
-                               and not k.startswith(SCENE + "/")}
-                    units = json.loads(str(data["units"])) if "units" in data.files else {}
+                data = read_npz(path / NPZ_NAME, lambda key: key not in ("summary", SCENE)
+                                and not key.startswith(SCENE + "/"))
+                columns = {k: v for k, v in data.items() if k != "units"}
+                units = _units(data, path / NPZ_NAME)
+                if "time" not in columns:
+                    raise InputError(f"{path / NPZ_NAME}: holds no time array: not a {NPZ_NAME} written by pchute run")
                 return cls(map_columns(columns, column_map or {}, path)[0], units, summary)
+            if not (path / CSV_NAME).is_file():
+                raise InputError(f"{path}: a folder without {CSV_NAME} or {NPZ_NAME}: not a result folder of "
+                                 "`pchute run` (a study folder is read by `pchute study-report`)")
             path = path / CSV_NAME
         if not path.is_file():
             raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")
@@ -174,3 +250,24 @@ class Result:
             raise InputError(f"{path}: no 'time' column (name it with a column map, e.g. --map t=time); columns "
                              f"are: {', '.join(columns)}")
         return cls(columns, summary.get("units") or {n: u for n, u in units.items() if u}, summary)
+
+
+def _units(data: dict, path: Path) -> dict:
+    """The units a result.npz stores (JSON text), {} without them; InputError when they are not a JSON object."""
+    if "units" not in data:
+        return {}
+    try:
+        units = json.loads(str(data["units"]))
+    except ValueError:
+        units = None
+    if not isinstance(units, dict):
+        raise InputError(f"{path}: its units are not a JSON object: not a {NPZ_NAME} written by pchute run")
+    return units
+
+
+def _checked_path(value, name: str) -> Path:
+    """``value`` as a Path; InputError naming argument ``name`` unless it is a str or os.PathLike."""
+    if isinstance(value, (str, os.PathLike)) and str(value) != "":
+        return Path(value)
+    raise InputError(f"{name} = {value!r}: must be a path (a non-empty str or a pathlib.Path), not "
+                     f"{type(value).__name__}")

@@ -13,11 +13,13 @@ import numpy as np
 
 from . import _kernel_mode
 from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
+from .boundary import check_callable, check_case, check_flag
 from .case.method_table import METHODS, OptionError
 from .case.model import Case
+from .case.plausible import check_time_scales
 from .engine.bodies import Touchdown
 from .engine.solver import integrate, versions
-from .errors import InputError, Interrupted, SimulationError
+from .errors import InputError, Interrupted, SimulationError, short_repr
 from .methods.base import Method, line_arrays, line_constants, unstable_step_message
 from .outputs import check_history, concatenate, derive_columns, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase
@@ -29,6 +31,8 @@ from .summary import (
     StartEvent,
     TouchdownEvent,
     descent_rate_events,
+    events_planned,
+    failures_flown,
     merge_facts,
     opening_events,
     opening_loads,
@@ -92,14 +96,21 @@ def resolve_method(case: Case, method=None, options=None) -> Method:
 
 
 def _check_number(name: str, value, flag: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0.0):
-        raise InputError(f"{name} ({flag}) = {value!r}: must be a number > 0 (s)")
-    return float(value)
+    number = math.nan
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        try:
+            number = float(value)
+        except OverflowError:   # an integer of hundreds of digits
+            number = math.inf
+    if not (math.isfinite(number) and number > 0.0):
+        raise InputError(f"{name} ({flag}) = {short_repr(value)}: must be a number > 0 (s)")
+    return number
 
 
 def resolve_run(case: Case, method=None, integrator: str | None = None, step: float | None = None,
                 duration: float | None = None, options=None) -> RunPlan:
     """Fill in the case's defaults and validate method, options, integrator, step (s) and duration (s)."""
+    check_case(case)
     if _kernel_mode.rejected_choice():   # the environment's kernel form, checked with the run's other inputs
         raise InputError(_kernel_mode.rejected_choice())
     resolved = resolve_method(case, method, options)
@@ -119,6 +130,7 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     if step > duration:
         raise InputError(f"step (--dt) = {step:g} s: must not exceed the duration ({duration:g} s)")
     _check_size(case, step, duration)
+    check_time_scales(case, step)
     return RunPlan(resolved, integrator, step, duration, limit)
 
 
@@ -314,12 +326,29 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
         method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {},
         cluster=cluster_summary(case, columns, events), pendulum=pendulum_summary(case, columns, events),
-        descent=descent_summary(case, columns))
+        descent=descent_summary(case, columns), warnings=case.warnings, failures=failures_flown(case.failures),
+        events_planned=events_planned(case.systems))
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"
 """Exudyn's own solution file of phase k (``simulate(engine_solution=True)``): the coordinates of that phase's
 model every output step, for scripts that rebuild the model and open Exudyn's viewer on it."""
+
+
+def _check_arguments(case, progress, engine_solution, history) -> None:
+    """The public API's boundary: an argument of the wrong type gets one line naming it."""
+    check_case(case)
+    check_callable(progress, "progress")
+    check_flag(engine_solution, "engine_solution")
+    check_flag(history, "history")
+
+
+def _options(options, option_values: dict):
+    """The method's options: an Options object, or single options by name (None: the case's), not both."""
+    option_values = {name: value for name, value in option_values.items() if value is not None}
+    if options is not None and option_values:
+        raise InputError("give the method's options either as an Options object or by name, not both")
+    return options if options is not None else option_values
 
 
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
@@ -366,10 +395,8 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     Interrupted
         On Ctrl-C (a KeyboardInterrupt saying the time reached); nothing of the run is returned.
     """
-    option_values = {name: value for name, value in option_values.items() if value is not None}
-    if options is not None and option_values:
-        raise InputError("give the method's options either as an Options object or by name, not both")
-    plan = resolve_run(case, method, integrator, step, duration, options if options is not None else option_values)
+    _check_arguments(case, progress, engine_solution, history)
+    plan = resolve_run(case, method, integrator, step, duration, _options(options, option_values))
     _kernel_mode.start_background_build()   # the runs after this one get the compiled module
     with tempfile.TemporaryDirectory() as folder:
         raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)

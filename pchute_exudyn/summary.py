@@ -202,6 +202,28 @@ def merge_facts(total: dict, facts: dict) -> None:
         total[key] = value
 
 
+def failures_flown(failures) -> dict:
+    """The case's ``[failures]`` (``case.model.Failures``) as ``summary.json`` records them: only what is set
+    (canopies that never inflate, with their model and trailing drag-area fraction; cut-away times in s; disreef
+    delays in s; skipped stages); {} for a run without failures, so a tool can test ``summary["failures"]``."""
+    flown = {}
+    if failures.not_inflated:
+        flown.update(not_inflated=list(failures.not_inflated), not_inflated_model=failures.not_inflated_model,
+                     trailing_fraction=failures.trailing_fraction)
+    for name in ("cutaway", "disreef_delay", "skipped_stages"):
+        value = getattr(failures, name)
+        if value:
+            flown[name] = {canopy: list(v) if isinstance(v, tuple) else v for canopy, v in value.items()}
+    return flown
+
+
+def events_planned(systems: dict) -> dict:
+    """Per parachute system its fixed schedule: ``deploy_time`` and ``cutaway_time`` (s; None: present from the
+    start, never cut away), as the case states them, before any failure."""
+    return {name: {"deploy_time": system.deploy_time, "cutaway_time": system.cutaway_time}
+            for name, system in systems.items()}
+
+
 @dataclass(frozen=True)
 class RunSummary:
     """What a run was and how it ended (``summary.json``; units SI: s, m, N).
@@ -237,6 +259,9 @@ class RunSummary:
     cluster: dict = field(default_factory=dict)         # per cluster (``analysis.cluster_summary``); {} without
     pendulum: dict = field(default_factory=dict)        # the vehicle's pendulum angles (``analysis``)
     descent: dict = field(default_factory=dict)         # the vehicle's rate of descent at the end (``analysis``)
+    warnings: tuple = ()    # one line per implausible case value (``Case.warnings``, ``case.plausible``)
+    failures: dict = field(default_factory=dict)        # the [failures] the run flew with (``failures_flown``)
+    events_planned: dict = field(default_factory=dict)  # per system its fixed deploy and cut-away times (s)
 
     @property
     def steps_per_second(self) -> float | None:
@@ -253,5 +278,7 @@ class RunSummary:
                 **({"opening_loads": self.opening_loads} if self.opening_loads else {}),
                 **({"cluster": self.cluster} if self.cluster else {}),
                 **({"pendulum": self.pendulum} if self.pendulum else {}),
-                **({"descent": self.descent} if self.descent else {}), "units": self.units,
+                **({"descent": self.descent} if self.descent else {}), "warnings": list(self.warnings),
+                "failures": self.failures, "events_planned": self.events_planned,
+                "units": self.units,
                 "versions": self.versions, "created": self.created}

@@ -7,6 +7,8 @@ file, which the viewer loads. The viewer needs a display: without one, ``pchute 
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import io
 import os
 import sys
@@ -39,9 +41,10 @@ def solution_text(time: np.ndarray, coordinates: np.ndarray) -> str:
     return buffer.getvalue()
 
 
-def prepare(folder, solution_path) -> DisplayModel:
-    """The display model of result folder ``folder``, with its solution file written to ``solution_path``."""
-    time, arrays, description = load_scene(folder)
+def prepare(folder, solution_path, scene=None) -> DisplayModel:
+    """The display model of result folder ``folder`` (or of its ``scene``, already loaded), with its solution file
+    written to ``solution_path``."""
+    time, arrays, description = load_scene(folder) if scene is None else scene
     model = DisplayModel(description)
     atomic_write_text(solution_path, solution_text(np.asarray(time, float), model.coordinates(arrays)))
     return model
@@ -52,11 +55,41 @@ def has_display() -> bool:
     return not sys.platform.startswith("linux") or bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
-def view(folder) -> None:
-    """Open the run in result folder ``folder`` in Exudyn's SolutionViewer (InputError without a display)."""
+def display_problem() -> str | None:
+    """Why no window can open here, or None. On Linux with X11 the display is opened and closed once first:
+    Exudyn's renderer aborts the whole process (no exception) when it cannot open it."""
     if not has_display():
-        raise InputError("no display to open Exudyn's viewer in (DISPLAY is not set); `pchute animate "
-                         f"{folder}` draws the run into a GIF or MP4 without one")
+        return "DISPLAY is not set"
+    display = os.environ.get("DISPLAY")
+    if not sys.platform.startswith("linux") or not display:
+        return None
+    library = ctypes.util.find_library("X11")
+    if library is None:   # cannot check: the viewer tries
+        return None
+    x11 = ctypes.CDLL(library)
+    x11.XOpenDisplay.restype, x11.XOpenDisplay.argtypes = ctypes.c_void_p, [ctypes.c_char_p]
+    x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    handle = x11.XOpenDisplay(display.encode())
+    if not handle:
+        return f"the X display DISPLAY={display!r} cannot be opened (no X server there?)"
+    x11.XCloseDisplay(handle)
+    return None
+
+
+def view(folder) -> None:
+    """Open the run in result folder ``folder`` in Exudyn's SolutionViewer (InputError without a display, or when
+    the viewer fails to open)."""
+    scene = load_scene(folder)   # a folder that is no result is told first
+    problem = display_problem()
+    if problem is not None:
+        raise InputError(f"no display to open Exudyn's viewer in ({problem}); `pchute animate {folder}` draws the "
+                         "run into a GIF or MP4 without one")
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SOLUTION_NAME
-        open_viewer(prepare(folder, path), path, f"pchute-exudyn: {folder}")
+        model = prepare(folder, path, scene)
+        try:
+            open_viewer(model, path, f"pchute-exudyn: {folder}")
+        except Exception as exc:   # the engine's own text stays out of the message's first words
+            first = (str(exc).strip().splitlines() or [type(exc).__name__])[0][:120]
+            raise InputError(f"Exudyn's viewer could not open ({type(exc).__name__}: {first}); `pchute animate "
+                             f"{folder}` draws the run into a GIF or MP4 without a window") from None

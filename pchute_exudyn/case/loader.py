@@ -57,6 +57,7 @@ from .model import (
     SimulationSettings,
     canopy_opening,
 )
+from .plausible import check_value
 from .start import VELOCITY_FRAMES, Release, ground_relative
 from .tables import read_atmosphere_table
 
@@ -98,6 +99,11 @@ def read_toml(path: Path, kind: str = "case") -> dict:
         raise CaseError(str(path), "", f"malformed TOML: {exc}") from None
     except UnicodeDecodeError:
         raise CaseError(str(path), "", "malformed TOML: the file is not UTF-8 text") from None
+    except ValueError as exc:   # an integer beyond Python's 4300 digits for str to int
+        raise CaseError(str(path), "", f"malformed TOML: {str(exc).split(';')[0]}") from None
+    except RecursionError:   # tomllib and deepcopy recurse once per level of [[[...]]] or {a = {b = ...}}
+        raise CaseError(str(path), "", "malformed TOML: arrays or tables nested too deeply (at most a few hundred "
+                                       "levels)") from None
 
 
 def _record(origins: dict, path: tuple, value: Any, source: str) -> None:
@@ -204,6 +210,8 @@ def parse_override(text: str) -> tuple[str, Any]:
         value = tomllib.loads(f"v = {raw}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw
+    except RecursionError:
+        raise CaseError(f"--set {key}=...", key, "the value's arrays or tables are nested too deeply") from None
     return key, value
 
 
@@ -254,6 +262,9 @@ def apply_override(data: dict, origins: dict, key: str, value: Any, source: str 
     """Set the dotted ``key`` to ``value`` in merged case ``data`` (see the module docstring for the key syntax)."""
     source = source or f"--set {key}={value}"
     parts = _split_key(key, source)
+    if parts[0] in ("extends", "remove"):   # the files are merged before overrides apply: it would do nothing
+        raise CaseError(source, parts[0], "cannot be overridden: it is read when the case file is "
+                                          "merged; write a case file that extends this one instead")
     if parts[0] not in _TOP_KEYS:
         sections = [section for section in ("bodies", "systems")
                     if isinstance(data.get(section), dict) and parts[0] in data[section]]
@@ -311,6 +322,7 @@ class _Context:
         self.top_source = top_source
         self.origins = origins
         self.units: dict = {}   # dotted key -> unit of every number the case was asked for (Case.key_units)
+        self.paths: dict = {}   # dotted key -> its path, for the plausibility check of every key read
 
     def source(self, path: tuple) -> str:
         for n in range(len(path), 0, -1):
@@ -335,6 +347,7 @@ class _Table:
         self.allowed.append(key)
         if unit != "table":
             self.ctx.units[_dotted(self.path + (key,))] = unit
+            self.ctx.paths[_dotted(self.path + (key,))] = self.path + (key,)
         if key in self.data:
             return self.data[key]
         if default is _REQUIRED:
@@ -405,7 +418,10 @@ class _Table:
 def _check_number(value, unit, minimum, above, maximum, error) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise error(f"must be a number{f' ({unit})' if unit else ''}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:   # an integer of hundreds of digits
+        value = math.inf
     if not math.isfinite(value):
         raise error("must be a finite number")
     if above is not None and not value > above:
@@ -561,6 +577,10 @@ def _read_inflation(t: _Table) -> Inflation:
     """``[systems.<name>.inflation]``: the fill-constant opening (stage columns as equal-length lists)."""
     starts = t.sequence("stage_start", "s")
     columns = {key: t.vector(key, "", length=len(starts)) for key in ("fraction", "fill_constant", "exponent")}
+    fractions = columns["fraction"]
+    if any(b < a for a, b in zip(fractions, fractions[1:])):
+        raise t.error("fraction", "must not decrease from stage to stage: a disreef opens the canopy further",
+                      list(fractions))
     stages = tuple(InflationStage(start, *values) for start, *values in
                    zip(starts, columns["fraction"], columns["fill_constant"], columns["exponent"]))
     scalars = {key: t.number(key, unit, default) for key, unit, default in
@@ -697,6 +717,10 @@ def _read_system(name: str, t: _Table, bodies: dict) -> ParachuteSystem:
         if missing:
             raise t.error(missing[0], "required: a system with a deploy_time is placed at line stretch, which needs "
                                       "its canopy body and the vehicle point where its confluence goes")
+    if deploy_point is not None and deploy_point[0] in canopies:
+        raise t.error("deploy_point", f"is on the system's own canopy '{deploy_point[0]}': a system deploys from "
+                                      "the body it hangs from (e.g. \"vehicle.line_stretch\")",
+                      ".".join(deploy_point))
     if cutaway_time is not None and cutaway_time <= (deploy_time or 0.0):
         raise t.error("cutaway_time", f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
                       cutaway_time)
@@ -950,8 +974,13 @@ def _read_gusts(t: _Table) -> tuple:
             if "from_deg" in g.data:
                 raise g.error("from_deg", "give either direction or from_deg, not both")
             direction = np.array(g.vector("direction", ""), float)
-            if not np.linalg.norm(direction) > 0.0:
+            with np.errstate(over="ignore"):
+                norm = np.linalg.norm(direction)
+            if not norm > 0.0:
                 raise g.error("direction", "must be a non-zero [east, north, up] vector", g.data["direction"])
+            if not math.isfinite(norm):   # its length overflows: the gust would be dropped
+                raise g.error("direction", "its length overflows: give a direction of moderate numbers (only the "
+                                           "direction counts), e.g. [1, 1, 0]", g.data["direction"])
             direction = tuple((direction / np.linalg.norm(direction)).tolist())
         else:
             east, north = wind_from_direction(1.0, g.number("from_deg", "deg"))
@@ -961,17 +990,8 @@ def _read_gusts(t: _Table) -> tuple:
     return tuple(gusts)
 
 
-def build_case(data: dict, origins: dict, source: str) -> Case:
-    """Validate merged case ``data`` and build the Case (``origins`` maps key paths to the file they came from)."""
-    ctx = _Context(source, origins)
-    top = _Table(data, (), ctx)
-    info = top.table("case", {})
-    name = info.string("name", Path(source.split(" ")[0]).stem)
-    description = info.string("description", "")
-    vehicle = info.string("vehicle", "vehicle")
-    info.finish()
-
-    p = top.table("planet")
+def _read_planet(p: _Table):
+    """The [planet] section: an ellipsoid (its gravitational parameter, radii and rotation) or a flat planet."""
     if p.string("model", "ellipsoid", ("ellipsoid", "flat")) == "flat":
         planet = FlatPlanet(p.number("gravity", "m/s^2", minimum=0.0), p.string("name", "flat"))
     else:
@@ -985,6 +1005,20 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
             raise p.error("polar_radius", f"must be <= equatorial_radius ({planet.equatorial_radius:g} m)",
                           planet.polar_radius)
     p.finish()
+    return planet
+
+
+def build_case(data: dict, origins: dict, source: str) -> Case:
+    """Validate merged case ``data`` and build the Case (``origins`` maps key paths to the file they came from)."""
+    ctx = _Context(source, origins)
+    top = _Table(data, (), ctx)
+    info = top.table("case", {})
+    name = info.string("name", Path(source.split(" ")[0]).stem)
+    description = info.string("description", "")
+    vehicle = info.string("vehicle", "vehicle")
+    info.finish()
+
+    planet = _read_planet(top.table("planet"))
     start, frame, release = _read_start(top.table("start", {}), planet)
     atmosphere_table = top.table("atmosphere", None)
 
@@ -999,6 +1033,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
         raise info.error("vehicle", f"must name a body; bodies are: {', '.join(bodies)}", vehicle)
     system_tables = top.named_tables("systems", {})
     systems = {sys_name: _read_system(sys_name, st, bodies) for sys_name, st in system_tables.items()}
+    _check_vehicle(info, vehicle, systems)
     simulation_table = top.table("simulation")
     simulation = _read_simulation(simulation_table)
     atmosphere, wind, turbulence, gusts = None, None, None, ()
@@ -1006,6 +1041,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
         ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
         atmosphere, wind, turbulence, gusts = _read_atmosphere(atmosphere_table, ground,
                                                                _heading(bodies[vehicle], release))
+        initial = bodies[vehicle].initial
+        _check_grounds(atmosphere_table, wind, turbulence, None if initial is None else initial.altitude)
     _check_mach(body_tables, bodies, atmosphere)
     if release is not None:
         _check_release(body_tables, system_tables, bodies, systems, vehicle)
@@ -1015,10 +1052,74 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     failures = _read_failures(top.table("failures", None), systems, simulation.duration)
     top.allowed.extend(("extends", "remove"))
     top.finish()
+    warnings = _check_plausible(data, ctx)
+    _check_escape(body_tables, bodies, planet)
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
                 wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units), failures=failures,
-                velocities_relative_to=frame, release=release)
+                velocities_relative_to=frame, release=release, warnings=warnings)
+
+
+def _check_plausible(data: dict, ctx: _Context) -> tuple:
+    """Every number read against its plausibility range (``case.plausible``): an impossible value raises the
+    CaseError of its key; the implausible ones give the warnings (one line each)."""
+    warnings = []
+    for key, path in ctx.paths.items():
+        node = data
+        for part in path:
+            node = node[part] if isinstance(node, (dict, list)) and _has(node, part) else None
+        if node is None:
+            continue
+        error, warning = check_value(key, node)
+        if error is not None:
+            raise CaseError(ctx.source(path), key, error, node)
+        if warning is not None:
+            warnings.append(warning)
+    return tuple(warnings)
+
+
+def _has(node, part) -> bool:
+    return part in node if isinstance(node, dict) else isinstance(part, int) and part < len(node)
+
+
+def _check_escape(body_tables: dict, bodies: dict, planet) -> None:
+    """A body starting faster than the planet's escape speed at its altitude leaves the planet: impossible for a
+    parachute descent (``case.plausible``; a flat planet has no escape speed)."""
+    if not isinstance(planet, Planet):
+        return
+    for name, body in bodies.items():
+        if body.initial is None or body.fixed:
+            continue
+        speed = float(np.linalg.norm(body.initial.velocity_enu))
+        radius = planet.equatorial_radius + max(body.initial.altitude, 0.0)
+        escape = math.sqrt(2.0 * planet.gravitational_parameter / radius)
+        if speed > escape:   # named by its largest component (the key most likely mistyped)
+            key = max(("velocity_north", "velocity_east", "velocity_down"),
+                      key=lambda k: abs(getattr(body.initial, k)))
+            raise body_tables[name].error(f"initial.{key}", f"gives a start speed of {speed:.6g} m/s, faster than "
+                                          f"the escape speed there ({escape:.6g} m/s): impossible for a descent",
+                                          getattr(body.initial, key))
+
+
+def _check_vehicle(info: _Table, vehicle: str, systems: dict) -> None:
+    """The vehicle is the body the parachutes hang from, never one of their canopies (a canopy placed at
+    deployment has no initial state to start from)."""
+    for name, system in systems.items():
+        if vehicle in system.canopies:
+            raise info.error("vehicle", f"is a canopy of system '{name}': case.vehicle must name the body the "
+                                        "parachutes hang from", vehicle)
+
+
+def _check_grounds(atmosphere_table: _Table, wind, turbulence, start_altitude: float | None) -> None:
+    """A power-law wind or a turbulence field whose ground is at or above the vehicle's start would do nothing
+    (no wind below its ground, a field frozen at its ground value)."""
+    if start_altitude is None:
+        return
+    for key, model in (("wind.ground_altitude", wind), ("turbulence.ground_altitude", turbulence)):
+        ground = getattr(model, "ground_altitude", None)
+        if ground is not None and ground >= start_altitude:
+            raise atmosphere_table.error(key, f"must be below the vehicle's start altitude ({start_altitude:g} m): "
+                                              "above the flight it does nothing", ground)
 
 
 def _heading(vehicle: Body, release: Release | None) -> tuple:

@@ -448,6 +448,9 @@ class Case:
         of a loaded case are relative to the ground either way.
     release : Release or None
         The release from an aircraft that gave the vehicle its initial velocity (``case.start``); None: none.
+    warnings : tuple of str
+        One line per implausible (but possible) value (``case.plausible``): printed with the run line and kept in
+        ``summary.json``.
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -472,6 +475,7 @@ class Case:
     failures: Failures = field(default_factory=Failures)
     velocities_relative_to: str = "ground"
     release: Release | None = None
+    warnings: tuple = ()
 
     def unit_of(self, key: str) -> str | None:
         """The unit of ``key`` in override syntax (``main.lines.*.stiffness``, body and system names leading),

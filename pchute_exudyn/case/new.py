@@ -29,7 +29,7 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, short_repr
 from ..physics.atmosphere import US76, MarsGRC
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency, spread_directions, touching_spread
 from ..physics.inflation import nominal_diameter
@@ -232,9 +232,19 @@ class NewCase:
         return drag_area / self.canopy_drag_coefficient
 
 
+def _finite(value) -> bool:
+    """Whether ``value`` is a finite int or float (an integer no float holds is not)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:   # an integer of hundreds of digits
+        return False
+
+
 def _number(key, value, ok, allowed):
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or not ok:
-        raise InputError(f"{key} = {value!r}: {allowed}")
+    if not _finite(value) or not ok:
+        raise InputError(f"{key} = {short_repr(value)}: {allowed}")
 
 
 _UNITS = {"mass": "kg", "canopy_mass": "kg", "drag_area": "m^2"}
@@ -248,7 +258,7 @@ def _positive(key, value, optional, unit):
 
 def _integer(key, value, low, high):
     if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise InputError(f"{key} = {value!r}: must be a whole number from {low} to {high}")
+        raise InputError(f"{key} = {short_repr(value)}: must be a whole number from {low} to {high}")
 
 
 def _choice(key, value, table):

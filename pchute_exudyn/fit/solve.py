@@ -10,61 +10,100 @@ through them: a killed fit resumes where it stopped.
 from __future__ import annotations
 
 import difflib
-import json
 import os
-from concurrent.futures import Executor, ProcessPoolExecutor
+import sys
+from concurrent.futures import Executor
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import least_squares
 
+from .. import journal
 from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir, json_text
+from ..journal import FolderLock, changed_file, digests, read_manifest, writing
+from ..study.runner import stop_pool, worker_pool
 from .evaluate import evaluate
-from .spec import FitSpec
+from .spec import MAX_RUNS, FitSpec
 
 DIFFERENCE_STEP = 1e-3
 """Forward-difference step in the scaled coordinates (a thousandth of each key's bound range)."""
-MAX_EVALUATIONS = 200
-"""Runs (Jacobian runs included) after which the fit stops and reports where it is."""
+MAX_EVALUATIONS = MAX_RUNS
+"""The default budget of runs (Jacobian runs included; ``[fit] max_runs``) after which the fit stops and reports the
+best point it reached."""
 
 
 class FitStore:
-    """The fit folder: ``fit.toml`` (a copy), ``manifest.json`` (fingerprint), ``evaluations.jsonl`` (one line per
-    run, flushed at once)."""
+    """The fit folder: ``fit.toml`` (a copy), ``manifest.json`` (fingerprint and the digests of the files the fit
+    reads), ``evaluations.jsonl`` (one checksummed line per run, flushed at once; see ``journal``) and the lock
+    ``.pchute.lock`` held while the fit works in it."""
 
     def __init__(self, folder, spec: FitSpec):
         self.folder, self.spec = Path(folder), spec
         self.journal = self.folder / "evaluations.jsonl"
         self.records: dict = {}
+        self.lock = FolderLock(self.folder, "fit")
 
     def open(self) -> None:
+        """Lock the folder (until ``close``), check that it holds this fit (or nothing), read its records."""
         ensure_writable_dir(self.folder)
+        self.lock.acquire()
+        try:
+            self._open_locked()
+        except BaseException:
+            self.lock.release()
+            raise
+
+    def close(self) -> None:
+        self.lock.release()
+
+    def _open_locked(self) -> None:
         manifest = self.folder / "manifest.json"
-        fingerprint = self.spec.fingerprint()
-        if manifest.is_file():
-            if json.loads(manifest.read_text()).get("fingerprint") != fingerprint:
-                raise InputError(f"{self.folder} holds a fit whose file, case or data differ from {self.spec.source}: "
-                                 "resume only the same fit (use another --out)")
-        else:
-            atomic_write_text(self.folder / "fit.toml", self.spec.text)
-            atomic_write_text(manifest, json_text({"name": self.spec.name, "fingerprint": fingerprint}, indent=2)
-                              + "\n")
-        if self.journal.is_file():
-            for line in self.journal.read_text().splitlines():
-                try:
-                    record = json.loads(line)
-                except json.JSONDecodeError:   # a line cut by a kill: that run is simply done again
-                    continue
-                self.records[_key(record["values"])] = record
+        saved = read_manifest(manifest, "fit")
+        if saved is None and self.journal.is_file():
+            raise InputError(f"{self.folder} holds evaluations.jsonl but no manifest.json: its runs cannot be "
+                             f"matched to {self.spec.source}; use another --out")
+        files, fingerprint = digests(self.spec.source_files()), self.spec.fingerprint()
+        changed = changed_file(saved["files"], files) if saved and isinstance(saved.get("files"), dict) else None
+        if changed is not None:
+            raise InputError(f"{changed} changed since the fit in {self.folder} started (its content differs): "
+                             "resuming would mix two models; use another --out")
+        if saved is not None and saved["fingerprint"] != fingerprint:
+            raise InputError(f"{self.folder} holds a fit whose file, case or data differ from {self.spec.source}: "
+                             "resume only the same fit (use another --out)")
+        with writing(manifest):
+            if saved is None:
+                atomic_write_text(self.folder / "fit.toml", self.spec.text)
+            if saved is None or "files" not in saved:   # (folders of earlier versions: the digests from now on)
+                atomic_write_text(manifest, json_text({"name": self.spec.name, "fingerprint": fingerprint,
+                                                       "files": files}, indent=2) + "\n")
+        for record in journal.read(self.journal, self._check, _label, _note):
+            self.records[_key(record["values"])] = record
+
+    def _check(self, record: dict) -> str | None:
+        """Why ``record`` is not an evaluation of this fit (None when it is one)."""
+        values = record.get("values")
+        if not isinstance(record.get("status"), str) or not isinstance(values, list):
+            return "is not an evaluation record"
+        if len(values) != len(self.spec.free) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                         for v in values):
+            return f"does not hold one number per free key ({len(self.spec.free)})"
+        if record["status"] == "ok" and not isinstance(record.get("predictions"), list):
+            return "is not an evaluation record"
+        return None
 
     def add(self, record: dict) -> None:
         record["evaluation"] = len(self.records)
+        journal.append(self.journal, record)
         self.records[_key(record["values"])] = record
-        with self.journal.open("a") as handle:
-            handle.write(json_text(record) + "\n")
-            handle.flush()
-            os.fsync(handle.fileno())
+
+
+def _label(record, line) -> str:
+    return "that run runs again if the fit needs it"
+
+
+def _note(text: str) -> None:
+    print(f"pchute fit: {text}", file=sys.stderr)
 
 
 def _key(values) -> tuple:
@@ -80,6 +119,8 @@ class Problem:
         self.span = np.array([f.high - f.low for f in spec.free])
         self.measured, self.scales = spec.measured(), spec.scales()
         self.reused = self.ran = 0
+        self.budget = spec.max_runs          # None once the fit has stopped: the outcome's runs are always allowed
+        self.best, self.best_cost = None, np.inf   # the point of least cost evaluated (scaled), for a stopped fit
 
     def values(self, u) -> list:
         return (self.low + np.asarray(u) * self.span).tolist()
@@ -96,20 +137,37 @@ class Problem:
             record["values"] = pending[k]
             self.store.add(record)
             self.ran += 1
-        if len(self.store.records) > MAX_EVALUATIONS:
+        if pending and self.budget is not None and len(self.store.records) > self.budget:
             raise _Budget()
         return [self.store.records[_key(v)] for v in wanted]
 
     def residuals_of(self, record: dict) -> np.ndarray:
         if record["status"] != "ok":
             raise InputError(f"the run at {self._describe(record['values'])} failed: {record['error']}")
-        return (np.asarray(record["predictions"], float) - self.measured) / self.scales
+        residuals = (np.asarray(record["predictions"], float) - self.measured) / self.scales
+        if not np.isfinite(residuals).all():
+            target = self._target_of(int(np.flatnonzero(~np.isfinite(residuals))[0]))
+            raise InputError(f"the run at {self._describe(record['values'])} gives no finite value for {target}: "
+                             "the least-squares fit needs one for every target")
+        return residuals
+
+    def _target_of(self, index: int) -> str:
+        """The label of the target that residual ``index`` belongs to."""
+        for i, target in enumerate(self.spec.targets):
+            if index < target.size:
+                return f"targets[{i}] ({target.label()})"
+            index -= target.size
+        return "a target"
 
     def _describe(self, values) -> str:
         return ", ".join(f"{f.key} = {v:.6g}" for f, v in zip(self.spec.free, values))
 
     def residuals(self, u) -> np.ndarray:
-        return self.residuals_of(self.records([u])[0])
+        residuals = self.residuals_of(self.records([u])[0])
+        cost = float(residuals @ residuals)
+        if cost < self.best_cost:
+            self.best, self.best_cost = np.array(u, float), cost
+        return residuals
 
     def jacobian(self, u) -> np.ndarray:
         """Forward differences, every perturbed run at once (backward at an upper bound)."""
@@ -121,31 +179,43 @@ class Problem:
 
 
 class _Budget(Exception):
-    """More runs than MAX_EVALUATIONS."""
+    """More runs than the fit's budget (``FitSpec.max_runs``)."""
 
 
 def run_fit(spec: FitSpec, out, executor: Executor | None = None, workers: int | None = None) -> dict:
-    """Fit ``spec`` into folder ``out`` (resuming what it holds); returns the fit's outcome (see ``fit.report``)."""
+    """Fit ``spec`` into folder ``out`` (resuming what it holds; locked while the fit runs); returns the fit's
+    outcome (see ``fit.report``)."""
     store = FitStore(out, spec)
-    store.open()
+    store.open()   # before any worker starts: an unwritable or busy folder is one line, at once
     owned = executor is None
-    if owned:
-        executor = ProcessPoolExecutor(max_workers=workers or min(os.cpu_count() or 1, len(spec.free) + 1))
-    problem = Problem(spec, store, executor)
-    start = (np.array([f.initial for f in spec.free]) - problem.low) / problem.span
     try:
-        base = problem.records([start])[0]
-        _check_base_run(spec, base)
-        try:
-            solution = least_squares(problem.residuals, start, jac=problem.jacobian, bounds=(0.0, 1.0),
-                                     method="trf", x_scale="jac", xtol=1e-8, ftol=1e-8, gtol=1e-8,
-                                     max_nfev=MAX_EVALUATIONS)
-            u, status, message = solution.x, int(solution.status), str(solution.message)
-        except _Budget:
-            u, status, message = start, -2, f"stopped after {MAX_EVALUATIONS} runs"
-    finally:
         if owned:
-            executor.shutdown(wait=True, cancel_futures=True)
+            executor = worker_pool(workers or min(os.cpu_count() or 1, len(spec.free) + 1))
+        result = _solve(spec, Problem(spec, store, executor))
+    except BaseException:
+        if owned and executor is not None:
+            stop_pool(executor, now=True)
+        raise
+    finally:
+        store.close()
+    if owned:
+        stop_pool(executor, now=False)
+    return result
+
+
+def _solve(spec: FitSpec, problem: Problem) -> dict:
+    start = (np.array([f.initial for f in spec.free]) - problem.low) / problem.span
+    base = problem.records([start])[0]
+    _check_base_run(spec, base)
+    try:
+        solution = least_squares(problem.residuals, start, jac=problem.jacobian, bounds=(0.0, 1.0),
+                                 method="trf", x_scale="jac", xtol=1e-8, ftol=1e-8, gtol=1e-8,
+                                 max_nfev=spec.max_runs)
+        u, status, message = solution.x, int(solution.status), str(solution.message)
+    except _Budget:
+        u = start if problem.best is None else problem.best
+        status, message = -2, f"stopped after {spec.max_runs} runs (max_runs) at the best point it reached"
+    problem.budget = None
     return outcome(spec, problem, start, np.asarray(u), status, message)
 
 

@@ -43,6 +43,13 @@ from ..errors import CaseError, InputError
 from ..study.spec import Configuration, _read_configuration
 
 EVENT_HELP = "start, deploy <system>, cutaway <system>, descent_rate, touchdown"
+MAX_RUNS = 200
+"""The default budget of runs (``[fit] max_runs``; Jacobian runs included) after which the fit stops and reports
+the best point it reached."""
+STD_RANGE = (1e-9, 1e6)
+"""A target's std (or 1 / weight) must lie within these multiples of its scale: its largest measured magnitude (1 in
+the target's unit when every measured value is 0). Below, the residuals overflow; above, the target weighs nothing
+and the fit would report its starting values as the answer."""
 
 
 @dataclass(frozen=True)
@@ -88,6 +95,7 @@ class FitSpec:
     free: tuple
     targets: tuple
     text: str
+    max_runs: int = MAX_RUNS
 
     def overrides(self, values) -> dict:
         """The case overrides for free-key ``values`` (one per free key, in order)."""
@@ -108,6 +116,20 @@ class FitSpec:
             digest.update(repr((t.kind, t.name, t.measured, t.times, t.std)).encode())
         return digest.hexdigest()
 
+    def source_files(self) -> list:
+        """Every file the fit reads: the fit file, its case with its ``extends`` chain and data tables, and the
+        targets' history CSV files (their contents' digests are kept in the fit folder: a resume after one changed
+        is refused)."""
+        import tomllib
+
+        from ..journal import case_files
+
+        files = [Path(self.source).resolve()] + case_files(self.case)
+        for target in tomllib.loads(self.text).get("targets", []):
+            if isinstance(target, dict) and isinstance(target.get("history"), str):
+                files.append((Path(self.source).parent / target["history"]).resolve())
+        return files
+
 
 def load_fit(path) -> FitSpec:
     """Read and validate fit file ``path`` (CaseError or InputError naming the key)."""
@@ -122,6 +144,7 @@ def load_fit(path) -> FitSpec:
     case_path = (path.parent / f.string("case")).resolve()
     if not case_path.is_file():
         raise f.error("case", f"case file not found: {case_path}", f.data["case"])
+    max_runs = _read_max_runs(f)
     configuration = _read_configuration(f, single_step=True)[0]
     load_case(case_path)   # the base case must load before its keys are checked
     free_tables = top.named_tables("free")
@@ -133,7 +156,17 @@ def load_fit(path) -> FitSpec:
         raise top.error("targets", "a fit needs at least one [[targets]] table (event, final or history)")
     targets = tuple(_read_target(_Table(t, ("targets", i), ctx), path.parent) for i, t in enumerate(raw_targets))
     top.finish()
-    return FitSpec(name, path, case_path, configuration, free, targets, path.read_text())
+    if max_runs < len(free) + 2:
+        raise f.error("max_runs", f"must be >= {len(free) + 2}: the starting run and one Jacobian ({len(free)} runs, "
+                                  "one per free key) plus a step", max_runs)
+    return FitSpec(name, path, case_path, configuration, free, targets, path.read_text(), max_runs)
+
+
+def _read_max_runs(f: _Table) -> int:
+    value = f._get("max_runs", MAX_RUNS, "")
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 1_000_000:
+        raise f.error("max_runs", "must be an integer from 1 to 1000000 (the fit's budget of runs)", value)
+    return value
 
 
 def _read_free(key: str, t: _Table, case_path: Path) -> Free:
@@ -209,10 +242,26 @@ def _read_target(t: _Table, folder: Path) -> Target:
             raise t.error("column", f"{file.name} has no column {column!r} (after the map); it has: "
                                     f"{', '.join(c for c in columns if c != 'time')}", column)
         values = columns[column]
+        bad_time = np.flatnonzero(~np.isfinite(columns["time"]))
+        if len(bad_time):
+            raise t.error("history", f"{file.name} has a time that is not a finite number in data row "
+                                     f"{bad_time[0] + 1}: every sample needs its time (s)", t.data["history"])
         keep = np.isfinite(values)
         target = Target("history", column, tuple(values[keep].tolist()), std, weighted,
                         tuple(columns["time"][keep].tolist()))
     t.finish()
     if not all(math.isfinite(v) for v in target.measured):
         raise t.error(None, "measured values must be finite")
+    _check_std(t, target)
     return target
+
+
+def _check_std(t: _Table, target: Target) -> None:
+    """The std within STD_RANGE times the target's scale (see STD_RANGE)."""
+    scale = max((abs(v) for v in target.measured), default=0.0) or 1.0
+    low, high = STD_RANGE[0] * scale, STD_RANGE[1] * scale
+    if not low <= target.std <= high:
+        key, value = ("weight", 1.0 / target.std) if target.weighted else ("std", target.std)
+        raise t.error(key, f"the std must be within {low:.3g}..{high:.3g} ({STD_RANGE[0]:g} to {STD_RANGE[1]:g} "
+                           f"times the largest measured magnitude, {scale:.6g}): outside, the target overflows or "
+                           "weighs nothing", value)

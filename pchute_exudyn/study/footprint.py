@@ -61,9 +61,15 @@ def ellipse(stats: dict, k: float, count: int = 181) -> np.ndarray:
     return np.array([stats["mean_east"], stats["mean_north"]]) + k * unit @ vectors.T
 
 
-def plot_footprint(points: np.ndarray, stats: dict, title: str, path) -> None:
+def plot_footprint(points: np.ndarray, stats: dict, title: str, path, failed: int = 0) -> None:
+    """Save ``footprint_figure`` at ``path``."""
+    save_figure(footprint_figure(points, stats, title, failed), path)
+
+
+def footprint_figure(points: np.ndarray, stats: dict, title: str, failed: int = 0):
     """Touchdown points, their mean and the 1- and 3-sigma dispersion ellipses, east against north in metres on
-    equal axes."""
+    equal axes; ``failed`` runs (no touchdown recorded: a failed run keeps no position) are counted in the title
+    and the legend, so a footprint never looks complete when runs are missing from it."""
     figure, axes = new_figure(1, 1, size=(7.0, 7.0))
     ax = axes[0, 0]
     ax.plot(points[:, 0], points[:, 1], ".", color="tab:blue", markersize=4, alpha=0.7,
@@ -79,9 +85,12 @@ def plot_footprint(points: np.ndarray, stats: dict, title: str, path) -> None:
     ax.set_xlabel("touchdown east of the start point (m)")
     ax.set_ylabel("touchdown north of the start point (m)")
     ax.grid(True, alpha=0.3)
+    if failed:   # an empty red x in the legend: the runs that are not on the map
+        ax.plot([], [], "x", color="red", label=f"{failed} failed runs not shown: no touchdown")
+        title = f"{title}\n({failed} failed runs not shown: no touchdown)"
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2)
     figure.suptitle(title)
-    save_figure(figure, path)
+    return figure
 
 
 def plot_touchdown_histograms(rows: list, loads: list, title: str, path) -> None:

@@ -23,6 +23,14 @@ from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir, json_text
 from ..plotting import new_figure, save_figure
 from ..results import Result
+from .failures import (
+    choice_markdown,
+    counts_markdown,
+    failed_runs_markdown,
+    failure_counts,
+    separation,
+    separation_markdown,
+)
 from .footprint import (
     MINIMUM_RUNS,
     footprint_markdown,
@@ -31,7 +39,7 @@ from .footprint import (
     plot_touchdown_histograms,
     touchdown_points,
 )
-from .statistics import bootstrap_interval, rank_correlations, runs_needed
+from .statistics import ROUND_OFF, at_round_off, bootstrap_interval, rank_correlations, runs_needed
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -82,8 +90,52 @@ def load_table(folder) -> list:
     path = Path(folder) / "runs.csv"
     if not path.is_file():
         raise InputError(f"{folder}: no runs.csv: not a study folder (run `pchute study` into it first)")
-    with path.open(newline="") as handle:
-        return [{k: _number(v) for k, v in row.items()} for row in csv.DictReader(handle)]
+    rewrite = "rerun `pchute study` into the folder to rewrite it from runs.jsonl"
+    try:
+        with path.open(newline="", encoding="utf-8") as handle:
+            reader = csv.DictReader(handle)
+            rows = [{k: _number(v) for k, v in row.items()} for row in reader]
+            columns = reader.fieldnames or []
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise InputError(f"{path}: not a runs table pchute wrote ({type(exc).__name__}); {rewrite}") from None
+    missing = [name for name in ("run", "status") if name not in columns]
+    if missing:
+        raise InputError(f"{path}: no {' or '.join(missing)} column: not a runs table pchute wrote; {rewrite}")
+    bad = next((r for r in rows if not (isinstance(r.get("run"), float) and r["run"].is_integer())), None)
+    if bad is not None:
+        raise InputError(f"{path}: run = {bad.get('run')!r}: must be a run number (an integer); {rewrite}")
+    return rows
+
+
+def _study_files(folder: Path) -> tuple[dict, dict]:
+    """The study's copy of its file (``study.toml``) and the parameters' units of ``manifest.json``; each {} when
+    absent, an InputError when unreadable."""
+    study, units = {}, {}
+    try:
+        if (folder / "study.toml").is_file():
+            study = tomllib.loads((folder / "study.toml").read_text(encoding="utf-8"))
+        if (folder / "manifest.json").is_file():
+            manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+            units = manifest.get("parameter_units", {}) if isinstance(manifest, dict) else None
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:   # TOML and JSON errors are ValueErrors
+        raise InputError(f"{folder}: its study.toml or manifest.json cannot be read ({type(exc).__name__}: "
+                         f"{str(exc).splitlines()[0] if str(exc) else ''}): not a study folder pchute wrote") from None
+    if not isinstance(units, dict):
+        raise InputError(f"{folder / 'manifest.json'}: not a JSON object with the study's fingerprint: not a "
+                         "study folder pchute wrote")
+    if not isinstance(study.get("study", {}), dict) or not isinstance(study.get("parameters", {}), dict) or \
+            not all(isinstance(p, dict) for p in study.get("parameters", {}).values()):
+        raise InputError(f"{folder / 'study.toml'}: [study] and each [parameters.\"<key>\"] must be tables")
+    return study, units
+
+
+def planned_runs(folder: Path) -> int | None:
+    """The number of runs ``inputs.csv`` plans (None without a readable one)."""
+    try:
+        with (folder / "inputs.csv").open(newline="", encoding="utf-8") as handle:
+            return sum(1 for _ in csv.DictReader(handle))
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return None
 
 
 def _configuration(row, with_step: bool = True) -> str:
@@ -152,16 +204,20 @@ def percentiles(rows: list, outputs: list) -> dict:
     return table
 
 
-def sensitivity(ok: list, drawn: list, outputs: list) -> dict:
-    """Per output, the drawn inputs ranked by their Spearman rank correlation with it (``statistics``)."""
+def sensitivity(ok: list, drawn: list, outputs: list) -> tuple[dict, list]:
+    """Per output, the drawn inputs ranked by their Spearman rank correlation with it (``statistics``), and the
+    outputs skipped because their spread over the runs is round-off (``statistics.at_round_off``)."""
     inputs = {key: np.array([r.get(key) if isinstance(r.get(key), float) else np.nan for r in ok]) for key in drawn}
-    table = {}
+    table, skipped = {}, []
     for name in outputs:
         output = np.array([r.get(name) if isinstance(r.get(name), float) else np.nan for r in ok])
+        if at_round_off(output):
+            skipped.append(name)
+            continue
         ranked = rank_correlations(inputs, output)
         if ranked:
             table[name] = ranked
-    return table
+    return table, skipped
 
 
 def reference_errors(folder: Path, rows: list, grid: list) -> list:
@@ -200,35 +256,66 @@ def study_report(folder) -> dict:
     """Write the report of study folder ``folder``; returns the paths written."""
     folder = Path(folder)
     rows = load_table(folder)
-    study = tomllib.loads((folder / "study.toml").read_text()) if (folder / "study.toml").is_file() else {}
-    title = study.get("study", {}).get("name", folder.name)
+    study, units = _study_files(folder)
+    title = str(study.get("study", {}).get("name", folder.name))
     parameters = study.get("parameters", {})
     drawn = [k for k, p in parameters.items() if "distribution" in p and p["distribution"] not in ("seed", "choice")]
     categorical = [k for k, p in parameters.items() if p.get("distribution") == "choice"]
     grid = [k for k, p in parameters.items() if "distribution" not in p]
-    manifest = folder / "manifest.json"
-    units = json.loads(manifest.read_text()).get("parameter_units", {}) if manifest.is_file() else {}
     labels = {k: parameter_label(k, units, bool(p.get("relative"))) for k, p in parameters.items()}
     out = ensure_writable_dir(folder / "report")
     ok = [r for r in rows if r.get("status") == "ok" and r.get("reference") != "True"]
-    systems = {k.removeprefix("peak_load_share_") for r in ok for k in r if k.startswith("peak_load_share_")}
-    clustered = [f"{prefix}{system}" for system in sorted(systems) for prefix in CLUSTER_OUTPUTS]
-    outputs = [o for o in MAIN_OUTPUTS + tuple(clustered) if any(isinstance(r.get(o), float) for r in ok)] + \
-        sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
+    failed = [r for r in rows if r.get("status") != "ok"]
+    outputs = _outputs(ok)
     stats = percentiles(ok, outputs)
     atomic_write_text(out / "percentiles.json", json_text(stats, indent=2) + "\n")
-    ranking = sensitivity(ok, drawn, outputs) if drawn and len(ok) > 2 else {}
+    ranking, skipped = sensitivity(ok, drawn, outputs) if drawn and len(ok) > 2 else ({}, [])
     paths = {"percentiles": out / "percentiles.json"}
     if ok and outputs:
-        paths["histograms"] = _plot_histograms(ok, outputs[:12], stats, f"{title}: {len(ok)} runs", out)
+        paths["histograms"] = _plot_histograms(ok, outputs[:12], stats, f"{title}: {len(ok)} ok runs"
+                                               + (f" ({len(failed)} failed not shown)" if failed else ""), out)
+    _input_figures(ok, failed, drawn, grid, outputs, labels, out, paths)
+    footprint = _footprint(ok, outputs, title, out, paths, len(failed))
+    errors = _errors(folder, rows, grid, labels, out, paths)
+    counts = failure_counts(rows, planned_runs(folder))
+    found = separation(ok, [r for r in failed if r.get("reference") != "True"], drawn + grid + ["step"]) \
+        if failed and ok else []
+    atomic_write_text(out / "failures.json", json_text({**counts, "failed_runs": [int(r["run"]) for r in failed],
+                                                        "separation": found}, indent=2) + "\n")
+    paths["failures"] = out / "failures.json"
+    first = _failure_section(counts, rows, failed, found, parameters)
+    first += choice_markdown([r for r in rows if r.get("reference") != "True"], categorical) if failed else []
+    extra = footprint + _by_category(ok, categorical, outputs) + _ranking(ranking, skipped)
+    atomic_write_text(out / "report.md", _markdown(title, first, ok, failed, stats, errors, grid, paths, extra))
+    paths["report"] = out / "report.md"
+    return paths
+
+
+def _outputs(ok: list) -> list:
+    """The outputs the ok runs hold, in the report's order: the main ones, per cluster, then every peak tension."""
+    systems = {k.removeprefix("peak_load_share_") for r in ok for k in r if k.startswith("peak_load_share_")}
+    clustered = [f"{prefix}{system}" for system in sorted(systems) for prefix in CLUSTER_OUTPUTS]
+    return [o for o in MAIN_OUTPUTS + tuple(clustered) if any(isinstance(r.get(o), float) for r in ok)] + \
+        sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
+
+
+def _input_figures(ok: list, failed: list, drawn: list, grid: list, outputs: list, labels: dict, out: Path,
+                   paths: dict) -> None:
+    """Outputs against each drawn input (failed runs marked at their drawn value) and each grid parameter."""
     tensions = [o for o in outputs if o.startswith("peak_tension_")][:2]
     for key in drawn:
         targets = [o for o in ("final_lateral", "final_altitude", "touchdown_speed") if o in outputs] + tensions
-        paths[f"scatter {key}"] = _plot_scatter(ok, key, labels[key], targets, out / f"scatter_{_safe(key)}.png")
+        path = out / f"scatter_{_safe(key)}.png"
+        save_figure(scatter_figure(ok, failed, key, labels[key], targets or ["final_altitude"]), path)
+        paths[f"scatter {key}"] = path
     for key in grid:
         targets = [o for o in ("final_altitude", "final_lateral") if o in outputs] + tensions
-        paths[f"grid {key}"] = _plot_grid(ok, key, labels[key], targets, out / f"grid_{_safe(key)}.png")
-    footprint = _footprint(ok, outputs, title, out, paths)
+        if targets:
+            paths[f"grid {key}"] = _plot_grid(ok, key, labels[key], targets, out / f"grid_{_safe(key)}.png")
+
+
+def _errors(folder: Path, rows: list, grid: list, labels: dict, out: Path, paths: dict) -> list:
+    """Each run's errors against its reference, with their table and figures (none without a reference)."""
     errors = reference_errors(folder, rows, grid) if any(r.get("reference") == "True" for r in rows) else []
     if errors:
         paths["errors"] = _write_errors(errors, out / "errors.csv")
@@ -237,14 +324,21 @@ def study_report(folder) -> dict:
         for key in grid:
             paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, labels[key],
                                                                      out / f"error_vs_{_safe(key)}.png")
-    extra = footprint + _by_category(ok, categorical, outputs) + _ranking(ranking)
-    atomic_write_text(out / "report.md", _markdown(title, rows, stats, errors, grid, paths, extra))
-    paths["report"] = out / "report.md"
-    return paths
+    return errors
 
 
-def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict) -> list:
-    """The landing footprint's files when at least MINIMUM_RUNS runs touched down; returns its report lines."""
+def _failure_section(counts: dict, rows: list, failed: list, found: list, parameters: dict) -> list:
+    """The report's first lines: the counts and failure rate, the failed runs with their inputs and errors, and
+    which inputs separate them from the ok runs (``found``: ``failures.separation``)."""
+    references = sum(r.get("reference") == "True" for r in rows)
+    lines = counts_markdown(counts, references)
+    lines += failed_runs_markdown(failed, list(parameters), _configuration)
+    return lines + separation_markdown(found)
+
+
+def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict, failed: int) -> list:
+    """The landing footprint's files when at least MINIMUM_RUNS runs touched down (``failed`` runs counted as not
+    shown); returns its report lines."""
     points = touchdown_points(ok)
     if len(points) < MINIMUM_RUNS:
         return []
@@ -261,13 +355,17 @@ def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict) -> l
     stats["percentiles"] = {name: {"unit": unit, **p} for name, unit, p in rows}
     atomic_write_text(out / "footprint.json", json_text(stats, indent=2) + "\n")
     paths["footprint data"] = out / "footprint.json"
-    plot_footprint(points, stats, f"{title}: touchdown points and dispersion ellipses", out / "footprint.png")
+    plot_footprint(points, stats, f"{title}: touchdown points and dispersion ellipses", out / "footprint.png",
+                   failed)
     paths["footprint"] = out / "footprint.png"
     landed_loads = [name for name in loads if name in stats["percentiles"]]   # lines of the runs that landed
     heaviest = sorted(landed_loads, key=lambda name: -stats["percentiles"][name]["p50"])[:5]   # largest median peaks
-    plot_touchdown_histograms(landed, heaviest, f"{title}: {len(landed)} touchdowns", out / "touchdown.png")
+    missing = f" ({failed} failed runs not shown)" if failed else ""
+    plot_touchdown_histograms(landed, heaviest, f"{title}: {len(landed)} touchdowns{missing}", out / "touchdown.png")
     paths["touchdown"] = out / "touchdown.png"
-    return footprint_markdown(stats, rows)
+    lines = footprint_markdown(stats, rows)
+    return lines + (["", f"{failed} failed runs are not in the footprint: a failed run records no touchdown."]
+                    if failed else [])
 
 
 def _plot_histograms(ok: list, shown: list, stats: dict, title: str, out: Path) -> Path:
@@ -284,15 +382,28 @@ def _plot_histograms(ok: list, shown: list, stats: dict, title: str, out: Path) 
     return _finish(figure, None, f"{title} (dotted: 1st and 99th percentile, solid: median)", out / "histograms.png")
 
 
-def _plot_scatter(ok: list, key: str, label: str, targets: list, path: Path) -> Path:
-    """Outputs against a drawn input, one point per run."""
+FAILED_MARK = {"marker": "x", "color": "red", "linestyle": "none", "markersize": 7, "clip_on": False}
+"""How a figure marks the failed runs: a red x."""
+
+
+def scatter_figure(ok: list, failed: list, key: str, label: str, targets: list):
+    """Outputs against a drawn input, one point per ok run; each failed run a red x at its drawn value on the
+    bottom edge of every panel (it has no outputs)."""
     figure, axes = new_figure(1, len(targets), size=(3.6 * len(targets), 3.4))
+    drawn = [r[key] for r in failed if isinstance(r.get(key), float)]
     for ax, name in zip(axes[0], targets):
-        ax.plot([r[key] for r in ok], [r.get(name) for r in ok], ".", markersize=4)
+        ax.plot([r[key] for r in ok], [r.get(name) for r in ok], ".", markersize=4, label=f"ok ({len(ok)} runs)")
+        if drawn:   # x in data units, y in axes units: on the bottom edge whatever the output's scale
+            ax.plot(drawn, [0.0] * len(drawn), transform=ax.get_xaxis_transform(), **FAILED_MARK,
+                    label=f"failed ({len(drawn)} runs, at their drawn value)")
         ax.set_xlabel(label)
         ax.set_ylabel(output_label(name))
         ax.grid(True, alpha=0.3)
-    return _finish(figure, None, f"outputs against {key}", path)
+    note = f"; red x: {len(drawn)} failed runs" if drawn else ""
+    figure.suptitle(f"outputs against {key}{note}")
+    if drawn:
+        axes[0, 0].legend(fontsize="x-small")
+    return figure
 
 
 def _plot_grid(ok: list, key: str, label: str, targets: list, path: Path) -> Path:
@@ -345,12 +456,29 @@ def _write_errors(errors: list, path: Path) -> Path:
     return path
 
 
-def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, paths: dict, footprint: list) -> str:
-    failed = [r for r in rows if r.get("status") != "ok"]
-    lines = [f"# Study report: {title}", "",
-             f"{len(rows)} runs recorded: {len(rows) - len(failed)} ok, {len(failed)} failed "
-             f"({sum(r.get('reference') == 'True' for r in rows)} reference runs).", "",
-             "Percentiles with their 95 % bootstrap intervals in brackets (percentile bootstrap, "
+def _markdown(title: str, first: list, ok: list, failed: list, stats: dict, errors: list, grid: list, paths: dict,
+              footprint: list) -> str:
+    lines = [f"# Study report: {title}", "", *first, "", "## Outputs", ""]
+    lines += _percentile_table(ok, failed, stats) if stats else [f"No outputs: no run ended ok ({len(failed)} failed)."]
+    lines += footprint
+    if errors:
+        lines += ["", "Errors against the reference (each run against its reference run):", "",
+                  "| case | configuration | " + "".join(f"{k} | " for k in grid) + "wall time (s) | final altitude "
+                  "error (m) | final lateral error (m) | max tension error after min(2 s, 20% of the run) (N) |",
+                  "|---|---|" + "---|" * len(grid) + "---|---|---|---|"]
+        for e in sorted(errors, key=lambda e: (e["case"], e["family"], e["step"] or 0.0,
+                                               *[_sort_key(e.get(k)) for k in grid])):
+            lines.append(f"| {e['case']} | {e['configuration']} | " + "".join(f"{e.get(k)} | " for k in grid)
+                         + f"{e['wall_time']:.3g} | {e['altitude_error']:.3g} | {e['lateral_error']:.3g} | "
+                           f"{e['max_tension_error']:.3g} |")
+    lines += ["", "Figures: " + ", ".join(f"`{Path(p).name}`" for p in paths.values() if str(p).endswith(".png"))]
+    return "\n".join(lines) + "\n"
+
+
+def _percentile_table(ok: list, failed: list, stats: dict) -> list:
+    """Report lines: the percentiles of every output over the ok runs, with their bootstrap intervals."""
+    lines = [f"Percentiles of {len(ok)} ok runs ({len(failed)} failed excluded: they have no outputs), with their "
+             "95 % bootstrap intervals in brackets (percentile bootstrap, "
              f"{BOOTSTRAP_NOTE}); a percentile marked * rests on fewer runs than it needs to mean much (ten runs "
              "beyond it: 1000 for the 1st and 99th, 20 for the median).", "",
              "| output | p1 | p50 | p99 | mean | std | min | max | runs |", "|---|---|---|---|---|---|---|---|---|"]
@@ -363,23 +491,7 @@ def _markdown(title: str, rows: list, stats: dict, errors: list, grid: list, pat
     if short:
         lines += ["", f"Warning: {', '.join(short)} rest on too few runs here (*): their intervals show how little "
                       "the runs pin them down; run more samples before quoting them."]
-    lines += footprint
-    if errors:
-        lines += ["", "Errors against the reference (each run against its reference run):", "",
-                  "| case | configuration | " + "".join(f"{k} | " for k in grid) + "wall time (s) | final altitude "
-                  "error (m) | final lateral error (m) | max tension error after min(2 s, 20% of the run) (N) |",
-                  "|---|---|" + "---|" * len(grid) + "---|---|---|---|"]
-        for e in sorted(errors, key=lambda e: (e["case"], e["family"], e["step"] or 0.0,
-                                               *[_sort_key(e.get(k)) for k in grid])):
-            lines.append(f"| {e['case']} | {e['configuration']} | " + "".join(f"{e.get(k)} | " for k in grid)
-                         + f"{e['wall_time']:.3g} | {e['altitude_error']:.3g} | {e['lateral_error']:.3g} | "
-                           f"{e['max_tension_error']:.3g} |")
-    if failed:
-        lines += ["", "Failed runs:", "", "| run | case | configuration | error |", "|---|---|---|---|"]
-        for r in failed:
-            lines.append(f"| {int(r['run'])} | {r['case']} | {_configuration(r)} | {r.get('error')} |")
-    lines += ["", "Figures: " + ", ".join(f"`{Path(p).name}`" for p in paths.values() if str(p).endswith(".png"))]
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _by_category(ok: list, categorical: list, outputs: list) -> list:
@@ -403,15 +515,19 @@ def _by_category(ok: list, categorical: list, outputs: list) -> list:
     return lines
 
 
-def _ranking(ranking: dict) -> list:
-    """Report lines: per output, the drawn inputs by rank correlation (strongest first)."""
-    if not ranking:
+def _ranking(ranking: dict, skipped: list) -> list:
+    """Report lines: per output, the drawn inputs by rank correlation (strongest first), and the outputs skipped
+    as round-off."""
+    if not ranking and not skipped:
         return []
     lines = ["", "## Sensitivity: which inputs move which outputs", "",
-             "Spearman rank correlation of each output with each drawn input over the runs (+1: the output rises "
+             "Spearman rank correlation of each output with each drawn input over the ok runs (+1: the output rises "
              "with the input), strongest first.", "", "| output | inputs, strongest first |", "|---|---|"]
     for name, ranked in ranking.items():
         lines.append(f"| {output_label(name)} | " + ", ".join(f"{key} ({rho:+.2f})" for key, rho in ranked) + " |")
+    for name in skipped:
+        lines.append(f"| {output_label(name)} | skipped: its spread over the runs is round-off (at most "
+                     f"{ROUND_OFF:g} x max(largest value, 1)), not a response to the inputs |")
     return lines
 
 

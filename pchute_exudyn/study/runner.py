@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import asyncio
 import gc
+import logging
 import math
 import os
+import signal
 import sys
 import threading
 import time
@@ -16,6 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, PchuteError
+from ..io import ensure_writable_dir
+from ..journal import WriteFailed
 from .spec import RunSpec, StudySpec
 from .store import StudyStore
 
@@ -97,14 +101,25 @@ def _execute(run: RunSpec, load_case, simulate) -> dict:
         record.update(scalar_outputs(result))
         record["wall_time"] = result.summary["wall_time"]
         record["steps"] = result.summary["steps"]
-        if run.history_dir is not None:
-            result.save(run.history_dir, plot=False, csv=False, overwrite=True)   # a retried run replaces its own
     except PchuteError as exc:
         record.update(status="failed", error=str(exc), wall_time=time.perf_counter() - started)
     except Exception as exc:  # a bug, not a user mistake: still recorded, the study goes on
         record.update(status="failed", error=f"internal error: {exc!r}", wall_time=time.perf_counter() - started)
+    else:
+        if run.history_dir is not None:
+            _save_history(result, run.history_dir, record)
     record["run_time"] = time.perf_counter() - started
     return record
+
+
+def _save_history(result, folder: str, record: dict) -> None:
+    """Save a run's histories; a folder that cannot take them (a full disk) is the study folder's fault, not the
+    run's: marked ``write_error`` (the study stops with it, and its resume runs the run again)."""
+    try:
+        result.save(folder, plot=False, csv=False, overwrite=True)   # a retried run replaces its own
+    except (PchuteError, OSError) as exc:
+        where = exc.filename if isinstance(exc, OSError) and exc.filename else folder
+        record["write_error"] = str(exc) if isinstance(exc, PchuteError) else f"{where}: {exc.strerror}"
 
 
 def warm() -> None:
@@ -164,13 +179,26 @@ def dask_executor(scheduler: str | None = None, local_workers: int | None = None
                   file=sys.stderr)
         client = Client(scheduler, timeout=timeout, set_as_default=False)
         return client.get_executor(pure=False), client.close
-    cluster = LocalCluster(n_workers=local_workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    # Its worker processes start with Ctrl-C ignored (a disposition a started process keeps): Ctrl-C to the whole
+    # process group reaches this process alone, which stops the study and closes the cluster (no worker traceback).
+    # Its log says only errors: the warnings of workers stopped on purpose are noise.
+    previous = {s: signal.signal(s, signal.SIG_IGN) for s in (signal.SIGINT, signal.SIGTERM)} if _main_thread() else {}
+    try:
+        cluster = LocalCluster(n_workers=local_workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
     client = Client(cluster, set_as_default=False)
 
     def close():
         client.close()
         cluster.close()
     return client.get_executor(pure=False), close
+
+
+def _main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
 
 
 def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: int | None = None,
@@ -181,11 +209,12 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
     ----------
     spec : StudySpec
     out : path
-        The study folder (see ``study.store``); rerunning into it skips finished runs.
+        The study folder (see ``study.store``); rerunning into it skips finished runs. It is locked while the study
+        runs: a second study into it is refused.
     executor : concurrent.futures.Executor, optional
         Where runs execute; default a process pool of ``workers`` (default: every core).
     progress : bool
-        Show a progress bar (runs done, failed, time left).
+        Show progress: a bar (runs done, failed, time left) on a terminal, else a line per tenth of the runs.
     retry_failed : bool
         Run again the runs recorded as failed.
 
@@ -195,34 +224,54 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
         Counts: planned, skipped (already done), executed, failed, and the wall time (s).
     """
     out = Path(out)
+    ensure_writable_dir(out)   # before any worker starts: an unwritable folder is one line, at once
     owned = executor is None
-    if owned:   # started first: the workers load the package while this process draws the runs
-        executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count())
+    if owned:   # started early: the workers load the package while this process draws the runs
+        executor = worker_pool(workers or os.cpu_count())
         for _ in range(workers or os.cpu_count()):
             executor.submit(warm)
+    try:
+        counts = _open_and_run(spec, out, executor, progress, retry_failed)
+    except BaseException:   # an interrupt, a busy folder, a full disk: no worker outlives it
+        if owned:
+            stop_pool(executor, now=True)
+        raise
+    if owned:
+        stop_pool(executor, now=False)
+    return counts
+
+
+def _open_and_run(spec: StudySpec, out: Path, executor: Executor, progress: bool, retry_failed: bool) -> dict:
+    """Draw the runs, open (and lock) the study folder, run what it lacks, release it."""
     threading.Thread(target=_load_table_libraries, daemon=True).start()   # for the table written at the end
     runs = spec.expand(out.resolve() / "histories")   # absolute: workers may run elsewhere
     store = StudyStore(out, spec, runs)
+    store.open()
     try:
-        store.open()
-    except BaseException:
-        if owned:
-            executor.shutdown(wait=False, cancel_futures=True)
-        raise
+        return _run_pending(executor, store, progress, retry_failed, out)
+    finally:
+        store.close()
+
+
+def _run_pending(executor: Executor, store: StudyStore, progress: bool, retry_failed: bool, out: Path) -> dict:
     done = store.done(retry_failed)
-    pending = [r for r in runs if r.index not in done]
+    pending = [r for r in store.runs if r.index not in done]
     failed = sum(1 for i in done if store.records[i].get("status") != "ok")
-    bar = _progress(len(runs), len(done), failed) if progress else None
+    bar = _progress(len(store.runs), len(done), failed) if progress else None
     started = time.perf_counter()
     try:
         executed, failed = _record_as_they_finish(executor, pending, store, bar, failed)
+    except BaseException:
+        try:
+            store.write_table(final=True)   # the runs recorded so far, in run order
+        except WriteFailed:
+            pass   # the error on its way out says what failed; the journal has every finished run
+        raise
     finally:
-        store.write_table(final=True)
         if bar is not None:
             bar.close()
-        if owned:
-            executor.shutdown(wait=True, cancel_futures=True)
-    return {"planned": len(runs), "skipped": len(done), "executed": executed, "failed": failed,
+    store.write_table(final=True)
+    return {"planned": len(store.runs), "skipped": len(done), "executed": executed, "failed": failed,
             "wall_time": time.perf_counter() - started, "folder": str(out)}
 
 
@@ -241,21 +290,66 @@ def _record_as_they_finish(executor: Executor, pending: list, store: StudyStore,
                 record = future.result()
             except Exception as exc:  # the executor itself failed (a worker died, transport error)
                 record = {"run": run.index, "status": "failed", "error": f"executor error: {exc!r}"}
+            if record.get("write_error"):   # a worker could not write the run's histories: the disk, not the run
+                raise WriteFailed(f"run {run.index}: {record['write_error'].removesuffix('.')}; free space and "
+                                  "rerun the same command to resume")
             store.record(record)
             executed += 1
             failed += record["status"] != "ok"
             if bar is not None:
                 bar.update(1)
                 bar.set_postfix(failed=failed)
-    except KeyboardInterrupt:
+    except BaseException:
         for future in futures:
             future.cancel()
         raise
     return executed, failed
 
 
+def _worker_start() -> None:
+    """A pool worker: dies with its parent (Linux), and leaves Ctrl-C and SIGTERM to it: the parent records what
+    finished and stops the workers, so that a signal to the whole process group ends in one clean path."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)   # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() == 1:   # the parent died before the line above (the worker was handed to init)
+        os._exit(1)
+
+
+def worker_pool(workers: int) -> ProcessPoolExecutor:
+    """A local process pool whose workers never outlive this process (``stop_pool`` ends them)."""
+    return ProcessPoolExecutor(max_workers=workers, initializer=_worker_start)
+
+
+def stop_pool(executor: ProcessPoolExecutor, now: bool) -> None:
+    """Shut ``executor`` down: after its running work, or (``now``: an interrupt, an error) at once, its workers
+    killed (they ignore SIGINT and SIGTERM) and reaped, so that no process is left."""
+    if not now:
+        executor.shutdown(wait=True, cancel_futures=True)
+        return
+    processes = list((getattr(executor, "_processes", None) or {}).values())   # the pool's own worker processes
+    for process in processes:
+        try:
+            process.kill()
+        except (OSError, ValueError, AttributeError):
+            pass
+    for process in processes:
+        try:
+            process.join(5)
+        except (OSError, ValueError, AssertionError):
+            pass
+    try:
+        executor.shutdown(wait=True, cancel_futures=True)
+    except Exception:  # a pool broken by its killed workers has nothing more to stop
+        pass
+
+
 def _progress(total: int, initial: int, failed: int):
-    from tqdm import tqdm
-    bar = tqdm(total=total, initial=initial, unit="run", desc="study", dynamic_ncols=True)
-    bar.set_postfix(failed=failed)
-    return bar
+    """A bar on a terminal, one line per tenth of the runs in a log (``progress.run_progress``)."""
+    from ..progress import run_progress
+    return run_progress(total, initial, failed)

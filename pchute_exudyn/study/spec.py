@@ -65,6 +65,9 @@ DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
                  "truncated_normal": ("mean", "std", "low", "high"), "seed": (), "choice": ()}
 """Each distribution and the numbers it needs (``choice`` takes ``values`` and optional ``weights`` instead)."""
 SAMPLINGS = ("random", "latin_hypercube", "sobol")
+MAX_RUNS = 1_000_000
+"""The most runs a study may expand into (docs/study-format.md, "Limits"): its run list is built, and its journal
+read, in memory; split a larger study into several."""
 """``[study] sampling``: independent random draws, a Latin hypercube or a scrambled Sobol sequence (scipy.stats.qmc)
 over the drawn parameters, mapped through each distribution's inverse CDF."""
 SEED_LIMIT = 2 ** 31
@@ -264,6 +267,16 @@ class StudySpec:
         digest.update(json.dumps([r.row("") for r in self.expand()], sort_keys=True, default=str).encode())
         return digest.hexdigest()
 
+    def source_files(self) -> list:
+        """Every file the study reads: the study file, its cases, their ``extends`` chains and data tables (their
+        contents' digests are kept in the study folder: a resume after one changed is refused)."""
+        from ..journal import case_files
+
+        files = [Path(self.source).resolve()]
+        for case in self.cases:
+            files += [f for f in case_files(case) if f not in files]
+        return files
+
 
 def _read_options(t: _Table, method: str | None) -> tuple:
     """The configuration's remaining keys as options of its method, validated by the method's Options type."""
@@ -338,6 +351,8 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
         if step == 0.0 or (stop - start) / step < 0:
             raise r.error("step", "must be non-zero and point from start to stop", step)
         count = int(math.floor((stop - start) / step + 1e-9)) + 1
+        if count > MAX_RUNS:
+            raise r.error("step", f"gives {count:.3g} values; a study runs at most {MAX_RUNS} (MAX_RUNS)", step)
         values = tuple(float(start + i * step) for i in range(count))
     else:
         r = t.table("linspace")
@@ -346,6 +361,8 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
         r.allowed.append("num")
         if isinstance(num, bool) or not isinstance(num, int) or num < 2:
             raise r.error("num", "must be an integer >= 2", num)
+        if num > MAX_RUNS:
+            raise r.error("num", f"must be <= {MAX_RUNS}: a study runs at most {MAX_RUNS} runs (MAX_RUNS)", num)
         r.finish()
         values = tuple(float(v) for v in np.linspace(start, stop, num))
     t.finish()
@@ -396,6 +413,8 @@ def load_study(path) -> StudySpec:
     runs = s._get("runs", 1, "")
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise s.error("runs", "must be an integer >= 1 (Monte Carlo samples per grid point)", runs)
+    if runs > MAX_RUNS:
+        raise s.error("runs", f"must be <= {MAX_RUNS}: a study runs at most {MAX_RUNS} runs (MAX_RUNS)", runs)
     seed = s._get("seed", None, "")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
         raise s.error("seed", "must be an integer >= 0", seed)
@@ -426,8 +445,21 @@ def load_study(path) -> StudySpec:
         raise s.error("sampling", f"{sampling} needs a parameter with a distribution to spread", sampling)
     spec = StudySpec(name, path, cases, tuple(configurations), reference, reference_per, tuple(parameters), runs, seed,
                      duration, histories, path.read_text(), sampling=sampling)
+    _check_run_count(spec, s)
     _check_parameters(spec, source)
     return spec
+
+
+def _check_run_count(spec: StudySpec, s: _Table) -> None:
+    """Refuse, before the run list is built, a study of more than MAX_RUNS runs (cases x grid x runs x
+    configurations, with the references)."""
+    grid = math.prod(len(p.values) for p in spec.parameters if p.distribution is None)
+    per_sample = len(spec.configurations) + (spec.reference is not None)
+    total = len(spec.cases) * grid * spec.runs * per_sample
+    if total > MAX_RUNS:
+        raise s.error("runs", f"the study expands into {total:.3g} runs ({len(spec.cases)} case(s) x {grid} grid "
+                              f"point(s) x {spec.runs} sample(s) x {per_sample} configuration(s)); a study runs at "
+                              f"most {MAX_RUNS} (MAX_RUNS): split it", spec.runs)
 
 
 def _check_parameters(spec: StudySpec, source: str) -> None:
@@ -453,6 +485,10 @@ def _check_parameters(spec: StudySpec, source: str) -> None:
                 unit = loaded.unit_of(p.key)
                 if unit is not None:
                     spec.parameter_units[p.key] = unit
+                if p.distribution == "seed" and unit:   # integers up to 2^31: 2e9 m/s on a velocity key
+                    raise CaseError(source, f'parameters."{p.key}".distribution', f"'seed' draws integers from 0 to "
+                                    f"2^31 - 1, for a seed key (atmosphere.turbulence.seed); this key is in {unit}: "
+                                    "draw it from normal, uniform or truncated_normal", "seed")
                 if not every:
                     break
             if first is not None and (every or not applied):

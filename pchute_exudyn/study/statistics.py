@@ -11,6 +11,10 @@ BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 20261123
 """Fixed, so a report is the same every time it is written."""
 CONFIDENCE = 0.95
+ROUND_OFF = 1e-9
+"""An output's spread over the runs at or below ROUND_OFF x max(largest |value|, 1 SI unit) is round-off, not a
+response to the inputs: its rank correlations would rank noise (a final east position spanning 1e-14..3e-13 m
+ranks as +1.00), so ``at_round_off`` outputs get none."""
 
 
 def bootstrap_interval(values: np.ndarray, percentile: float) -> tuple[float, float]:
@@ -28,6 +32,15 @@ def runs_needed(percentile: float) -> int:
     """Runs for the ``percentile``-th percentile to have at least ten runs beyond it (100 for the median's
     neighbours, 1000 for the 1st and 99th): with fewer it is set by a handful of extreme runs."""
     return math.ceil(10.0 * 100.0 / min(percentile, 100.0 - percentile))
+
+
+def at_round_off(values: np.ndarray) -> bool:
+    """Whether the finite ``values`` (one output over the runs, SI units) spread no more than ROUND_OFF x
+    max(largest |value|, 1): double-precision round-off of the run's own scale, not a response."""
+    finite = values[np.isfinite(values)]
+    if len(finite) < 2:
+        return False
+    return bool(np.ptp(finite) <= ROUND_OFF * max(float(np.max(np.abs(finite))), 1.0))
 
 
 def rank_correlations(inputs: dict, output: np.ndarray) -> list:

@@ -1,30 +1,36 @@
 """The result store of a study: one folder, nothing lost, nothing twice.
 
-* ``study.toml``: a copy of the study file; ``manifest.json``: the study's fingerprint and run count;
+* ``study.toml``: a copy of the study file; ``manifest.json``: the study's fingerprint, run count and the digest of
+  every file the study reads (its cases and their ``extends`` chains);
+* ``.pchute.lock``: locked while a study works in the folder (``journal.FolderLock``): a second one is refused;
 * ``inputs.csv``: every planned run and its inputs, written before the first run;
 * ``runs.jsonl``: one line per finished run (inputs, outputs, status, error), appended and flushed to disk as each
-  run finishes: the record that survives a crash (a torn last line is ignored, so that run simply runs again);
+  run finishes, each line with its checksum (``journal``): the record that survives a crash (a torn or corrupt line
+  is reported and set aside in ``runs.jsonl.rejected``, so that run simply runs again);
 * ``runs.csv``: the same as a table: a row appended as each run finishes (in the order they finish; the whole table
   rewritten, atomically, only when a run brings a column the table lacks), rewritten in run order when the study
   ends or is interrupted;
 * ``histories/run_NNNNN/``: time histories, when the study keeps them.
 
-Rerunning a study into the same folder skips the runs in ``runs.jsonl``; a study whose file, cases or inputs changed
-is refused (start it in a new folder).
+Rerunning a study into the same folder skips the runs in ``runs.jsonl``; a study whose file, cases (or a file they
+extend) or inputs changed is refused (start it in a new folder). A failed write (a full disk) is one line; the
+journal never keeps half a line, and the same command resumes once there is space.
 """
 
 from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import os
+import sys
 from pathlib import Path
 
+from .. import journal
 from ..errors import InputError
 from ..io import atomic_write_text, ensure_writable_dir, json_text
-from .table import write_parquet
+from ..journal import RUN_INDEX, FolderLock, changed_file, digests, read_manifest, writing
+from .table import PARQUET_NAME, write_parquet
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
 
@@ -38,42 +44,85 @@ class StudyStore:
         self.runs = runs
         self.records: dict = {}
         self._columns = None   # runs.csv's header as last written
+        self.lock = FolderLock(self.folder, "study")
 
     # -- set up and resume --------------------------------------------------------------------------------------
 
     def open(self) -> None:
+        """Lock the folder (until ``close``), check that it holds this study (or nothing), read its records."""
         ensure_writable_dir(self.folder)
+        self.lock.acquire()
+        try:
+            self._open_locked()
+        except BaseException:
+            self.lock.release()
+            raise
+
+    def close(self) -> None:
+        self.lock.release()
+
+    def _open_locked(self) -> None:
         manifest = self.folder / "manifest.json"
+        saved = read_manifest(manifest, "study")
+        if saved is None and (self.folder / "runs.jsonl").is_file():
+            raise InputError(f"{self.folder} holds runs.jsonl but no manifest.json: its runs cannot be matched to "
+                             f"{self.spec.source}; use another --out")
+        files = digests(self.spec.source_files())
         fingerprint = self.spec.fingerprint()
-        saved = json.loads(manifest.read_text()) if manifest.is_file() else None
-        if saved is not None and saved.get("fingerprint") != fingerprint:
-            raise InputError(f"{self.folder} holds a study whose file, cases or inputs differ from "
-                             f"{self.spec.source}: resume only the same study (use another --out)")
+        if saved is not None:
+            self._check_same_study(saved, fingerprint, files)
         if saved is None:
-            atomic_write_text(self.folder / "study.toml", self.spec.text)
-            atomic_write_text(self.folder / "inputs.csv", self._csv([self._input_row(r) for r in self.runs]))
-        if saved is None or "parameter_units" not in saved:   # (folders from before the units were kept)
-            atomic_write_text(manifest, json.dumps({"name": self.spec.name, "fingerprint": fingerprint,
-                                                    "runs": len(self.runs),
-                                                    "study_file": os.path.relpath(self.spec.source, self.folder),
-                                                    "parameter_units": self.spec.parameter_units},
-                                                   indent=2) + "\n")
-        self.records = self.load_records(self.folder)
+            with writing(self.folder / "inputs.csv"):
+                atomic_write_text(self.folder / "study.toml", self.spec.text)
+                atomic_write_text(self.folder / "inputs.csv", self._csv([self._input_row(r) for r in self.runs]))
+        if saved is None or "parameter_units" not in saved or "files" not in saved:   # (folders of earlier versions)
+            with writing(manifest):
+                atomic_write_text(manifest, json_text({"name": self.spec.name, "fingerprint": fingerprint,
+                                                       "runs": len(self.runs),
+                                                       "study_file": os.path.relpath(self.spec.source, self.folder),
+                                                       "parameter_units": self.spec.parameter_units,
+                                                       "files": files}, indent=2) + "\n")
+        self.records = self.load_records(self.folder, len(self.runs), _note)
+        if saved is not None:
+            _note_unreadable_tables(self.folder)
         self.write_table()   # the runs recorded so far (none for a new study): the header the rows append to
 
+    def _check_same_study(self, saved: dict, fingerprint: str, files: dict) -> None:
+        changed = changed_file(saved["files"], files) if isinstance(saved.get("files"), dict) else None
+        if changed is not None:
+            raise InputError(f"{changed} changed since the study in {self.folder} started (its content differs): "
+                             "resuming would mix two models in one table; use another --out")
+        if saved["fingerprint"] != fingerprint:
+            raise InputError(f"{self.folder} holds a study whose file, cases or inputs differ from "
+                             f"{self.spec.source}: resume only the same study (use another --out)")
+
     @staticmethod
-    def load_records(folder) -> dict:
-        """Finished runs from ``runs.jsonl`` by run index (a torn line is skipped). An index appears twice only when a
-        failed run was retried (``--retry-failed``): the later record wins."""
+    def load_records(folder, runs: int | None = None, note=None) -> dict:
+        """Finished runs from ``runs.jsonl`` by run index. A line that is torn, fails its checksum or is not a record
+        of one of the ``runs`` planned runs is skipped (with ``note``, a resume: reported and set aside, its run runs
+        again). An index appears twice only when a failed run was retried (``--retry-failed``): the later record
+        wins."""
+        def check(record):
+            run = record.get("run")
+            if not isinstance(run, int) or isinstance(run, bool) or not isinstance(record.get("status"), str):
+                return "is not a run record"
+            if runs is not None and not 0 <= run < runs:
+                return f"records run {run} of a study of {runs} runs (0 to {runs - 1})"
+            return None
+
+        def label(record, line):
+            if isinstance(record, dict) and check(record) is None:
+                index = record["run"]
+            else:   # a torn line still starts with its run index
+                match = RUN_INDEX.match(line)
+                index = int(match.group(1)) if match else None
+            if index is not None and (runs is None or 0 <= index < runs):
+                return f"run {index} runs again"
+            return "skipped"
+
         records = {}
-        path = Path(folder) / "runs.jsonl"
-        if path.is_file():
-            for line in path.read_text().splitlines():
-                try:
-                    record = json.loads(line)
-                except json.JSONDecodeError:
-                    continue
-                records[record["run"]] = record
+        for record in journal.read(Path(folder) / "runs.jsonl", check, label, note):
+            records[record["run"]] = record
         return records
 
     def done(self, retry_failed: bool = False) -> set:
@@ -84,27 +133,24 @@ class StudyStore:
     def record(self, record: dict) -> None:
         """Append one finished run to disk at once: its line in ``runs.jsonl`` (flushed to the disk) and its row in
         ``runs.csv`` (nothing is read back: a study of thousands of runs records each in the same time)."""
-        line = json_text(record) + "\n"
-        with open(self.folder / "runs.jsonl", "a", encoding="utf-8") as handle:
-            handle.write(line)
-            handle.flush()
-            os.fsync(handle.fileno())
+        journal.append(self.folder / "runs.jsonl", record)
         self.records[record["run"]] = record
         row = {**self._input_row(self.runs[record["run"]]), **record}
         if self._columns is None or any(key not in self._columns for key in row):
             self.write_table()   # a new column: the whole table with it
             return
-        with open(self.folder / "runs.csv", "a", encoding="utf-8", newline="") as handle:
-            handle.write(self._rows_text([row], self._columns))
+        journal.append_text(self.folder / "runs.csv", self._rows_text([row], self._columns))
 
     def write_table(self, final: bool = False) -> None:
         """Rewrite ``runs.csv`` in run order; ``final`` (the study's end, or its interruption) also
         ``runs.parquet``."""
         rows = [{**self._input_row(self.runs[i]), **self.records[i]} for i in sorted(self.records)]
         self._columns = self._keys(rows)
-        atomic_write_text(self.folder / "runs.csv", self._csv(rows, self._columns))
+        with writing(self.folder / "runs.csv"):
+            atomic_write_text(self.folder / "runs.csv", self._csv(rows, self._columns))
         if final:
-            write_parquet(self.folder)
+            with writing(self.folder / "runs.parquet"):
+                write_parquet(self.folder)
 
     # -- helpers ----------------------------------------------------------------------------------------------------
 
@@ -138,3 +184,25 @@ def _cell(value):
     if isinstance(value, float):
         return f"{value:.12g}"
     return value
+
+
+def _note(text: str) -> None:
+    print(f"pchute study: {text}", file=sys.stderr)
+
+
+def _note_unreadable_tables(folder: Path) -> None:
+    """Say so when the derived tables of a resumed folder cannot be read: they are rebuilt from ``runs.jsonl``."""
+    table = folder / "runs.csv"
+    if table.is_file():
+        try:
+            table.read_bytes().decode("utf-8")
+        except UnicodeDecodeError:
+            _note("runs.csv is not UTF-8 text: rebuilt from runs.jsonl")
+    parquet = folder / PARQUET_NAME
+    if parquet.is_file():
+        with parquet.open("rb") as handle:   # a Parquet file starts and ends with its magic bytes
+            head = handle.read(4)
+            handle.seek(max(0, parquet.stat().st_size - 4))
+            tail = handle.read(4)
+        if parquet.stat().st_size < 8 or head != b"PAR1" or tail != b"PAR1":
+            _note(f"{PARQUET_NAME} is not a Parquet file: rebuilt from runs.jsonl when the study ends")
