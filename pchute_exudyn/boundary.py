@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import os
 from collections.abc import Mapping
+from concurrent.futures import Executor
 from dataclasses import fields
 from pathlib import Path
 
@@ -40,6 +41,33 @@ def check_case(value, name: str = "case") -> Case:
                          f"pchute_exudyn.load_case({short_repr(str(value))})")
     raise InputError(f"{name} = {short_repr(value)}: must be a Case (pchute_exudyn.load_case(path)), not "
                      f"{type(value).__name__}")
+
+
+def check_spec(value, kind: type, name: str, loader: str):
+    """``value`` if it is a ``kind`` (a StudySpec, a FitSpec); InputError otherwise (a path says to load it first
+    with ``loader``, e.g. 'pchute_exudyn.study.load_study')."""
+    if isinstance(value, kind):
+        return value
+    if isinstance(value, (str, os.PathLike)):
+        raise InputError(f"{name} = {short_repr(str(value))}: a path, not a {kind.__name__}; load it first: "
+                         f"{loader}({short_repr(str(value))})")
+    raise InputError(f"{name} = {short_repr(value)}: must be a {kind.__name__} ({loader}(path)), not "
+                     f"{type(value).__name__}")
+
+
+def check_workers(value, name: str = "workers"):
+    """``value`` if it is None or a whole number >= 1; InputError naming argument ``name`` otherwise."""
+    if value is None or (isinstance(value, int) and not isinstance(value, bool) and value >= 1):
+        return value
+    raise InputError(f"{name} = {short_repr(value)}: must be None (every core) or a whole number >= 1")
+
+
+def check_executor(value, name: str = "executor"):
+    """``value`` if it is None or a ``concurrent.futures.Executor`` (a process pool, a Dask client's executor)."""
+    if value is None or isinstance(value, Executor):
+        return value
+    raise InputError(f"{name} = {short_repr(value)}: must be None (a local process pool) or a "
+                     f"concurrent.futures.Executor, not {type(value).__name__}")
 
 
 def check_callable(value, name: str):

@@ -460,27 +460,36 @@ def _interrupted_status(exc: KeyboardInterrupt) -> int:
     return EXIT_TERMINATED if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
 
 
-def _study(args) -> int:
+def _interruptible(args, out: Path, kept: str, work) -> tuple:
+    """``work(executor)`` on the executor the arguments ask for, SIGTERM taken as Ctrl-C: (its result, None), or
+    (None, the exit status) when interrupted, after one line saying what is ``kept`` in ``out``."""
     from .io import ensure_writable_dir
+
+    ensure_writable_dir(out)   # before a Dask cluster starts
+    with _signals_interrupt():
+        executor, close = _executor(args)
+        try:
+            return work(executor), None
+        except KeyboardInterrupt as exc:
+            print(f"pchute {args.command}: interrupted; {kept} {out}: rerun the same command to resume",
+                  file=sys.stderr)
+            return None, _interrupted_status(exc)
+        finally:
+            if close is not None:
+                close()
+
+
+def _study(args) -> int:
     from .study import load_study, run_study
 
     if not 0.0 <= args.allow_failures <= 1.0:
         raise InputError(f"--allow-failures = {args.allow_failures}: must be a fraction of the runs from 0 to 1")
     spec = load_study(args.study_file)
     out = Path(args.out) if args.out else Path("studies") / Path(args.study_file).stem
-    ensure_writable_dir(out)   # before a Dask cluster starts
-    with _signals_interrupt():
-        executor, close = _executor(args)
-        try:
-            counts = run_study(spec, out, executor, args.workers, progress=not args.no_progress,
-                               retry_failed=args.retry_failed)
-        except KeyboardInterrupt as exc:
-            print(f"pchute study: interrupted; finished runs are recorded in {out}: rerun the same command to "
-                  "resume", file=sys.stderr)
-            return _interrupted_status(exc)
-        finally:
-            if close is not None:
-                close()
+    counts, stopped = _interruptible(args, out, "finished runs are recorded in", lambda executor: run_study(
+        spec, out, executor, args.workers, progress=not args.no_progress, retry_failed=args.retry_failed))
+    if stopped is not None:
+        return stopped
     print(f"{spec.name}: {counts['executed']} runs in {counts['wall_time']:.1f} s ({counts['skipped']} already done, "
           f"{counts['failed']} failed of {counts['planned']}{_rate(counts)}) -> {out}")
     return _failures_status(counts, args.allow_failures)
@@ -570,22 +579,13 @@ def _add_fit(subparsers) -> None:
 def _fit(args) -> int:
     from .fit import load_fit, run_fit
     from .fit.report import write_report
-    from .io import ensure_writable_dir
 
     spec = load_fit(args.fit_file)
     out = Path(args.out) if args.out else Path("fits") / Path(args.fit_file).stem
-    ensure_writable_dir(out)   # before a Dask cluster starts
-    with _signals_interrupt():
-        executor, close = _executor(args)
-        try:
-            result = run_fit(spec, out, executor, args.workers)
-        except KeyboardInterrupt as exc:
-            print(f"pchute fit: interrupted; the runs so far are recorded in {out}: rerun the same command to "
-                  "resume", file=sys.stderr)
-            return _interrupted_status(exc)
-        finally:
-            if close is not None:
-                close()
+    result, stopped = _interruptible(args, out, "the runs so far are recorded in",
+                                     lambda executor: run_fit(spec, out, executor, args.workers))
+    if stopped is not None:
+        return stopped
     paths = write_report(spec, result, out)
     fitted = ", ".join(f"{k} = {v:.6g} +- {e:.2g}" for k, v, e in zip(result["keys"], result["fitted"],
                                                                        result["standard_error"]))

@@ -27,7 +27,7 @@ from pathlib import Path
 import tomllib
 
 from .errors import InputError
-from .io import atomic_writer, json_text
+from .io import atomic_writer, ensure_writable_dir, json_text
 
 try:
     import fcntl
@@ -289,3 +289,52 @@ def read_manifest(path, what: str) -> dict | None:
     if not isinstance(data.get("fingerprint"), str):
         raise InputError(f"{path}: no 'fingerprint' key: {advice}")
     return data
+
+
+# -- a study's or fit's folder -----------------------------------------------------------------------------------------
+
+class RecordFolder:
+    """A study's or fit's folder (``what``: 'study', 'fit'; its journal ``journal_name``): locked from ``open`` to
+    ``close``; a resume is checked against the manifest (``saved_manifest``) before any record is read."""
+
+    what = ""
+    journal_name = ""
+
+    def __init__(self, folder):
+        self.folder = Path(folder)
+        self.journal = self.folder / self.journal_name
+        self.lock = FolderLock(self.folder, self.what)
+
+    def open(self) -> None:
+        """Lock the folder (until ``close``), check that it holds this study or fit (or nothing), read its records."""
+        ensure_writable_dir(self.folder)
+        self.lock.acquire()
+        try:
+            self._open_locked()
+        except BaseException:
+            self.lock.release()
+            raise
+
+    def close(self) -> None:
+        self.lock.release()
+
+    def _open_locked(self) -> None:
+        raise NotImplementedError
+
+    def saved_manifest(self, source, fingerprint: str, files: dict) -> dict | None:
+        """The folder's manifest (None for a new folder), once it is shown to be of the same study or fit as
+        ``source`` (its ``fingerprint``) reading the same ``files`` (their ``digests``); InputError otherwise."""
+        saved = read_manifest(self.folder / "manifest.json", self.what)
+        if saved is None and self.journal.is_file():
+            raise InputError(f"{self.folder} holds {self.journal_name} but no manifest.json: its runs cannot be "
+                             f"matched to {source}; use another --out")
+        if saved is None:
+            return None
+        changed = changed_file(saved["files"], files) if isinstance(saved.get("files"), dict) else None
+        if changed is not None:
+            raise InputError(f"{changed} changed since the {self.what} in {self.folder} started (its content "
+                             f"differs): resuming would mix two models in one {self.what}; use another --out")
+        if saved["fingerprint"] != fingerprint:
+            raise InputError(f"{self.folder} holds a {self.what} whose file, cases or data differ from {source}: "
+                             f"resume only the same {self.what} (use another --out)")
+        return saved

@@ -301,6 +301,24 @@ def _resolve_run(*args):
     return resolve_run(*args)
 
 
+def _study_api(name, *args, **kwargs):
+    from pchute_exudyn import study
+    from pchute_exudyn.study.report import study_report
+    return {"study_report": study_report}.get(name, getattr(study, name, None))(*args, **kwargs)
+
+
+def _fit_api(name, *args, **kwargs):
+    from pchute_exudyn import fit
+    return getattr(fit, name)(*args, **kwargs)
+
+
+def _spec(tmp: Path):
+    """A real study spec (MER case 1, one SP run), for calls whose other arguments are wrong."""
+    from pchute_exudyn.study import load_study
+    (tmp / "s.toml").write_text(STUDY)
+    return load_study(tmp / "s.toml")
+
+
 def _animate(*args, **kwargs):
     from pchute_exudyn.animation import animate
     return animate(*args, **kwargs)
@@ -317,6 +335,21 @@ API_CALLS = [   # (name, call(case, a saved run's folder, tmp), what the one lin
     ("simulate for a 400-digit duration", lambda c, r, t: pc.simulate(c, "sp", duration=int(HUGE)),
      "duration (--t-end) = 999999999999... (400 digits): must be a number > 0 (s)"),
     ("resolve_run given a path", lambda c, r, t: _resolve_run(CASE1), "a path, not a Case"),
+    ("run_study given a path", lambda c, r, t: _study_api("run_study", CASE1, t / "st"),
+     f"spec = {CASE1!r}: a path, not a StudySpec; load it first: pchute_exudyn.study.load_study"),
+    ("run_study with workers=0", lambda c, r, t: _study_api("run_study", _spec(t), t / "st", workers=0),
+     "workers = 0: must be None (every core) or a whole number >= 1"),
+    ("run_study with an executor that is none", lambda c, r, t: _study_api("run_study", _spec(t), t / "st", "pool"),
+     "executor = 'pool': must be None (a local process pool) or a concurrent.futures.Executor"),
+    ("run_study progress='yes'", lambda c, r, t: _study_api("run_study", _spec(t), t / "st", progress="yes"),
+     "progress = 'yes': must be True or False"),
+    ("load_study given a number", lambda c, r, t: _study_api("load_study", 5),
+     "path = 5: must be the path of a study file (TOML)"),
+    ("study_report given None", lambda c, r, t: _study_api("study_report", None),
+     "folder = None: must be the path of a study folder"),
+    ("run_fit given a path", lambda c, r, t: _fit_api("run_fit", "fit.toml", t / "f"),
+     "spec = 'fit.toml': a path, not a FitSpec; load it first: pchute_exudyn.fit.load_fit"),
+    ("load_fit given None", lambda c, r, t: _fit_api("load_fit", None), "path = None: must be the path of a fit file"),
     ("load_case given a Case", lambda c, r, t: pc.load_case(c), "path = <Case 'MER case 1'>: already a loaded case"),
     ("load_case given None", lambda c, r, t: pc.load_case(None), "path = None: must be the path of a case file"),
     ("load_case with a non-string key", lambda c, r, t: pc.load_case(CASE1, {1: 2}),

@@ -448,9 +448,11 @@ def _mentioning(text: str) -> list:
     return pids
 
 
-SIGNALS = [("study", signal.SIGINT, "main", "--workers"), ("study", signal.SIGTERM, "group", "--workers"),
-           ("study", signal.SIGINT, "group", "--dask-local"), ("fit", signal.SIGTERM, "main", "--workers"),
-           ("fit", signal.SIGINT, "group", "--workers"), ("fit", signal.SIGTERM, "group", "--dask-local")]
+SIGNALS = [(kind, number, to, "--workers") for kind in ("study", "fit") for number in (signal.SIGINT, signal.SIGTERM)
+           for to in ("main", "group")]
+SIGNALS += [("study", signal.SIGINT, "group", "--dask-local"), ("fit", signal.SIGTERM, "main", "--dask-local")]
+"""Each signal to the main process and to the group, for a study and a fit on local workers; and on a Dask
+cluster."""
 
 
 @pytest.mark.parametrize("kind, number, to, executor", SIGNALS,

@@ -13,15 +13,15 @@ import difflib
 import os
 import sys
 from concurrent.futures import Executor
-from pathlib import Path
 
 import numpy as np
 from scipy.optimize import least_squares
 
 from .. import journal
+from ..boundary import check_executor, check_path, check_spec, check_workers
 from ..errors import InputError
-from ..io import atomic_write_text, ensure_writable_dir, json_text
-from ..journal import FolderLock, changed_file, digests, read_manifest, writing
+from ..io import atomic_write_text, json_text
+from ..journal import RecordFolder, digests, writing
 from ..study.runner import stop_pool, worker_pool
 from .evaluate import evaluate
 from .spec import MAX_RUNS, FitSpec
@@ -33,44 +33,22 @@ MAX_EVALUATIONS = MAX_RUNS
 best point it reached."""
 
 
-class FitStore:
+class FitStore(RecordFolder):
     """The fit folder: ``fit.toml`` (a copy), ``manifest.json`` (fingerprint and the digests of the files the fit
     reads), ``evaluations.jsonl`` (one checksummed line per run, flushed at once; see ``journal``) and the lock
     ``.pchute.lock`` held while the fit works in it."""
 
+    what, journal_name = "fit", "evaluations.jsonl"
+
     def __init__(self, folder, spec: FitSpec):
-        self.folder, self.spec = Path(folder), spec
-        self.journal = self.folder / "evaluations.jsonl"
+        super().__init__(folder)
+        self.spec = spec
         self.records: dict = {}
-        self.lock = FolderLock(self.folder, "fit")
-
-    def open(self) -> None:
-        """Lock the folder (until ``close``), check that it holds this fit (or nothing), read its records."""
-        ensure_writable_dir(self.folder)
-        self.lock.acquire()
-        try:
-            self._open_locked()
-        except BaseException:
-            self.lock.release()
-            raise
-
-    def close(self) -> None:
-        self.lock.release()
 
     def _open_locked(self) -> None:
         manifest = self.folder / "manifest.json"
-        saved = read_manifest(manifest, "fit")
-        if saved is None and self.journal.is_file():
-            raise InputError(f"{self.folder} holds evaluations.jsonl but no manifest.json: its runs cannot be "
-                             f"matched to {self.spec.source}; use another --out")
         files, fingerprint = digests(self.spec.source_files()), self.spec.fingerprint()
-        changed = changed_file(saved["files"], files) if saved and isinstance(saved.get("files"), dict) else None
-        if changed is not None:
-            raise InputError(f"{changed} changed since the fit in {self.folder} started (its content differs): "
-                             "resuming would mix two models; use another --out")
-        if saved is not None and saved["fingerprint"] != fingerprint:
-            raise InputError(f"{self.folder} holds a fit whose file, case or data differ from {self.spec.source}: "
-                             "resume only the same fit (use another --out)")
+        saved = self.saved_manifest(self.spec.source, fingerprint, files)
         with writing(manifest):
             if saved is None:
                 atomic_write_text(self.folder / "fit.toml", self.spec.text)
@@ -185,6 +163,10 @@ class _Budget(Exception):
 def run_fit(spec: FitSpec, out, executor: Executor | None = None, workers: int | None = None) -> dict:
     """Fit ``spec`` into folder ``out`` (resuming what it holds; locked while the fit runs); returns the fit's
     outcome (see ``fit.report``)."""
+    check_spec(spec, FitSpec, "spec", "pchute_exudyn.fit.load_fit")
+    check_path(out, "out", "fit folder")
+    check_executor(executor)
+    check_workers(workers)
     store = FitStore(out, spec)
     store.open()   # before any worker starts: an unwritable or busy folder is one line, at once
     owned = executor is None

@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..boundary import check_path
 from ..case.loader import _Context, _load_merged, _Table, load_case, override_leaves, read_toml
 from ..csv_dialects import map_columns, parse_column_map, read_csv_columns
 from ..errors import CaseError, InputError
@@ -133,7 +134,7 @@ class FitSpec:
 
 def load_fit(path) -> FitSpec:
     """Read and validate fit file ``path`` (CaseError or InputError naming the key)."""
-    path = Path(path)
+    path = check_path(path, "path", "fit file (TOML)")
     if not path.is_file():
         raise InputError(f"fit file not found: {path}")
     data = read_toml(path, kind="fit")

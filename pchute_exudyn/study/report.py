@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..boundary import check_path
 from ..case.method_table import METHODS, option_names
 from ..compare import compare_results
 from ..errors import InputError
@@ -254,7 +255,7 @@ def reference_errors(folder: Path, rows: list, grid: list) -> list:
 
 def study_report(folder) -> dict:
     """Write the report of study folder ``folder``; returns the paths written."""
-    folder = Path(folder)
+    folder = check_path(folder, "folder", "study folder")
     rows = load_table(folder)
     study, units = _study_files(folder)
     title = str(study.get("study", {}).get("name", folder.name))

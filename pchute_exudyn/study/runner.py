@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..boundary import check_executor, check_flag, check_path, check_spec, check_workers
 from ..errors import InputError, PchuteError
 from ..io import ensure_writable_dir
 from ..journal import WriteFailed
@@ -181,11 +182,13 @@ def dask_executor(scheduler: str | None = None, local_workers: int | None = None
         return client.get_executor(pure=False), client.close
     # Its worker processes start with Ctrl-C ignored (a disposition a started process keeps): Ctrl-C to the whole
     # process group reaches this process alone, which stops the study and closes the cluster (no worker traceback).
-    # Its log says only errors: the warnings of workers stopped on purpose are noise.
+    # Its log is silent: what goes wrong in a run is in that run's record, and the workers' complaints about a
+    # scheduler stopped on purpose (an interrupt) are noise, tracebacks included. Its web server takes a free port
+    # (the default 8787 may be another cluster's: a warning) and serves no dashboard.
     previous = {s: signal.signal(s, signal.SIG_IGN) for s in (signal.SIGINT, signal.SIGTERM)} if _main_thread() else {}
     try:
-        cluster = LocalCluster(n_workers=local_workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+        cluster = LocalCluster(n_workers=local_workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               scheduler_kwargs={"dashboard": False}, silence_logs=logging.CRITICAL)
     finally:
         for number, handler in previous.items():
             signal.signal(number, handler)
@@ -199,6 +202,16 @@ def dask_executor(scheduler: str | None = None, local_workers: int | None = None
 
 def _main_thread() -> bool:
     return threading.current_thread() is threading.main_thread()
+
+
+def _check_arguments(spec, out, executor, workers, progress, retry_failed) -> None:
+    """The API's boundary: an argument of the wrong type gets one line naming it."""
+    check_spec(spec, StudySpec, "spec", "pchute_exudyn.study.load_study")
+    check_path(out, "out", "study folder")
+    check_executor(executor)
+    check_workers(workers)
+    check_flag(progress, "progress")
+    check_flag(retry_failed, "retry_failed")
 
 
 def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: int | None = None,
@@ -223,6 +236,7 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
     dict
         Counts: planned, skipped (already done), executed, failed, and the wall time (s).
     """
+    _check_arguments(spec, out, executor, workers, progress, retry_failed)
     out = Path(out)
     ensure_writable_dir(out)   # before any worker starts: an unwritable folder is one line, at once
     owned = executor is None

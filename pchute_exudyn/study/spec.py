@@ -57,6 +57,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..boundary import check_path
 from ..case.loader import Scale, _Context, _Table, load_case, read_toml
 from ..case.method_table import INTEGRATORS, METHODS, OptionError, make_options
 from ..errors import CaseError
@@ -394,7 +395,7 @@ def _read_choice(key: str, t: _Table, relative: bool) -> Parameter:
 
 def load_study(path) -> StudySpec:
     """Read and validate a study file; every parameter key is checked against the base case(s)."""
-    path = Path(path)
+    path = check_path(path, "path", "study file (TOML)")
     data = read_toml(path, "study")
     source = str(path)
     ctx = _Context(source, {})

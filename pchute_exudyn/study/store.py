@@ -27,50 +27,31 @@ import sys
 from pathlib import Path
 
 from .. import journal
-from ..errors import InputError
-from ..io import atomic_write_text, ensure_writable_dir, json_text
-from ..journal import RUN_INDEX, FolderLock, changed_file, digests, read_manifest, writing
+from ..io import atomic_write_text, json_text
+from ..journal import RUN_INDEX, RecordFolder, digests, writing
 from .table import PARQUET_NAME, write_parquet
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
 
 
-class StudyStore:
+class StudyStore(RecordFolder):
     """Append-only record of a study's runs in ``folder``."""
 
+    what, journal_name = "study", "runs.jsonl"
+
     def __init__(self, folder, spec, runs: list):
-        self.folder = Path(folder)
+        super().__init__(folder)
         self.spec = spec
         self.runs = runs
         self.records: dict = {}
         self._columns = None   # runs.csv's header as last written
-        self.lock = FolderLock(self.folder, "study")
 
     # -- set up and resume --------------------------------------------------------------------------------------
 
-    def open(self) -> None:
-        """Lock the folder (until ``close``), check that it holds this study (or nothing), read its records."""
-        ensure_writable_dir(self.folder)
-        self.lock.acquire()
-        try:
-            self._open_locked()
-        except BaseException:
-            self.lock.release()
-            raise
-
-    def close(self) -> None:
-        self.lock.release()
-
     def _open_locked(self) -> None:
         manifest = self.folder / "manifest.json"
-        saved = read_manifest(manifest, "study")
-        if saved is None and (self.folder / "runs.jsonl").is_file():
-            raise InputError(f"{self.folder} holds runs.jsonl but no manifest.json: its runs cannot be matched to "
-                             f"{self.spec.source}; use another --out")
-        files = digests(self.spec.source_files())
-        fingerprint = self.spec.fingerprint()
-        if saved is not None:
-            self._check_same_study(saved, fingerprint, files)
+        files, fingerprint = digests(self.spec.source_files()), self.spec.fingerprint()
+        saved = self.saved_manifest(self.spec.source, fingerprint, files)
         if saved is None:
             with writing(self.folder / "inputs.csv"):
                 atomic_write_text(self.folder / "study.toml", self.spec.text)
@@ -86,15 +67,6 @@ class StudyStore:
         if saved is not None:
             _note_unreadable_tables(self.folder)
         self.write_table()   # the runs recorded so far (none for a new study): the header the rows append to
-
-    def _check_same_study(self, saved: dict, fingerprint: str, files: dict) -> None:
-        changed = changed_file(saved["files"], files) if isinstance(saved.get("files"), dict) else None
-        if changed is not None:
-            raise InputError(f"{changed} changed since the study in {self.folder} started (its content differs): "
-                             "resuming would mix two models in one table; use another --out")
-        if saved["fingerprint"] != fingerprint:
-            raise InputError(f"{self.folder} holds a study whose file, cases or inputs differ from "
-                             f"{self.spec.source}: resume only the same study (use another --out)")
 
     @staticmethod
     def load_records(folder, runs: int | None = None, note=None) -> dict:
