@@ -37,7 +37,7 @@ duration = {duration}
 
 [[study.configurations]]
 method = "sp"
-steps = [1e-2]
+steps = [{step}]
 
 [parameters."vehicle.initial.velocity_east"]
 distribution = "normal"
@@ -81,10 +81,10 @@ def chain(tmp: Path, duration: float = 0.5) -> Path:
     return tmp / "child.toml"
 
 
-def study_file(tmp: Path, runs: int = 4, duration: float = 0.5) -> Path:
+def study_file(tmp: Path, runs: int = 4, duration: float = 0.5, step: float = 1e-2) -> Path:
     path = tmp / "study.toml"
     if not path.is_file():
-        path.write_text(STUDY.format(case=chain(tmp).as_posix(), runs=runs, duration=duration))
+        path.write_text(STUDY.format(case=chain(tmp).as_posix(), runs=runs, duration=duration, step=step))
     return path
 
 
@@ -458,8 +458,8 @@ cluster."""
 @pytest.mark.parametrize("kind, number, to, executor", SIGNALS,
                          ids=[f"{k}-{n.name}-{t}-{e.strip('-')}" for k, n, t, e in SIGNALS])
 def test_a_signal_stops_workers_keeps_finished_runs_and_exits_cleanly(tmp_path, kind, number, to, executor):
-    if kind == "study":
-        study_file(tmp_path, runs=60, duration=3.0)
+    if kind == "study":   # runs of ~0.5 s: the signal finds runs running and runs waiting (cancelled)
+        study_file(tmp_path, runs=12, duration=5.0, step=1e-3)
         args = ["study", tmp_path / "study.toml", "--out", tmp_path / "out", executor, "2", "--no-progress"]
         journal = tmp_path / "out" / "runs.jsonl"
     else:

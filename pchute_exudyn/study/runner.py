@@ -4,6 +4,7 @@ when asked. Results are recorded as they come back, in whatever order; the input
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import gc
 import logging
 import math
@@ -12,7 +13,7 @@ import signal
 import sys
 import threading
 import time
-from concurrent.futures import Executor, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
+from concurrent.futures import Executor, InvalidStateError, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -347,20 +348,39 @@ def stop_pool(executor: ProcessPoolExecutor, now: bool) -> None:
         executor.shutdown(wait=True, cancel_futures=True)
         return
     processes = list((getattr(executor, "_processes", None) or {}).values())   # the pool's own worker processes
-    for process in processes:
+    with _quiet_pool_manager(executor):
+        for process in processes:
+            try:
+                process.kill()
+            except (OSError, ValueError, AttributeError):
+                pass
+        for process in processes:
+            try:
+                process.join(5)
+            except (OSError, ValueError, AssertionError):
+                pass
         try:
-            process.kill()
-        except (OSError, ValueError, AttributeError):
+            executor.shutdown(wait=True, cancel_futures=True)   # joins the pool's manager thread
+        except Exception:  # a pool broken by its killed workers has nothing more to stop
             pass
-    for process in processes:
-        try:
-            process.join(5)
-        except (OSError, ValueError, AssertionError):
-            pass
+
+
+@contextlib.contextmanager
+def _quiet_pool_manager(executor):
+    """Python's pool, finding its workers killed, marks every waiting run's future as failed, a cancelled one too,
+    and its manager thread dies printing ``InvalidStateError: CANCELLED`` (Python 3.11). That thread's death is
+    expected here: it is not shown; any other thread's exception still is."""
+    manager = getattr(executor, "_executor_manager_thread", None)
+    previous = threading.excepthook
+
+    def hook(args):
+        if not (args.thread is manager and issubclass(args.exc_type, InvalidStateError)):
+            previous(args)
+    threading.excepthook = hook
     try:
-        executor.shutdown(wait=True, cancel_futures=True)
-    except Exception:  # a pool broken by its killed workers has nothing more to stop
-        pass
+        yield
+    finally:
+        threading.excepthook = previous
 
 
 def _progress(total: int, initial: int, failed: int):
