@@ -55,11 +55,23 @@ def check_spec(value, kind: type, name: str, loader: str):
                      f"{type(value).__name__}")
 
 
+WORKERS_PER_CORE = 4
+"""Local worker processes allowed per core: runs are CPU-bound, so more only share the cores, each holding its
+own copy of the package (about 0.1 GB); 100 000 of them would fill the memory and fork until the machine stops."""
+
+
+def most_workers() -> int:
+    """The most local worker processes a study or fit may start on this machine."""
+    return WORKERS_PER_CORE * (os.cpu_count() or 1)
+
+
 def check_workers(value, name: str = "workers"):
-    """``value`` if it is None or a whole number >= 1; InputError naming argument ``name`` otherwise."""
-    if value is None or (isinstance(value, int) and not isinstance(value, bool) and value >= 1):
+    """``value`` if it is None or a whole number from 1 to ``most_workers()``; InputError naming argument ``name``
+    otherwise."""
+    if value is None or (isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= most_workers()):
         return value
-    raise InputError(f"{name} = {short_repr(value)}: must be None (every core) or a whole number >= 1")
+    raise InputError(f"{name} = {short_repr(value)}: must be None (every core) or a whole number from 1 to "
+                     f"{most_workers()} ({WORKERS_PER_CORE} per core of this machine's {os.cpu_count() or 1})")
 
 
 def check_executor(value, name: str = "executor"):

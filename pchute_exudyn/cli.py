@@ -420,16 +420,24 @@ def _timeout_seconds(text: str) -> float:
     return value
 
 
-def _executor(args):
-    """The checked executor options: (executor or None for the local pool, its closing function or None)."""
-    from .study import dask_executor
+def _check_executor(args) -> None:
+    """The executor options, checked before any folder, pool or cluster is made."""
+    from .boundary import most_workers
 
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers = {args.workers}: must be >= 1")
-    if args.dask_local is not None and args.dask_local < 1:
-        raise InputError(f"--dask-local = {args.dask_local}: must be >= 1")
+    for flag, value in (("--workers", args.workers), ("--dask-local", args.dask_local)):
+        if value is not None and value < 1:
+            raise InputError(f"{flag} = {value}: must be >= 1")
+        if value is not None and value > most_workers():   # runs are CPU-bound: more only share the cores
+            raise InputError(f"{flag} = {value}: must be <= {most_workers()} (4 worker processes per core of this "
+                             f"machine's {os.cpu_count() or 1})")
     if not (math.isfinite(args.dask_timeout) and args.dask_timeout > 0):
         raise InputError(f"--dask-timeout = {args.dask_timeout}: must be a finite number of seconds > 0")
+
+
+def _executor(args):
+    """The executor the options ask for: (executor or None for the local pool, its closing function or None)."""
+    from .study import dask_executor
+
     if args.dask_scheduler is None and args.dask_local is None:
         return None, None
     return dask_executor(args.dask_scheduler, args.dask_local, args.dask_timeout)
@@ -484,6 +492,7 @@ def _study(args) -> int:
 
     if not 0.0 <= args.allow_failures <= 1.0:
         raise InputError(f"--allow-failures = {args.allow_failures}: must be a fraction of the runs from 0 to 1")
+    _check_executor(args)
     spec = load_study(args.study_file)
     out = Path(args.out) if args.out else Path("studies") / Path(args.study_file).stem
     counts, stopped = _interruptible(args, out, "finished runs are recorded in", lambda executor: run_study(
@@ -580,6 +589,7 @@ def _fit(args) -> int:
     from .fit import load_fit, run_fit
     from .fit.report import write_report
 
+    _check_executor(args)
     spec = load_fit(args.fit_file)
     out = Path(args.out) if args.out else Path("fits") / Path(args.fit_file).stem
     result, stopped = _interruptible(args, out, "the runs so far are recorded in",

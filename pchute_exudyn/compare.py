@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .csv_dialects import time_problem
 from .errors import InputError
 from .results import Result
 from .summary import first_fall_through
@@ -129,16 +130,9 @@ def aligned(a: Result, b: Result, name: str, time: np.ndarray) -> tuple[np.ndarr
 
 def check_times(result: Result, label: str) -> None:
     """Refuse a result whose time is not finite and strictly increasing."""
-    time = result.time
-    bad = np.flatnonzero(~np.isfinite(time))
-    if len(bad):
-        raise InputError(f"{label}: time is not a finite number at sample {bad[0] + 1} ({float(time[bad[0]])})")
-    steps = np.flatnonzero(np.diff(time) <= 0.0)
-    if len(steps):
-        i = steps[0]
-        kind = "repeats" if time[i + 1] == time[i] else "goes back"
-        raise InputError(f"{label}: time {kind} at sample {i + 2} ({time[i + 1]:g} s after {time[i]:g} s); times "
-                         "must increase strictly")
+    problem = time_problem(result.time)
+    if problem is not None:
+        raise InputError(f"{label}: {problem}")
 
 
 def check_values(result: Result, label: str, columns) -> None:

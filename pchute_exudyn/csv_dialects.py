@@ -186,3 +186,17 @@ def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = 
         mapped[ours] = values if same else values * factor + offset
         mapped_units[ours] = (units or {}).get(name, "") if same else ""
     return mapped, mapped_units
+
+
+def time_problem(time) -> str | None:
+    """What is wrong with a time column (s), or None: every sample's time finite and strictly increasing."""
+    time = np.asarray(time, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(time))
+    if len(bad):
+        return f"time is not a finite number at sample {bad[0] + 1} ({float(time[bad[0]])})"
+    steps = np.flatnonzero(np.diff(time) <= 0.0)
+    if len(steps):
+        i = steps[0]
+        kind = "repeats" if time[i + 1] == time[i] else "goes back"
+        return f"time {kind} at sample {i + 2} ({time[i + 1]:g} s after {time[i]:g} s); times must increase strictly"
+    return None

@@ -69,7 +69,7 @@ def decode(line: str) -> tuple:
     """(record, problem): the record of one journal line, or None and why it is not one."""
     try:
         record = json.loads(line)
-    except json.JSONDecodeError:
+    except (json.JSONDecodeError, RecursionError):   # (nested thousands deep: no record of ours)
         return None, "is not JSON (corrupt)" if line.strip() else "empty"
     if not isinstance(record, dict):
         return None, "not a record"
@@ -279,7 +279,7 @@ def read_manifest(path, what: str) -> dict | None:
         data = json.loads(path.read_bytes().decode("utf-8"))
     except UnicodeDecodeError:
         raise InputError(f"{path}: not UTF-8 text: {advice}") from None
-    except json.JSONDecodeError:
+    except (json.JSONDecodeError, RecursionError):
         problem = "empty" if not path.read_bytes().strip() else "not JSON"
         raise InputError(f"{path}: {problem}: {advice}") from None
     except OSError as exc:

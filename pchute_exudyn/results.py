@@ -46,7 +46,7 @@ def load_scene(folder) -> tuple[np.ndarray, dict, dict]:
     arrays = {k[len(SCENE) + 1:]: v for k, v in data.items() if k.startswith(SCENE + "/")}
     try:
         description = json.loads(str(data[SCENE]))
-    except ValueError:
+    except (ValueError, RecursionError):
         description = None
     missing = _scene_gap(description, arrays) if "time" in data else "the time array"
     if missing:
@@ -258,7 +258,7 @@ def _units(data: dict, path: Path) -> dict:
         return {}
     try:
         units = json.loads(str(data["units"]))
-    except ValueError:
+    except (ValueError, RecursionError):
         units = None
     if not isinstance(units, dict):
         raise InputError(f"{path}: its units are not a JSON object: not a {NPZ_NAME} written by pchute run")

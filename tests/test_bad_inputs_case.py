@@ -59,6 +59,7 @@ DRAWN = '[parameters."vehicle.initial.velocity_down"]\ndistribution = "normal"\n
 def _fit(tmp: Path, target: str, extra: str = "", free: str = "") -> list:
     (tmp / "data.csv").write_text("time,tension_riser\n0,0\n0.5,10\n")
     (tmp / "nan.csv").write_text("time,tension_riser\n0,0\nnan,5\n0.5,10\n")
+    (tmp / "back.csv").write_text("time,tension_riser\n0,0\n0.5,5\n0.2,10\n")
     case = _file(tmp, "short.toml", f'extends = "{Path(CASE1).as_posix()}"\n[simulation]\nduration = 0.5\n')
     path = _file(tmp, "fit.toml", f'[fit]\ncase = "{Path(case).as_posix()}"\nmethod = "sp"\nstep = 1e-2\n{extra}\n'
                                   f'[free."parachute.aerodynamics.axial_coefficient"]\nlow = 0.3\nhigh = 0.7\n'
@@ -160,7 +161,9 @@ BATTERY = [
     ("fit target weight of 1e-300", lambda t: _fit(t, 'final = "vehicle_altitude"\nvalue = 8000.0\nweight = 1e-300'),
      "targets[0].weight = 1e-300: the std must be within 8e-06..8e+09"),
     ("fit history with a NaN time", lambda t: _fit(t, HISTORY.replace("data.csv", "nan.csv")),
-     "nan.csv has a time that is not a finite number in data row 2"),
+     "nan.csv: time is not a finite number at sample 2 (nan)"),
+    ("fit history with time going back", lambda t: _fit(t, HISTORY.replace("data.csv", "back.csv")),
+     "back.csv: time goes back at sample 3 (0.2 s after 0.5 s); times must increase strictly"),
     ("fit budget below one Jacobian", lambda t: _fit(t, HISTORY, "max_runs = 2"),
      "fit.max_runs = 2: must be >= 3"),
     ("fit budget not an integer", lambda t: _fit(t, HISTORY, "max_runs = 1e9"),

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..boundary import check_path
 from ..case.loader import _Context, _load_merged, _Table, load_case, override_leaves, read_toml
-from ..csv_dialects import map_columns, parse_column_map, read_csv_columns
+from ..csv_dialects import map_columns, parse_column_map, read_csv_columns, time_problem
 from ..errors import CaseError, InputError
 from ..study.spec import Configuration, _read_configuration
 
@@ -243,10 +243,9 @@ def _read_target(t: _Table, folder: Path) -> Target:
             raise t.error("column", f"{file.name} has no column {column!r} (after the map); it has: "
                                     f"{', '.join(c for c in columns if c != 'time')}", column)
         values = columns[column]
-        bad_time = np.flatnonzero(~np.isfinite(columns["time"]))
-        if len(bad_time):
-            raise t.error("history", f"{file.name} has a time that is not a finite number in data row "
-                                     f"{bad_time[0] + 1}: every sample needs its time (s)", t.data["history"])
+        problem = time_problem(columns["time"])
+        if problem is not None:
+            raise t.error("history", f"{file.name}: {problem} (every sample needs its time, s)", t.data["history"])
         keep = np.isfinite(values)
         target = Target("history", column, tuple(values[keep].tolist()), std, weighted,
                         tuple(columns["time"][keep].tolist()))
