@@ -18,7 +18,12 @@ __version__ = "0.1.0"
 
 from importlib import import_module
 
-from . import _kernel_mode
+from . import _interrupt
+
+if _interrupt.launched_as_command():   # Ctrl-C while the command starts: an interrupt, not a broken import
+    _interrupt.install()
+
+from . import _kernel_mode  # noqa: E402
 
 _kernel_mode.select()   # compiled, jit or Python kernels, before physics is imported (see _kernel_mode)
 

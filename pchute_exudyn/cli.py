@@ -660,10 +660,14 @@ def command() -> None:
     tearing the interpreter down (freeing every module's objects: 0.04 s, 0.1 s once matplotlib is loaded). By then
     every file is written and closed, pools and clusters shut down, and the output streams are flushed here."""
     _entry["process"] = True
-    if sys.argv[1:2] == ["run"] and "--no-plot" not in sys.argv and not {"-h", "--help"} & set(sys.argv):
-        from .figure_process import FigureProcess
-        _entry["figure"] = FigureProcess()   # as early as can be: its import overlaps everything before the save
-    code = main()
+    try:
+        if sys.argv[1:2] == ["run"] and "--no-plot" not in sys.argv and not {"-h", "--help"} & set(sys.argv):
+            from .figure_process import FigureProcess
+            _entry["figure"] = FigureProcess()   # as early as can be: its import overlaps everything before the save
+        code = main()
+    except KeyboardInterrupt:   # Ctrl-C before the command's own handling began (``_interrupt``)
+        print(f"{' '.join(['pchute', *sys.argv[1:2]])}: interrupted", file=sys.stderr)
+        code = EXIT_INTERRUPTED
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()

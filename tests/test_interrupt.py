@@ -88,3 +88,47 @@ def test_a_failed_run_leaves_no_empty_folder(tmp_path):
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 1 and "exceeds the stability limit" in run.stderr
     assert not out.exists()
+
+
+SLOW_MODULE = """
+import os, signal, time
+os.kill(os.getpid(), signal.SIGINT)   # Ctrl-C in the middle of this import
+deadline = time.monotonic() + 0.2
+while time.monotonic() < deadline:
+    pass
+DONE = True
+"""
+CHILD = """
+import sys, time
+sys.path.insert(0, sys.argv[1])
+from pchute_exudyn import _interrupt
+_interrupt.install()
+try:
+    import slow_module
+    while True:             # the deferred interrupt arrives once the import is over
+        time.sleep(0.005)
+except KeyboardInterrupt:
+    print("whole" if getattr(sys.modules.get("slow_module"), "DONE", False) else "half")
+"""
+
+
+def test_ctrl_c_inside_an_import_of_the_command_waits_for_the_import_to_finish(tmp_path):
+    """The command's SIGINT handler (``_interrupt``): a Ctrl-C that arrives inside an import is raised once the import
+    is over, so no module is left half imported (Exudyn's import turned it into an ImportError about its wheel)."""
+    (tmp_path / "slow_module.py").write_text(SLOW_MODULE)
+    done = subprocess.run([sys.executable, "-c", CHILD, str(tmp_path)], capture_output=True, text=True, timeout=30,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    assert done.stdout.strip() == "whole", done.stderr
+
+
+def test_ctrl_c_while_the_command_starts_is_an_interrupt(tmp_path):
+    """SIGINT to `pchute run` while it imports numpy, Exudyn and the package (after the interpreter's own start):
+    exit 130 and one line, never a traceback, a wrong error or a reported divergence."""
+    for delay in (0.3, 0.45, 0.6):
+        process = subprocess.Popen(RUN, cwd=tmp_path, stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                                   preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        time.sleep(delay)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+        assert process.returncode == 130 and len(err.strip().splitlines()) == 1, (delay, err)
+        assert "interrupted" in err and "diverged" not in err

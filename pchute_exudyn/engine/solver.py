@@ -24,6 +24,7 @@ import time as _time
 import exudyn as exu
 import numpy as np
 
+from .. import _interrupt
 from .._kernel_form import BUILDER as KERNEL_BUILDER
 from ..errors import Interrupted, PchuteError, SimulationError
 from ..physics.atmosphere import OutsideAtmosphereError
@@ -184,7 +185,7 @@ class _interrupt_flag:
 
     def __enter__(self):
         if threading.current_thread() is threading.main_thread() and \
-                signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+                signal.getsignal(signal.SIGINT) in (signal.default_int_handler, _interrupt.interrupt):
             self.previous = signal.signal(signal.SIGINT, self._handle)
         return self
 

@@ -1,0 +1,51 @@
+"""Ctrl-C in the ``pchute`` command at any moment, its start-up included: an interrupt (exit 130), never a traceback.
+
+Python's own SIGINT handler raises KeyboardInterrupt wherever the main thread is. Inside an import that leaves a
+module half imported, and some imports turn the interrupt into another error (Exudyn's reports an ImportError about
+its wheel, numpy an AttributeError), so a Ctrl-C in the first 0.3 s of a command ended in a traceback or a wrong
+message. The command's handler raises it as Python's does, except inside an import: there it waits for the import to
+finish (looking again every ``RETRY`` s) and raises it then. It is installed when the package is imported by the
+``pchute`` command (the console script, ``python -m pchute_exudyn``), before anything heavy is imported; a program
+that imports the package keeps its own handlers.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+from pathlib import Path
+
+RETRY = 0.02
+"""Seconds between looks at whether a deferred Ctrl-C may be raised."""
+
+
+def _importing(frame) -> bool:
+    """Whether ``frame``'s stack runs an import."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
+
+
+def interrupt(signum, frame) -> None:
+    """SIGINT (and the timer that retries it): KeyboardInterrupt, once no import is running."""
+    if _importing(frame):
+        signal.signal(signal.SIGALRM, interrupt)
+        signal.setitimer(signal.ITIMER_REAL, RETRY)
+        return
+    raise KeyboardInterrupt
+
+
+def launched_as_command() -> bool:
+    """Whether this process is the ``pchute`` command (its original command line)."""
+    argv = list(getattr(sys, "orig_argv", ()))
+    if "-m" in argv and argv[argv.index("-m") + 1:argv.index("-m") + 2] == ["pchute_exudyn"]:
+        return True
+    return len(argv) > 1 and Path(argv[1]).name in ("pchute", "pchute.exe", "pchute-script.py")
+
+
+def install() -> None:
+    """Use ``interrupt`` for SIGINT in this process (the main thread only; where SIGINT is not ignored)."""
+    if hasattr(signal, "setitimer") and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, interrupt)
