@@ -109,3 +109,22 @@ def test_a_killed_fit_resumes_without_running_recorded_points_again(fit_file, tm
     assert result["reused"] >= recorded - 1                # every recorded point the fit came back to was read back
     for key, fitted in zip(result["keys"], result["fitted"]):
         assert fitted == pytest.approx(TRUTH[key], rel=0.005), key
+
+
+def test_a_budget_stops_the_search_within_it_at_the_best_point(fit_file, tmp_path):
+    """max_runs = 6 (two free keys: the start, a Jacobian of 2 and one step of 3 would be 7): the search makes at
+    most 6 runs and reports the least-cost point it stepped to (not the start), whose Jacobian may add one run per
+    key."""
+    fit_file.write_text(fit_file.read_text().replace('step = 1e-2\n', 'step = 1e-2\nmax_runs = 6\n', 1))
+    spec = load_fit(fit_file)
+    result = run_fit(spec, tmp_path / "out", workers=1)
+    assert result["status"] == -2 and "max_runs" in result["message"]
+    lines = [json.loads(line) for line in (tmp_path / "out" / "evaluations.jsonl").read_text().splitlines()]
+    assert len(lines) <= spec.max_runs + len(spec.free)
+
+    def cost(values):
+        line = next(line for line in lines if line["values"] == list(values))
+        return 0.5 * float(np.sum(((np.asarray(line["predictions"]) - spec.measured()) / spec.scales()) ** 2))
+    assert any(line["values"] == result["fitted"] for line in lines[:spec.max_runs])   # a point the search ran
+    assert result["cost"] == pytest.approx(cost(result["fitted"]), rel=1e-9)
+    assert result["cost"] < cost(result["initial"])

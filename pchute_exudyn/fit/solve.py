@@ -108,6 +108,8 @@ class Problem:
         wanted = [self.values(u) for u in points]
         pending = {_key(v): v for v in wanted if _key(v) not in self.store.records}
         self.reused += len(wanted) - len(pending)
+        if pending and self.budget is not None and len(self.store.records) + len(pending) > self.budget:
+            raise _Budget()   # before running them: the search makes at most max_runs runs
         futures = {k: self.executor.submit(evaluate, str(self.spec.case), self.spec.overrides(v),
                                            self.spec.configuration, self.spec.targets) for k, v in pending.items()}
         for k, future in futures.items():
@@ -115,8 +117,6 @@ class Problem:
             record["values"] = pending[k]
             self.store.add(record)
             self.ran += 1
-        if pending and self.budget is not None and len(self.store.records) > self.budget:
-            raise _Budget()
         return [self.store.records[_key(v)] for v in wanted]
 
     def residuals_of(self, record: dict) -> np.ndarray:
