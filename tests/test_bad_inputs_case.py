@@ -139,6 +139,8 @@ BATTERY = [
     ("study linspace of 1e9 values", lambda t: _study(t, 1, '[parameters."vehicle.mass"]\n'
                                                             'linspace = {start = 500, stop = 900, num = 1000000000}\n'),
      "linspace.num = 1000000000: must be <= 1000000"),
+    ("study grid value NaN", lambda t: _study(t, 1, '[parameters."vehicle.mass"]\nvalues = [800.0, nan]\n'),
+     "values = [800.0, nan]: must be finite numbers"),
     ("study range of 4e8 values", lambda t: _study(t, 1, '[parameters."vehicle.mass"]\n'
                                                          'range = {start = 500, stop = 900, step = 1e-6}\n'),
      "range.step = 1e-06: gives 4e+08 values; a study runs at most 1000000"),

@@ -226,18 +226,19 @@ def test_a_torn_or_corrupt_study_journal_redoes_those_runs_once(tmp_path):
     assert all('"crc32": "' in line for line in lines)                  # every record carries its checksum
     by_run = {json.loads(line)["run"]: line for line in lines}
     corrupt = by_run[1].replace('"status": "ok"', '"status": "ok "')     # one byte changed: fails its checksum
-    journal.write_text("\n".join([by_run[0], corrupt, "{}", '{"run": 999, "status": "ok"}', by_run[2]]) + "\n"
-                       + by_run[3][:60])                                  # power lost while writing run 3
+    journal.write_text("\n".join([by_run[0], corrupt, "{}", '{"run": 999, "status": "ok"}', by_run[2], by_run[0]])
+                       + "\n" + by_run[3][:60])                           # power lost while writing run 3
     code, err = quiet_main(args)
     assert code == 0 and "Traceback" not in err
     assert err.splitlines() == [
         "pchute study: runs.jsonl: line 2 fails its checksum: run 1 runs again",
         "pchute study: runs.jsonl: line 3 is not a run record: skipped",
         "pchute study: runs.jsonl: line 4 records run 999 of a study of 4 runs (0 to 3): skipped",
-        "pchute study: runs.jsonl: line 6 torn (power loss?): run 3 runs again"]
+        "pchute study: runs.jsonl: line 6 records run 0 again, already recorded as ok: the earlier record counts",
+        "pchute study: runs.jsonl: line 7 torn (power loss?): run 3 runs again"]
     runs = [record["run"] for record in journal_lines(journal)]
     assert sorted(runs) == [0, 1, 2, 3]                                   # none lost, none twice
-    assert len((tmp_path / "out" / "runs.jsonl.rejected").read_text().splitlines()) == 4   # set aside, not deleted
+    assert len((tmp_path / "out" / "runs.jsonl.rejected").read_text().splitlines()) == 5   # set aside, not deleted
     assert quiet_main(args) == (0, "")                                    # repaired: nothing more to say
 
 

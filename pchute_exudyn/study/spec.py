@@ -344,6 +344,8 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
         raw = t._get("values", None, "")
         if not isinstance(raw, list) or not raw:
             raise t.error("values", "must be a non-empty list", raw)
+        if any(isinstance(v, float) and not math.isfinite(v) for v in raw):   # no case key takes NaN or inf
+            raise t.error("values", "must be finite numbers (or strings, booleans, lists)", raw)
         values = tuple(raw)
     elif given[0] == "range":
         r = t.table("range")

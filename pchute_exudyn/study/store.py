@@ -74,23 +74,26 @@ class StudyStore(RecordFolder):
         of one of the ``runs`` planned runs is skipped (with ``note``, a resume: reported and set aside, its run runs
         again). An index appears twice only when a failed run was retried (``--retry-failed``): the later record
         wins."""
+        finished = set()   # runs recorded ok so far: only a failed run is recorded again (--retry-failed)
+
         def check(record):
             run = record.get("run")
             if not isinstance(run, int) or isinstance(run, bool) or not isinstance(record.get("status"), str):
                 return "is not a run record"
             if runs is not None and not 0 <= run < runs:
                 return f"records run {run} of a study of {runs} runs (0 to {runs - 1})"
+            if run in finished:
+                return f"records run {run} again, already recorded as ok"
+            if record["status"] == "ok":
+                finished.add(run)
             return None
 
         def label(record, line):
-            if isinstance(record, dict) and check(record) is None:
-                index = record["run"]
-            else:   # a torn line still starts with its run index
-                match = RUN_INDEX.match(line)
-                index = int(match.group(1)) if match else None
-            if index is not None and (runs is None or 0 <= index < runs):
-                return f"run {index} runs again"
-            return "skipped"
+            match = RUN_INDEX.match(line)   # a torn line still starts with its run index
+            index = record.get("run") if isinstance(record, dict) else int(match.group(1)) if match else None
+            if not isinstance(index, int) or isinstance(index, bool) or not (runs is None or 0 <= index < runs):
+                return "skipped"
+            return "the earlier record counts" if index in finished else f"run {index} runs again"
 
         records = {}
         for record in journal.read(Path(folder) / "runs.jsonl", check, label, note):
