@@ -6,6 +6,7 @@ of an AttributeError, TypeError or OverflowError from deep inside (``pc.simulate
 from __future__ import annotations
 
 import functools
+import numbers
 import os
 from collections.abc import Mapping
 from concurrent.futures import Executor
@@ -68,8 +69,9 @@ def most_workers() -> int:
 def check_workers(value, name: str = "workers"):
     """``value`` if it is None or a whole number from 1 to ``most_workers()``; InputError naming argument ``name``
     otherwise."""
-    if value is None or (isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= most_workers()):
-        return value
+    if value is None or (isinstance(value, numbers.Integral) and not isinstance(value, bool)
+                         and 1 <= int(value) <= most_workers()):   # numpy's integers too
+        return None if value is None else int(value)
     raise InputError(f"{name} = {short_repr(value)}: must be None (every core) or a whole number from 1 to "
                      f"{most_workers()} ({WORKERS_PER_CORE} per core of this machine's {os.cpu_count() or 1})")
 

@@ -421,7 +421,8 @@ def _timeout_seconds(text: str) -> float:
 
 
 def _check_executor(args) -> None:
-    """The executor options, checked before any folder, pool or cluster is made."""
+    """The worker counts, checked before any folder, pool or cluster is made (--dask-timeout is checked as the
+    command line is read)."""
     from .boundary import most_workers
 
     for flag, value in (("--workers", args.workers), ("--dask-local", args.dask_local)):
@@ -430,8 +431,6 @@ def _check_executor(args) -> None:
         if value is not None and value > most_workers():   # runs are CPU-bound: more only share the cores
             raise InputError(f"{flag} = {value}: must be <= {most_workers()} (4 worker processes per core of this "
                              f"machine's {os.cpu_count() or 1})")
-    if not (math.isfinite(args.dask_timeout) and args.dask_timeout > 0):
-        raise InputError(f"--dask-timeout = {args.dask_timeout}: must be a finite number of seconds > 0")
 
 
 def _executor(args):
@@ -475,8 +474,9 @@ def _interruptible(args, out: Path, kept: str, work) -> tuple:
 
     ensure_writable_dir(out)   # before a Dask cluster starts
     with _signals_interrupt():
-        executor, close = _executor(args)
+        close = None
         try:
+            executor, close = _executor(args)
             return work(executor), None
         except KeyboardInterrupt as exc:
             print(f"pchute {args.command}: interrupted; {kept} {out}: rerun the same command to resume",
@@ -513,7 +513,7 @@ def _rate(counts: dict) -> str:
 def _failures_status(counts: dict, allowed: float) -> int:
     """Exit status 1, with a line saying so, when more of the finished runs failed than the fraction ``allowed``."""
     finished = counts["skipped"] + counts["executed"]
-    if counts["failed"] == 0 or counts["failed"] <= allowed * finished:
+    if counts["failed"] == 0 or counts["failed"] / finished <= allowed:   # (29 / 100 <= 0.29; 0.29 x 100 is not 29)
         return 0
     rate = 100.0 * counts["failed"] / finished
     print(f"pchute study: {counts['failed']} of {finished} finished runs failed ({rate:.1f} %), more than "
@@ -689,7 +689,7 @@ def main(argv=None) -> int:
         return EXIT_ERROR
     except KeyboardInterrupt as exc:   # Ctrl-C: not an error; a run says where it stopped (errors.Interrupted)
         print(f"pchute {args.command}: {str(exc) or 'interrupted'}", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return _interrupted_status(exc)
     except BrokenPipeError:   # the reader of the output went away (`pchute compare ... | head`): stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_ERROR

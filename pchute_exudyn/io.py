@@ -199,6 +199,27 @@ def staged_folder(folder):
         raise
 
 
+def _swap_files(folder: Path, staging: Path, old: Path, earlier: list, new: list) -> None:
+    """The earlier result's files moved from ``folder`` into ``old``, then the staged ones moved in; a move that
+    fails puts every earlier file back (and takes the new ones out) before it is raised: the folder holds one run's
+    files, never a mix and never none."""
+    moved, placed = [], []
+    try:
+        for name in earlier:
+            os.replace(folder / name, old / name)
+            moved.append(name)
+        for name in new:
+            os.replace(staging / name, folder / name)
+            placed.append(name)
+        staging.rmdir()
+    except OSError:
+        for name in placed:
+            os.replace(folder / name, staging / name)
+        for name in moved:
+            os.replace(old / name, folder / name)
+        raise
+
+
 def _replace_result(folder: Path, staging: Path) -> None:
     """Put the staged files in ``folder``: one rename of the whole folder when ``folder`` is absent or holds only an
     earlier result; else file by file, the earlier result's files moved aside first, summary.json last."""
@@ -218,10 +239,6 @@ def _replace_result(folder: Path, staging: Path) -> None:
             shutil.rmtree(old, ignore_errors=True)
             raise InputError(f"output folder {str(folder)!r}: {clash[0]} is not a file of the earlier result: "
                              "this run would replace it; move it away or choose another --out")
-        for name in earlier:
-            os.replace(folder / name, old / name)
-        for name in new:
-            os.replace(staging / name, folder / name)
-        staging.rmdir()
+        _swap_files(folder, staging, old, earlier, new)
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)

@@ -135,10 +135,10 @@ def read(path, check, label, note=None) -> list:
         except UnicodeDecodeError:
             line = raw.decode("utf-8", "replace")
         record, problem = decode(line)
-        if record is not None:
-            problem = check(record)
         if number == len(lines) and torn_tail:
-            problem = "torn (power loss?)"   # no newline: the last write did not finish
+            problem = "torn (power loss?)"   # no newline: the last write did not finish (not checked: not kept)
+        elif record is not None:
+            problem = check(record)
         if problem is None:
             records.append(record)
             kept.append(raw)
@@ -172,6 +172,27 @@ def writing(path):
 
 # -- the folder lock -----------------------------------------------------------------------------------------------
 
+_HELD: set = set()
+"""Descriptors of the folder locks this process holds."""
+
+
+def _drop_held_in_child() -> None:
+    """In a forked child (a pool's worker): close the copies of the held locks' descriptors, so that the child, which
+    may outlive the study or fit (a pool passed in by the caller), does not keep the folder locked. Closing a copy
+    leaves the parent's lock in place (``flock`` belongs to the open file, released when its last descriptor
+    closes)."""
+    for fd in list(_HELD):
+        try:
+            os.close(fd)
+        except OSError:
+            pass
+    _HELD.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_drop_held_in_child)
+
+
 class FolderLock:
     """An exclusive lock on a study or fit folder, held while this process works in it (``what``: 'study', 'fit')."""
 
@@ -202,9 +223,11 @@ class FolderLock:
         except OSError:   # a full disk: the lock holds all the same, only its holder goes unnamed
             pass
         self.fd = fd
+        _HELD.add(fd)
 
     def release(self) -> None:
         if self.fd is not None:
+            _HELD.discard(self.fd)
             os.close(self.fd)   # closing the descriptor drops the lock
             self.fd = None
 
@@ -330,11 +353,15 @@ class RecordFolder:
                              f"matched to {source}; use another --out")
         if saved is None:
             return None
-        changed = changed_file(saved["files"], files) if isinstance(saved.get("files"), dict) else None
-        if changed is not None:
-            raise InputError(f"{changed} changed since the {self.what} in {self.folder} started (its content "
-                             f"differs): resuming would mix two models in one {self.what}; use another --out")
+        old = saved["files"] if isinstance(saved.get("files"), dict) else None
+        if old is not None and old.keys() == files.keys() and changed_file(old, files) is not None:
+            raise InputError(f"{changed_file(old, files)} changed since the {self.what} in {self.folder} started (its "
+                             f"content differs): resuming would mix two models in one {self.what}; use another --out")
         if saved["fingerprint"] != fingerprint:
             raise InputError(f"{self.folder} holds a {self.what} whose file, cases or data differ from {source}: "
                              f"resume only the same {self.what} (use another --out)")
+        if old is not None and sorted(map(str, old.values())) != sorted(map(str, files.values())):
+            # other files (not the same files moved): a file of an extends chain added, removed or edited
+            raise InputError(f"the files the {self.what} reads differ from those it read when it started in "
+                             f"{self.folder}: resuming would mix two models in one {self.what}; use another --out")
         return saved

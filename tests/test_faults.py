@@ -535,3 +535,30 @@ def test_a_refused_folder_leaves_no_worker_holding_the_output_pipes(tmp_path, ki
                           text=True, timeout=60)
     assert done.returncode == 1 and done.stderr.count("\n") == 1 and "Traceback" not in done.stderr, done.stderr
     assert not _mentioning(str(tmp_path))
+
+
+def test_a_worker_forked_while_the_folder_is_locked_does_not_keep_it_locked(tmp_path):
+    """A pool whose workers start after the lock was taken (a pool passed in by the caller starts them at its first
+    submit) and outlive the study: once the study lets go, the folder is free (the workers close their copy of the
+    lock's descriptor at fork)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    lock = FolderLock(tmp_path, "study")
+    lock.acquire()
+    pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork"))
+    try:
+        assert pool.submit(os.getpid).result(timeout=30) != os.getpid()   # the worker lives on, forked under the lock
+        lock.release()
+        again = FolderLock(tmp_path, "study")
+        again.acquire()                                                  # not "in use" by the worker
+        again.release()
+    finally:
+        pool.shutdown()
+
+
+def test_allow_failures_compares_the_rate_exactly():
+    from pchute_exudyn.cli import _failures_status
+
+    assert _failures_status({"failed": 29, "skipped": 0, "executed": 100}, 0.29) == 0   # 0.29 x 100 = 28.999...
+    assert _failures_status({"failed": 30, "skipped": 0, "executed": 100}, 0.29) == 1

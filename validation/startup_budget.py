@@ -59,9 +59,9 @@ import pchute_exudyn
 package_loaded = time.perf_counter()
 import pchute_exudyn.cli as cli
 import pchute_exudyn.engine.solver as solver, pchute_exudyn.simulation as simulation, pchute_exudyn.results as results
-import pchute_exudyn.case as case, pchute_exudyn.methods.sp as sp
+import pchute_exudyn.boundary as boundary, pchute_exudyn.methods.sp as sp
 imported = time.perf_counter()
-timed(case, "load_case", "loading the case file")
+timed(boundary, "load_case", "loading the case file")   # the command's (the API's checked load_case)
 timed(sp.SingularPerturbation, "build", "building the Exudyn model")
 timed(simulation, "add_step_monitor", "step-limit check before the run")
 timed(solver, "_solve", "solve (Exudyn's SolveDynamic, the stage kernels inside)")

@@ -17,7 +17,7 @@ import fnmatch
 import math
 from dataclasses import dataclass
 
-from ..errors import CaseError
+from ..errors import CaseError, short_repr
 
 
 @dataclass(frozen=True)
@@ -158,7 +158,7 @@ def check_value(key: str, value) -> tuple:
     for number in numbers(value):
         if not _within(float(number), entry.plausible):
             unit = f" ({entry.unit})" if entry.unit else ""
-            return None, (f"{key} = {value!r} is implausible: outside {entry.plausible[0]:g}.."
+            return None, (f"{key} = {short_repr(value)} is implausible: outside {entry.plausible[0]:g}.."
                           f"{entry.plausible[1]:g}{unit}")
     return None, None
 
@@ -166,7 +166,8 @@ def check_value(key: str, value) -> tuple:
 def check_time_scales(case, step: float) -> None:
     """Refuse, when the run is planned with its ``step`` (s), time scales the integration cannot resolve: a gust
     shorter than the step, and a turbulence scale length the vehicle crosses in less than a step (at its start
-    speed, or the escape speed of the fall). Raises CaseError naming the key, its value and the smallest allowed."""
+    speed, in the air at rest; none when it starts at rest). Raises CaseError naming the key, its value and the
+    smallest allowed."""
     for i, gust in enumerate(case.gusts):
         if gust.length < step:
             raise CaseError(case.source, f"atmosphere.gusts[{i}].length", f"must be >= the integration step "

@@ -49,10 +49,11 @@ class FitStore(RecordFolder):
         manifest = self.folder / "manifest.json"
         files, fingerprint = digests(self.spec.source_files()), self.spec.fingerprint()
         saved = self.saved_manifest(self.spec.source, fingerprint, files)
-        with writing(manifest):
-            if saved is None:
+        if saved is None:
+            with writing(self.folder / "fit.toml"):
                 atomic_write_text(self.folder / "fit.toml", self.spec.text)
-            if saved is None or "files" not in saved:   # (folders of earlier versions: the digests from now on)
+        if saved is None or "files" not in saved:   # (folders of earlier versions: the digests from now on)
+            with writing(manifest):
                 atomic_write_text(manifest, json_text({"name": self.spec.name, "fingerprint": fingerprint,
                                                        "files": files}, indent=2) + "\n")
         for record in journal.read(self.journal, self._check, _label, _note):
@@ -71,7 +72,9 @@ class FitStore(RecordFolder):
         return None
 
     def add(self, record: dict) -> None:
-        record["evaluation"] = len(self.records)
+        # numbered after the last recorded (not counted: a line set aside on resume leaves a gap, not a repeat)
+        record["evaluation"] = 1 + max((r.get("evaluation", -1) for r in self.records.values()
+                                        if isinstance(r.get("evaluation"), int)), default=-1)
         journal.append(self.journal, record)
         self.records[_key(record["values"])] = record
 

@@ -48,9 +48,9 @@ MAX_RUNS = 200
 """The default budget of runs (``[fit] max_runs``; Jacobian runs included) after which the fit stops and reports
 the best point it reached."""
 STD_RANGE = (1e-9, 1e6)
-"""A target's std (or 1 / weight) must lie within these multiples of its scale: its largest measured magnitude (1 in
-the target's unit when every measured value is 0). Below, the residuals overflow; above, the target weighs nothing
-and the fit would report its starting values as the answer."""
+"""A target's std (or 1 / weight) must lie within these multiples of its scale: its largest measured magnitude, at
+least 1 in the target's unit (a target measured near 0 keeps a usable range). Below, the residuals overflow; above,
+the target weighs nothing and the fit would report its starting values as the answer."""
 
 
 @dataclass(frozen=True)
@@ -258,10 +258,10 @@ def _read_target(t: _Table, folder: Path) -> Target:
 
 def _check_std(t: _Table, target: Target) -> None:
     """The std within STD_RANGE times the target's scale (see STD_RANGE)."""
-    scale = max((abs(v) for v in target.measured), default=0.0) or 1.0
+    scale = max(max((abs(v) for v in target.measured), default=0.0), 1.0)
     low, high = STD_RANGE[0] * scale, STD_RANGE[1] * scale
     if not low <= target.std <= high:
         key, value = ("weight", 1.0 / target.std) if target.weighted else ("std", target.std)
         raise t.error(key, f"the std must be within {low:.3g}..{high:.3g} ({STD_RANGE[0]:g} to {STD_RANGE[1]:g} "
-                           f"times the largest measured magnitude, {scale:.6g}): outside, the target overflows or "
+                           f"times the largest measured magnitude or 1, {scale:.6g}): outside, the target overflows or "
                            "weighs nothing", value)

@@ -66,11 +66,11 @@ DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
                  "truncated_normal": ("mean", "std", "low", "high"), "seed": (), "choice": ()}
 """Each distribution and the numbers it needs (``choice`` takes ``values`` and optional ``weights`` instead)."""
 SAMPLINGS = ("random", "latin_hypercube", "sobol")
+"""``[study] sampling``: independent random draws, a Latin hypercube or a scrambled Sobol sequence (scipy.stats.qmc)
+over the drawn parameters, mapped through each distribution's inverse CDF."""
 MAX_RUNS = 1_000_000
 """The most runs a study may expand into (docs/study-format.md, "Limits"): its run list is built, and its journal
 read, in memory; split a larger study into several."""
-"""``[study] sampling``: independent random draws, a Latin hypercube or a scrambled Sobol sequence (scipy.stats.qmc)
-over the drawn parameters, mapped through each distribution's inverse CDF."""
 SEED_LIMIT = 2 ** 31
 """A ``seed`` draw is an integer in [0, SEED_LIMIT) (a fresh seed per sample, e.g. for turbulence)."""
 

@@ -23,6 +23,7 @@ import csv
 import io
 import math
 import os
+import shutil
 import sys
 from pathlib import Path
 
@@ -53,8 +54,9 @@ class StudyStore(RecordFolder):
         files, fingerprint = digests(self.spec.source_files()), self.spec.fingerprint()
         saved = self.saved_manifest(self.spec.source, fingerprint, files)
         if saved is None:
-            with writing(self.folder / "inputs.csv"):
+            with writing(self.folder / "study.toml"):
                 atomic_write_text(self.folder / "study.toml", self.spec.text)
+            with writing(self.folder / "inputs.csv"):
                 atomic_write_text(self.folder / "inputs.csv", self._csv([self._input_row(r) for r in self.runs]))
         if saved is None or "parameter_units" not in saved or "files" not in saved:   # (folders of earlier versions)
             with writing(manifest):
@@ -64,6 +66,7 @@ class StudyStore(RecordFolder):
                                                        "parameter_units": self.spec.parameter_units,
                                                        "files": files}, indent=2) + "\n")
         self.records = self.load_records(self.folder, len(self.runs), _note)
+        _remove_half_written_histories(self.folder / "histories")
         if saved is not None:
             _note_unreadable_tables(self.folder)
         self.write_table()   # the runs recorded so far (none for a new study): the header the rows append to
@@ -151,6 +154,13 @@ class StudyStore(RecordFolder):
         for row in rows:
             writer.writerow({k: _cell(v) for k, v in row.items()})
         return buffer.getvalue()
+
+
+def _remove_half_written_histories(folder: Path) -> None:
+    """The staging folders (``.run_NNNNN.*.tmp``, ``.*.old``) of histories whose run was stopped while they were
+    saved (an interrupt kills the workers): never a run's result; that run runs again."""
+    for path in [*folder.glob(".*.tmp"), *folder.glob(".*.old")]:
+        shutil.rmtree(path, ignore_errors=True)
 
 
 def _cell(value):
