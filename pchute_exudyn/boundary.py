@@ -35,18 +35,12 @@ def check_path(value, name: str, what: str = "file") -> Path:
 
 def check_case(value, name: str = "case") -> Case:
     """``value`` if it is a Case; InputError otherwise (a path says to load it first)."""
-    if isinstance(value, Case):
-        return value
-    if isinstance(value, (str, os.PathLike)):
-        raise InputError(f"{name} = {short_repr(str(value))}: a path, not a Case; load it first: "
-                         f"pchute_exudyn.load_case({short_repr(str(value))})")
-    raise InputError(f"{name} = {short_repr(value)}: must be a Case (pchute_exudyn.load_case(path)), not "
-                     f"{type(value).__name__}")
+    return check_loaded(value, Case, name, "pchute_exudyn.load_case")
 
 
-def check_spec(value, kind: type, name: str, loader: str):
-    """``value`` if it is a ``kind`` (a StudySpec, a FitSpec); InputError otherwise (a path says to load it first
-    with ``loader``, e.g. 'pchute_exudyn.study.load_study')."""
+def check_loaded(value, kind: type, name: str, loader: str):
+    """``value`` if it is a ``kind`` (a Case, a StudySpec, a FitSpec: a file loaded); InputError otherwise (a path
+    says to load it first with ``loader``, e.g. 'pchute_exudyn.study.load_study')."""
     if isinstance(value, kind):
         return value
     if isinstance(value, (str, os.PathLike)):

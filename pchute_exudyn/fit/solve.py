@@ -18,7 +18,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .. import journal
-from ..boundary import check_executor, check_path, check_spec, check_workers
+from ..boundary import check_executor, check_loaded, check_path, check_workers
 from ..errors import InputError
 from ..io import atomic_write_text, json_text
 from ..journal import RecordFolder, digests, writing
@@ -166,7 +166,7 @@ class _Budget(Exception):
 def run_fit(spec: FitSpec, out, executor: Executor | None = None, workers: int | None = None) -> dict:
     """Fit ``spec`` into folder ``out`` (resuming what it holds; locked while the fit runs); returns the fit's
     outcome (see ``fit.report``)."""
-    check_spec(spec, FitSpec, "spec", "pchute_exudyn.fit.load_fit")
+    check_loaded(spec, FitSpec, "spec", "pchute_exudyn.fit.load_fit")
     check_path(out, "out", "fit folder")
     check_executor(executor)
     check_workers(workers)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..boundary import check_executor, check_flag, check_path, check_spec, check_workers
+from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
 from ..errors import InputError, PchuteError
 from ..io import ensure_writable_dir
 from ..journal import WriteFailed
@@ -207,7 +207,7 @@ def _main_thread() -> bool:
 
 def _check_arguments(spec, out, executor, workers, progress, retry_failed) -> None:
     """The API's boundary: an argument of the wrong type gets one line naming it."""
-    check_spec(spec, StudySpec, "spec", "pchute_exudyn.study.load_study")
+    check_loaded(spec, StudySpec, "spec", "pchute_exudyn.study.load_study")
     check_path(out, "out", "study folder")
     check_executor(executor)
     check_workers(workers)
