@@ -4,7 +4,8 @@ Python's own SIGINT handler raises KeyboardInterrupt wherever the main thread is
 module half imported, and some imports turn the interrupt into another error (Exudyn's reports an ImportError about
 its wheel, numpy an AttributeError), so a Ctrl-C in the first 0.3 s of a command ended in a traceback or a wrong
 message. The command's handler raises it as Python's does, except inside an import: there it waits for the import to
-finish (looking again every ``RETRY`` s) and raises it then. It is installed when the package is imported by the
+finish (looking again every ``RETRY`` s) and raises it then; one raised where Python can only print it (``__del__``,
+an at-fork callback) is raised again. It is installed when the package is imported by the
 ``pchute`` command (the console script, ``python -m pchute_exudyn``), before anything heavy is imported; a program
 that imports the package keeps its own handlers.
 """
@@ -13,6 +14,7 @@ from __future__ import annotations
 
 import signal
 import sys
+import threading
 from pathlib import Path
 
 RETRY = 0.02
@@ -31,10 +33,27 @@ def _importing(frame) -> bool:
 def interrupt(signum, frame) -> None:
     """SIGINT (and the timer that retries it): KeyboardInterrupt, once no import is running."""
     if _importing(frame):
-        signal.signal(signal.SIGALRM, interrupt)
-        signal.setitimer(signal.ITIMER_REAL, RETRY)
+        _retry()
         return
     raise KeyboardInterrupt
+
+
+def _retry() -> None:
+    signal.signal(signal.SIGALRM, interrupt)
+    signal.setitimer(signal.ITIMER_REAL, RETRY)
+
+
+def _unraisable(unraisable) -> None:
+    """``sys.unraisablehook``: a KeyboardInterrupt raised where Python cannot raise it (a ``__del__``, an at-fork
+    callback: logging's runs at every fork of a pool's worker) would be printed and lost, and the command would go on
+    as if never interrupted: it is raised again a moment later instead. Anything else goes to the previous hook."""
+    if issubclass(unraisable.exc_type, KeyboardInterrupt) and threading.current_thread() is threading.main_thread():
+        _retry()
+        return
+    _PREVIOUS_HOOK[0](unraisable)
+
+
+_PREVIOUS_HOOK = [sys.unraisablehook]
 
 
 def launched_as_command() -> bool:
@@ -49,3 +68,5 @@ def install() -> None:
     """Use ``interrupt`` for SIGINT in this process (the main thread only; where SIGINT is not ignored)."""
     if hasattr(signal, "setitimer") and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         signal.signal(signal.SIGINT, interrupt)
+        _PREVIOUS_HOOK[0] = sys.unraisablehook
+        sys.unraisablehook = _unraisable
