@@ -93,3 +93,15 @@ def assert_one_line(code, err: str, expected: str, touched: list, seconds: float
     assert expected in err, err
     assert not touched, f"files touched outside the output: {touched}"
     assert seconds < limit, seconds
+
+
+def print_table(battery) -> None:
+    """The battery's inputs, exit statuses, times and messages as a Markdown table (a test file run as a script)."""
+    import tempfile
+
+    print("| input | exit | seconds | message |\n|---|---|---|---|")
+    for name, make_args, _ in battery:
+        with tempfile.TemporaryDirectory() as folder:
+            code, err, seconds, _ = run_bad_input(make_args, Path(folder))
+        message = err.strip().replace("|", "\\|").replace(folder, "TMP")
+        print(f"| {name} | {code} | {seconds:.2f} | {message} |")

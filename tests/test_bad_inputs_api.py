@@ -20,9 +20,9 @@ import pchute_exudyn as pc
 from pchute_exudyn.errors import PchuteError
 
 try:
-    from .bad_input_harness import assert_one_line, run_bad_input
+    from .bad_input_harness import assert_one_line, print_table, run_bad_input
 except ImportError:   # run as a script: python tests/test_bad_inputs_api.py
-    from bad_input_harness import assert_one_line, run_bad_input
+    from bad_input_harness import assert_one_line, print_table, run_bad_input
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE1 = str(ROOT / "cases" / "mer" / "case1.toml")
@@ -407,10 +407,4 @@ def test_api_call_with_a_wrong_argument_raises_one_line_naming_it(case1, tmp_pat
 
 
 if __name__ == "__main__":   # the battery's messages as a table
-    print("| input | exit | seconds | message |\n|---|---|---|---|")
-    for name, make_args, _ in BATTERY:
-        with tempfile.TemporaryDirectory() as folder:
-            code, err, seconds, _ = run_bad_input(make_args, Path(folder))
-        message = err.strip().replace("|", "\\|").replace(folder, "TMP")
-        print(f"| {name} | {code} | {seconds:.2f} | {message} |")
-    sys.exit(0)
+    print_table(BATTERY)
