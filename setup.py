@@ -1,11 +1,11 @@
 """The package's build step beyond pyproject.toml: compile the kernel module and the bytecode at install.
 
 ``pip install`` (editable or not) runs ``build_py``; after copying the sources it builds the compiled kernel module
-(``python -m pchute_exudyn.kernel_cache``, numba's ahead-of-time compiler, about 10 s) into the package's
+(``python -m pchute_exudyn.kernels.build``, numba's ahead-of-time compiler, about 10 s) into the package's
 ``_compiled`` folder, so that the first run after an install is as fast as any later one, and compiles the
 package's bytecode (Python does not write it where PYTHONDONTWRITEBYTECODE is set). A failed kernel build does not
 fail the install: runs then use the kernels' Python form and build the module in the background
-(``pchute_exudyn._kernel_mode``).
+(``pchute_exudyn.kernels.selection``).
 """
 
 import compileall
@@ -28,7 +28,7 @@ class BuildWithKernels(build_py):
         # packages, numba and numpy among them, through PYTHONPATH)
         path = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
         environment = {**os.environ, "PCHUTE_KERNELS": "jit", "PYTHONPATH": path}
-        built = subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--out",
+        built = subprocess.run([sys.executable, "-m", "pchute_exudyn.kernels.build", "--out",
                                 str(package / "_compiled")], env=environment, cwd=ROOT)
         if built.returncode != 0:
             self.warn("the compiled kernel module could not be built: runs will build it in the background")

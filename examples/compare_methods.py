@@ -9,8 +9,8 @@ full-mass difference under it (a 0.1 N difference on a 700 N tension).
 from _output import ROOT, output_folder
 
 import pchute_exudyn as pc
-from pchute_exudyn.compare import compare_results
-from pchute_exudyn.plotting import plot_tension_overlay, save_figure
+from pchute_exudyn.results.compare import compare_results
+from pchute_exudyn.views.plotting import plot_tension_overlay, save_figure
 
 out = output_folder()
 case = pc.load_case(ROOT / "cases" / "mer" / "case1.toml")

@@ -11,8 +11,8 @@ import numpy as np
 from _output import ROOT, output_folder
 
 import pchute_exudyn as pc
-from pchute_exudyn.linear_report import format_report, linearization_report
-from pchute_exudyn.plotting import new_figure, save_figure
+from pchute_exudyn.run.linear_report import format_report, linearization_report
+from pchute_exudyn.views.plotting import new_figure, save_figure
 
 out = output_folder()
 report = linearization_report(pc.load_case(ROOT / "cases" / "mer" / "case1.toml"), None, 30.0)

@@ -8,7 +8,7 @@ Writes mer_case3/ (the result files), mer_case3.gif (the animation) and mer_case
 from _output import ROOT, output_folder
 
 import pchute_exudyn as pc
-from pchute_exudyn.animation import Animation, Run
+from pchute_exudyn.views.animation import Animation, Run
 
 out = output_folder()
 case = pc.load_case(ROOT / "cases" / "mer" / "case3.toml")

@@ -23,7 +23,7 @@ from . import _interrupt
 if _interrupt.launched_as_command():   # Ctrl-C while the command starts: an interrupt, not a broken import
     _interrupt.install()
 
-from . import _kernel_mode  # noqa: E402
+from .kernels import selection as _kernel_mode  # noqa: E402
 
 _kernel_mode.select()   # compiled, jit or Python kernels, before physics is imported (see _kernel_mode)
 
@@ -33,7 +33,8 @@ METHODS.fill_with(lambda: import_module(".methods", __name__))   # registers the
 
 _HOMES = {"Case": "case", "load_case": "boundary", "NewCase": "case.new",
           "new_case": "boundary", "new_case_text": "boundary", "CaseError": "errors", "InputError": "errors",
-          "PchuteError": "errors", "SimulationError": "errors", "Result": "results", "simulate": "simulation"}
+          "PchuteError": "errors", "SimulationError": "errors", "Result": "results.result",
+          "simulate": "run.simulation"}
 """Where each public name lives."""
 
 __all__ = ["METHODS", "Case", "CaseError", "InputError", "NewCase", "PchuteError", "Result", "SimulationError",

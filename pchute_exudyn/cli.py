@@ -13,9 +13,10 @@ import threading
 from dataclasses import fields
 from pathlib import Path
 
-from . import __version__, _kernel_mode
+from . import __version__
 from .case.method_table import INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
+from .kernels import selection as _kernel_mode
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -105,7 +106,7 @@ def _method_options(args, method_class) -> dict:
 
 
 def _run(args) -> int:
-    from .figure_process import FigureProcess
+    from .views.figure_process import FigureProcess
 
     # imports matplotlib on another core while the run goes on (started by ``command`` when it runs the process)
     figure = None if args.no_plot else (_entry.pop("figure", None) or FigureProcess())
@@ -118,9 +119,9 @@ def _run(args) -> int:
 
 def _run_case(args, figure) -> int:
     from .boundary import load_case
-    from .io import check_result_folder
-    from .progress import TerminalProgress
-    from .simulation import resolve_method, resolve_run, simulate
+    from .results.io import check_result_folder
+    from .run.simulation import resolve_method, resolve_run, simulate
+    from .views.progress import TerminalProgress
 
     case = load_case(args.case, args.overrides)
     method_class = type(resolve_method(case, args.method))
@@ -210,7 +211,7 @@ def _add_new(subparsers) -> None:
 
 def _new(args) -> int:
     from .case.new import NewCase, layout, new_case_text
-    from .io import atomic_write_text
+    from .results.io import atomic_write_text
 
     given = {key.removeprefix("new_"): value for key, value in vars(args).items()
              if key.startswith("new_") and value is not None}
@@ -273,8 +274,8 @@ def _altitudes(text):
 
 
 def _compare(args) -> int:
-    from .compare import compare_results
-    from .results import Result, parse_column_map
+    from .results.compare import compare_results
+    from .results.result import Result, parse_column_map
 
     settle = DEFAULT_SETTLE if args.settle is None else args.settle
     if not (math.isfinite(settle) and settle >= 0.0):
@@ -314,9 +315,9 @@ def _compare(args) -> int:
 def _write_comparison(comparison, labelled: dict, folder, vehicle: str, shown: list) -> list:
     """comparison.md, comparison.json and the figures in ``folder`` (one per column of ``shown`` but tensions and
     the confluence's velocity, which have their own); returns the paths written."""
-    from .compare import descent_profile
-    from .io import atomic_write_text, ensure_writable_dir, json_text
-    from .plotting import (
+    from .results.compare import descent_profile
+    from .results.io import atomic_write_text, ensure_writable_dir, json_text
+    from .views.plotting import (
         plot_column_overlay,
         plot_confluence_velocity_overlay,
         plot_descent_rates,
@@ -365,8 +366,8 @@ def _add_linearize(subparsers) -> None:
 def _linearize(args) -> int:
 
     from .boundary import load_case
-    from .io import json_text
-    from .linear_report import format_report, linearization_report
+    from .results.io import json_text
+    from .run.linear_report import format_report, linearization_report
 
     report = linearization_report(load_case(args.case, args.overrides), args.system, args.time)
     print(json_text(report) if args.json else format_report(report))
@@ -470,7 +471,7 @@ def _interrupted_status(exc: KeyboardInterrupt) -> int:
 def _interruptible(args, out: Path, kept: str, work) -> tuple:
     """``work(executor)`` on the executor the arguments ask for, SIGTERM taken as Ctrl-C: (its result, None), or
     (None, the exit status) when interrupted, after one line saying what is ``kept`` in ``out``."""
-    from .io import ensure_writable_dir
+    from .results.io import ensure_writable_dir
 
     ensure_writable_dir(out)   # before a Dask cluster starts
     with _signals_interrupt():
@@ -552,8 +553,8 @@ def _add_animate(subparsers) -> None:
 
 
 def _animate(args) -> int:
-    from .animation import Animation, Run, check_animation_path
-    from .progress import TerminalProgress
+    from .views.animation import Animation, Run, check_animation_path
+    from .views.progress import TerminalProgress
 
     run = Run.load(args.folder)
     other = Run.load(args.compare) if args.compare else None
@@ -614,7 +615,7 @@ def _add_view(subparsers) -> None:
 
 
 def _view(args) -> int:
-    from .view import view
+    from .views.viewer import view
 
     view(args.folder)
     return 0
@@ -662,7 +663,7 @@ def command() -> None:
     _entry["process"] = True
     try:
         if sys.argv[1:2] == ["run"] and "--no-plot" not in sys.argv and not {"-h", "--help"} & set(sys.argv):
-            from .figure_process import FigureProcess
+            from .views.figure_process import FigureProcess
             _entry["figure"] = FigureProcess()   # as early as can be: its import overlaps everything before the save
         code = main()
     except KeyboardInterrupt:   # Ctrl-C before the command's own handling began (``_interrupt``)

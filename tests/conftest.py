@@ -14,7 +14,7 @@ import pytest
 
 os.environ.setdefault("PCHUTE_KERNELS", "compiled")
 if os.environ["PCHUTE_KERNELS"] == "compiled":   # a source edited since the install: rebuild the module first
-    subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache", "--if-missing"], check=True,
+    subprocess.run([sys.executable, "-m", "pchute_exudyn.kernels.build", "--if-missing"], check=True,
                    stdout=subprocess.DEVNULL)
 
 import pchute_exudyn as pc  # noqa: E402

@@ -36,7 +36,7 @@ PINNED = {"pa1_sp": ["simulation.sp.kappa_max=5.0"]}
 def record(name, case_file, method, integrator, duration, overrides=()) -> dict:
     """The run's final values, peak tensions and events, as plain JSON values."""
     from pchute_exudyn import load_case, simulate
-    from pchute_exudyn.io import _finite
+    from pchute_exudyn.results.io import _finite
     overrides = [*PINNED.get(name, []), *overrides]
     result = simulate(load_case(ROOT / case_file, list(overrides)), method, integrator, duration=duration)
     summary = result.summary

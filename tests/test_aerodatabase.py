@@ -89,7 +89,7 @@ def test_mach_dependent_drag_gives_the_closed_form_force(wind, mach_number, axia
     """The stage kernel's force and the engine's single evaluation of it: |F| = q S C_A(M) along -e (to 1e-9)."""
     from pchute_exudyn.engine.solver import integrate
     from pchute_exudyn.methods.full import FullMass
-    from pchute_exudyn.phases import initial_phase
+    from pchute_exudyn.run.phases import initial_phase
 
     case = pc.load_case(PIVOT, {"atmosphere.wind.east": wind, "bodies.body.initial.yaw_deg": -90.0,
                                 "bodies.body.aerodynamics.axial_coefficient": MACH_DRAG})
@@ -172,7 +172,7 @@ def test_a_table_equal_to_the_constants_gives_the_same_run():
 # -- outputs and the shipped databases ----------------------------------------------------------------------------------
 
 def test_swing_amplitude_is_the_mean_of_the_peaks():
-    from pchute_exudyn.analysis import swing_amplitude
+    from pchute_exudyn.run.analysis import swing_amplitude
     time = np.linspace(0.0, 20.0, 20001)
     assert swing_amplitude(np.abs(3.0 * np.sin(1.3 * time))) == pytest.approx(3.0, rel=1e-5)   # a planar swing
     assert swing_amplitude(np.full(50, 7.0)) == 7.0                                           # coning: no peak

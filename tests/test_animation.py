@@ -5,9 +5,9 @@ import pytest
 from PIL import Image
 
 import pchute_exudyn as pc
-from pchute_exudyn.animation import Animation, Run
 from pchute_exudyn.cli import main
-from pchute_exudyn.results import load_scene
+from pchute_exudyn.results.result import load_scene
+from pchute_exudyn.views.animation import Animation, Run
 
 from .conftest import MER, ROOT
 
@@ -91,7 +91,7 @@ def test_exudyn_viewer_replay_draws_the_stored_attach_points(tmp_path):
     import exudyn as exu
     from exudyn.utilities import LoadSolutionFile, SetSolutionState
 
-    from pchute_exudyn.view import prepare
+    from pchute_exudyn.views.viewer import prepare
     folder = tmp_path / "pa1"
     pc.simulate(pc.load_case(ROOT / "cases" / "cev_pa1.toml"), "sp", "rk4", 1e-2, duration=12.0).save(folder,
                                                                                                      plot=False)

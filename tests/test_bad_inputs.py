@@ -65,7 +65,7 @@ def _fit(tmp: Path, free: str = "low = 0.3\nhigh = 0.7", target: str = 'event = 
 
 def _sceneless(tmp: Path) -> str:
     """A result saved without the scene an animation needs (as by a version before it was stored)."""
-    from pchute_exudyn.results import Result
+    from pchute_exudyn.results.result import Result
     folder = tmp / "old"
     Result({"time": [0.0, 1.0], "tension_riser": [1.0, 2.0]}, {"time": "s", "tension_riser": "N"}).save(folder,
                                                                                                      plot=False)

@@ -302,7 +302,7 @@ def case1():
 
 
 def _resolve_run(*args):
-    from pchute_exudyn.simulation import resolve_run
+    from pchute_exudyn.run.simulation import resolve_run
     return resolve_run(*args)
 
 
@@ -325,7 +325,7 @@ def _spec(tmp: Path):
 
 
 def _animate(*args, **kwargs):
-    from pchute_exudyn.animation import animate
+    from pchute_exudyn.views.animation import animate
     return animate(*args, **kwargs)
 
 

@@ -15,11 +15,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from pchute_exudyn import load_case, simulate
+from pchute_exudyn.engine.state import initial_body_state
 from pchute_exudyn.physics.apparent_mass import ApparentMass, kirchhoff_terms, translational_mass_matrix
 from pchute_exudyn.physics.inflation import Inflation, InflationProgress, InflationStage
 from pchute_exudyn.physics.lines import LoadElongation, elastic_tensions
-from pchute_exudyn.simulation import resolve_run, run
-from pchute_exudyn.state import initial_body_state
+from pchute_exudyn.run.simulation import resolve_run, run
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "validation"))

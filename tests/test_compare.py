@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from pchute_exudyn.cli import main
-from pchute_exudyn.compare import compare_results
 from pchute_exudyn.errors import InputError
-from pchute_exudyn.results import Result, parse_column_map
+from pchute_exudyn.results.compare import compare_results
+from pchute_exudyn.results.result import Result, parse_column_map
 
 
 def write_csv(path, columns):

@@ -20,7 +20,6 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import pchute_exudyn as pc
-from pchute_exudyn.compare import compare_results
 from pchute_exudyn.methods.sp import PRESETS, SPOptions
 from pchute_exudyn.physics.kinematics import (
     POINT_COLUMNS,
@@ -31,6 +30,7 @@ from pchute_exudyn.physics.kinematics import (
     point_motions,
 )
 from pchute_exudyn.physics.rotations import rotation_from_vector
+from pchute_exudyn.results.compare import compare_results
 
 ROOT = Path(__file__).resolve().parents[1]
 MER = ROOT / "cases" / "mer"
@@ -96,7 +96,7 @@ def test_the_stage_states_are_exudyns_node_outputs():
 
     from pchute_exudyn.engine.solver import integrate
     from pchute_exudyn.methods.sp import SingularPerturbation
-    from pchute_exudyn.phases import initial_phase
+    from pchute_exudyn.run.phases import initial_phase
     case = pc.load_case(MER / "case3.toml")
     model = SingularPerturbation().build(case, initial_phase(case))
     integrate(model, "rk4", 1e-2, 0.5, 0.1)

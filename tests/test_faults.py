@@ -22,7 +22,7 @@ import pytest
 
 from pchute_exudyn.cli import main
 from pchute_exudyn.errors import PchuteError
-from pchute_exudyn.journal import FolderLock, decode
+from pchute_exudyn.results.journal import FolderLock, decode
 
 from .bad_input_harness import assert_one_line, run_bad_input
 

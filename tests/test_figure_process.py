@@ -6,8 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pchute_exudyn as pc
-from pchute_exudyn.figure_process import FigureProcess
-from pchute_exudyn.plotting import save_figure
+from pchute_exudyn.views.figure_process import FigureProcess
+from pchute_exudyn.views.plotting import save_figure
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn import _kernel_mode
+from pchute_exudyn.kernels import selection as _kernel_mode
 from pchute_exudyn.physics import compiled
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -58,7 +58,7 @@ def test_a_kernel_form_that_does_not_exist_is_one_line_naming_it_and_exit_2(tmp_
 def test_argument_types_are_named_as_numba_types_them(value):
     """``describe`` (no numba at run time) and the builder's ``describe_type`` of numba's own type agree."""
     numba = pytest.importorskip("numba")
-    from pchute_exudyn.kernel_cache import describe_type, numba_type
+    from pchute_exudyn.kernels.build import describe_type, numba_type
 
     assert compiled.describe(value) == describe_type(numba.typeof(value))
     assert describe_type(numba_type(compiled.describe(value))) == compiled.describe(value)
@@ -80,7 +80,7 @@ def test_every_recorded_signature_names_an_existing_kernel_with_its_argument_cou
 def test_every_kernel_call_of_every_method_runs_compiled_code():
     """Small models of every method, a cluster, a load-elongation line, winds and turbulence, with outputs and
     summaries: no call fell back to the Python form (the signatures cover what the package calls)."""
-    from pchute_exudyn.kernel_cache import BRIDLE, CASE, CLUSTER
+    from pchute_exudyn.kernels.build import BRIDLE, CASE, CLUSTER
 
     compiled.FALLBACKS.clear()
     base = CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc"))

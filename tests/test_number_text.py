@@ -7,8 +7,8 @@ import io
 import numpy as np
 import pytest
 
-from pchute_exudyn.number_text import LARGEST, SMALLEST, _python_rows, table_text
 from pchute_exudyn.physics import compiled
+from pchute_exudyn.results.number_text import LARGEST, SMALLEST, _python_rows, table_text
 
 EDGES = [0.0, -0.0, np.nan, -np.nan, np.inf, -np.inf, 5e-324, 2.2250738585072014e-308, 1.7976931348623157e308,
          SMALLEST, LARGEST, np.nextafter(SMALLEST, 0.0), np.nextafter(LARGEST, np.inf),

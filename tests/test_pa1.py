@@ -8,8 +8,8 @@ import pytest
 
 import pchute_exudyn as pc
 from pchute_exudyn.engine.full import build_full_model
-from pchute_exudyn.phases import boundaries, deploy, initial_states, next_phase
 from pchute_exudyn.physics.atmosphere import US76
+from pchute_exudyn.run.phases import boundaries, deploy, initial_states, next_phase
 
 from .conftest import ROOT
 

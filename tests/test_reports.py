@@ -16,11 +16,11 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.cli import main
 from pchute_exudyn.errors import PchuteError
-from pchute_exudyn.progress import LogProgress, run_progress
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.failures import wilson_interval
 from pchute_exudyn.study.footprint import footprint_figure, footprint_statistics
 from pchute_exudyn.study.report import load_table, scatter_figure, sensitivity, study_report
+from pchute_exudyn.views.progress import LogProgress, run_progress
 
 from .bad_input_harness import assert_one_line, run_bad_input
 from .conftest import MER, ROOT
@@ -204,7 +204,7 @@ def test_summary_records_the_failures_flown_and_the_planned_events(tmp_path, cap
 
 
 def test_the_overview_has_rate_of_descent_against_altitude(tmp_path, capsys):
-    from pchute_exudyn.plotting import plot_overview
+    from pchute_exudyn.views.plotting import plot_overview
 
     out = tmp_path / "r"
     assert main(["run", str(MER / "case1.toml"), "--method", "sp", "--dt", "1e-2", "--t-end", "2", "--quiet",

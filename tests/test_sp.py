@@ -100,7 +100,7 @@ def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
     from pchute_exudyn.engine.solver import integrate
     from pchute_exudyn.engine.sp import build_sp_model
     from pchute_exudyn.methods.sp import SPOptions
-    from pchute_exudyn.phases import initial_phase, next_phase
+    from pchute_exudyn.run.phases import initial_phase, next_phase
 
     phase = initial_phase(mer_case1)
     items = build_sp_model(mer_case1, phase, SPOptions(order=1))

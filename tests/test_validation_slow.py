@@ -5,7 +5,7 @@ import sys
 import numpy as np
 import pytest
 
-from pchute_exudyn.compare import compare_results
+from pchute_exudyn.results.compare import compare_results
 
 from .conftest import ROOT
 

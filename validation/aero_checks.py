@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions
 
 HERE = Path(__file__).resolve().parent
 PIVOT = HERE.parent / "tests" / "cases" / "pivot_wind.toml"
@@ -88,7 +88,7 @@ def roll_row() -> tuple:
 def mach_rows() -> list:
     from pchute_exudyn.engine.solver import integrate
     from pchute_exudyn.methods.full import FullMass
-    from pchute_exudyn.phases import initial_phase
+    from pchute_exudyn.run.phases import initial_phase
     rows = []
     for wind, where in ((150.0, "between breakpoints"), (330.0, "through the transonic rise"),
                         (750.0, "beyond the table, held")):

@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.animation import SLACK, Animation, Run
-from pchute_exudyn.io import atomic_write_text
 from pchute_exudyn.physics.rotations import attitude_matrix
-from pchute_exudyn.results import Result
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.results.result import Result
+from pchute_exudyn.views.animation import SLACK, Animation, Run
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent

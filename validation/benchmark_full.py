@@ -15,8 +15,8 @@ import platform
 from pathlib import Path
 
 import pchute_exudyn as pc
-from pchute_exudyn.compare import compare_results
-from pchute_exudyn.io import atomic_write_text
+from pchute_exudyn.results.compare import compare_results
+from pchute_exudyn.results.io import atomic_write_text
 
 HERE = Path(__file__).resolve().parent
 RUNS = [("rk4", 1e-4, "symbolic"), ("rk4", 2e-4, "symbolic"), ("rk4", 3e-4, "symbolic"),

@@ -37,9 +37,9 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.compare import compare_results
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.compare import compare_results
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -262,8 +262,8 @@ def aerodynamics_in_kernel() -> float:
 
     from pchute_exudyn.engine.solver import integrate
     from pchute_exudyn.methods.sp import SingularPerturbation
-    from pchute_exudyn.phases import initial_phase
     from pchute_exudyn.physics.aerodynamics import aerodynamics_stage
+    from pchute_exudyn.run.phases import initial_phase
 
     case = pc.load_case(MER)
     model = SingularPerturbation().build(case, initial_phase(case))

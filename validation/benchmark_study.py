@@ -19,8 +19,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.runner import dask_executor
 

@@ -18,7 +18,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.fit import load_fit, run_fit
 from pchute_exudyn.fit.evaluate import event_times
 from pchute_exudyn.fit.report import calibrated_case, write_report
-from pchute_exudyn.io import atomic_write_text
+from pchute_exudyn.results.io import atomic_write_text
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent

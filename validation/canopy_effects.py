@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from pchute_exudyn import load_case, simulate  # noqa: E402
-from pchute_exudyn.io import atomic_write_text  # noqa: E402
+from pchute_exudyn.results.io import atomic_write_text  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "validation" / "output" / "canopy"

@@ -23,11 +23,11 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.compare import compare_results
-from pchute_exudyn.io import atomic_write_text
 from pchute_exudyn.physics.atmosphere import US76
-from pchute_exudyn.plotting import new_figure, plot_tension_overlay, save_figure
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.compare import compare_results
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions
+from pchute_exudyn.views.plotting import new_figure, plot_tension_overlay, save_figure
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "cases" / "cev_pa1.toml"

@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.analysis import swing_amplitude
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.analysis import swing_amplitude
+from pchute_exudyn.run.simulation import versions
 
 HERE = Path(__file__).resolve().parent
 CASES = HERE.parent / "cases"

@@ -19,13 +19,13 @@ import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.engine.linearized import exudyn_eigenvalues
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.phases import initial_phase
+from pchute_exudyn.engine.state import initial_point
 from pchute_exudyn.physics.analytic import analytic_response
 from pchute_exudyn.physics.equilibrium import equilibrium_point
 from pchute_exudyn.physics.linearization import linearize, modes
-from pchute_exudyn.plotting import new_figure, save_figure
-from pchute_exudyn.state import initial_point
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.phases import initial_phase
+from pchute_exudyn.views.plotting import new_figure, save_figure
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "cases" / "simple" / "simple.toml"

@@ -16,8 +16,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions
 from pchute_exudyn.study import dask_executor, load_study, run_study
 from pchute_exudyn.study.report import study_report
 

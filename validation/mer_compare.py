@@ -28,10 +28,10 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.compare import compare_results
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.plotting import plot_confluence_velocity_overlay, plot_tension_overlay, save_figure
-from pchute_exudyn.simulation import versions as library_versions
+from pchute_exudyn.results.compare import compare_results
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions as library_versions
+from pchute_exudyn.views.plotting import plot_confluence_velocity_overlay, plot_tension_overlay, save_figure
 
 HERE = Path(__file__).resolve().parent
 CASES = HERE.parent / "cases" / "mer"

@@ -25,11 +25,11 @@ import numpy as np
 import pchute_exudyn as pc
 from pchute_exudyn.case.method_table import METHODS
 from pchute_exudyn.cli import main as pchute
-from pchute_exudyn.compare import compare_results
-from pchute_exudyn.csv_dialects import parse_column_map
-from pchute_exudyn.io import atomic_write_text
 from pchute_exudyn.physics.atmosphere import US76
-from pchute_exudyn.simulation import stability_step, versions
+from pchute_exudyn.results.compare import compare_results
+from pchute_exudyn.results.csv_dialects import parse_column_map
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import stability_step, versions
 
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "output" / "new_case"

@@ -18,8 +18,8 @@ import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.case.new import NewCase, layout
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions
 
 OUT = Path(__file__).resolve().parent / "output" / "new_case"
 CARGO = dict(planet="earth", mass=2000.0, canopy_diameter=30.5, canopy_type="flat_circular")

@@ -21,8 +21,8 @@ import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.case.new import NewCase, layout
-from pchute_exudyn.io import atomic_write_text
-from pchute_exudyn.simulation import versions
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.run.simulation import versions
 
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "output" / "release"

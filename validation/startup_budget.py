@@ -58,7 +58,7 @@ numpy_loaded = time.perf_counter()
 import pchute_exudyn
 package_loaded = time.perf_counter()
 import pchute_exudyn.cli as cli
-import pchute_exudyn.engine.solver as solver, pchute_exudyn.simulation as simulation, pchute_exudyn.results as results
+import pchute_exudyn.engine.solver as solver, pchute_exudyn.run.simulation as simulation, pchute_exudyn.results.result as results
 import pchute_exudyn.boundary as boundary, pchute_exudyn.methods.sp as sp
 imported = time.perf_counter()
 timed(boundary, "load_case", "loading the case file")   # the command's (the API's checked load_case)
@@ -71,7 +71,7 @@ timed(results, "table_text", "formatting timeseries.csv")
 timed(results, "atomic_write_text", "writing timeseries.csv and summary.json")
 timed(numpy, "savez", "writing result.npz")
 if os.environ.get("TIMED_FIGURE"):   # the figure process, started as the command starts it (cli.command)
-    import pchute_exudyn.figure_process as figure_process
+    import pchute_exudyn.views.figure_process as figure_process
     timed(figure_process.FigureProcess, "draw", "waiting for the figure process to draw overview.png")
     cli._entry["figure"] = figure_process.FigureProcess()
 code = cli.main(sys.argv[1:])
@@ -85,7 +85,7 @@ print("PARTS" + json.dumps({"importing numpy": numpy_loaded - started,
                            "main": ended - imported, **parts}), flush=True)
 os._exit(code)   # as the command does (pchute_exudyn.cli.command)
 """
-MODULE_LOAD = ("import os, time; os.environ['PCHUTE_KERNELS'] = 'python'; import pchute_exudyn._kernel_mode as k; "
+MODULE_LOAD = ("import os, time; os.environ['PCHUTE_KERNELS'] = 'python'; import pchute_exudyn.kernels.selection as k; "
                "t = time.perf_counter(); assert k.load_compiled() is not None; print(time.perf_counter() - t)")
 
 
@@ -244,7 +244,7 @@ def main(argv=None) -> int:
     if INSTALL not in readme:
         raise SystemExit(f"the README's install command is no longer {INSTALL}")
     if args.before is not None:   # the code before: its kernels compiled into numba's cache first
-        subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"], env=environment(code=args.before),
+        subprocess.run([sys.executable, "-m", "pchute_exudyn.kernels.build"], env=environment(code=args.before),
                        cwd=args.before, check=True, capture_output=True)
     rounds = warm_rounds(args.repeat, args.before)
     parts = budget(figure=False)

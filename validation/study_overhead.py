@@ -50,7 +50,7 @@ print(json.dumps({"runs": runs, "wall": wall, "solves": sum(solves), "failed": c
 def side(code: Path, runs: int, workers: int) -> dict:
     """One study run by the package in ``code`` (its own process, compiled kernels)."""
     environment = {**os.environ, "PYTHONPATH": str(code), "PCHUTE_KERNELS": "compiled"}
-    subprocess.run([sys.executable, "-m", "pchute_exudyn.kernel_cache"], env=environment, check=True,
+    subprocess.run([sys.executable, "-m", "pchute_exudyn.kernels.build"], env=environment, check=True,
                    capture_output=True, cwd=code)
     with tempfile.TemporaryDirectory() as elsewhere:   # not the repository: `python -c` puts its folder first
         done = subprocess.run([sys.executable, "-c", SIDE, str(runs), str(workers), str(STUDY), str(ROOT / "cases")],

@@ -142,7 +142,7 @@ def main(argv=None) -> int:
         "",
         f"{compared} columns compared, {differ} differences (columns and summary values).",
         ""])
-    from pchute_exudyn.io import atomic_write_text
+    from pchute_exudyn.results.io import atomic_write_text
     args.out.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(args.out, text)
     print(text)

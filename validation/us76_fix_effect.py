@@ -13,8 +13,8 @@ import sys
 from pathlib import Path
 
 import pchute_exudyn as pc
-from pchute_exudyn.io import atomic_write_text
 from pchute_exudyn.physics import atmosphere
+from pchute_exudyn.results.io import atomic_write_text
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "cases" / "cev_pa1.toml"

@@ -154,7 +154,7 @@ def table(results: list) -> tuple:
 
 def write_cargo() -> None:
     import pchute_exudyn as pc
-    from pchute_exudyn.io import atomic_write_text
+    from pchute_exudyn.results.io import atomic_write_text
 
     OUT.mkdir(parents=True, exist_ok=True)
     atomic_write_text(OUT / "cargo.toml", pc.new_case_text(**CARGO))
@@ -174,8 +174,8 @@ def main(argv=None) -> int:
             print(f"\r{i}/{len(todo)} runs", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
     rows, summary_rows, failed = table(results)
-    from pchute_exudyn.io import atomic_write_text
-    from pchute_exudyn.simulation import versions
+    from pchute_exudyn.results.io import atomic_write_text
+    from pchute_exudyn.run.simulation import versions
 
     v = versions()
     text = "\n".join([

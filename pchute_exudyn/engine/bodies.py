@@ -15,12 +15,12 @@ import numpy as np
 from ..case.model import Body, Case
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
-from ..state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
 from .canopy import add_apparent_mass, add_fraction_channel, add_inflation_hooks
 from .contact import add_contact
 from .display import body_graphics
 from .model import CURRENT, OV, BodyItems, Confluence, Model
 from .stage import Stage
+from .state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
 
 
 def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -> None:

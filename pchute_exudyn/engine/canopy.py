@@ -17,8 +17,8 @@ import numpy as np
 
 from ..case.model import Body, Case
 from ..physics.apparent_mass import kirchhoff_terms, translational_mass_matrix
-from ..state import ColumnChannel
 from .model import CURRENT, OV, Model
+from .state import ColumnChannel
 
 
 class ApparentMassTerms:

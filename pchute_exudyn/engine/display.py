@@ -5,8 +5,9 @@ viewer replays the run's stored scene (``outputs.scene``) through one display mo
 body with its graphics (the vehicle a cylinder of its diameter along body x, a canopy a dome with its apex away from
 its attach points), a point node per confluence, and a drawn spring-damper per line from its attach point to the
 confluence. Its coordinates per sample are the scene's positions and rotation vectors (reference configuration zero),
-written by ``pchute_exudyn.view`` in Exudyn's text solution-file format, which ``exudyn.utilities.LoadSolutionFile``
-reads. A body absent from part of the run (not yet deployed, cut away) is parked ``PARKED`` m below the start.
+written by ``pchute_exudyn.views.viewer`` in Exudyn's text solution-file format, which
+``exudyn.utilities.LoadSolutionFile`` reads. A body absent from part of the run (not yet deployed, cut away) is
+parked ``PARKED`` m below the start.
 """
 
 from __future__ import annotations

@@ -15,10 +15,10 @@ from ..case.model import Case, ParachuteSystem
 from ..errors import SimulationError
 from ..physics.equilibrium import equilibrium_point, equilibrium_velocity
 from ..physics.lines import line_tensions
-from ..state import ConfluenceState, Phase
 from .bodies import add_bodies
 from .model import Model
 from .reduced import ReducedConfluence
+from .state import ConfluenceState, Phase
 
 MAX_CONSECUTIVE_FAILURES = 20
 

@@ -15,9 +15,9 @@ from exudyn.utilities import CreateSymbolicUserFunction
 
 from ..case.model import Case
 from ..physics.lines import tension
-from ..state import Phase, TensionChannel
 from .bodies import PointConfluence, add_bodies
 from .model import CURRENT, OV, Model
+from .state import Phase, TensionChannel
 
 esym = exu.symbolic
 LINE_COLOUR = [0.1, 0.1, 0.6, 1.0]   # lines in Exudyn's viewer

@@ -7,8 +7,8 @@ import numpy as np
 
 from ..case.model import Case
 from ..physics.linearization import companion_matrix
-from ..state import Phase
 from .full import build_full_model
+from .state import Phase
 
 
 def exudyn_linear_system(case: Case, phase: Phase):

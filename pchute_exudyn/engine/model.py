@@ -17,7 +17,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case
-from ..state import BodyChannel, BodyState, ConfluenceState, Phase
+from .state import BodyChannel, BodyState, ConfluenceState, Phase
 
 OV = exu.OutputVariableType
 CURRENT = exu.ConfigurationType.Current

@@ -24,8 +24,8 @@ from ..case.model import Case, ParachuteSystem
 from ..physics.compiled import bound
 from ..physics.kinematics import add_point_forces, point_motions
 from ..physics.singular_perturbation import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
-from ..state import ConfluenceChannel, MethodChannel, TensionChannel
 from .model import Confluence, Model
+from .state import ConfluenceChannel, MethodChannel, TensionChannel
 
 
 def step_size(model: Model, span: float) -> float:

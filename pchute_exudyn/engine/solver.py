@@ -25,12 +25,12 @@ import exudyn as exu
 import numpy as np
 
 from .. import _interrupt
-from .._kernel_form import BUILDER as KERNEL_BUILDER
 from ..errors import Interrupted, PchuteError, SimulationError
+from ..kernels.form import BUILDER as KERNEL_BUILDER
 from ..physics.atmosphere import OutsideAtmosphereError
 from ..physics.compiled import MODE as KERNEL_FORM
-from ..state import RawHistory
 from .model import Model
+from .state import RawHistory
 
 CHECK_EVERY = 200
 """Steps between NaN/inf checks of the state (a check costs about 2 us; a full-mass MER RK4 step about 70 us)."""

@@ -34,10 +34,10 @@ from ..physics.singular_perturbation import (
     sp_rk_stage,
     sp_rk_stage_with_bodies,
 )
-from ..state import ConfluenceChannel, ConfluenceState, MethodChannel, Phase, TensionChannel
 from .bodies import add_bodies
 from .model import Model
 from .reduced import ReducedConfluence, step_size
+from .state import ConfluenceChannel, ConfluenceState, MethodChannel, Phase, TensionChannel
 
 _holds_after_v0_update = python_form(holds_after_v0_update)   # checked from Python once a step
 

@@ -24,9 +24,9 @@ import numpy as np
 from ..case.model import Case
 from ..physics.compiled import bound
 from ..physics.kinematics import POINT_COLUMNS, STATE_COLUMNS, body_states
-from ..state import BodyChannel, initial_body_state
 from .aerodynamics import AerodynamicLoads
 from .model import Model
+from .state import BodyChannel, initial_body_state
 
 BODY_COLUMNS = 7
 """Columns of a body layout row: index of its first coordinate (-1: fixed), reference position, reference

@@ -49,7 +49,7 @@ def predictions(result, targets) -> tuple[list, list]:
 def evaluate(case_file: str, overrides: dict, configuration, targets) -> dict:
     """Run the case with ``overrides``; never raises: a failure is a record with its error text."""
     from ..case import load_case
-    from ..simulation import simulate
+    from ..run.simulation import simulate
 
     started = time.perf_counter()
     record = {"status": "ok", "error": "", "values": list(overrides.values())}

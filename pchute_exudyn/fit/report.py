@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from ..case.loader import override_leaves
-from ..io import atomic_write_text, json_text
-from ..plotting import new_figure, save_figure
+from ..results.io import atomic_write_text, json_text
+from ..views.plotting import new_figure, save_figure
 from .spec import FitSpec
 
 

@@ -17,11 +17,11 @@ from concurrent.futures import Executor
 import numpy as np
 from scipy.optimize import least_squares
 
-from .. import journal
 from ..boundary import check_executor, check_loaded, check_path, check_workers
 from ..errors import InputError
-from ..io import atomic_write_text, json_text
-from ..journal import RecordFolder, digests, writing
+from ..results import journal as journal
+from ..results.io import atomic_write_text, json_text
+from ..results.journal import RecordFolder, digests, writing
 from ..study.runner import stop_pool, worker_pool
 from .evaluate import evaluate
 from .spec import MAX_RUNS, FitSpec

@@ -39,8 +39,8 @@ import numpy as np
 
 from ..boundary import check_path
 from ..case.loader import _Context, _load_merged, _Table, load_case, override_leaves, read_toml
-from ..csv_dialects import map_columns, parse_column_map, read_csv_columns, time_problem
 from ..errors import CaseError, InputError
+from ..results.csv_dialects import map_columns, parse_column_map, read_csv_columns, time_problem
 from ..study.spec import Configuration, _read_configuration
 
 EVENT_HELP = "start, deploy <system>, cutaway <system>, descent_rate, touchdown"
@@ -123,7 +123,7 @@ class FitSpec:
         is refused)."""
         import tomllib
 
-        from ..journal import case_files
+        from ..results.journal import case_files
 
         files = [Path(self.source).resolve()] + case_files(self.case)
         for target in tomllib.loads(self.text).get("targets", []):

@@ -15,8 +15,8 @@ import numpy as np
 
 from ..case.method_table import INTEGRATORS, NoOptions, OptionError, make_options
 from ..case.model import Case, ParachuteSystem
+from ..engine.state import Phase
 from ..physics.lines import tangent_stiffness
-from ..state import Phase
 
 
 def option(flag: str | None, parse, help: str, choices: tuple | None = None) -> dict:

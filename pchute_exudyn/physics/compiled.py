@@ -6,7 +6,7 @@ numbers of timeseries.csv: ``number_text``), are written in the subset of Python
 bools, numpy arrays, loops) and decorated with ``kernel``. They are the only home of their formulas: Python callers
 (tests, the equilibrium method, histories) call the same functions.
 
-What ``kernel`` returns depends on the form this process runs (``pchute_exudyn._kernel_mode``):
+What ``kernel`` returns depends on the form this process runs (``pchute_exudyn.kernels.selection``):
 
 * compiled: a ``CompiledKernel``, which calls the kernel's code in the ahead-of-time compiled module (no numba in
   the process) when the arguments have the types it was compiled for, and its Python form otherwise;
@@ -24,7 +24,7 @@ from array import array
 
 import numpy as np
 
-from .._kernel_form import EXPORTS, VARIABLE
+from ..kernels.form import EXPORTS, VARIABLE
 
 MODE = os.environ.get(VARIABLE, "compiled")
 """The form this process runs: 'compiled', 'jit' or 'python' (chosen by ``_kernel_mode.select`` before this import)."""

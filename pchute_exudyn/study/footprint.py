@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from ..plotting import new_figure, save_figure
+from ..views.plotting import new_figure, save_figure
 
 ELLIPSES = (("1 sigma", 1.0), ("3 sigma", 3.0), ("99 %", math.sqrt(-2.0 * math.log(0.01))))
 """(label, k): dispersion ellipses drawn and tabulated, k in standard deviations along the principal axes."""

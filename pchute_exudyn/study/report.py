@@ -19,11 +19,11 @@ import numpy as np
 
 from ..boundary import check_path
 from ..case.method_table import METHODS, option_names
-from ..compare import compare_results
 from ..errors import InputError
-from ..io import atomic_write_text, ensure_writable_dir, json_text
-from ..plotting import new_figure, save_figure
-from ..results import Result
+from ..results.compare import compare_results
+from ..results.io import atomic_write_text, ensure_writable_dir, json_text
+from ..results.result import Result
+from ..views.plotting import new_figure, save_figure
 from .failures import (
     choice_markdown,
     counts_markdown,

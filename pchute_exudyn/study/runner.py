@@ -20,8 +20,8 @@ import numpy as np
 
 from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
 from ..errors import InputError, PchuteError
-from ..io import ensure_writable_dir
-from ..journal import WriteFailed
+from ..results.io import ensure_writable_dir
+from ..results.journal import WriteFailed
 from .spec import RunSpec, StudySpec
 from .store import StudyStore
 
@@ -77,7 +77,7 @@ def execute(run: RunSpec) -> dict:
     objects are freed by reference counting; the few cycles wait for the next collection): collections cost a run
     nothing (they took 5 ms of a 0.35 s PA1 run)."""
     from ..case import load_case
-    from ..simulation import simulate
+    from ..run.simulation import simulate
 
     collecting = gc.isenabled()
     gc.disable()
@@ -127,7 +127,8 @@ def _save_history(result, folder: str, record: dict) -> None:
 def warm() -> None:
     """What a worker loads before its first run (the methods, the engine, the compiled kernels): submitted once per
     worker while the study's runs are drawn."""
-    from .. import methods, simulation  # noqa: F401
+    from .. import methods  # noqa: F401
+    from ..run import simulation as simulation  # noqa: F401
 
 
 def _load_table_libraries() -> None:
@@ -385,5 +386,5 @@ def _quiet_pool_manager(executor):
 
 def _progress(total: int, initial: int, failed: int):
     """A bar on a terminal, one line per tenth of the runs in a log (``progress.run_progress``)."""
-    from ..progress import run_progress
+    from ..views.progress import run_progress
     return run_progress(total, initial, failed)

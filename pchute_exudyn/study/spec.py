@@ -271,7 +271,7 @@ class StudySpec:
     def source_files(self) -> list:
         """Every file the study reads: the study file, its cases, their ``extends`` chains and data tables (their
         contents' digests are kept in the study folder: a resume after one changed is refused)."""
-        from ..journal import case_files
+        from ..results.journal import case_files
 
         files = [Path(self.source).resolve()]
         for case in self.cases:

@@ -27,9 +27,9 @@ import shutil
 import sys
 from pathlib import Path
 
-from .. import journal
-from ..io import atomic_write_text, json_text
-from ..journal import RUN_INDEX, RecordFolder, digests, writing
+from ..results import journal as journal
+from ..results.io import atomic_write_text, json_text
+from ..results.journal import RUN_INDEX, RecordFolder, digests, writing
 from .table import PARQUET_NAME, write_parquet
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]

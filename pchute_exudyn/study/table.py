@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from ..io import atomic_writer
+from ..results.io import atomic_writer
 
 PARQUET_NAME = "runs.parquet"
 

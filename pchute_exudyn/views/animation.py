@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .io import atomic_writer
-from .results import Result, load_scene
+from ..errors import InputError
+from ..results.io import atomic_writer
+from ..results.result import Result, load_scene
 
 FPS = 12
 """Frames per second of the written animation."""

@@ -20,13 +20,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .case.model import Case
-from .errors import SimulationError
-from .physics.aerodynamics import angles_of_attack_deg
-from .physics.kinematics import body_point, relative_to_body
-from .physics.lines import line_states
-from .physics.rotations import attitude_angles_deg, tilt_deg
-from .state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, ColumnChannel, RawHistory
+from ..case.model import Case
+from ..engine.state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, ColumnChannel, RawHistory
+from ..errors import SimulationError
+from ..physics.aerodynamics import angles_of_attack_deg
+from ..physics.kinematics import body_point, relative_to_body
+from ..physics.lines import line_states
+from ..physics.rotations import attitude_angles_deg, tilt_deg
 
 MAX_LINE_STRAIN = 1.0
 """A line stretched beyond (1 + MAX_LINE_STRAIN) times its free length means the integration diverged (parachute

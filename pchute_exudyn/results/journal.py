@@ -26,7 +26,7 @@ from pathlib import Path
 
 import tomllib
 
-from .errors import InputError
+from ..errors import InputError
 from .io import atomic_writer, ensure_writable_dir, json_text
 
 try:

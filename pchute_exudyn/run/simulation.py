@@ -11,22 +11,19 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _kernel_mode
-from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
-from .boundary import check_callable, check_case, check_flag
-from .case.method_table import METHODS, OptionError
-from .case.model import Case
-from .case.plausible import check_time_scales
-from .engine.bodies import Touchdown
-from .engine.solver import integrate, versions
-from .errors import InputError, Interrupted, SimulationError, short_repr
-from .methods.base import Method, line_arrays, line_constants, unstable_step_message
-from .outputs import check_history, concatenate, derive_columns, scene
-from .phases import boundaries, inflation_progress, initial_states, next_phase
-from .physics.linearization import damped_line_step_limit, sp_step_limit, spectral_step_bound
-from .results import Result
-from .state import initial_confluence_state, initial_point
-from .summary import (
+from ..boundary import check_callable, check_case, check_flag
+from ..case.method_table import METHODS, OptionError
+from ..case.model import Case
+from ..case.plausible import check_time_scales
+from ..engine.bodies import Touchdown
+from ..engine.solver import integrate, versions
+from ..engine.state import initial_confluence_state, initial_point
+from ..errors import InputError, Interrupted, SimulationError, short_repr
+from ..kernels import selection as _kernel_mode
+from ..methods.base import Method, line_arrays, line_constants, unstable_step_message
+from ..physics.linearization import damped_line_step_limit, sp_step_limit, spectral_step_bound
+from ..results.result import Result
+from ..results.summary import (
     RunSummary,
     StartEvent,
     TouchdownEvent,
@@ -37,6 +34,9 @@ from .summary import (
     opening_events,
     opening_loads,
 )
+from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
+from .outputs import check_history, concatenate, derive_columns, scene
+from .phases import boundaries, inflation_progress, initial_states, next_phase
 
 MONITOR_INTERVAL = 0.1
 """Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit

@@ -18,12 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .case.model import Case
-from .physics.cluster import flyout_angles, load_share, present_mean
-from .physics.contact import envelope_radius, overlaps
-from .physics.kinematics import body_point
-from .state import RawHistory
-from .summary import ContactEndEvent, ContactStartEvent
+from ..case.model import Case
+from ..engine.state import RawHistory
+from ..physics.cluster import flyout_angles, load_share, present_mean
+from ..physics.contact import envelope_radius, overlaps
+from ..physics.kinematics import body_point
+from ..results.summary import ContactEndEvent, ContactStartEvent
 
 LOAD_SHARE_FLOOR = 0.1
 """The summary's peak load share counts only samples whose mean riser tension is at least this fraction of its

@@ -1,9 +1,9 @@
 """The overview figure drawn by a process of its own, started with the command, so that matplotlib's import (0.3 s,
 most of what the figure costs) runs on another core while the case is loaded and run.
 
-``FigureProcess()`` starts ``python -m pchute_exudyn.figure_process``, which imports the plotting module and waits;
-``draw(result, path)`` sends it the columns and summary entries the figure shows and waits for ``path`` to be written
-(``plotting.plot_overview``, ``plotting.save_figure``: the same figure as drawn in the command's own process).
+``FigureProcess()`` starts ``python -m pchute_exudyn.views.figure_process``, which imports the plotting module and
+waits; ``draw(result, path)`` sends it the columns and summary entries the figure shows and waits for ``path`` to be
+written (``plotting.plot_overview``, ``plotting.save_figure``: the same figure as drawn in the command's own process).
 Where it cannot (one core, the process failed), ``draw`` returns False and the caller draws the figure itself.
 """
 
@@ -34,7 +34,7 @@ class FigureProcess:
         if cores() < 2:   # nothing to overlap with: the command draws it
             return
         try:
-            self.process = subprocess.Popen([sys.executable, "-m", "pchute_exudyn.figure_process"],
+            self.process = subprocess.Popen([sys.executable, "-m", "pchute_exudyn.views.figure_process"],
                                             stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
                                             stderr=subprocess.DEVNULL, start_new_session=True)
         except OSError:
@@ -67,8 +67,8 @@ class FigureProcess:
 
 
 def main() -> int:
+    from ..results.result import Result
     from .plotting import plot_overview, save_figure  # the import this process exists for
-    from .results import Result
 
     message = pickle.load(sys.stdin.buffer)
     save_figure(plot_overview(Result(message["columns"], {}, message["summary"])), message["path"])

@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .io import atomic_writer
+from ..results.io import atomic_writer
 
 
 def new_figure(rows: int = 1, cols: int = 1, size=(9.0, 6.0), layout="constrained", **kwargs):

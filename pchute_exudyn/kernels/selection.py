@@ -3,7 +3,7 @@
 Three forms of the same functions:
 
 * ``compiled``: one extension module, built ahead of time from the kernels by numba's AOT compiler
-  (``pchute_exudyn.kernel_cache``): when the package is installed (``setup.py``) and again whenever the kernels'
+  (``pchute_exudyn.kernels.build``): when the package is installed (``setup.py``) and again whenever the kernels'
   source changes. Importing it costs milliseconds and neither numba nor LLVM; the module is named after a digest of
   the kernels' source (``source_key``), so a module built from other source is never used.
 * ``jit``: numba compiles each kernel at its first call and caches the machine code on disk (about 0.6 s of numba
@@ -29,23 +29,23 @@ import sysconfig
 import time
 from pathlib import Path
 
-from ._kernel_form import BUILDER, EXPORTS, VARIABLE
+from .form import BUILDER, EXPORTS, VARIABLE
 
 MODES = ("compiled", "jit", "python")
 LOCK_AGE = 600.0
 """Seconds after which a build lock is taken to be left by a process that died."""
-PACKAGE = Path(__file__).resolve().parent
+PACKAGE = Path(__file__).resolve().parents[1]
 PHYSICS = PACKAGE / "physics"
-KERNEL_MODULES = ("pchute_exudyn.physics.", "pchute_exudyn.number_text")
+KERNEL_MODULES = ("pchute_exudyn.physics.", "pchute_exudyn.results.number_text")
 """The modules whose functions are kernels (``physics.compiled.kernel``): the physics and the number formatter."""
-SIGNATURES = PACKAGE / "kernel_signatures.json"
+SIGNATURES = PACKAGE / "kernels" / "signatures.json"
 """The argument types each kernel is compiled for: the ones the package calls it with from Python
 (``kernel_cache --record`` writes it)."""
 
 def source_key() -> str:
     """A digest of the kernels' source, the signatures they are compiled for, and the Python that loads them."""
     digest = hashlib.sha256()
-    for path in [*sorted(PHYSICS.glob("*.py")), PACKAGE / "number_text.py"]:
+    for path in [*sorted(PHYSICS.glob("*.py")), PACKAGE / "results" / "number_text.py"]:
         digest.update(path.name.encode() + path.read_bytes())
     digest.update(SIGNATURES.read_bytes() if SIGNATURES.is_file() else b"")
     digest.update(sys.version.encode() + sysconfig.get_platform().encode())
@@ -197,7 +197,7 @@ def alive(pid: int) -> bool:
 
 
 def build_now() -> bool:
-    """The compiled module of this source, built in the foreground (``python -m pchute_exudyn.kernel_cache``), or
+    """The compiled module of this source, built in the foreground (``python -m pchute_exudyn.kernels.build``), or
     the build another process is making, waited for; True when it exists."""
     import subprocess
 
@@ -223,7 +223,7 @@ def builder_command() -> list | None:
         path.write_text(str(os.getpid()))
     except OSError:
         return None
-    return [sys.executable, "-m", "pchute_exudyn.kernel_cache", "--lock", str(path)]
+    return [sys.executable, "-m", "pchute_exudyn.kernels.build", "--lock", str(path)]
 
 
 def fresh_environment() -> dict:
@@ -241,12 +241,12 @@ def lock() -> Path:
 
 def failed() -> Path:
     """Written by a build of this source that failed (no C compiler, say): runs then stop starting builds that would
-    fail the same way; ``python -m pchute_exudyn.kernel_cache`` still tries, and removes it when it succeeds."""
+    fail the same way; ``python -m pchute_exudyn.kernels.build`` still tries, and removes it when it succeeds."""
     return table_path().with_suffix(".failed")
 
 
 def start_background_build() -> bool:
-    """Spawn ``python -m pchute_exudyn.kernel_cache``, detached, when this process runs the Python kernels because
+    """Spawn ``python -m pchute_exudyn.kernels.build``, detached, when this process runs the Python kernels because
     no compiled module was found (not when a form was asked for), unless another process is building it; True when
     it spawned one."""
     if not build_would_help() or building():

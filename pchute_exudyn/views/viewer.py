@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .engine.display import DisplayModel, open_viewer
-from .errors import InputError
-from .io import atomic_write_text
-from .results import load_scene
+from ..engine.display import DisplayModel, open_viewer
+from ..errors import InputError
+from ..results.io import atomic_write_text
+from ..results.result import load_scene
 
 SOLUTION_NAME = "display_solution.txt"
 

@@ -1,6 +1,6 @@
 """Build the compiled kernel module (``_kernel_mode`` says why and when it is used).
 
-``python -m pchute_exudyn.kernel_cache`` compiles every kernel for the argument types the package calls it with from
+``python -m pchute_exudyn.kernels.build`` compiles every kernel for the argument types the package calls it with from
 Python (``kernel_signatures.json``) into one extension module, with numba's ahead-of-time compiler, into the
 kernel folder (``_kernel_mode.cache_directory``; ``--out DIR`` elsewhere). The package's install runs it
 (``setup.py``); a run that finds no module of the current source starts it in the background. The module's table,
@@ -27,7 +27,7 @@ import warnings
 from importlib import import_module
 from pathlib import Path
 
-from . import _kernel_mode
+from . import selection as _kernel_mode
 
 CASE = """
 [case]
@@ -161,8 +161,8 @@ def record(cases=()) -> dict:
     import numpy as np
 
     import pchute_exudyn as pc
-    from pchute_exudyn.number_text import table_text
     from pchute_exudyn.physics.singular_perturbation import confluence_velocity
+    from pchute_exudyn.results.number_text import table_text
 
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "warm.toml"
@@ -288,7 +288,7 @@ def _build_in_jit_process(arguments: list, lock: Path | None) -> int:
     STOP_SECONDS to stop and remove its scratch folder before killing it."""
     if lock is not None:
         lock.write_text(str(os.getpid()))   # the builder holds the lock now, not the run that started it
-    builder = subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernel_cache", *arguments],
+    builder = subprocess.Popen([sys.executable, "-m", "pchute_exudyn.kernels.build", *arguments],
                                env={**os.environ, _kernel_mode.VARIABLE: "jit"})
     try:
         return builder.wait()
@@ -304,7 +304,7 @@ def _build_in_jit_process(arguments: list, lock: Path | None) -> int:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m pchute_exudyn.kernel_cache", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m pchute_exudyn.kernels.build", description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=None, help="folder for the module (default: the kernel folder)")
     parser.add_argument("--record", nargs="*", metavar="CASE", default=None,
                         help="add to kernel_signatures.json the signatures that small models of every method (and "

@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
-from .errors import InputError
 from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 from .number_text import table_text
 
@@ -115,7 +115,7 @@ class Result:
     Parameters
     ----------
     columns : dict of str to ndarray
-        Time histories, ``time`` (s) first; see ``pchute_exudyn.outputs`` for the names.
+        Time histories, ``time`` (s) first; see ``pchute_exudyn.run.outputs`` for the names.
     units : dict of str to str
         Unit of each column.
     summary : dict
@@ -173,7 +173,7 @@ class Result:
 
     def plot(self, **kwargs):
         """Overview figure (line tensions and vehicle altitude); see ``plotting.plot_overview``."""
-        from .plotting import plot_overview
+        from ..views.plotting import plot_overview
         return plot_overview(self, **kwargs)
 
     # -- files ---------------------------------------------------------------------------------------------------
@@ -215,7 +215,7 @@ class Result:
         if plot:
             paths["plot"] = folder / PLOT_NAME
             if draw is None or not draw(self, paths["plot"]):
-                from .plotting import save_figure
+                from ..views.plotting import save_figure
                 save_figure(self.plot(), paths["plot"])
         return paths
 

@@ -20,7 +20,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .physics.compiled import COMPILED, kernel
+from ..physics.compiled import COMPILED, kernel
 
 POWER_RANGE = 320
 """10^k is tabled for k in -POWER_RANGE..POWER_RANGE (the fast path needs -279..292; beyond 300, zeros)."""

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .case.model import Case, Contact, ParachuteSystem
-from .errors import SimulationError
-from .physics.cluster import touching_spread
-from .physics.deployment import cluster_placement, line_stretch_placement
-from .physics.inflation import Inflation, InflationProgress, nominal_diameter
-from .state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
-from .summary import CutawayEvent, DeployEvent
+from ..case.model import Case, Contact, ParachuteSystem
+from ..engine.state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
+from ..errors import SimulationError
+from ..physics.cluster import touching_spread
+from ..physics.deployment import cluster_placement, line_stretch_placement
+from ..physics.inflation import Inflation, InflationProgress, nominal_diameter
+from ..results.summary import CutawayEvent, DeployEvent
 
 
 def boundaries(case: Case, duration: float) -> list:

@@ -11,14 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .case.model import Case
-from .errors import InputError
-from .methods.base import line_arrays
-from .methods.full import FullMass
+from ..case.model import Case
+from ..engine.state import initial_confluence_state, initial_point
+from ..errors import InputError
+from ..methods.base import line_arrays
+from ..methods.full import FullMass
+from ..physics.equilibrium import NoEquilibriumError, equilibrium_point
+from ..physics.linearization import linearize, max_stable_step_rk4, modes, sp_eigenvalues
 from .outputs import attach_points
-from .physics.equilibrium import NoEquilibriumError, equilibrium_point
-from .physics.linearization import linearize, max_stable_step_rk4, modes, sp_eigenvalues
-from .state import initial_confluence_state, initial_point
 
 
 def attach_state(case: Case, system, time: float):

@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
 from .csv_dialects import time_problem
-from .errors import InputError
-from .results import Result
+from .result import Result
 from .summary import first_fall_through
 
 

@@ -12,9 +12,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .case.model import Body, Case, ParachuteSystem
-from .physics.kinematics import body_point
-from .physics.rotations import attitude_matrix
+from ..case.model import Body, Case, ParachuteSystem
+from ..physics.kinematics import body_point
+from ..physics.rotations import attitude_matrix
 
 
 @dataclass
