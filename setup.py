@@ -4,8 +4,8 @@
 (``python -m pchute_exudyn.kernels.build``, numba's ahead-of-time compiler, about 10 s) into the package's
 ``_compiled`` folder, so that the first run after an install is as fast as any later one, and compiles the
 package's bytecode (Python does not write it where PYTHONDONTWRITEBYTECODE is set). A failed kernel build does not
-fail the install: runs then use the kernels' Python form and build the module in the background
-(``pchute_exudyn.kernels.selection``).
+fail the install: runs then use the kernels' Python form, and the commands build the module in the background
+(``pchute_exudyn.kernels.lock``).
 """
 
 import compileall

@@ -23,9 +23,9 @@ from . import _interrupt
 if _interrupt.launched_as_command():   # Ctrl-C while the command starts: an interrupt, not a broken import
     _interrupt.install()
 
-from .kernels import selection as _kernel_mode  # noqa: E402
+from .kernels.selection import select as _select_kernel_form  # noqa: E402
 
-_kernel_mode.select()   # compiled, jit or Python kernels, before physics is imported (see _kernel_mode)
+_select_kernel_form()   # compiled, jit or Python kernels, before physics is imported (see kernels.selection)
 
 from .case.method_table import METHODS  # noqa: E402
 

@@ -16,7 +16,7 @@ from pathlib import Path
 from . import __version__
 from .case.method_table import INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
-from .kernels import selection as _kernel_mode
+from .kernels import lock, selection
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -41,9 +41,9 @@ def _add_run(subparsers) -> None:
     run.add_argument("case", help="case file (TOML), e.g. cases/mer/case1.toml")
     run.add_argument("--method", choices=tuple(METHODS), default=None,
                      help="confluence method: " + "; ".join(f"{name} = {cls.summary}" + (
-                         "" if cls.integrators == INTEGRATORS else f" ({', '.join(cls.integrators)} only)")
+                         "" if cls.integrators == tuple(INTEGRATORS) else f" ({', '.join(cls.integrators)} only)")
                          for name, cls in METHODS.items()) + "; default: the case's simulation.method")
-    run.add_argument("--integrator", choices=INTEGRATORS, default=None,
+    run.add_argument("--integrator", choices=tuple(INTEGRATORS), default=None,
                      help="rk4 = explicit Runge-Kutta 4, fixed step (the thesis's); implicit = Exudyn's "
                           "generalized-alpha; default: the case's simulation.integrator")
     run.add_argument("--dt", type=float, default=None, metavar="S",
@@ -133,11 +133,10 @@ def _run_case(args, figure) -> int:
         print(f"pchute run: warning: {warning}", file=sys.stderr)
     progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
     steps = plan.duration / plan.step
-    if _entry["process"] and _kernel_mode.worth_building_first(steps):
-        _build_then_restart(steps, args.quiet)
-    if _kernel_mode.start_background_build() and not args.quiet:
-        print("pchute run: note: this machine has no compiled kernels yet; this run uses their Python form (slower) "
-              "while a background process compiles them for the next runs", file=sys.stderr)
+    if _entry["process"] and lock.worth_building_first(steps):
+        lock.build_then_restart(steps, args.quiet)
+    if lock.start_background_build() and not args.quiet:
+        print(lock.BACKGROUND_NOTE, file=sys.stderr)
     try:
         result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options,
                           progress=progress, engine_solution=args.exudyn_solution)
@@ -421,28 +420,6 @@ def _timeout_seconds(text: str) -> float:
     return value
 
 
-def _check_executor(args) -> None:
-    """The worker counts, checked before any folder, pool or cluster is made (--dask-timeout is checked as the
-    command line is read)."""
-    from .boundary import most_workers
-
-    for flag, value in (("--workers", args.workers), ("--dask-local", args.dask_local)):
-        if value is not None and value < 1:
-            raise InputError(f"{flag} = {value}: must be >= 1")
-        if value is not None and value > most_workers():   # runs are CPU-bound: more only share the cores
-            raise InputError(f"{flag} = {value}: must be <= {most_workers()} (4 worker processes per core of this "
-                             f"machine's {os.cpu_count() or 1})")
-
-
-def _executor(args):
-    """The executor the options ask for: (executor or None for the local pool, its closing function or None)."""
-    from .study import dask_executor
-
-    if args.dask_scheduler is None and args.dask_local is None:
-        return None, None
-    return dask_executor(args.dask_scheduler, args.dask_local, args.dask_timeout)
-
-
 class _Terminated(KeyboardInterrupt):
     """SIGTERM during a study or a fit: the same clean stop as Ctrl-C, exit status 143."""
 
@@ -472,12 +449,13 @@ def _interruptible(args, out: Path, kept: str, work) -> tuple:
     """``work(executor)`` on the executor the arguments ask for, SIGTERM taken as Ctrl-C: (its result, None), or
     (None, the exit status) when interrupted, after one line saying what is ``kept`` in ``out``."""
     from .results.io import ensure_writable_dir
+    from .study.executors import executor_for
 
     ensure_writable_dir(out)   # before a Dask cluster starts
     with _signals_interrupt():
         close = None
         try:
-            executor, close = _executor(args)
+            executor, close = executor_for(args.dask_scheduler, args.dask_local, args.dask_timeout)
             return work(executor), None
         except KeyboardInterrupt as exc:
             print(f"pchute {args.command}: interrupted; {kept} {out}: rerun the same command to resume",
@@ -490,12 +468,14 @@ def _interruptible(args, out: Path, kept: str, work) -> tuple:
 
 def _study(args) -> int:
     from .study import load_study, run_study
+    from .study.executors import check_worker_counts
 
     if not 0.0 <= args.allow_failures <= 1.0:
         raise InputError(f"--allow-failures = {args.allow_failures}: must be a fraction of the runs from 0 to 1")
-    _check_executor(args)
+    check_worker_counts(args.workers, args.dask_local)
     spec = load_study(args.study_file)
     out = Path(args.out) if args.out else Path("studies") / Path(args.study_file).stem
+    lock.start_background_build()   # the runs after this command's get the compiled module
     counts, stopped = _interruptible(args, out, "finished runs are recorded in", lambda executor: run_study(
         spec, out, executor, args.workers, progress=not args.no_progress, retry_failed=args.retry_failed))
     if stopped is not None:
@@ -589,10 +569,12 @@ def _add_fit(subparsers) -> None:
 def _fit(args) -> int:
     from .fit import load_fit, run_fit
     from .fit.report import write_report
+    from .study.executors import check_worker_counts
 
-    _check_executor(args)
+    check_worker_counts(args.workers, args.dask_local)
     spec = load_fit(args.fit_file)
     out = Path(args.out) if args.out else Path("fits") / Path(args.fit_file).stem
+    lock.start_background_build()   # the runs after this command's get the compiled module
     result, stopped = _interruptible(args, out, "the runs so far are recorded in",
                                      lambda executor: run_fit(spec, out, executor, args.workers))
     if stopped is not None:
@@ -643,19 +625,6 @@ _entry: dict = {"process": False}
 ``command`` started for a ``run``."""
 
 
-def _build_then_restart(steps: float, quiet: bool) -> None:
-    """A long run with no compiled module: build it first, then run this command again in a process that loads it
-    (the kernels' form is chosen once per process). A failed build leaves the run to the Python form."""
-    if not quiet:
-        print(f"pchute run: note: no compiled kernels for this source yet: building them first (about "
-              f"{_kernel_mode.BUILD_SECONDS:.0f} s, once); with their Python form these {steps:.0f} steps would take "
-              f"about {steps * _kernel_mode.PYTHON_STEP_SECONDS:.0f} s", file=sys.stderr, flush=True)
-    if _kernel_mode.build_now():
-        sys.stdout.flush()
-        os.execve(sys.executable, [sys.executable, "-m", "pchute_exudyn", *sys.argv[1:]],
-                  _kernel_mode.fresh_environment())
-
-
 def command() -> None:
     """The ``pchute`` console script and ``python -m pchute_exudyn``: ``main``, then the process ends without
     tearing the interpreter down (freeing every module's objects: 0.04 s, 0.1 s once matplotlib is loaded). By then
@@ -680,8 +649,8 @@ def command() -> None:
 def main(argv=None) -> int:
     """The command line: returns the exit status (``command`` is the entry point)."""
     args = build_parser().parse_args(argv)
-    if _kernel_mode.rejected_choice():
-        print(f"pchute: error: {_kernel_mode.rejected_choice()}", file=sys.stderr)
+    if selection.rejected_choice():
+        print(f"pchute: error: {selection.rejected_choice()}", file=sys.stderr)
         return EXIT_USAGE
     try:
         return args.func(args)

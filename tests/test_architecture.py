@@ -116,3 +116,58 @@ def test_readme_figures_match_the_committed_outputs():
     run = subprocess.run([sys.executable, str(ROOT / "validation" / "readme_figures.py"), "--check"], cwd=ROOT,
                          capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr
+
+
+# -- the house a newcomer reads (issue 35) ---------------------------------------------------------------------
+
+ROOT_MODULES_MAX = 8
+MAX_MODULE_LINES = 700
+
+
+def test_the_package_root_holds_only_the_public_api_shared_types_and_errors():
+    root = sorted(path.name for path in PACKAGE.glob("*.py"))
+    assert len(root) <= ROOT_MODULES_MAX, root
+
+
+def test_no_module_exceeds_its_limit():
+    long = sorted((len(path.read_text().splitlines()), str(path.relative_to(ROOT))) for path in PACKAGE.rglob("*.py"))
+    assert not [entry for entry in long if entry[0] > MAX_MODULE_LINES], long[-3:]
+
+
+PACKED_READ = re.compile(r"row\[[0-9]+(:[0-9]+)?\]|memory\[[0-9]+\]")
+LAYOUT_HOMES = {"pchute_exudyn/physics/kinematics.py", "pchute_exudyn/physics/singular_perturbation.py",
+                "pchute_exudyn/physics/aerodynamics.py"}
+"""The modules that define a packed layout (the body state row, SP's memory, the aerodynamics row): the only
+places a position in one may be written as a number."""
+INTEGRATOR_COMPARISON = re.compile(r"""(==|!=)\s*["'](rk4|implicit)["']|["'](rk4|implicit)["']\s*(==|!=)""")
+
+
+def _lines_matching(pattern):
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for number, line in enumerate(path.read_text().splitlines(), start=1):
+            if pattern.search(line):
+                yield str(path.relative_to(ROOT)), f"{path.relative_to(ROOT)}:{number}: {line.strip()}"
+
+
+def test_packed_layouts_are_read_by_name_outside_their_home():
+    found = [text for path, text in _lines_matching(PACKED_READ) if path not in LAYOUT_HOMES]
+    assert not found, "positions of a packed layout written as numbers:\n" + "\n".join(found)
+
+
+def test_integrators_are_compared_only_in_their_table():
+    found = [text for path, text in _lines_matching(INTEGRATOR_COMPARISON)
+             if path != "pchute_exudyn/case/method_table.py"]
+    assert not found, "integrator names compared outside the table:\n" + "\n".join(found)
+
+
+def test_study_and_fit_import_no_private_name_of_the_case_layer():
+    found = []
+    for folder in ("study", "fit"):
+        for path in sorted((PACKAGE / folder).rglob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if not isinstance(node, ast.ImportFrom):
+                    continue
+                module = node.module or ""
+                if (node.level, module.split(".")[0]) in ((2, "case"), (0, "pchute_exudyn")) and ".case" in f".{module}":
+                    found += [f"{path.name}: {alias.name}" for alias in node.names if alias.name.startswith("_")]
+    assert not found, found

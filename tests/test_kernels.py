@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.kernels import selection as _kernel_mode
+from pchute_exudyn.kernels import lock, selection
 from pchute_exudyn.physics import compiled
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -24,9 +24,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def test_the_suite_runs_the_compiled_module_of_the_current_source():
     assert compiled.MODE == "compiled"
-    assert _kernel_mode.table_path().is_file()
-    table = json.loads(_kernel_mode.table_path().read_text())
-    assert table["key"] == _kernel_mode.source_key()
+    assert selection.table_path().is_file()
+    table = json.loads(selection.table_path().read_text())
+    assert table["key"] == selection.source_key()
 
 
 def test_a_process_that_runs_the_compiled_module_never_imports_numba():
@@ -65,7 +65,7 @@ def test_argument_types_are_named_as_numba_types_them(value):
 
 
 def test_every_recorded_signature_names_an_existing_kernel_with_its_argument_count():
-    signatures = json.loads(_kernel_mode.SIGNATURES.read_text())
+    signatures = json.loads(selection.SIGNATURES.read_text())
     assert signatures
     for name, entries in signatures.items():
         module, function = name.rsplit(".", 1)
@@ -80,7 +80,7 @@ def test_every_recorded_signature_names_an_existing_kernel_with_its_argument_cou
 def test_every_kernel_call_of_every_method_runs_compiled_code():
     """Small models of every method, a cluster, a load-elongation line, winds and turbulence, with outputs and
     summaries: no call fell back to the Python form (the signatures cover what the package calls)."""
-    from pchute_exudyn.kernels.build import BRIDLE, CASE, CLUSTER
+    from pchute_exudyn.kernels.record import BRIDLE, CASE, CLUSTER
 
     compiled.FALLBACKS.clear()
     base = CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc"))
@@ -121,24 +121,24 @@ def test_a_call_with_other_argument_types_runs_the_python_form_and_is_counted():
 def test_a_module_of_other_source_is_not_loaded(tmp_path):
     """A kernel folder holding only a module built from other source (its table under another key) gives no
     compiled module: the run would use the Python form and build one."""
-    current = _kernel_mode.table_path()
+    current = selection.table_path()
     table = json.loads(current.read_text())
     (tmp_path / "kernels_0000000000000000.json").write_text(json.dumps({**table, "key": "0000000000000000"}))
     (tmp_path / table["file"]).write_bytes((current.parent / table["file"]).read_bytes())
-    assert _kernel_mode.load_compiled(tmp_path) is None
-    assert _kernel_mode.load_compiled(current.parent) is not None
+    assert selection.load_compiled(tmp_path) is None
+    assert selection.load_compiled(current.parent) is not None
 
 
 def test_a_build_that_failed_is_not_started_again_by_every_run(tmp_path, monkeypatch):
     """Where no module can be built (no C compiler, say) the builder leaves a mark: runs stop starting builds in the
     background or first, and keep the Python form; without the mark a long run builds first."""
     monkeypatch.setenv("PCHUTE_KERNEL_DIR", str(tmp_path))
-    monkeypatch.setenv(_kernel_mode.VARIABLE, "python")
-    monkeypatch.setenv(_kernel_mode.VARIABLE + "_AUTO", "1")
-    assert _kernel_mode.worth_building_first(100_000) and not _kernel_mode.worth_building_first(1_000)
-    _kernel_mode.failed().write_text("CompileError: no C compiler\n")
-    assert not _kernel_mode.worth_building_first(100_000)
-    assert not _kernel_mode.start_background_build() and not _kernel_mode.lock().exists()
+    monkeypatch.setenv(selection.VARIABLE, "python")
+    monkeypatch.setenv(selection.VARIABLE + "_AUTO", "1")
+    assert lock.worth_building_first(100_000) and not lock.worth_building_first(1_000)
+    lock.failed().write_text("CompileError: no C compiler\n")
+    assert not lock.worth_building_first(100_000)
+    assert not lock.start_background_build() and not lock.lock().exists()
 
 
 def test_a_build_lock_counts_only_while_its_builder_lives(tmp_path, monkeypatch):
@@ -147,30 +147,30 @@ def test_a_build_lock_counts_only_while_its_builder_lives(tmp_path, monkeypatch)
     monkeypatch.setenv("PCHUTE_KERNEL_DIR", str(tmp_path))
     builder = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
     try:
-        _kernel_mode.lock().write_text(str(builder.pid))
-        assert _kernel_mode.building()
+        lock.lock().write_text(str(builder.pid))
+        assert lock.building()
     finally:
         builder.kill()
         builder.wait()
-    assert not _kernel_mode.building()
-    _kernel_mode.lock().write_text("")   # being written by a starting build
-    assert _kernel_mode.building()
-    old = _kernel_mode.lock().stat().st_mtime - _kernel_mode.LOCK_AGE - 1
-    os.utime(_kernel_mode.lock(), (old, old))
-    assert not _kernel_mode.building()
+    assert not lock.building()
+    lock.lock().write_text("")   # being written by a starting build
+    assert lock.building()
+    old = lock.lock().stat().st_mtime - lock.LOCK_AGE - 1
+    os.utime(lock.lock(), (old, old))
+    assert not lock.building()
 
 
 def test_the_jit_form_keeps_numbas_cache_per_kernel_source(tmp_path):
     """numba keys a cached kernel by its own file only: the jit form's cache is a folder of the kernels' source key
     (under the user's NUMBA_CACHE_DIR), so a kernel calling one in an edited file is compiled anew; child processes
     (the module builder) agree on it."""
-    code = ("import os, pchute_exudyn; from pchute_exudyn import _kernel_mode as k; "
+    code = ("import os, pchute_exudyn; from pchute_exudyn.kernels import selection as k; "
             "print(os.environ['NUMBA_CACHE_DIR']); print(k.source_key())")
     env = {**os.environ, "PCHUTE_KERNELS": "jit", "NUMBA_CACHE_DIR": str(tmp_path)}
-    env.pop(_kernel_mode.JIT_CACHE_BASE, None)
+    env.pop(selection.JIT_CACHE_BASE, None)
     done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
     folder, key = done.stdout.split()
     assert Path(folder) == tmp_path / f"jit_{key}"
-    child = {**env, "NUMBA_CACHE_DIR": folder, _kernel_mode.JIT_CACHE_BASE: str(tmp_path)}
+    child = {**env, "NUMBA_CACHE_DIR": folder, selection.JIT_CACHE_BASE: str(tmp_path)}
     again = subprocess.run([sys.executable, "-c", code], env=child, capture_output=True, text=True, timeout=120)
     assert again.stdout.split()[0] == folder   # not nested a second time

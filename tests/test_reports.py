@@ -18,9 +18,10 @@ from pchute_exudyn.cli import main
 from pchute_exudyn.errors import PchuteError
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.failures import wilson_interval
-from pchute_exudyn.study.footprint import footprint_figure, footprint_statistics
+from pchute_exudyn.study.footprint import footprint_statistics
 from pchute_exudyn.study.report import load_table, scatter_figure, sensitivity, study_report
 from pchute_exudyn.views.progress import LogProgress, run_progress
+from pchute_exudyn.views.study_figures import footprint_figure
 
 from .bad_input_harness import assert_one_line, run_bad_input
 from .conftest import MER, ROOT

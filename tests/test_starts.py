@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.loader import Scale, apply_override, tomllib
 from pchute_exudyn.case.new import NewCase, layout
+from pchute_exudyn.case.overrides import Scale, apply_override, tomllib
 
 from .conftest import ROOT
 

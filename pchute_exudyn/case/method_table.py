@@ -15,8 +15,25 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-INTEGRATORS = ("rk4", "implicit")
-"""``rk4``: Exudyn's explicit RK44, fixed step; ``implicit``: Exudyn's generalized-alpha."""
+
+@dataclass(frozen=True)
+class Integrator:
+    """An integrator of the engine: ``explicit`` (a fixed-step explicit scheme whose step stability limits) or not
+    (implicit: stable at any step, the step is for accuracy)."""
+
+    name: str
+    explicit: bool
+
+    def step_key(self, method_name: str) -> str:
+        """The key of ``[simulation.steps]`` for method ``method_name`` with this integrator: the method's name for
+        rk4, ``<method>_<integrator>`` for any other."""
+        return method_name if self.name == "rk4" else f"{method_name}_{self.name}"
+
+
+INTEGRATORS = {integrator.name: integrator for integrator in (Integrator("rk4", explicit=True),
+                                                               Integrator("implicit", explicit=False))}
+"""Integrator name -> Integrator, in the order of the choices. ``rk4``: Exudyn's explicit RK44, fixed step;
+``implicit``: Exudyn's generalized-alpha."""
 
 
 class OptionError(ValueError):
@@ -75,7 +92,8 @@ class MethodTable(Mapping):
             raise ValueError(f"a method named {name!r} is already registered ({self._classes[name].__name__})")
         unknown = [i for i in method_class.integrators if i not in INTEGRATORS]
         if unknown:
-            raise ValueError(f"method {name!r} names unknown integrator(s) {unknown}; integrators are {INTEGRATORS}")
+            raise ValueError(f"method {name!r} names unknown integrator(s) {unknown}; "
+                             f"integrators are {tuple(INTEGRATORS)}")
         self._classes[name] = method_class
         return method_class
 

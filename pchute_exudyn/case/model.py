@@ -22,6 +22,7 @@ from ..physics.interpolation import interpolate_held
 from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
+from .method_table import INTEGRATORS
 from .start import Release
 
 
@@ -416,7 +417,7 @@ class SimulationSettings:
 
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
-        return self.steps.get(method if integrator == "rk4" else f"{method}_{integrator}")
+        return self.steps.get(INTEGRATORS[integrator].step_key(method))
 
 
 @dataclass(frozen=True)
@@ -522,7 +523,7 @@ class Case:
         body = self.bodies[body_name]
         points = np.array(list(body.points.values()), float).reshape(-1, 3)
         if body.aerodynamics is not None:
-            diameter = float(np.sqrt(4.0 * body.aerodynamics.reference_area / np.pi))
+            diameter = float(nominal_diameter(body.aerodynamics.reference_area))
         else:
             diameter = float(2.0 * np.linalg.norm(points, axis=1).max()) if len(points) else 1.0
         apex = -points.mean(axis=0) if len(points) else np.array([-1.0, 0.0, 0.0])

@@ -396,7 +396,8 @@ def _aligned(row: str) -> str:
 def new_case(choices: NewCase | None = None, **kwargs):
     """The loaded ``Case`` for ``choices`` (a NewCase, or its fields as keywords): the file ``new_case_text``
     writes, built in memory (for a notebook); ``pchute new`` writes the same text to a file."""
-    from .loader import build_case, tomllib
+    from .files import tomllib
+    from .loader import build_case
 
     choices = _choices(choices, kwargs)
     return build_case(tomllib.loads(new_case_text(choices)), {}, f"new_case({choices.name!r})")

@@ -11,8 +11,13 @@ from pathlib import Path
 from ..errors import CaseError
 from ..physics.atmosphere import AtmosphereTableError, TabulatedAtmosphere
 
+AIR_GAMMA = TabulatedAtmosphere.__dataclass_fields__["gamma"].default
+"""A table's ratio of specific heats (-) when the case gives none: Earth's air, as the atmosphere's own default."""
+AIR_GAS_CONSTANT = TabulatedAtmosphere.__dataclass_fields__["gas_constant"].default
+"""A table's specific gas constant (J/(kg K)) when the case gives none: Earth's air."""
 
-def read_atmosphere_table(path, gamma: float = 1.4, gas_constant: float = 287.05287,
+
+def read_atmosphere_table(path, gamma: float = AIR_GAMMA, gas_constant: float = AIR_GAS_CONSTANT,
                           speed_of_sound: float | None = None) -> TabulatedAtmosphere:
     """Read a CSV atmosphere table: a header row naming the columns ``altitude`` (m, geodetic) and ``density``
     (kg/m^3), and optionally ``temperature`` (K, for the speed of sound sqrt(``gamma`` ``gas_constant`` T) with

@@ -18,7 +18,10 @@ from ..physics.aerodynamics import (
     FIELD,
     LOAD_COLUMNS,
     OUTSIDE,
+    TABLE_OFFSET_COLUMNS,
+    VALUE_ALPHA,
     VALUE_COLUMNS,
+    WORK_FRACTIONS,
     aerodynamics_stage,
     centre_load,
     pack_body,
@@ -27,7 +30,7 @@ from ..physics.aerodynamics import (
     work_size,
 )
 from ..physics.compiled import bound, machine_code, python_form
-from ..physics.kinematics import point_motion
+from ..physics.kinematics import ROW_BODY_RATE, point_motion
 from ..physics.runaway import RUNAWAY
 from .model import CURRENT, OV, Model
 
@@ -101,7 +104,7 @@ class AerodynamicLoads:
         self.work = np.zeros(work_size(0))   # physics.aerodynamics.work_size: status, fractions, values (``pack``)
         self._centre_load = bound(centre_load)   # single evaluations (outputs, a canopy's measured speed): per step
         self.limits = case.runaway_limits      # beyond them a body has run away (physics.runaway)
-        self.status, self.fractions = self.work[:2], self.work[2:2]
+        self.status, self.fractions = self.work[:WORK_FRACTIONS], self.work[WORK_FRACTIONS:WORK_FRACTIONS]
 
     def add(self, body: Body, schedule, deployed_at: float, efficiency: float) -> BodyAerodynamics:
         """Add ``body``'s aerodynamics; returns its ``BodyAerodynamics``."""
@@ -126,13 +129,14 @@ class AerodynamicLoads:
         self.tables, offsets = pack_tables(self.tables_list)
         self.bodies = np.array(self.rows, float).reshape(-1, LOAD_COLUMNS)
         for row in self.bodies:
-            for column in range(2, 7):
+            for column in TABLE_OFFSET_COLUMNS:
                 if row[column] >= 0.0:
                     row[column] = offsets[int(row[column])]
         count = len(self.members)
         self.work = np.zeros(work_size(count))
-        self.status, self.fractions = self.work[:2], self.work[2:2 + count]
-        self.values = self.work[2 + count:].reshape(count, VALUE_COLUMNS)
+        values_at = WORK_FRACTIONS + count
+        self.status, self.fractions = self.work[:WORK_FRACTIONS], self.work[WORK_FRACTIONS:values_at]
+        self.values = self.work[values_at:].reshape(count, VALUE_COLUMNS)
         self.fractions[:] = 1.0
         self.scheduled = [m for m in self.members if m.schedule is not None]
         self.frame = self.case.start.kernel_frame
@@ -200,7 +204,7 @@ class AerodynamicLoads:
         point = self.points[index]
         row = states[int(point[0])]
         velocity = python_form(point_motion)(row, point[1], point[2], point[3])[3:]
-        speed, rate = math.sqrt(sum(v * v for v in velocity)), float(np.linalg.norm(row[18:21]))
+        speed, rate = math.sqrt(sum(v * v for v in velocity)), float(np.linalg.norm(row[ROW_BODY_RATE]))
         limits = self.limits
         quantity, value = (("speed", speed) if speed / limits.speed >= rate / limits.rate(member.body)
                            else ("rate", rate))
@@ -213,7 +217,7 @@ class AerodynamicLoads:
         found = []
         for member in self.members:
             axial = self.case.bodies[member.body].aerodynamics.axial_coefficient
-            alpha = float(self.values[member.index, 8])
+            alpha = float(self.values[member.index, VALUE_ALPHA])
             folded = not axial.angle_deg or axial.angle_deg[-1] == 90.0
             if folded and abs(alpha - 90.0) <= within and axial(90.0, 0.0) != 0.0:
                 found.append((member.body, alpha))

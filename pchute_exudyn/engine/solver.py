@@ -25,6 +25,7 @@ import exudyn as exu
 import numpy as np
 
 from .. import _interrupt
+from ..case.method_table import INTEGRATORS
 from ..errors import Interrupted, PchuteError, SimulationError
 from ..kernels.form import BUILDER as KERNEL_BUILDER
 from ..physics.atmosphere import OutsideAtmosphereError
@@ -57,7 +58,7 @@ def _settings(integrator: str, step: float, start: float, end: float, spectral_r
     ti.numberOfSteps = solver_steps(start, end, step)
     ti.verboseMode = 0
     ti.automaticStepSize = False
-    if integrator == "rk4":
+    if INTEGRATORS[integrator].explicit:
         ti.explicit.useLieGroupIntegration = True
         ti.explicit.computeEndOfStepAccelerations = False  # saves a fifth right-hand side per step
         return settings, exu.DynamicSolverType.RK44
@@ -215,7 +216,8 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
         if model.failure is not None:
             raise _user_error(model.failure, progress["time"]) from None
-        edge_on = model.stage.loads.edge_on() if model.stage is not None and integrator == "implicit" else []
+        implicit = not INTEGRATORS[integrator].explicit
+        edge_on = model.stage.loads.edge_on() if model.stage is not None and implicit else []
         raise SimulationError(engine_stop_message(str(exc), integrator, step, progress["time"], edge_on),
                               progress["time"]) from None
     finally:
@@ -298,7 +300,7 @@ def engine_stop_message(engine_text: str, integrator: str, step: float, time: fl
     if "ConnectorGravity" in engine_text and "length = 0" in engine_text:
         cause = ("a body or confluence reached the planet's centre: the state blew up (a mass or inertia far too "
                  "small for its lines, or a step far too large)")
-    elif integrator == "implicit":
+    elif not INTEGRATORS[integrator].explicit:
         cause = ("its Newton iteration failed even on halved steps: the model is too stiff for the step or its "
                  "state blew up (check masses, inertias and line stiffnesses)")
     else:

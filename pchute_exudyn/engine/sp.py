@@ -24,8 +24,19 @@ from ..physics.compiled import machine_code, python_form
 from ..physics.lines import pack_tables
 from ..physics.singular_perturbation import (
     END_TENSION,
+    MEMORY_ACCELERATION,
+    MEMORY_GRAVITY,
+    MEMORY_NEWER,
+    MEMORY_OLDER,
+    MEMORY_ORDER,
+    MEMORY_POSITION,
     MEMORY_ROWS,
+    MEMORY_SETTINGS,
+    MEMORY_TIMES,
+    MEMORY_V0,
     STAGE_COLUMNS,
+    WORK_DIRECTION,
+    WORK_TAUT,
     holds_after_v0_update,
     record_size,
     sp_end_of_step,
@@ -59,11 +70,11 @@ class StageSolution(NamedTuple):
 
     @property
     def directions(self):
-        return self.work[:, 1:4]
+        return self.work[:, WORK_DIRECTION:WORK_DIRECTION + 3]
 
     @property
     def taut(self):
-        return tuple(self.work[:, 4] > 0.0)
+        return tuple(self.work[:, WORK_TAUT] > 0.0)
 
 
 class SPConfluence(ReducedConfluence):
@@ -82,9 +93,9 @@ class SPConfluence(ReducedConfluence):
     the deferred work fills. Otherwise ``advance`` settles at once. The kernels are called through their compiled
     code (``physics.compiled.machine_code``)."""
 
-    OUTPUTS = {"confluence_damping": ("N s/m", lambda c: c.settled()[3]),
-               "condition_number": ("-", lambda c: c.settled()[4]),
-               "taut_lines": ("-", lambda c: c.settled()[5])}
+    OUTPUTS = {"confluence_damping": ("N s/m", lambda c: c.settled().end_of_step[3]),
+               "condition_number": ("-", lambda c: c.settled().end_of_step[4]),
+               "taut_lines": ("-", lambda c: c.settled().end_of_step[5])}
     """The method's channels: entries 3, 4 and 5 of the end-of-step tuple, in this order (``add_channels``)."""
     PRE_STEP = False
     DEFER = True
@@ -102,12 +113,13 @@ class SPConfluence(ReducedConfluence):
         self.start_time = float(start_time)
         acceleration = state.acceleration
         memory = self.memory = np.zeros((MEMORY_ROWS, 3))   # physics.singular_perturbation.MEMORY_ROWS
-        memory[0] = state.position
-        memory[5] = state.velocity                            # v0 of the first step: the state's velocity
-        memory[6] = system.confluence.mass, self.kappa_max, 1.0 if options.slack_rule == "force" else 0.0
+        memory[MEMORY_POSITION] = state.position
+        memory[MEMORY_V0] = state.velocity                    # v0 of the first step: the state's velocity
+        memory[MEMORY_SETTINGS] = (system.confluence.mass, self.kappa_max,
+                                   1.0 if options.slack_rule == "force" else 0.0)
         mu, *vector = case.start.gravity_parameters()
-        memory[7], memory[8] = (float(self.order), mu, 0.0), vector
-        memory[12] = (0.0, 0.0, 0.0) if acceleration is None else acceleration
+        memory[MEMORY_ORDER], memory[MEMORY_GRAVITY] = (float(self.order), mu, 0.0), vector
+        memory[MEMORY_ACCELERATION] = (0.0, 0.0, 0.0) if acceleration is None else acceleration
         self.stage_index = 0
         self.step_start = float(self.step_start)
         self.end_of_step = None   # the end-of-step solve's (vx, vy, vz, C_c, kappa, taut) (``sp_end_of_step``)
@@ -177,8 +189,9 @@ class SPConfluence(ReducedConfluence):
         stage, kernels = self.stage, self._kernels
         if stage.fused is self:   # the end-of-step body states and the solve in one kernel call
             self.end_of_step = kernels[sp_end_of_step_with_bodies](
-                stage._read(), stage._read_t(), stage.global_layout, stage.states, self.layout, self.table_points,
-                self.work, self.part, self.memory, t, self.step_size, completed, self.start_time, self.record)
+                stage.coordinates(), stage.velocities(), stage.global_layout, stage.states, self.layout,
+                self.table_points, self.work, self.part, self.memory, t, self.step_size, completed, self.start_time,
+                self.record)
             stage.refreshed_now(t)
         else:
             stage.refresh(t)
@@ -207,7 +220,7 @@ class SPConfluence(ReducedConfluence):
         kernels[sp_rk_stage] = machine_code(sp_rk_stage, *arguments, start, 0, step)
         kernels[sp_end_of_step] = machine_code(sp_end_of_step, *arguments, start, step, False, start, self.record)
         if stage.fused is self:
-            q, q_t = array("d", stage._read()), array("d", stage._read_t())   # as the stage force item passes them
+            q, q_t = array("d", stage.coordinates()), array("d", stage.velocities())   # as the force item passes them
             head = (q, q_t, stage.global_layout, stage.states, *arguments[1:])
             generalized, aerodynamics = stage.generalized, stage.loads.parts
             kernels[sp_rk_stage_with_bodies] = machine_code(sp_rk_stage_with_bodies, *head, start, 0, step, True,
@@ -222,25 +235,25 @@ class SPConfluence(ReducedConfluence):
 
     # -- what it reports ----------------------------------------------------------------------------------------------
 
-    def settled(self) -> tuple:
-        """The end-of-step tuple (``sp_end_of_step``) of the last step, its work done."""
+    def settled(self) -> SPConfluence:
+        """This confluence with the last step's end-of-step work done: every reader of ``end_of_step``, ``work``
+        and ``memory`` goes through it (the work may be deferred: see the class doc)."""
         self.settle()
-        return self.end_of_step
+        return self
 
     def current(self) -> StageSolution:
         """The end-of-step solve as a ``StageSolution`` (made when first asked for after each step)."""
-        end = self.settled()
+        end = self.settled().end_of_step
         if self._solution_of is not end:
             self.solution, self._solution_of = StageSolution(end[:3], *end[3:], self.work), end
         return self.solution
 
     def velocity(self):
-        return self.settled()[:3]
+        return self.settled().end_of_step[:3]
 
     def tension_reader(self, i: int):
         def tension():
-            self.settle()
-            return self.work[i, END_TENSION]
+            return self.settled().work[i, END_TENSION]
         return tension
 
     def sample(self) -> list:
@@ -271,16 +284,15 @@ class SPConfluence(ReducedConfluence):
 
     def acceleration(self):
         """Mean confluence acceleration over the last step (m/s^2), or None before the first step ends."""
-        self.settle()
-        memory = self.memory
-        if memory[7, 2] < 2:
+        memory = self.settled().memory
+        if memory[MEMORY_ORDER, 2] < 2:
             return None
-        return ((memory[10] - memory[11]) / (memory[9, 0] - memory[9, 1])).tolist()
+        return ((memory[MEMORY_NEWER] - memory[MEMORY_OLDER])
+                / (memory[MEMORY_TIMES, 0] - memory[MEMORY_TIMES, 1])).tolist()
 
     def position(self) -> list:
         """The confluence position (m) at the end of the last step: the SP state."""
-        self.settle()
-        return self.memory[0].tolist()
+        return self.settled().memory[MEMORY_POSITION].tolist()
 
     def position_reader(self):
         return self.position

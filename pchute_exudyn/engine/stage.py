@@ -23,7 +23,15 @@ import numpy as np
 
 from ..case.model import Case
 from ..physics.compiled import bound
-from ..physics.kinematics import POINT_COLUMNS, STATE_COLUMNS, body_states
+from ..physics.kinematics import (
+    POINT_COLUMNS,
+    ROW_BODY_RATE,
+    ROW_POSITION,
+    ROW_ROTATION,
+    ROW_VELOCITY,
+    STATE_COLUMNS,
+    body_states,
+)
 from .aerodynamics import AerodynamicLoads
 from .model import Model
 from .state import BodyChannel, initial_body_state
@@ -73,7 +81,7 @@ class Stage:
         items, row = self.model.bodies[name], self.row[name]
         if case.bodies[name].fixed:   # its state is constant
             state = initial_body_state(case, case.bodies[name])
-            self.states[row, :3], self.states[row, 3:12] = state.position, state.attitude.ravel()
+            self.states[row, ROW_POSITION], self.states[row, ROW_ROTATION] = state.position, state.attitude.ravel()
             return
         reference = self.model.mbs.GetNodeParameter(items.node, "referenceCoordinates")
         self.layout[row, 0] = 6 * self.free.index(name)
@@ -129,6 +137,14 @@ class Stage:
         for name in self.free:
             row = self.row[name]
             self.global_layout[row, 0] = self.model.mbs.GetNodeODE2Index(self.model.bodies[name].node)
+
+    def coordinates(self):
+        """The engine's current ODE2 coordinates (one engine read)."""
+        return self._read()
+
+    def velocities(self):
+        """The engine's current ODE2 velocities (one engine read)."""
+        return self._read_t()
 
     def warm_up(self) -> None:
         """Load (or, on a machine's first run, compile) the stage's kernels before the timed solve: the body states
@@ -206,14 +222,13 @@ class Stage:
         model, keys, columns = self.model, [], []
         for name in self.free:
             r = self.row[name]
-            for quantity, start, stop in (("position", 0, 3), ("velocity", 12, 15), ("rotation", 3, 12),
-                                          ("angular_velocity", 18, 21)):
-                model.add_channel(BodyChannel(name, quantity),
-                                  lambda r=r, a=start, b=stop: self.settled_rows()[r][a:b])
+            for quantity, part in (("position", ROW_POSITION), ("velocity", ROW_VELOCITY), ("rotation", ROW_ROTATION),
+                                   ("angular_velocity", ROW_BODY_RATE)):
+                model.add_channel(BodyChannel(name, quantity), lambda r=r, part=part: self.settled_rows()[r][part])
                 keys.append(BodyChannel(name, quantity))
-                columns.append((r, start, stop))
+                columns.append((r, part))
 
         def split(samples):
             table = samples[:, :self.states.size].reshape(-1, *self.states.shape)
-            return [table[:, r, start:stop] for r, start, stop in columns]
+            return [table[:, r, part] for r, part in columns]
         model.add_channel_group(keys, self.sample, split)

@@ -124,6 +124,12 @@ class ColumnChannel(NamedTuple):
 
 BODY_QUANTITIES = ("position", "velocity", "rotation", "angular_velocity")
 CONFLUENCE_QUANTITIES = ("position", "velocity")
+BODY_VALUES = 18
+"""Values a sample holds for one body: its BODY_QUANTITIES (position 3, velocity 3, rotation 9, angular velocity
+3)."""
+CONFLUENCE_VALUES = 9
+"""Values a sample holds for one confluence besides one tension per line, at most: its CONFLUENCE_QUANTITIES (3 + 3)
+and a method's three outputs (``engine.sp.SPConfluence.OUTPUTS``)."""
 
 
 @dataclass

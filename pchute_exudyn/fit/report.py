@@ -10,7 +10,8 @@ import numpy as np
 
 from ..case.loader import override_leaves
 from ..results.io import atomic_write_text, json_text
-from ..views.plotting import new_figure, save_figure
+from ..views.fit_figures import fit_targets_figure
+from ..views.plotting import save_figure
 from .spec import FitSpec
 
 
@@ -57,25 +58,11 @@ def _rows(spec: FitSpec, result: dict):
 
 
 def _plot_targets(spec: FitSpec, result: dict, path: Path) -> None:
-    targets = list(_rows(spec, result))
-    figure, axes = new_figure(len(targets), 1, size=(8.0, 2.6 * len(targets) + 0.6))
-    for ax, (target, measured, initial, fitted) in zip(axes[:, 0], targets):
-        if target.kind == "history":
-            ax.plot(target.times, measured, ".", color="k", markersize=3, label="measured")
-            ax.plot(target.times, initial, "--", color="tab:blue", label="start")
-            ax.plot(target.times, fitted, "-", color="tab:red", label="fitted")
-            ax.set_xlabel("time (s)")
-            ax.set_ylabel(target.name)
-        else:
-            ax.errorbar([0], measured, yerr=[target.std], fmt="o", color="k", capsize=4, label="measured +- std")
-            ax.plot([1], initial, "s", color="tab:blue", label="start")
-            ax.plot([2], fitted, "D", color="tab:red", label="fitted")
-            ax.set_xticks([0, 1, 2], ["measured", "start", "fitted"])
-            ax.set_ylabel(target.label())
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize="x-small")
-    figure.suptitle(f"{spec.name}\ntargets: measured, at the start and fitted")
-    save_figure(figure, path)
+    """``targets.png``: each target's history against time (y label its column) or single value (its label)."""
+    panels = [(target.times if target.kind == "history" else None,
+               target.name if target.kind == "history" else target.label(), target.std, measured, initial, fitted)
+              for target, measured, initial, fitted in _rows(spec, result)]
+    save_figure(fit_targets_figure(spec.name, panels), path)
 
 
 def _markdown(spec: FitSpec, result: dict, paths: dict) -> str:

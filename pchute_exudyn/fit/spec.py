@@ -38,10 +38,12 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_path
-from ..case.loader import _Context, _load_merged, _Table, load_case, override_leaves, read_toml
+from ..case.fields import Context, Table
+from ..case.files import load_merged, read_toml
+from ..case.loader import load_case, override_leaves
 from ..errors import CaseError, InputError
 from ..results.csv_dialects import map_columns, parse_column_map, read_csv_columns, time_problem
-from ..study.spec import Configuration, _read_configuration
+from ..study.spec import Configuration, read_configuration
 
 EVENT_HELP = "start, deploy <system>, cutaway <system>, descent_rate, touchdown"
 MAX_RUNS = 200
@@ -138,24 +140,24 @@ def load_fit(path) -> FitSpec:
     if not path.is_file():
         raise InputError(f"fit file not found: {path}")
     data = read_toml(path, kind="fit")
-    ctx = _Context(str(path), {})
-    top = _Table(data, (), ctx)
+    ctx = Context(str(path), {})
+    top = Table(data, (), ctx)
     f = top.table("fit")
     name = f.string("name", path.stem)
     case_path = (path.parent / f.string("case")).resolve()
     if not case_path.is_file():
         raise f.error("case", f"case file not found: {case_path}", f.data["case"])
     max_runs = _read_max_runs(f)
-    configuration = _read_configuration(f, single_step=True)[0]
+    configuration = read_configuration(f, single_step=True)[0]
     load_case(case_path)   # the base case must load before its keys are checked
     free_tables = top.named_tables("free")
     if not free_tables:
         raise top.error("free", "a fit needs at least one free key: [free.\"<key>\"] with low and high")
     free = tuple(_read_free(key, t, case_path) for key, t in free_tables.items())
-    raw_targets = top._get("targets", None, "")
+    raw_targets = top.raw("targets", None, "")
     if not isinstance(raw_targets, list) or not raw_targets:
         raise top.error("targets", "a fit needs at least one [[targets]] table (event, final or history)")
-    targets = tuple(_read_target(_Table(t, ("targets", i), ctx), path.parent) for i, t in enumerate(raw_targets))
+    targets = tuple(_read_target(Table(t, ("targets", i), ctx), path.parent) for i, t in enumerate(raw_targets))
     top.finish()
     if max_runs < len(free) + 2:
         raise f.error("max_runs", f"must be >= {len(free) + 2}: the starting run and one Jacobian ({len(free)} runs, "
@@ -163,14 +165,14 @@ def load_fit(path) -> FitSpec:
     return FitSpec(name, path, case_path, configuration, free, targets, path.read_text(), max_runs)
 
 
-def _read_max_runs(f: _Table) -> int:
-    value = f._get("max_runs", MAX_RUNS, "")
+def _read_max_runs(f: Table) -> int:
+    value = f.raw("max_runs", MAX_RUNS, "")
     if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 1_000_000:
         raise f.error("max_runs", "must be an integer from 1 to 1000000 (the fit's budget of runs)", value)
     return value
 
 
-def _read_free(key: str, t: _Table, case_path: Path) -> Free:
+def _read_free(key: str, t: Table, case_path: Path) -> Free:
     low, high = t.number("low", ""), t.number("high", "")
     if not low < high:
         raise t.error("high", f"must be > low ({low:g})", high)
@@ -196,7 +198,7 @@ def _read_free(key: str, t: _Table, case_path: Path) -> Free:
 def _case_value(case_path: Path, key: str) -> float:
     """The case's own value of ``key`` (a --set key): where overriding it with a marker changes the case."""
     marker = 987654321.125
-    merged = _load_merged(case_path, {})
+    merged = load_merged(case_path, {})
     for full, value in override_leaves(case_path, {key: marker}).items():
         node = merged
         try:
@@ -208,7 +210,7 @@ def _case_value(case_path: Path, key: str) -> float:
     raise CaseError(str(case_path), key, "the case does not set it: give initial")
 
 
-def _read_target(t: _Table, folder: Path) -> Target:
+def _read_target(t: Table, folder: Path) -> Target:
     kinds = [k for k in ("event", "final", "history") if k in t.data]
     if len(kinds) != 1:
         raise t.error(None, "give exactly one of: event = \"...\" (with time), final = \"<column>\" (with value) or "
@@ -229,7 +231,7 @@ def _read_target(t: _Table, folder: Path) -> Target:
         if not file.is_file():
             raise t.error("history", f"file not found: {file}", t.data["history"])
         column = t.string("column")
-        entries = t._get("map", [], "")
+        entries = t.raw("map", [], "")
         if not isinstance(entries, list):
             raise t.error("map", "must be a list of \"theirs=ours[*factor]\" entries", entries)
         try:
@@ -256,7 +258,7 @@ def _read_target(t: _Table, folder: Path) -> Target:
     return target
 
 
-def _check_std(t: _Table, target: Target) -> None:
+def _check_std(t: Table, target: Target) -> None:
     """The std within STD_RANGE times the target's scale (see STD_RANGE)."""
     scale = max(max((abs(v) for v in target.measured), default=0.0), 1.0)
     low, high = STD_RANGE[0] * scale, STD_RANGE[1] * scale

@@ -12,9 +12,13 @@ Three forms of the same functions:
 
 ``PCHUTE_KERNELS`` in the environment chooses: ``compiled`` (the compiled module, or ``jit`` when no module of the
 current source exists: the test suite), ``jit`` or ``python``; any other value is an input error
-(``rejected_choice``). Unset: ``compiled`` when the module exists, else ``python`` while a background process
-builds the module for the runs after this one (``start_background_build``). Chosen once per process, before
+(``rejected_choice``). Unset: ``compiled`` when the module exists, else ``python``. Chosen once per process, before
 ``physics`` is imported (``pchute_exudyn/__init__.py``); child processes inherit the choice.
+
+Where no module exists, the commands that run simulations (``pchute run``, ``study``, ``fit``) start a background
+build for the runs after theirs, or build first for a long run (``kernels.lock``). ``simulate`` from Python starts
+none: an API user's runs take the Python form until ``python -m pchute_exudyn.kernels.build`` (or a command) has
+built the module.
 """
 
 from __future__ import annotations
@@ -26,21 +30,20 @@ import json
 import os
 import sys
 import sysconfig
-import time
 from pathlib import Path
 
+from ..environment import KERNEL_DIR, KERNELS_AUTO, KERNELS_NUMBA_BASE, NUMBA_CACHE_DIR, XDG_CACHE_HOME
 from .form import BUILDER, EXPORTS, VARIABLE
 
 MODES = ("compiled", "jit", "python")
-LOCK_AGE = 600.0
-"""Seconds after which a build lock is taken to be left by a process that died."""
 PACKAGE = Path(__file__).resolve().parents[1]
 PHYSICS = PACKAGE / "physics"
 KERNEL_MODULES = ("pchute_exudyn.physics.", "pchute_exudyn.results.number_text")
 """The modules whose functions are kernels (``physics.compiled.kernel``): the physics and the number formatter."""
 SIGNATURES = PACKAGE / "kernels" / "signatures.json"
 """The argument types each kernel is compiled for: the ones the package calls it with from Python
-(``kernel_cache --record`` writes it)."""
+(``python -m pchute_exudyn.kernels.record`` writes it)."""
+
 
 def source_key() -> str:
     """A digest of the kernels' source, the signatures they are compiled for, and the Python that loads them."""
@@ -55,12 +58,12 @@ def source_key() -> str:
 def cache_directory() -> Path:
     """Where the compiled module is built: ``PCHUTE_KERNEL_DIR`` when set, else the package's ``_compiled`` folder
     (where the install puts it), else, when the package cannot be written, the user's cache."""
-    if os.environ.get("PCHUTE_KERNEL_DIR"):
-        return Path(os.environ["PCHUTE_KERNEL_DIR"])
+    if os.environ.get(KERNEL_DIR):
+        return Path(os.environ[KERNEL_DIR])
     beside = PACKAGE / "_compiled"
     if os.access(beside if beside.is_dir() else PACKAGE, os.W_OK):
         return beside
-    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "pchute_exudyn"
+    return Path(os.environ.get(XDG_CACHE_HOME, Path.home() / ".cache")) / "pchute_exudyn"
 
 
 def module_name(key: str | None = None) -> str:
@@ -79,7 +82,7 @@ def load_compiled(folder: Path | None = None) -> dict | None:
     else in the kernel folder and the package's ``_compiled`` folder."""
     key = source_key()
     places = [folder] if folder else [cache_directory()]
-    if folder is None and not os.environ.get("PCHUTE_KERNEL_DIR"):
+    if folder is None and not os.environ.get(KERNEL_DIR):
         places.append(PACKAGE / "_compiled")
     for place in dict.fromkeys(places):
         table = table_path(key, place)
@@ -115,7 +118,7 @@ def rejected_choice() -> str | None:
 
 def select() -> str:
     """Decide the form for this process (and its children): see the module docstring. Sets the environment
-    variable so every later import agrees; the compiled module's exports go to ``_kernel_form.EXPORTS``."""
+    variable so every later import agrees; the compiled module's exports go to ``kernels.form.EXPORTS``."""
     asked = os.environ.get(VARIABLE)
     mode = asked if asked in MODES else None
     if asked and mode is None:   # reported by rejected_choice (the command line and simulate), not at import
@@ -129,14 +132,14 @@ def select() -> str:
             mode = "jit"         # asked for compiled kernels: numba compiles them in this process
         else:
             mode = "python"
-            os.environ[VARIABLE + "_AUTO"] = "1"   # chosen here, not asked for: a background build may help
+            os.environ[KERNELS_AUTO] = "1"   # chosen here, not asked for: a background build may help
     os.environ[VARIABLE] = mode
     if mode == "jit":
         use_jit_cache_of_this_source()
     return mode
 
 
-JIT_CACHE_BASE = VARIABLE + "_NUMBA_BASE"
+JIT_CACHE_BASE = KERNELS_NUMBA_BASE
 """The folder the jit form's per-source caches go in (set for child processes, so that they agree)."""
 
 
@@ -145,121 +148,11 @@ def use_jit_cache_of_this_source() -> None:
     gave in ``NUMBA_CACHE_DIR`` or the kernel folder. numba keys a cached kernel by its own file only: a kernel that
     calls one in another file that was edited would otherwise be loaded as compiled before the edit (an edited
     aerodynamic law reached the full-mass kernels but not SP's, and the module built from them)."""
-    base = os.environ.get(JIT_CACHE_BASE) or os.environ.get("NUMBA_CACHE_DIR") or str(cache_directory())
+    base = os.environ.get(JIT_CACHE_BASE) or os.environ.get(NUMBA_CACHE_DIR) or str(cache_directory())
     os.environ[JIT_CACHE_BASE] = base
-    os.environ["NUMBA_CACHE_DIR"] = str(Path(base) / f"jit_{source_key()}")
-
-
-BUILD_SECONDS = 12.0
-"""About what building the compiled module takes (9 to 10 s measured on a 2-core machine; setup.py prints it)."""
-PYTHON_STEP_SECONDS = 4.5e-4
-"""About what an integration step costs with the kernels' Python form (an SP step of MER case 1 or of a
-single-canopy descent, aerodynamics included: validation/startup_budget.py's first runs without a module)."""
-
-
-def worth_building_first(steps: float) -> bool:
-    """Whether a run of ``steps`` integration steps, in a process that runs the Python form because no module was
-    found, would take longer that way than building the module first (a foreground build pays for itself when the
-    Python form would take over 1.5 times the build: about 40 000 steps, a 400-s descent at 1e-2 s)."""
-    return build_would_help() and steps * PYTHON_STEP_SECONDS > 1.5 * BUILD_SECONDS
-
-
-def build_would_help() -> bool:
-    """Whether this process runs the Python form because no module was found (not because a form was asked for),
-    and no build of this source failed."""
-    return (os.environ.get(VARIABLE) == "python" and chosen_automatically() and not table_path().exists()
-            and not failed().exists())
-
-
-def building() -> bool:
-    """Whether another process is building the module now: its lock is younger than LOCK_AGE and the process whose
-    id it holds (the builder's, once started) is alive: a builder killed outright leaves a lock nobody waits for."""
-    path = lock()
-    try:
-        if time.time() - path.stat().st_mtime >= LOCK_AGE:
-            return False
-        holder = int(path.read_text() or 0)
-    except (OSError, ValueError):
-        return False
-    return holder == 0 or alive(holder)   # 0: the lock is being written
-
-
-def alive(pid: int) -> bool:
-    if os.name == "nt":   # os.kill would end the process there; the lock's age decides alone
-        return True
-    try:
-        os.kill(pid, 0)
-    except PermissionError:   # alive, another user's
-        return True
-    except OSError:
-        return False
-    return True
-
-
-def build_now() -> bool:
-    """The compiled module of this source, built in the foreground (``python -m pchute_exudyn.kernels.build``), or
-    the build another process is making, waited for; True when it exists."""
-    import subprocess
-
-    if building():
-        deadline = time.monotonic() + LOCK_AGE
-        while building() and not table_path().exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
-        if table_path().exists():
-            return True
-    command = builder_command()
-    if command is None:
-        return False
-    done = subprocess.run(command, env=fresh_environment(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return done.returncode == 0 and table_path().exists()
-
-
-def builder_command() -> list | None:
-    """The command that builds the module, with the build lock taken for it (the builder removes it); None when the
-    kernel folder cannot be written."""
-    path = lock()
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(str(os.getpid()))
-    except OSError:
-        return None
-    return [sys.executable, "-m", "pchute_exudyn.kernels.build", "--lock", str(path)]
-
-
-def fresh_environment() -> dict:
-    """The environment for a process that should choose the form anew (after a build)."""
-    return {key: value for key, value in os.environ.items() if not key.startswith(VARIABLE)}
+    os.environ[NUMBA_CACHE_DIR] = str(Path(base) / f"jit_{source_key()}")
 
 
 def chosen_automatically() -> bool:
-    return os.environ.get(VARIABLE + "_AUTO") == "1"
-
-
-def lock() -> Path:
-    return table_path().with_suffix(".building")
-
-
-def failed() -> Path:
-    """Written by a build of this source that failed (no C compiler, say): runs then stop starting builds that would
-    fail the same way; ``python -m pchute_exudyn.kernels.build`` still tries, and removes it when it succeeds."""
-    return table_path().with_suffix(".failed")
-
-
-def start_background_build() -> bool:
-    """Spawn ``python -m pchute_exudyn.kernels.build``, detached, when this process runs the Python kernels because
-    no compiled module was found (not when a form was asked for), unless another process is building it; True when
-    it spawned one."""
-    if not build_would_help() or building():
-        return False
-    command = builder_command()
-    if command is None:   # a read-only kernel folder: the runs keep the Python kernels
-        return False
-    import subprocess  # here only: most processes never start a build
-
-    try:
-        subprocess.Popen(command, env=fresh_environment(), start_new_session=True, stdin=subprocess.DEVNULL,
-                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    except OSError:
-        lock().unlink(missing_ok=True)
-        return False
-    return True
+    """Whether this process runs the Python form because no module was found (``select``), not because it was asked."""
+    return os.environ.get(KERNELS_AUTO) == "1"

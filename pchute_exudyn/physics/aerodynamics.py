@@ -41,7 +41,7 @@ from .atmosphere import atmosphere_state
 from .compiled import kernel
 from .interpolation import bracket_packed
 from .invalid import InvalidField
-from .kinematics import POINT_COLUMNS, add_point_force, point_motion
+from .kinematics import BODY_RATE_AT, POINT_COLUMNS, ROTATION_AT, add_point_force, point_motion
 from .planet import start_altitude
 from .runaway import RUNAWAY
 from .wind import GUST_COLUMNS
@@ -86,7 +86,7 @@ class CoefficientTable:
         object.__setattr__(self, "angle_deg", angles)
         object.__setattr__(self, "mach", machs)
         object.__setattr__(self, "value", (tuple(tuple(row) for row in grid) if machs and angles else
-                                           tuple(row[0] for row in grid) if machs else
+                                           tuple(values[0] for values in grid) if machs else
                                            tuple(grid[0]) if angles else grid[0][0]))
         total = 1.0 if angles and angles[-1] == 180.0 else 0.0
         packed = ([float(len(machs) or 1), float(len(angles) or 1), total] + list(machs or (0.0,))
@@ -188,9 +188,13 @@ offsets in the packed tables of C_A, C_N, C_m, C_mq, C_lp (-1: none), the cluste
 body has run away (``physics.runaway``)."""
 (AREA, LENGTH, AXIAL, NORMAL, MOMENT, PITCH_DAMPING, ROLL_DAMPING, EFFICIENCY, USES_MACH, SPEED_LIMIT,
  RATE_LIMIT) = range(LOAD_COLUMNS)
+TABLE_OFFSET_COLUMNS = range(AXIAL, ROLL_DAMPING + 1)
+"""The columns of LOAD_COLUMNS that hold a coefficient's table offset (-1: none)."""
 VALUE_COLUMNS = 9
 """Per body and stage (``aerodynamics_stage``): force (N, start frame), moment (N m, body axes), dynamic pressure
 1/2 rho V^2 (Pa), Mach number (-; NaN when no coefficient needs it), total angle of attack (deg)."""
+VALUE_FORCE, VALUE_MOMENT, VALUE_PRESSURE, VALUE_MACH, VALUE_ALPHA = 0, 3, 6, 7, 8
+"""Where each of those values starts in a body's VALUE_COLUMNS."""
 
 
 @kernel
@@ -316,10 +320,14 @@ def _part(data, index):
     return data[int(data[2 + index]):int(data[3 + index])]
 
 
+WORK_FRACTIONS = 2
+"""Where the drag-area fractions start in ``aerodynamics_stage``'s work array, after the status (code, value)."""
+
+
 def work_size(count: int) -> int:
     """The length of ``aerodynamics_stage``'s work array for ``count`` bodies: the status (code, value), the
     drag-area fractions (-), then VALUE_COLUMNS per body."""
-    return 2 + count * (1 + VALUE_COLUMNS)
+    return WORK_FRACTIONS + count * (1 + VALUE_COLUMNS)
 
 
 @kernel
@@ -338,7 +346,8 @@ def aerodynamics_stage(t, states, data, field, work, generalized):
         row = states[int(point[0])]
         body = bodies[j * LOAD_COLUMNS:(j + 1) * LOAD_COLUMNS]
         x, y, z, vx, vy, vz = point_motion(row, point[1], point[2], point[3])
-        if ran_away(body, vx, vy, vz, row[18:21]):
+        rates = row[BODY_RATE_AT:BODY_RATE_AT + 3]
+        if ran_away(body, vx, vy, vz, rates):
             work[0], work[1] = RUNAWAY, float(j)
             return
         code, value, density, sound, ux, uy, uz = air_at(t, x, y, z, frame, atmosphere, air, wind, gusts, turbulence,
@@ -347,18 +356,20 @@ def aerodynamics_stage(t, states, data, field, work, generalized):
             work[0], work[1] = code, value
             return
         vx, vy, vz = vx - ux, vy - uy, vz - uz
-        load = aerodynamic_load(tables, body, vx, vy, vz, row[3:12], row[18:21], density, sound, work[2 + j])
-        v = 2 + count + j * VALUE_COLUMNS
+        load = aerodynamic_load(tables, body, vx, vy, vz, row[ROTATION_AT:ROTATION_AT + 9], rates, density, sound,
+                                work[WORK_FRACTIONS + j])
+        v = WORK_FRACTIONS + count + j * VALUE_COLUMNS
         for c in range(6):
             work[v + c] = load[c]
-        work[v + 6], work[v + 7], work[v + 8] = 0.5 * density * (vx * vx + vy * vy + vz * vz), load[6], load[7]
+        pressure = 0.5 * density * (vx * vx + vy * vy + vz * vz)
+        work[v + VALUE_PRESSURE], work[v + VALUE_MACH], work[v + VALUE_ALPHA] = pressure, load[6], load[7]
     work[0] = 0.0
     for j in range(count):   # after every body, so that a problem adds nothing
         point = points[j * POINT_COLUMNS:(j + 1) * POINT_COLUMNS]
         k = int(point[4])
         if k < 0:   # a fixed body takes no generalized force
             continue
-        v = 2 + count + j * VALUE_COLUMNS
+        v = WORK_FRACTIONS + count + j * VALUE_COLUMNS
         add_point_force(states[int(point[0])], point[1], point[2], point[3], work[v], work[v + 1], work[v + 2],
                         generalized, k)
         if work[v + 3] != 0.0 or work[v + 4] != 0.0 or work[v + 5] != 0.0:

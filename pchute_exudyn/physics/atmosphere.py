@@ -280,7 +280,7 @@ def _us76_layer_table():
 
 
 _US76 = _us76_layer_table()
-_US76_BASES = tuple(row[0] for row in _US76)
+_US76_BASES = tuple(layer[0] for layer in _US76)
 
 
 @dataclass(frozen=True)

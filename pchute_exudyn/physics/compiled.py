@@ -27,7 +27,8 @@ import numpy as np
 from ..kernels.form import EXPORTS, VARIABLE
 
 MODE = os.environ.get(VARIABLE, "compiled")
-"""The form this process runs: 'compiled', 'jit' or 'python' (chosen by ``_kernel_mode.select`` before this import)."""
+"""The form this process runs: 'compiled', 'jit' or 'python' (chosen by ``kernels.selection.select`` before this
+import)."""
 COMPILED = MODE != "python"
 """Whether the kernels run as machine code (either compiled form)."""
 JIT = MODE == "jit"

@@ -21,6 +21,16 @@ from .compiled import kernel
 from .rotations import rotation_from_vector
 
 STATE_COLUMNS = 21
+POSITION_AT, ROTATION_AT, VELOCITY_AT, ANGULAR_VELOCITY_AT, BODY_RATE_AT = 0, 3, 12, 15, 18
+"""Where each part of a state row starts (kernels index with these: numba takes int globals, not slices):
+position (3), attitude matrix R (9, row-major), velocity (3), angular velocity in start-frame components (3) and
+in body axes (3)."""
+ROW_POSITION = slice(POSITION_AT, POSITION_AT + 3)
+ROW_ROTATION = slice(ROTATION_AT, ROTATION_AT + 9)
+ROW_VELOCITY = slice(VELOCITY_AT, VELOCITY_AT + 3)
+ROW_ANGULAR_VELOCITY = slice(ANGULAR_VELOCITY_AT, ANGULAR_VELOCITY_AT + 3)
+ROW_BODY_RATE = slice(BODY_RATE_AT, BODY_RATE_AT + 3)
+"""The same parts as slices of a row, for Python callers."""
 POINT_COLUMNS = 5
 """Columns of a point layout row: body (index into the states), point in body axes (m), and the body's first
 generalized-force index (-1: a fixed body, which takes none)."""
@@ -38,25 +48,28 @@ def body_states(q, q_t, bodies, states):
             continue
         row = states[b]
         for i in range(3):
-            row[i] = bodies[b, 1 + i] + q[k + i]
-            row[12 + i] = q_t[k + i]
-        rotation_from_vector(bodies[b, 4] + q[k + 3], bodies[b, 5] + q[k + 4], bodies[b, 6] + q[k + 5], row[3:12])
+            row[POSITION_AT + i] = bodies[b, 1 + i] + q[k + i]
+            row[VELOCITY_AT + i] = q_t[k + i]
+        rotation_from_vector(bodies[b, 4] + q[k + 3], bodies[b, 5] + q[k + 4], bodies[b, 6] + q[k + 5],
+                             row[ROTATION_AT:ROTATION_AT + 9])
         wx, wy, wz = q_t[k + 3], q_t[k + 4], q_t[k + 5]
-        row[18], row[19], row[20] = wx, wy, wz
+        row[BODY_RATE_AT], row[BODY_RATE_AT + 1], row[BODY_RATE_AT + 2] = wx, wy, wz
         for i in range(3):
-            row[15 + i] = row[3 + 3 * i] * wx + row[4 + 3 * i] * wy + row[5 + 3 * i] * wz
+            r = ROTATION_AT + 3 * i   # row i of R
+            row[ANGULAR_VELOCITY_AT + i] = row[r] * wx + row[r + 1] * wy + row[r + 2] * wz
 
 
 @kernel
 def point_motion(row, lx, ly, lz):
     """(x, y, z, vx, vy, vz): position (m) and velocity (m/s) of the point (lx, ly, lz) (m, body axes) of the body
     whose state is ``row``."""
-    ax = row[3] * lx + row[4] * ly + row[5] * lz
-    ay = row[6] * lx + row[7] * ly + row[8] * lz
-    az = row[9] * lx + row[10] * ly + row[11] * lz
-    wx, wy, wz = row[15], row[16], row[17]
-    return (row[0] + ax, row[1] + ay, row[2] + az, row[12] + wy * az - wz * ay, row[13] + wz * ax - wx * az,
-            row[14] + wx * ay - wy * ax)
+    r, w, p, v = ROTATION_AT, ANGULAR_VELOCITY_AT, POSITION_AT, VELOCITY_AT
+    ax = row[r] * lx + row[r + 1] * ly + row[r + 2] * lz
+    ay = row[r + 3] * lx + row[r + 4] * ly + row[r + 5] * lz
+    az = row[r + 6] * lx + row[r + 7] * ly + row[r + 8] * lz
+    wx, wy, wz = row[w], row[w + 1], row[w + 2]
+    return (row[p] + ax, row[p + 1] + ay, row[p + 2] + az, row[v] + wy * az - wz * ay,
+            row[v + 1] + wz * ax - wx * az, row[v + 2] + wx * ay - wy * ax)
 
 
 @kernel
@@ -74,9 +87,10 @@ def add_point_force(row, lx, ly, lz, fx, fy, fz, generalized, k):
     """Add the generalized force of force (fx, fy, fz) (N, start frame) at the point (lx, ly, lz) (m, body axes) of
     the body whose state is ``row`` and whose generalized forces start at ``generalized[k]``: the force, and the
     body-axis moment p x (R^T F) about the centre of mass (N m)."""
-    bx = row[3] * fx + row[6] * fy + row[9] * fz   # R^T F
-    by = row[4] * fx + row[7] * fy + row[10] * fz
-    bz = row[5] * fx + row[8] * fy + row[11] * fz
+    r = ROTATION_AT
+    bx = row[r] * fx + row[r + 3] * fy + row[r + 6] * fz   # R^T F
+    by = row[r + 1] * fx + row[r + 4] * fy + row[r + 7] * fz
+    bz = row[r + 2] * fx + row[r + 5] * fy + row[r + 8] * fz
     generalized[k] += fx
     generalized[k + 1] += fy
     generalized[k + 2] += fz

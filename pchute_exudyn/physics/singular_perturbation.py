@@ -368,6 +368,9 @@ STAGE_COLUMNS = 21
 """Columns of ``sp_stage``'s per-line work array: tension (N), n (3), taut (1 or 0), attach position (3, m) and
 velocity (3, m/s), the force on the body -T n (3, N), the solve's scratch (6), and the tension of the last
 end-of-step solve (N, column END_TENSION: ``sp_end_of_step``; a later stage's solve leaves it)."""
+(WORK_TENSION, WORK_DIRECTION, WORK_TAUT, WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_FORCE,
+ WORK_SCRATCH) = 0, 1, 4, 5, 8, 11, 14
+"""Where each part of a work row starts (three columns each for n, the attach motion and the force; six of scratch)."""
 END_TENSION = 20
 
 
@@ -386,23 +389,28 @@ def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0
     """
     n = layout.shape[0]
     points = layout[:, :POINT_COLUMNS]
-    point_motions(states, points, work[:, 5:11])
+    p, v, d, f = WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_DIRECTION, WORK_FORCE
+    point_motions(states, points, work[:, p:v + 3])   # (x, y, z, vx, vy, vz): position and velocity side by side
     active = np.empty(n, np.bool_)
     vx, vy, vz, c_c, kappa = solve_confluence(
-        work[:, 5:8], work[:, 8:11], cx, cy, cz, v0x, v0y, v0z, layout[:, POINT_COLUMNS:POINT_COLUMNS + 3], tables,
-        layout[:, POINT_COLUMNS + 3], kappa_max, force_rule > 0.0, rate, b0x, b0y, b0z, work[:, 0], work[:, 1:4],
-        active, work[:, 14:20])
+        work[:, p:p + 3], work[:, v:v + 3], cx, cy, cz, v0x, v0y, v0z, layout[:, POINT_COLUMNS:POINT_COLUMNS + 3],
+        tables, layout[:, POINT_COLUMNS + 3], kappa_max, force_rule > 0.0, rate, b0x, b0y, b0z, work[:, WORK_TENSION],
+        work[:, d:d + 3], active, work[:, WORK_SCRATCH:WORK_SCRATCH + 6])
     taut = 0
     for i in range(n):
         taut += 1 if active[i] else 0
-        work[i, 4] = 1.0 if active[i] else 0.0
+        work[i, WORK_TAUT] = 1.0 if active[i] else 0.0
         for k in range(3):
-            work[i, 11 + k] = -work[i, 0] * work[i, 1 + k]   # on the body: -T n
+            work[i, f + k] = -work[i, WORK_TENSION] * work[i, d + k]   # on the body: -T n
     generalized[:] = 0.0
-    add_point_forces(states, points, work[:, 11:14], generalized)
+    add_point_forces(states, points, work[:, f:f + 3], generalized)
     return vx, vy, vz, c_c, kappa, taut
 
 
+(MEMORY_POSITION, MEMORY_STAGE_VELOCITIES, MEMORY_V0, MEMORY_SETTINGS, MEMORY_ORDER, MEMORY_GRAVITY, MEMORY_TIMES,
+ MEMORY_NEWER, MEMORY_OLDER, MEMORY_ACCELERATION) = 0, 1, 5, 6, 7, 8, 9, 10, 11, 12
+"""The rows of an SP confluence's memory by name (see MEMORY_ROWS; MEMORY_STAGE_VELOCITIES is k_1, the first of
+four)."""
 MEMORY_ROWS = 13
 """Rows (of 3 floats) of an SP confluence's memory for ``sp_rk_stage``:
 
@@ -422,16 +430,18 @@ RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 def _mass_term(memory, t, qx, qy, qz):
     """The order-1 mass term (``MassTerm``) as (rate, b0 x, y, z): the reference velocity is the latest recorded
     end-of-step velocity from before ``t``; with none, the carried acceleration enters as a force."""
-    if memory[7, 0] < 0.5:
+    if memory[MEMORY_ORDER, 0] < 0.5:
         return 0.0, 0.0, 0.0, 0.0
-    m = memory[6, 0]
-    gx, gy, gz = gravity_acceleration(memory[7, 1], memory[8, 0], memory[8, 1], memory[8, 2], qx, qy, qz)
-    for j in range(int(memory[7, 2])):   # the newer first
-        time = memory[9, j]
+    m = memory[MEMORY_SETTINGS, 0]
+    g = MEMORY_GRAVITY
+    gx, gy, gz = gravity_acceleration(memory[MEMORY_ORDER, 1], memory[g, 0], memory[g, 1], memory[g, 2], qx, qy, qz)
+    for j in range(int(memory[MEMORY_ORDER, 2])):   # the newer first
+        time = memory[MEMORY_TIMES, j]
         if time < t:
-            rate, row = m / (t - time), 10 + j
+            rate, row = m / (t - time), MEMORY_NEWER + j
             return rate, m * gx + rate * memory[row, 0], m * gy + rate * memory[row, 1], m * gz + rate * memory[row, 2]
-    return 0.0, m * (gx - memory[12, 0]), m * (gy - memory[12, 1]), m * (gz - memory[12, 2])
+    a = MEMORY_ACCELERATION
+    return 0.0, m * (gx - memory[a, 0]), m * (gy - memory[a, 1]), m * (gz - memory[a, 2])
 
 
 @kernel
@@ -439,15 +449,18 @@ def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
     """SP at RK4 stage ``index`` (0-3) of a step of ``h`` (s) at time ``t`` (s): the stage's confluence position
     from ``memory`` (``MEMORY_ROWS``), the order-1 mass term when the memory asks for it, ``sp_stage``, and the
     stage velocity into memory row index + 1. Returns (vx, vy, vz, C_c, kappa, lines counted taut)."""
-    qx, qy, qz = memory[0, 0], memory[0, 1], memory[0, 2]
+    qx, qy, qz = memory[MEMORY_POSITION, 0], memory[MEMORY_POSITION, 1], memory[MEMORY_POSITION, 2]
     if index > 0:
         step = h * RK4_STAGE_FRACTIONS[index]
-        qx, qy, qz = qx + step * memory[index, 0], qy + step * memory[index, 1], qz + step * memory[index, 2]
+        k = MEMORY_STAGE_VELOCITIES + index - 1   # k_(index), the previous stage's velocity
+        qx, qy, qz = qx + step * memory[k, 0], qy + step * memory[k, 1], qz + step * memory[k, 2]
     rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
-    vx, vy, vz, c_c, kappa, taut = sp_stage(states, layout, tables, work, part, qx, qy, qz, memory[5, 0],
-                                            memory[5, 1], memory[5, 2], memory[6, 1], memory[6, 2], rate, bx, by,
-                                            bz)
-    memory[index + 1, 0], memory[index + 1, 1], memory[index + 1, 2] = vx, vy, vz
+    v0, settings = MEMORY_V0, MEMORY_SETTINGS
+    vx, vy, vz, c_c, kappa, taut = sp_stage(states, layout, tables, work, part, qx, qy, qz, memory[v0, 0],
+                                            memory[v0, 1], memory[v0, 2], memory[settings, 1], memory[settings, 2],
+                                            rate, bx, by, bz)
+    k = MEMORY_STAGE_VELOCITIES + index
+    memory[k, 0], memory[k, 1], memory[k, 2] = vx, vy, vz
     return vx, vy, vz, c_c, kappa, taut
 
 
@@ -458,7 +471,7 @@ def rk4_update(memory, h):
     for j in range(4):
         factor = h * RK4_WEIGHTS[j]
         for i in range(3):
-            memory[0, i] += factor * memory[1 + j, i]
+            memory[MEMORY_POSITION, i] += factor * memory[MEMORY_STAGE_VELOCITIES + j, i]
 
 
 @kernel
@@ -471,17 +484,17 @@ def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, 
     if completed:
         rk4_update(memory, h)
     vx, vy, vz, c_c, kappa, taut = sp_rk_stage(states, layout, tables, work, part, memory, t, 0, 0.0)
-    work[:, END_TENSION] = work[:, 0]
+    work[:, END_TENSION] = work[:, WORK_TENSION]
     if t > start_time:
-        memory[5, 0], memory[5, 1], memory[5, 2] = vx, vy, vz
-    count = int(memory[7, 2])
-    if memory[7, 0] > 0.5 and (count == 0 or t > memory[9, 0]):
-        memory[9, 1] = memory[9, 0]   # the newer becomes the older
+        memory[MEMORY_V0, 0], memory[MEMORY_V0, 1], memory[MEMORY_V0, 2] = vx, vy, vz
+    count = int(memory[MEMORY_ORDER, 2])
+    if memory[MEMORY_ORDER, 0] > 0.5 and (count == 0 or t > memory[MEMORY_TIMES, 0]):
+        memory[MEMORY_TIMES, 1] = memory[MEMORY_TIMES, 0]   # the newer becomes the older
         for i in range(3):
-            memory[11, i] = memory[10, i]
-        memory[9, 0] = t
-        memory[10, 0], memory[10, 1], memory[10, 2] = vx, vy, vz
-        memory[7, 2] = min(count + 1, 2)
+            memory[MEMORY_OLDER, i] = memory[MEMORY_NEWER, i]
+        memory[MEMORY_TIMES, 0] = t
+        memory[MEMORY_NEWER, 0], memory[MEMORY_NEWER, 1], memory[MEMORY_NEWER, 2] = vx, vy, vz
+        memory[MEMORY_ORDER, 2] = min(count + 1, 2)
     _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record)
     return vx, vy, vz, c_c, kappa, taut
 
@@ -502,7 +515,7 @@ def _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record):
             record[k] = states[row, column]
             k += 1
     for i in range(3):
-        record[k + i] = memory[0, i]
+        record[k + i] = memory[MEMORY_POSITION, i]
     record[k + 3], record[k + 4], record[k + 5] = vx, vy, vz
     record[k + 6], record[k + 7], record[k + 8] = c_c, kappa, taut
     for i in range(work.shape[0]):

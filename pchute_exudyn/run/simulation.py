@@ -12,14 +12,14 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_callable, check_case, check_flag
-from ..case.method_table import METHODS, OptionError
+from ..case.method_table import INTEGRATORS, METHODS, OptionError
 from ..case.model import Case
 from ..case.plausible import check_time_scales
 from ..engine.bodies import Touchdown
 from ..engine.solver import integrate, versions
-from ..engine.state import initial_confluence_state, initial_point
+from ..engine.state import BODY_VALUES, CONFLUENCE_VALUES, initial_confluence_state, initial_point
 from ..errors import InputError, Interrupted, SimulationError, short_repr
-from ..kernels import selection as _kernel_mode
+from ..kernels import selection
 from ..methods.base import Method, line_arrays, line_constants, unstable_step_message
 from ..physics.linearization import damped_line_step_limit, sp_step_limit, spectral_step_bound
 from ..results.result import Result
@@ -111,8 +111,8 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
                 duration: float | None = None, options=None) -> RunPlan:
     """Fill in the case's defaults and validate method, options, integrator, step (s) and duration (s)."""
     check_case(case)
-    if _kernel_mode.rejected_choice():   # the environment's kernel form, checked with the run's other inputs
-        raise InputError(_kernel_mode.rejected_choice())
+    if selection.rejected_choice():   # the environment's kernel form, checked with the run's other inputs
+        raise InputError(selection.rejected_choice())
     resolved = resolve_method(case, method, options)
     integrator = case.simulation.integrator if integrator is None else integrator
     try:
@@ -144,7 +144,7 @@ def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, 
     step is for accuracy) a confluence counts with the damped mode SP resolves. The step is STEP_FRACTION of the
     limit, rounded down to 1, 2 or 5 x 10^k.
     """
-    key = method.name if integrator == "rk4" else f"{method.name}_{integrator}"
+    key = INTEGRATORS[integrator].step_key(method.name)
     limits = [math.inf]
     moving = {name for name, body in case.bodies.items() if not body.fixed}
     for system in case.systems.values():
@@ -163,7 +163,7 @@ def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, 
 
 def _confluence_limit(case: Case, method: Method, integrator: str, system, key: str) -> float:
     """A confluence's stability limit (s) for ``stability_step``."""
-    explicit = integrator == "rk4"
+    explicit = INTEGRATORS[integrator].explicit
     bound = method.lumped_step_limit(system) if explicit else damped_line_step_limit(*line_constants(system))
     limits = [math.inf if bound is None else bound]
     if system.deploy_time is None:   # present from the start: its initial geometry is known
@@ -194,7 +194,8 @@ def _check_size(case: Case, step: float, duration: float) -> None:
         raise InputError(f"{duration:g} s at a step of {step:g} s is {steps:.3g} steps; the engine counts at most "
                          f"{MAX_STEPS} in a run: shorten the run (--t-end) or lengthen the step (--dt)")
     samples = min(duration / case.simulation.output_step, steps) + 1
-    values = 19 * len(case.bodies) + sum(9 + len(system.lines) for system in case.systems.values())
+    values = ((BODY_VALUES + 1) * len(case.bodies)   # one value per body to spare
+              + sum(CONFLUENCE_VALUES + len(system.lines) for system in case.systems.values()))
     need = samples * values * BYTES_PER_SAMPLE_VALUE
     if need > MAX_OUTPUT_BYTES:
         raise InputError(f"{duration:g} s sampled every {case.simulation.output_step:g} s is {samples:.3g} samples "
@@ -246,7 +247,7 @@ def add_step_monitor(model, method: Method, step: float, interval: float = MONIT
 def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None, solution_file=None):
     """Build and integrate one phase; returns the model, its checked history and its touchdown (or None)."""
     model = plan.method.build(case, phase)
-    if plan.integrator == "rk4" and model.systems and plan.method.step_limited:
+    if INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
     touchdown = None
     if case.simulation.ground_altitude is not None and not case.bodies[case.vehicle].fixed:
@@ -397,7 +398,6 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     """
     _check_arguments(case, progress, engine_solution, history)
     plan = resolve_run(case, method, integrator, step, duration, _options(options, option_values))
-    _kernel_mode.start_background_build()   # the runs after this one get the compiled module
     with tempfile.TemporaryDirectory() as folder:
         raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}

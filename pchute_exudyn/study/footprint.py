@@ -1,4 +1,5 @@
-"""The landing footprint of a study whose runs touch down: statistics of the touchdown points and their figure.
+"""The landing footprint of a study whose runs touch down: statistics of the touchdown points (its figures:
+``views.study_figures``).
 
 The touchdown point is the vehicle's east and north position (m, start frame) when the run stops at the ground
 (``final_east``, ``final_north`` of runs with a ``touchdown_time``: the end of the step that reached the ground,
@@ -12,8 +13,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-from ..views.plotting import new_figure, save_figure
 
 ELLIPSES = (("1 sigma", 1.0), ("3 sigma", 3.0), ("99 %", math.sqrt(-2.0 * math.log(0.01))))
 """(label, k): dispersion ellipses drawn and tabulated, k in standard deviations along the principal axes."""
@@ -53,67 +52,20 @@ def footprint_statistics(points: np.ndarray) -> dict:
                               "p99": float(np.percentile(distance, 99)), "max": float(distance.max())}}
 
 
-def ellipse(stats: dict, k: float, count: int = 181) -> np.ndarray:
-    """(count, 2) east, north (m) of the k-sigma ellipse of ``footprint_statistics``."""
-    variances, vectors = np.linalg.eigh(np.array(stats["covariance"]))
-    angle = np.linspace(0.0, 2.0 * np.pi, count)
-    unit = np.stack([np.cos(angle), np.sin(angle)], axis=1) * np.sqrt(np.maximum(variances, 0.0))
-    return np.array([stats["mean_east"], stats["mean_north"]]) + k * unit @ vectors.T
-
-
-def plot_footprint(points: np.ndarray, stats: dict, title: str, path, failed: int = 0) -> None:
-    """Save ``footprint_figure`` at ``path``."""
-    save_figure(footprint_figure(points, stats, title, failed), path)
-
-
-def footprint_figure(points: np.ndarray, stats: dict, title: str, failed: int = 0):
-    """Touchdown points, their mean and the 1- and 3-sigma dispersion ellipses, east against north in metres on
-    equal axes; ``failed`` runs (no touchdown recorded: a failed run keeps no position) are counted in the title
-    and the legend, so a footprint never looks complete when runs are missing from it."""
-    figure, axes = new_figure(1, 1, size=(7.0, 7.0))
-    ax = axes[0, 0]
-    ax.plot(points[:, 0], points[:, 1], ".", color="tab:blue", markersize=4, alpha=0.7,
-            label=f"touchdown ({len(points)} runs)")
-    ax.plot([stats["mean_east"]], [stats["mean_north"]], "k+", markersize=12, markeredgewidth=2, label="mean")
-    for (label, k), style in zip(ELLIPSES[:2], ("-", "--")):   # the 99 % ellipse lies on the 3-sigma one
-        e = stats["ellipses"][label]
-        curve = ellipse(stats, k)
-        ax.plot(curve[:, 0], curve[:, 1], style, color="tab:red", linewidth=1.2,
-                label=f"{label} ellipse: {e['semi_major']:.0f} x {e['semi_minor']:.0f} m "
-                      f"({100 * e['share_inside']:.0f} % of runs inside)")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("touchdown east of the start point (m)")
-    ax.set_ylabel("touchdown north of the start point (m)")
-    ax.grid(True, alpha=0.3)
-    if failed:   # an empty red x in the legend: the runs that are not on the map
-        ax.plot([], [], "x", color="red", label=f"{failed} failed runs not shown: no touchdown")
-        title = f"{title}\n({failed} failed runs not shown: no touchdown)"
-    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2)
-    figure.suptitle(title)
-    return figure
-
-
-def plot_touchdown_histograms(rows: list, loads: list, title: str, path) -> None:
-    """Histograms of touchdown speed (m/s) and of the peak line loads ``loads`` (runs.csv columns, N), with the
-    1st, 50th and 99th percentiles marked."""
-    shown = ["touchdown_speed"] + list(loads)
-    figure, axes = new_figure(math.ceil(len(shown) / 2), 2, size=(10.0, 2.8 * math.ceil(len(shown) / 2) + 0.6))
-    for ax, name in zip(axes.ravel(), shown):
+def touchdown_histogram_panels(rows: list, loads: list) -> list:
+    """``views.study_figures.percentile_histograms_figure``'s panels of touchdown speed (m/s) and of the peak line
+    loads ``loads`` (runs.csv columns, N, drawn in kN) of the ``rows`` that touched down, with their 1st, 50th and
+    99th percentiles."""
+    panels = []
+    for name in ["touchdown_speed"] + list(loads):
         values = np.array([r[name] for r in rows if isinstance(r.get(name), float)
                            and isinstance(r.get("touchdown_time"), float)])
         if name == "touchdown_speed":
             label, scale = "touchdown speed, relative to the ground (m/s)", 1.0
         else:
             label, scale = f"{name.removeprefix('peak_tension_').replace('_', ' ')}: peak load (kN)", 1e-3
-        ax.hist(values * scale, bins=min(30, max(5, len(values) // 5)), color="tab:blue", alpha=0.8)
-        for p in (1, 50, 99):
-            ax.axvline(np.percentile(values, p) * scale, color="k", linewidth=0.8, linestyle="-" if p == 50 else ":")
-        ax.set_xlabel(label)
-        ax.set_ylabel("runs")
-    for ax in axes.ravel()[len(shown):]:
-        ax.set_visible(False)
-    figure.suptitle(f"{title} (dotted: 1st and 99th percentile, solid: median)")
-    save_figure(figure, path)
+        panels.append((values * scale, label, {p: np.percentile(values, p) * scale for p in (1, 50, 99)}))
+    return panels
 
 
 def footprint_markdown(stats: dict, percentile_rows: list) -> list:

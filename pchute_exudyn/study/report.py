@@ -23,7 +23,15 @@ from ..errors import InputError
 from ..results.compare import compare_results
 from ..results.io import atomic_write_text, ensure_writable_dir, json_text
 from ..results.result import Result
-from ..views.plotting import new_figure, save_figure
+from ..views.plotting import save_figure
+from ..views.study_figures import (
+    error_against_cost_figure,
+    error_against_parameter_figure,
+    footprint_figure,
+    outputs_against_grid_figure,
+    outputs_against_input_figure,
+    percentile_histograms_figure,
+)
 from .failures import (
     choice_markdown,
     counts_markdown,
@@ -36,8 +44,7 @@ from .footprint import (
     MINIMUM_RUNS,
     footprint_markdown,
     footprint_statistics,
-    plot_footprint,
-    plot_touchdown_histograms,
+    touchdown_histogram_panels,
     touchdown_points,
 )
 from .statistics import ROUND_OFF, at_round_off, bootstrap_interval, rank_correlations, runs_needed
@@ -153,38 +160,6 @@ def _configuration(row, with_step: bool = True) -> str:
         elif isinstance(value, (int, float)) and math.isfinite(value):   # absent: NaN or "" in other rows
             parts.append(f"{name} {value:g}")
     return " ".join(p for p in parts if p)
-
-
-def _plot_error_against_cost(errors: list, path: Path) -> None:
-    """Error against wall time: one colour per configuration family, its steps joined by a line; one marker per case."""
-    families = sorted({e["family"] for e in errors})
-    cases = sorted({e["case"] for e in errors})
-    markers = "osD^v<>ph*"
-    figure, axes = new_figure(1, 2, size=(12.0, 5.0))
-    for ax, metric, unit in zip(axes[0], ("altitude_error", "max_tension_error"), ("m", "N")):
-        labelled = set()
-        for i, family in enumerate(families):
-            for j, case in enumerate(cases):
-                points = sorted((e["step"], e["wall_time"], e[metric]) for e in errors
-                                if e["family"] == family and e["case"] == case and e[metric] > 0
-                                and isinstance(e.get("step"), float))
-                if points:
-                    # ten colours, then the same colours dashed, dotted, ...
-                    ax.loglog([p[1] for p in points], [p[2] for p in points], ("-", "--", ":", "-.")[i // 10 % 4],
-                              color=f"C{i % 10}",
-                              marker=markers[j % len(markers)], markersize=5, linewidth=0.8,
-                              label=None if family in labelled else family)
-                    labelled.add(family)
-        ax.set_xlabel("wall time (s)")
-        ax.set_ylabel(f"{metric.replace('_', ' ')} against the reference ({unit})")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0, 1].legend(fontsize="x-small", title="configuration (line joins its steps)", title_fontsize="x-small")
-    if len(cases) > 1:
-        handles = [axes[0, 0].plot([], [], linestyle="none", color="0.3", marker=markers[j % len(markers)])[0]
-                   for j in range(len(cases))]
-        axes[0, 0].legend(handles, cases, fontsize="x-small", title="case", title_fontsize="x-small")
-    figure.suptitle("accuracy against cost: each run against its reference")
-    save_figure(figure, path)
 
 
 def percentiles(rows: list, outputs: list) -> dict:
@@ -320,11 +295,11 @@ def _errors(folder: Path, rows: list, grid: list, labels: dict, out: Path, paths
     errors = reference_errors(folder, rows, grid) if any(r.get("reference") == "True" for r in rows) else []
     if errors:
         paths["errors"] = _write_errors(errors, out / "errors.csv")
-        _plot_error_against_cost(errors, out / "error_vs_wall_time.png")
+        save_figure(error_against_cost_figure(errors), out / "error_vs_wall_time.png")
         paths["error_vs_wall_time"] = out / "error_vs_wall_time.png"
         for key in grid:
-            paths[f"error vs {key}"] = _plot_error_against_parameter(errors, key, labels[key],
-                                                                     out / f"error_vs_{_safe(key)}.png")
+            paths[f"error vs {key}"] = out / f"error_vs_{_safe(key)}.png"
+            save_figure(error_against_parameter_figure(errors, key, labels[key]), paths[f"error vs {key}"])
     return errors
 
 
@@ -356,13 +331,14 @@ def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict, fail
     stats["percentiles"] = {name: {"unit": unit, **p} for name, unit, p in rows}
     atomic_write_text(out / "footprint.json", json_text(stats, indent=2) + "\n")
     paths["footprint data"] = out / "footprint.json"
-    plot_footprint(points, stats, f"{title}: touchdown points and dispersion ellipses", out / "footprint.png",
-                   failed)
+    save_figure(footprint_figure(points, stats, f"{title}: touchdown points and dispersion ellipses", failed),
+                out / "footprint.png")
     paths["footprint"] = out / "footprint.png"
     landed_loads = [name for name in loads if name in stats["percentiles"]]   # lines of the runs that landed
     heaviest = sorted(landed_loads, key=lambda name: -stats["percentiles"][name]["p50"])[:5]   # largest median peaks
     missing = f" ({failed} failed runs not shown)" if failed else ""
-    plot_touchdown_histograms(landed, heaviest, f"{title}: {len(landed)} touchdowns{missing}", out / "touchdown.png")
+    save_figure(percentile_histograms_figure(touchdown_histogram_panels(landed, heaviest),
+                                             f"{title}: {len(landed)} touchdowns{missing}", 2.8), out / "touchdown.png")
     paths["touchdown"] = out / "touchdown.png"
     lines = footprint_markdown(stats, rows)
     return lines + (["", f"{failed} failed runs are not in the footprint: a failed run records no touchdown."]
@@ -370,81 +346,30 @@ def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict, fail
 
 
 def _plot_histograms(ok: list, shown: list, stats: dict, title: str, out: Path) -> Path:
-    figure, axes = new_figure(math.ceil(len(shown) / 2), 2, size=(10.0, 2.6 * math.ceil(len(shown) / 2) + 0.6))
-    for ax, name in zip(axes.ravel(), shown):
-        values = [r[name] for r in ok if isinstance(r.get(name), float)]
-        ax.hist(values, bins=min(30, max(5, len(values) // 5)), color="tab:blue", alpha=0.8)
-        for p in PERCENTILES:
-            ax.axvline(stats[name][f"p{p}"], color="k", linewidth=0.8, linestyle=":" if p != 50 else "-")
-        ax.set_xlabel(output_label(name))
-        ax.set_ylabel("runs")
-    for ax in axes.ravel()[len(shown):]:
-        ax.set_visible(False)
-    return _finish(figure, None, f"{title} (dotted: 1st and 99th percentile, solid: median)", out / "histograms.png")
-
-
-FAILED_MARK = {"marker": "x", "color": "red", "linestyle": "none", "markersize": 7, "clip_on": False}
-"""How a figure marks the failed runs: a red x."""
+    """``histograms.png``: each output in ``shown`` over the ok runs, with its PERCENTILES of ``stats``."""
+    panels = [([r[name] for r in ok if isinstance(r.get(name), float)], output_label(name),
+               {p: stats[name][f"p{p}"] for p in PERCENTILES}) for name in shown]
+    save_figure(percentile_histograms_figure(panels, title, 2.6), out / "histograms.png")
+    return out / "histograms.png"
 
 
 def scatter_figure(ok: list, failed: list, key: str, label: str, targets: list):
-    """Outputs against a drawn input, one point per ok run; each failed run a red x at its drawn value on the
-    bottom edge of every panel (it has no outputs)."""
-    figure, axes = new_figure(1, len(targets), size=(3.6 * len(targets), 3.4))
-    drawn = [r[key] for r in failed if isinstance(r.get(key), float)]
-    for ax, name in zip(axes[0], targets):
-        ax.plot([r[key] for r in ok], [r.get(name) for r in ok], ".", markersize=4, label=f"ok ({len(ok)} runs)")
-        if drawn:   # x in data units, y in axes units: on the bottom edge whatever the output's scale
-            ax.plot(drawn, [0.0] * len(drawn), transform=ax.get_xaxis_transform(), **FAILED_MARK,
-                    label=f"failed ({len(drawn)} runs, at their drawn value)")
-        ax.set_xlabel(label)
-        ax.set_ylabel(output_label(name))
-        ax.grid(True, alpha=0.3)
-    note = f"; red x: {len(drawn)} failed runs" if drawn else ""
-    figure.suptitle(f"outputs against {key}{note}")
-    if drawn:
-        axes[0, 0].legend(fontsize="x-small")
-    return figure
+    """Outputs against a drawn input (``views.study_figures.outputs_against_input_figure``), with their units."""
+    return outputs_against_input_figure(ok, failed, key, label, targets, [output_label(name) for name in targets])
 
 
 def _plot_grid(ok: list, key: str, label: str, targets: list, path: Path) -> Path:
     """Outputs against a grid parameter, one line per case and configuration."""
-    figure, axes = new_figure(1, len(targets), size=(3.8 * len(targets), 3.4))
-    for ax, name in zip(axes[0], targets):
+    panels = []
+    for name in targets:
+        curves = []
         for case, configuration in sorted({(r["case"], _configuration(r)) for r in ok}):
             points = sorted((r[key], r[name]) for r in ok if r["case"] == case and _configuration(r) == configuration
                             and isinstance(r.get(name), float) and isinstance(r.get(key), float))
             if points:
-                ax.plot(*zip(*points), "o-", label=f"{case} {configuration}", markersize=3)
-        ax.set_xlabel(label)
-        ax.set_ylabel(output_label(name))
-        ax.grid(True, alpha=0.3)
-    return _finish(figure, axes[0, 0], f"outputs against {key}", path)
-
-
-def _plot_error_against_parameter(errors: list, key: str, label: str, path: Path) -> Path:
-    """Errors against the reference over a grid parameter, one line per case and configuration."""
-    figure, axes = new_figure(1, 2, size=(12.0, 4.6))
-    positive = all(isinstance(e.get(key), float) and e[key] > 0 for e in errors)
-    for ax, metric, unit in zip(axes[0], ("altitude_error", "max_tension_error"), ("m", "N")):
-        for group in sorted({(e["case"], e["configuration"]) for e in errors}):
-            points = sorted((e[key], e[metric]) for e in errors if (e["case"], e["configuration"]) == group
-                            and isinstance(e.get(key), float) and e[metric] > 0)
-            if points:
-                ax.plot(*zip(*points), "o-", label=" ".join(group), markersize=4)
-        ax.set_xscale("log" if positive else "linear")
-        ax.set_yscale("log")
-        ax.set_xlabel(label)
-        ax.set_ylabel(f"{metric.replace('_', ' ')} against the reference ({unit})")
-        ax.grid(True, which="both", alpha=0.3)
-    return _finish(figure, axes[0, 1], f"error against {key}", path)
-
-
-def _finish(figure, legend_axis, title: str, path: Path) -> Path:
-    if legend_axis is not None and legend_axis.get_legend_handles_labels()[0]:
-        legend_axis.legend(fontsize="x-small")
-    figure.suptitle(title)
-    save_figure(figure, path)
+                curves.append((f"{case} {configuration}", points))
+        panels.append((output_label(name), curves))
+    save_figure(outputs_against_grid_figure(key, label, panels), path)
     return path
 
 

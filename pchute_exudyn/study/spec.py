@@ -58,8 +58,11 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_path
-from ..case.loader import Scale, _Context, _Table, load_case, read_toml
+from ..case.fields import Context, Table
+from ..case.files import read_toml
+from ..case.loader import load_case
 from ..case.method_table import INTEGRATORS, METHODS, OptionError, make_options
+from ..case.overrides import Scale
 from ..errors import CaseError
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
@@ -279,7 +282,7 @@ class StudySpec:
         return files
 
 
-def _read_options(t: _Table, method: str | None) -> tuple:
+def _read_options(t: Table, method: str | None) -> tuple:
     """The configuration's remaining keys as options of its method, validated by the method's Options type."""
     given = {key: value for key, value in t.data.items() if key not in t.allowed}
     if not given:
@@ -295,7 +298,7 @@ def _read_options(t: _Table, method: str | None) -> tuple:
     return tuple((f.name, given[f.name]) for f in fields(options_type) if f.name in given)
 
 
-def _read_configuration(t: _Table, single_step: bool) -> list:
+def read_configuration(t: Table, single_step: bool) -> list:
     if single_step:
         t.allowed.append("per")
     method = t.string("method", None, tuple(METHODS))
@@ -312,7 +315,7 @@ def _read_configuration(t: _Table, single_step: bool) -> list:
     return [Configuration(method, integrator, step, options) for step in steps]
 
 
-def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
+def _read_parameter(key: str, t: Table, source: str) -> Parameter:
     relative = t.boolean("relative", False)
     if "distribution" in t.data:
         name = t.string("distribution", choices=tuple(DISTRIBUTIONS))
@@ -341,7 +344,7 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
         raise t.error(None, "give exactly one of: distribution (with its parameters), values = [...], "
                             "range = {start, stop, step} or linspace = {start, stop, num}")
     if given[0] == "values":
-        raw = t._get("values", None, "")
+        raw = t.raw("values", None, "")
         if not isinstance(raw, list) or not raw:
             raise t.error("values", "must be a non-empty list", raw)
         if any(isinstance(v, float) and not math.isfinite(v) for v in raw):   # no case key takes NaN or inf
@@ -360,7 +363,7 @@ def _read_parameter(key: str, t: _Table, source: str) -> Parameter:
     else:
         r = t.table("linspace")
         start, stop = r.number("start", ""), r.number("stop", "")
-        num = r._get("num", None, "")
+        num = r.raw("num", None, "")
         r.allowed.append("num")
         if isinstance(num, bool) or not isinstance(num, int) or num < 2:
             raise r.error("num", "must be an integer >= 2", num)
@@ -380,9 +383,9 @@ def _normal_mass(low: float, high: float, mean: float, std: float) -> float:
     return cdf(high) - cdf(low)
 
 
-def _read_choice(key: str, t: _Table, relative: bool) -> Parameter:
+def _read_choice(key: str, t: Table, relative: bool) -> Parameter:
     """A discrete draw: ``values`` (any TOML values, e.g. canopy names) with optional ``weights`` (>= 0, not all 0)."""
-    values = t._get("values", None, "")
+    values = t.raw("values", None, "")
     if not isinstance(values, list) or not values:
         raise t.error("values", "required by distribution 'choice': a non-empty list of the values to draw from",
                       values)
@@ -400,11 +403,11 @@ def load_study(path) -> StudySpec:
     path = check_path(path, "path", "study file (TOML)")
     data = read_toml(path, "study")
     source = str(path)
-    ctx = _Context(source, {})
-    top = _Table(data, (), ctx)
+    ctx = Context(source, {})
+    top = Table(data, (), ctx)
     s = top.table("study")
     name = s.string("name", path.stem)
-    raw_cases = s._get("case", None, "")
+    raw_cases = s.raw("case", None, "")
     if isinstance(raw_cases, str):
         raw_cases = [raw_cases]
     if not isinstance(raw_cases, list) or not raw_cases or not all(isinstance(c, str) for c in raw_cases):
@@ -413,28 +416,28 @@ def load_study(path) -> StudySpec:
     for case in cases:
         if not case.is_file():
             raise s.error("case", f"case file not found: {case}", str(case))
-    runs = s._get("runs", 1, "")
+    runs = s.raw("runs", 1, "")
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise s.error("runs", "must be an integer >= 1 (Monte Carlo samples per grid point)", runs)
     if runs > MAX_RUNS:
         raise s.error("runs", f"must be <= {MAX_RUNS}: a study runs at most {MAX_RUNS} runs (MAX_RUNS)", runs)
-    seed = s._get("seed", None, "")
+    seed = s.raw("seed", None, "")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
         raise s.error("seed", "must be an integer >= 0", seed)
     duration = s.number("duration", "s", None, above=0.0)
     histories = s.boolean("histories", False)
     sampling = s.string("sampling", "random", SAMPLINGS)
     configurations = []
-    outer = s._get("configurations", [{}], "")
+    outer = s.raw("configurations", [{}], "")
     if not isinstance(outer, list) or not outer:
         raise s.error("configurations", "must be a non-empty array of tables ([[study.configurations]])", outer)
     for i, entry in enumerate(outer):
-        configurations.extend(_read_configuration(_Table(entry, ("study", "configurations", i), ctx), False))
+        configurations.extend(read_configuration(Table(entry, ("study", "configurations", i), ctx), False))
     reference_table = s.table("reference", None)
     reference, reference_per = None, "sample"
     if reference_table is not None:
         reference_per = reference_table.string("per", "sample", ("sample", "case"))
-        reference = _read_configuration(reference_table, True)[0]
+        reference = read_configuration(reference_table, True)[0]
     s.finish()
     parameters = []
     for key, table in top.named_tables("parameters", {}).items():
@@ -453,7 +456,7 @@ def load_study(path) -> StudySpec:
     return spec
 
 
-def _check_run_count(spec: StudySpec, s: _Table) -> None:
+def _check_run_count(spec: StudySpec, s: Table) -> None:
     """Refuse, before the run list is built, a study of more than MAX_RUNS runs (cases x grid x runs x
     configurations, with the references)."""
     grid = math.prod(len(p.values) for p in spec.parameters if p.distribution is None)

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..engine.display import DisplayModel, open_viewer
+from ..environment import DISPLAY, WAYLAND_DISPLAY
 from ..errors import InputError
 from ..results.io import atomic_write_text
 from ..results.result import load_scene
@@ -52,7 +53,7 @@ def prepare(folder, solution_path, scene=None) -> DisplayModel:
 
 def has_display() -> bool:
     """Whether a window can open: always on Windows and macOS, on Linux only with an X11 or Wayland display."""
-    return not sys.platform.startswith("linux") or bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+    return not sys.platform.startswith("linux") or bool(os.environ.get(DISPLAY) or os.environ.get(WAYLAND_DISPLAY))
 
 
 def display_problem() -> str | None:
@@ -60,7 +61,7 @@ def display_problem() -> str | None:
     Exudyn's renderer aborts the whole process (no exception) when it cannot open it."""
     if not has_display():
         return "DISPLAY is not set"
-    display = os.environ.get("DISPLAY")
+    display = os.environ.get(DISPLAY)
     if not sys.platform.startswith("linux") or not display:
         return None
     library = ctypes.util.find_library("X11")

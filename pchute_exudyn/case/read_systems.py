@@ -1,0 +1,283 @@
+"""Readers of ``[systems.<name>]`` (confluence, canopies, lines, opening, cluster) and of ``[failures]``."""
+
+from __future__ import annotations
+
+import math
+
+from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
+from ..physics.inflation import Inflation, InflationError, InflationStage
+from ..physics.lines import LoadElongation, LoadElongationError
+from .fields import NO_VALUE, Table, check_number, default_of, dotted
+from .model import (
+    Confluence,
+    Contact,
+    DragAreaSchedule,
+    Failures,
+    Line,
+    ParachuteSystem,
+    canopy_opening,
+)
+from .read_bodies import read_initial
+
+
+def read_system(name: str, t: Table, bodies: dict) -> ParachuteSystem:
+    c = t.table("confluence")
+    initial_table = c.table("initial", None)
+    confluence = Confluence(c.number("mass", "kg", above=0.0),
+                            read_initial(initial_table, attitude=False) if initial_table is not None else None)
+    c.finish()
+    canopies = _read_canopies(t, bodies)
+    canopy_key = canopy_key_of(t)
+    deploy_time = t.number("deploy_time", "s", None, minimum=0.0)
+    cutaway_time = t.number("cutaway_time", "s", None, above=0.0)
+    deploy_point = None
+    if "deploy_point" in t.data:
+        deploy_point = _read_body_point(t, "deploy_point", bodies, t.string("deploy_point"))
+    else:
+        t.allowed.append("deploy_point")
+    schedule_table = t.table("drag_area_schedule", None)
+    schedule = _read_schedule(schedule_table) if schedule_table is not None else None
+    inflation_table = t.table("inflation", None)
+    inflation = _read_inflation(inflation_table) if inflation_table is not None else None
+    if schedule is not None and inflation is not None:
+        raise t.error("inflation", "a system has a drag_area_schedule or an inflation, not both")
+    efficiency, spread, contact = _read_cluster(t, canopies)
+    line_tables = t.named_tables("lines")
+    if not line_tables:
+        raise t.error("lines", "a system needs at least one line")
+    lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
+    if deploy_time is not None:
+        missing = [key for key, value in ((canopy_key, canopies), ("deploy_point", deploy_point)) if not value]
+        if missing:
+            raise t.error(missing[0], "required: a system with a deploy_time is placed at line stretch, which needs "
+                                      "its canopy body and the vehicle point where its confluence goes")
+    if deploy_point is not None and deploy_point[0] in canopies:
+        raise t.error("deploy_point", f"is on the system's own canopy '{deploy_point[0]}': a system deploys from "
+                                      "the body it hangs from (e.g. \"vehicle.line_stretch\")",
+                      ".".join(deploy_point))
+    if cutaway_time is not None and cutaway_time <= (deploy_time or 0.0):
+        raise t.error("cutaway_time", f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
+                      cutaway_time)
+    for key, value in (("drag_area_schedule", schedule), ("inflation", inflation)):
+        if value is not None and (not canopies or any(bodies[c].aerodynamics is None for c in canopies)):
+            raise t.error(key, "needs canopy bodies with aerodynamics (canopy = \"<body>\")")
+    attached = {line.body for line in lines}
+    for canopy in canopies:
+        if canopy not in attached:
+            raise t.error(canopy_key, f"canopy '{canopy}' has no riser: no line of the system attaches to it",
+                          canopy if canopy_key == "canopy" else list(canopies))
+    if len(canopies) > 1 and any(bodies[c].aerodynamics is None for c in canopies):
+        bare = next(c for c in canopies if bodies[c].aerodynamics is None)
+        raise t.error("canopies", f"canopy '{bare}' has no aerodynamics: every canopy of a cluster needs them (its "
+                                  "drag, its envelope's size and its spread come from them)", list(canopies))
+    if contact is not None and any(bodies[c].aerodynamics is None or not bodies[c].aerodynamics.enabled
+                                   for c in canopies):
+        raise t.error("contact", "needs every canopy's aerodynamics, enabled (the envelope's size comes from the "
+                                 "reference area and the drag-area fraction); set contact.enabled = false otherwise")
+    t.finish()
+    return ParachuteSystem(name, confluence, tuple(lines), canopies, deploy_time, deploy_point, cutaway_time,
+                           schedule, inflation, efficiency, spread, contact)
+
+
+def _read_canopies(t: Table, bodies: dict) -> tuple:
+    """``canopy = "<body>"`` or, for a cluster, ``canopies = ["<body>", ...]``: free bodies, each named once."""
+    if "canopy" in t.data and "canopies" in t.data:
+        raise t.error("canopies", "give canopy (one body) or canopies (a cluster), not both", t.data["canopies"])
+    key = canopy_key_of(t)
+    t.allowed.append("canopies" if key == "canopy" else "canopy")
+    raw = t.raw(key, None, "")
+    if raw is None:
+        return ()
+    names = [raw] if key == "canopy" else raw
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise t.error(key, "must be a body name" if key == "canopy" else "must be a non-empty list of body names",
+                      raw)
+    for canopy in names:
+        if canopy not in bodies or bodies[canopy].fixed:
+            raise t.error(key, f"must name free bodies; '{canopy}' is not one (bodies are: {', '.join(bodies)})",
+                          raw)
+    if len(set(names)) != len(names):
+        raise t.error(key, "names a body twice", raw)
+    return tuple(names)
+
+
+def canopy_key_of(t: Table) -> str:
+    """The key a system's table names its canopies by: ``canopies`` (a cluster) or ``canopy``."""
+    return "canopies" if "canopies" in t.data else "canopy"
+
+
+def _read_cluster(t: Table, canopies: tuple) -> tuple:
+    """``[systems.<name>.cluster]`` and ``[systems.<name>.contact]``: (drag efficiency, deploy spread in rad or None,
+    Contact or None); both tables only for a system of two or more canopies."""
+    cluster_table, contact_table = t.table("cluster", None), t.table("contact", None)
+    for table, key in ((cluster_table, "cluster"), (contact_table, "contact")):
+        if table is not None and len(canopies) < 2:
+            raise t.error(key, "needs a cluster: a system with two or more canopies (canopies = [...])")
+    efficiency, spread = DEFAULT_DRAG_EFFICIENCY, None
+    if cluster_table is not None:
+        if "drag_efficiency" in cluster_table.data:
+            efficiency = cluster_table.sequence("drag_efficiency", "")
+            if any(not 0.0 < eta <= 1.0 for eta in efficiency):
+                raise cluster_table.error("drag_efficiency", "each must be within (0, 1]: eta for 1, 2, ... inflating "
+                                                             "canopies", list(efficiency))
+        else:
+            cluster_table.allowed.append("drag_efficiency")
+        spread_deg = cluster_table.number("deploy_spread_deg", "deg", None, minimum=0.0, maximum=90.0)
+        spread = None if spread_deg is None else math.radians(spread_deg)
+        cluster_table.finish()
+    contact = Contact() if len(canopies) > 1 else None
+    if contact_table is not None:
+        enabled = contact_table.boolean("enabled", True)
+        ratio = default_of(Contact, "projected_diameter_ratio")
+        contact = Contact(contact_table.number("stiffness", "N/m", None, above=0.0),
+                          contact_table.number("damping", "N s/m", None, minimum=0.0),
+                          contact_table.number("projected_diameter_ratio", "", ratio, above=0.0, maximum=1.0))
+        contact_table.finish()
+        contact = contact if enabled else None
+    return tuple(efficiency), spread, contact
+
+
+def _read_line(name: str, lt: Table, bodies: dict) -> Line:
+    body, point = _read_body_point(lt, "attach", bodies, lt.string("attach"))
+    free_length = lt.number("free_length", "m", above=0.0)
+    table_data = lt.table("load_elongation", None)
+    table = _read_load_elongation(table_data) if table_data is not None else None
+    if table is not None and "stiffness" in lt.data:
+        raise lt.error("stiffness", "give stiffness or load_elongation, not both", lt.data["stiffness"])
+    # with a table, K is the table's initial tangent stiffness (for reports); the table gives the tension
+    stiffness = table.slopes()[0] / free_length if table is not None else lt.number("stiffness", "N/m", minimum=0.0)
+    line = Line(name, body, point, free_length=free_length, stiffness=stiffness,
+                damping=lt.number("damping", "N s/m", minimum=0.0), load_elongation=table)
+    lt.finish()
+    return line
+
+
+def _read_body_point(t: Table, key: str, bodies: dict, text: str) -> tuple:
+    body, _, point = text.partition(".")
+    if body not in bodies:
+        raise t.error(key, f"unknown body '{body}'; bodies are: {', '.join(bodies)}", text)
+    if point not in bodies[body].points:
+        known = ", ".join(bodies[body].points) or "none"
+        raise t.error(key, f"body '{body}' has no point '{point}'; its points are: {known} "
+                           "(write \"<body>.<point>\")", text)
+    return body, point
+
+
+def _read_load_elongation(t: Table) -> LoadElongation:
+    """``load_elongation = { strain = [...], tension = [...] }`` of a line."""
+    strain = t.sequence("strain", "", min_length=2)
+    tension = t.vector("tension", "N", length=len(strain))
+    t.finish()
+    try:
+        return LoadElongation(strain, tension)
+    except LoadElongationError as exc:
+        raise t.error(exc.field, str(exc), exc.value) from None
+
+
+def _read_schedule(t: Table) -> DragAreaSchedule:
+    times = t.sequence("time", "s", min_length=1)
+    fractions = t.vector("fraction", "", length=len(times))
+    t.finish()
+    if times[0] < 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+        raise t.error("time", "times since deployment must be >= 0 and strictly increasing", list(times))
+    if any(not 0.0 <= f <= 1.0 for f in fractions):
+        raise t.error("fraction", "fractions of the full drag area must be within [0, 1]", list(fractions))
+    return DragAreaSchedule(times, fractions)
+
+
+def _read_inflation(t: Table) -> Inflation:
+    """``[systems.<name>.inflation]``: the fill-constant opening (stage columns as equal-length lists)."""
+    starts = t.sequence("stage_start", "s")
+    columns = {key: t.vector(key, "", length=len(starts)) for key in ("fraction", "fill_constant", "exponent")}
+    fractions = columns["fraction"]
+    if any(b < a for a, b in zip(fractions, fractions[1:])):
+        raise t.error("fraction", "must not decrease from stage to stage: a disreef opens the canopy further",
+                      list(fractions))
+    stages = tuple(InflationStage(start, *values) for start, *values in
+                   zip(starts, columns["fraction"], columns["fill_constant"], columns["exponent"]))
+    scalars = {key: t.number(key, unit, default_of(Inflation, key)) for key, unit in
+               (("initial_fraction", ""), ("overinflation", ""), ("overinflation_decay", "s"))}
+    t.finish()
+    try:
+        return Inflation(stages, **scalars)
+    except InflationError as exc:
+        raise t.error(exc.field, str(exc), exc.value) from None
+
+
+def read_failures(t: Table | None, systems: dict, duration: float) -> Failures:
+    """``[failures]``: the canopies that fail and how (``case.model.Failures``; docs/case-format.md). Every key names
+    canopies of the case's systems."""
+    if t is None:
+        return Failures()
+    owner = {canopy: system for system in systems.values() for canopy in system.canopies}
+
+    def canopy(key: str, name, value=NO_VALUE):
+        if not isinstance(name, str) or name not in owner:
+            known = ", ".join(owner) or "none (no system has a canopy)"
+            raise t.error(key, f"unknown canopy {name!r}; the canopies are: {known}",
+                          name if value is NO_VALUE else value)
+        return name
+
+    raw = t.raw("not_inflated", [], "")
+    names = ([] if raw == "" else [raw]) if isinstance(raw, str) else raw
+    if not isinstance(names, list):
+        raise t.error("not_inflated", "must be a canopy name or a list of them", raw)
+    not_inflated = tuple(canopy("not_inflated", name, raw) for name in names)
+    model = t.string("not_inflated_model", default_of(Failures, "not_inflated_model"), ("absent", "trailing"))
+    trailing = t.number("trailing_fraction", "", default_of(Failures, "trailing_fraction"), minimum=0.0, maximum=1.0)
+    cutaway = {}
+    for name, time in _named_values(t, "cutaway", "s").items():
+        system = owner[canopy(f"cutaway.{name}", name, time)]
+        if name in not_inflated:
+            raise t.error(f"cutaway.{name}", f"canopy '{name}' never inflates (failures.not_inflated): it cannot "
+                                             "also be cut away", time)
+        earliest, latest = system.deploy_time or 0.0, min(duration, system.cutaway_time or duration)
+        cutaway[name] = check_number(time, "s", None, earliest, None,
+                                      lambda m, n=name, v=time: t.error(f"cutaway.{n}", m, v))
+        if not cutaway[name] < latest:
+            raise t.error(f"cutaway.{name}", f"must be before {latest:g} s (the system's cut-away or the end of the "
+                                             "run)", cutaway[name])
+    delays, skipped = {}, {}
+    for key, unit, out, read in (("disreef_delay", "s", delays, _delays),
+                                 ("skipped_stages", "", skipped, _stage_numbers)):
+        for name, value in _named_values(t, key, unit).items():
+            system = owner[canopy(f"{key}.{name}", name, value)]
+            if system.inflation is None or len(system.inflation.stages) < 2:
+                raise t.error(f"{key}.{name}", f"canopy '{name}' has no reefed stages: it needs its system's "
+                                               "inflation with two or more stages", value)
+            out[name] = read(value, lambda m, k=f"{key}.{name}", v=value: t.error(k, m, v),
+                             len(system.inflation.stages))
+    t.finish()
+    failures = Failures(not_inflated, model, trailing, cutaway, delays, skipped)
+    for name in sorted(set(delays) | set(skipped)):   # the openings they give must be valid (moot if not inflated)
+        try:
+            canopy_opening(owner[name], name, failures)
+        except InflationError as exc:
+            raise t.error(f"{exc.field}.{name}", str(exc), exc.value) from None
+    return failures
+
+
+def _named_values(t: Table, key: str, unit: str) -> dict:
+    """A table of ``canopy = value`` under ``key`` ({} when absent), each value in ``unit``."""
+    value = t.raw(key, {}, "table")
+    if not isinstance(value, dict):
+        raise t.error(key, "must be a table of canopy = value", value)
+    for name in value:
+        t.ctx.units[dotted(t.path + (key, name))] = unit
+    return value
+
+
+def _delays(value, error, stages: int) -> tuple:
+    """A disreef delay: one number (s) for every disreef, or a list of one per disreef."""
+    values = [value] * (stages - 1) if not isinstance(value, list) else value
+    return tuple(check_number(v, "s", None, None, None, lambda m: error(f"{m}; give one number (s) or a list of "
+                                                                         f"{stages - 1}, one per disreef"))
+                 for v in values)
+
+
+def _stage_numbers(value, error, stages: int) -> tuple:
+    """Skipped stages: a stage number (from 1) or a list of them."""
+    values = value if isinstance(value, list) else [value]
+    if not values or any(isinstance(v, bool) or not isinstance(v, int) for v in values):
+        raise error(f"must be a stage number or a list of them (integers from 1 to {stages - 1})")
+    return tuple(values)

@@ -1,0 +1,224 @@
+"""Readers of the world a case flies in: ``[planet]``, ``[start]``, ``[atmosphere]`` (its wind, turbulence and
+gusts) and ``[simulation]``."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..physics.atmosphere import US76, MarsGRC, Wind
+from ..physics.planet import FlatPlanet, Planet, StartFrame
+from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
+from .fields import REQUIRED, Table, check_number, default_of
+from .method_table import INTEGRATORS, METHODS, OptionError, make_options
+from .model import Case, SimulationSettings
+from .start import VELOCITY_FRAMES, Release
+from .tables import AIR_GAMMA, AIR_GAS_CONSTANT, read_atmosphere_table
+
+
+def read_planet(p: Table):
+    """The [planet] section: an ellipsoid (its gravitational parameter, radii and rotation) or a flat planet."""
+    if p.string("model", "ellipsoid", ("ellipsoid", "flat")) == "flat":
+        planet = FlatPlanet(p.number("gravity", "m/s^2", minimum=0.0), p.string("name", default_of(FlatPlanet, "name")))
+    else:
+        planet = Planet(
+            gravitational_parameter=p.number("gravitational_parameter", "m^3/s^2", above=0.0),
+            equatorial_radius=p.number("equatorial_radius", "m", above=0.0),
+            polar_radius=p.number("polar_radius", "m", above=0.0),
+            rotation_rate=p.number("rotation_rate", "rad/s", default_of(Planet, "rotation_rate")),
+            name=p.string("name", default_of(Planet, "name")))
+        if planet.polar_radius > planet.equatorial_radius:
+            raise p.error("polar_radius", f"must be <= equatorial_radius ({planet.equatorial_radius:g} m)",
+                          planet.polar_radius)
+    p.finish()
+    return planet
+
+
+def read_start(s: Table, planet) -> tuple:
+    """``[start]``: the start frame, what the initial velocities are relative to, and the release (or None)."""
+    start = StartFrame(planet, s.number("latitude_deg", "deg", 0.0, minimum=-90.0, maximum=90.0),
+                       s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
+    frame = s.string("velocities_relative_to", default_of(Case, "velocities_relative_to"), VELOCITY_FRAMES)
+    release = _read_release(s.table("release", None))
+    s.finish()
+    return start, frame, release
+
+
+def _read_release(t: Table | None) -> Release | None:
+    """``[start.release]``: the aircraft's airspeed (m/s), heading and flight-path angle (deg)."""
+    if t is None:
+        return None
+    release = Release(t.number("airspeed", "m/s", minimum=0.0),
+                      t.number("heading_deg", "deg", minimum=-360.0, maximum=360.0),
+                      t.number("flight_path_deg", "deg", default_of(Release, "flight_path_deg"), minimum=-90.0,
+                               maximum=90.0))
+    t.finish()
+    return release
+
+
+def read_atmosphere(t: Table, ground_altitude: float, heading: tuple):
+    """``[atmosphere]``: the model, and the air's motion (``wind``, ``turbulence``, ``gusts``; docs/case-format.md).
+    ``ground_altitude`` (m) is the default ground of the power-law wind and the turbulence; ``heading`` orients the
+    turbulence where there is no mean wind."""
+    model = t.string("model", choices=("mars_grc", "us76", "table"))
+    if model == "table":
+        sound = {"gamma": t.number("gamma", "", AIR_GAMMA, above=0.0),
+                 "gas_constant": t.number("gas_constant", "J/(kg K)", AIR_GAS_CONSTANT, above=0.0),
+                 "speed_of_sound": t.number("speed_of_sound", "m/s", None, above=0.0)}
+        atmosphere = read_atmosphere_table(t.string("file"), **sound)
+    elif any(key in t.data for key in ("gamma", "gas_constant", "speed_of_sound")):
+        key = next(key for key in ("gamma", "gas_constant", "speed_of_sound") if key in t.data)
+        raise t.error(key, f"belongs to a table atmosphere (model = \"table\"); the {model} model has its own",
+                      t.data[key])
+    elif model == "us76":
+        atmosphere = US76()
+    else:
+        atmosphere = MarsGRC()
+    w = t.table("wind", None)
+    wind = _read_wind(w, ground_altitude) if w is not None else None
+    turbulence_table = t.table("turbulence", None)
+    turbulence = (_read_turbulence(turbulence_table, ground_altitude, heading) if turbulence_table is not None
+                  else None)
+    gusts = _read_gusts(t)
+    t.finish()
+    return atmosphere, wind, turbulence, gusts
+
+
+def _read_direction_speed(w: Table, speed_unit: str = "m/s") -> tuple:
+    """(east, north) from ``east``/``north`` or from ``speed``/``from_deg`` (the direction the wind comes from)."""
+    if "speed" in w.data or "from_deg" in w.data:
+        if "east" in w.data or "north" in w.data:
+            raise w.error("speed", "give either east and north or speed and from_deg, not both")
+        return wind_from_direction(w.number("speed", speed_unit, minimum=0.0), w.number("from_deg", "deg"))
+    return w.number("east", "m/s", 0.0), w.number("north", "m/s", 0.0)
+
+
+def _read_wind(w: Table, ground_altitude: float):
+    profile = w.string("profile", "table" if "altitude" in w.data else "constant", ("constant", "table", "power_law"))
+    if profile == "table":
+        altitude = w.sequence("altitude", "m", min_length=2)
+        if any(b <= a for a, b in zip(altitude, altitude[1:])):
+            raise w.error("altitude", "must be strictly increasing", list(altitude))
+        wind = Wind(altitude, w.vector("east", "m/s", len(altitude)), w.vector("north", "m/s", len(altitude)))
+    elif profile == "constant":
+        wind = Wind.constant(*_read_direction_speed(w))
+    else:
+        east, north = _read_direction_speed(w)
+        wind = PowerLawWind(east, north, w.number("reference_height", "m", above=0.0),
+                            w.number("exponent", "", minimum=0.0, maximum=1.0),
+                            w.number("ground_altitude", "m", ground_altitude))
+    w.finish()
+    return wind
+
+
+def _read_integer(t: Table, key: str, minimum: int = 0) -> int:
+    value = t.raw(key, REQUIRED, "")
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise t.error(key, f"must be an integer >= {minimum}", value)
+    return value
+
+
+def _read_turbulence(t: Table, ground_altitude: float, heading: tuple) -> DrydenTurbulence:
+    t.string("model", "dryden", ("dryden",))
+    seed = _read_integer(t, "seed")
+    ground = t.number("ground_altitude", "m", ground_altitude)
+    if "wind_speed_6m" in t.data:
+        given = [k for k in ("sigma_u", "sigma_v", "sigma_w", "length_u", "length_v", "length_w") if k in t.data]
+        if given:
+            raise t.error(given[0], "give either wind_speed_6m (the low-altitude forms) or the intensities and "
+                                    "scale lengths, not both")
+        turbulence = DrydenTurbulence(seed, ground, wind_speed_6m=t.number("wind_speed_6m", "m/s", minimum=0.0),
+                                      heading=heading)
+    else:
+        sigma = [t.number(f"sigma_{c}", "m/s", minimum=0.0) for c in "uvw"]
+        length = [t.number(f"length_{c}", "m", above=0.0) for c in "uvw"]
+        turbulence = DrydenTurbulence(seed, ground, sigma, length, heading=heading)
+    t.finish()
+    return turbulence
+
+
+def _read_gusts(t: Table) -> tuple:
+    raw = t.raw("gusts", [], "")
+    if not isinstance(raw, list):
+        raise t.error("gusts", "must be an array of tables ([[atmosphere.gusts]])", raw)
+    gusts = []
+    for i, data in enumerate(raw):
+        g = Table(data, t.path + ("gusts", i), t.ctx)
+        amplitude = g.number("amplitude", "m/s")
+        start = g.number("start", "s", minimum=0.0)
+        length = g.number("length", "s", above=0.0)
+        if "direction" in g.data:
+            if "from_deg" in g.data:
+                raise g.error("from_deg", "give either direction or from_deg, not both")
+            direction = np.array(g.vector("direction", ""), float)
+            with np.errstate(over="ignore"):
+                norm = np.linalg.norm(direction)
+            if not norm > 0.0:
+                raise g.error("direction", "must be a non-zero [east, north, up] vector", g.data["direction"])
+            if not math.isfinite(norm):   # its length overflows: the gust would be dropped
+                raise g.error("direction", "its length overflows: give a direction of moderate numbers (only the "
+                                           "direction counts), e.g. [1, 1, 0]", g.data["direction"])
+            direction = tuple((direction / np.linalg.norm(direction)).tolist())
+        else:
+            east, north = wind_from_direction(1.0, g.number("from_deg", "deg"))
+            direction = (east, north, 0.0)
+        g.finish()
+        gusts.append(Gust(amplitude, start, length, direction))
+    return tuple(gusts)
+
+
+def read_simulation(t: Table) -> SimulationSettings:
+    duration = t.number("duration", "s", above=0.0)
+    output_step = t.number("output_step", "s", 0.01, above=0.0, maximum=duration)
+    method = t.string("method", default_of(SimulationSettings, "method"), tuple(METHODS))
+    integrator = t.string("integrator", default_of(SimulationSettings, "integrator"), INTEGRATORS)
+    if integrator not in METHODS[method].integrators:
+        raise t.error("integrator", f"the {method} method runs with: {', '.join(METHODS[method].integrators)}",
+                      integrator)
+    spectral_radius = t.number("spectral_radius", "", default_of(SimulationSettings, "spectral_radius"), minimum=0.0,
+                               maximum=1.0)
+    options = _read_method_options(t)
+    ground_altitude = t.number("ground_altitude", "m", 0.0)
+    stop_at_ground = t.boolean("stop_at_ground", True)
+    rates = t.raw("descent_rate_events", [], "m/s")
+    if not isinstance(rates, list):
+        raise t.error("descent_rate_events", "must be a list of descent rates > 0 (m/s)", rates)
+    descent_rates = [check_number(r, "m/s", None, 0.0, None, lambda m: t.error("descent_rate_events", m, rates))
+                     for r in rates]
+    steps = _read_steps(t, duration)
+    t.finish()
+    return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, options,
+                              ground_altitude if stop_at_ground else None, tuple(descent_rates))
+
+
+def _read_method_options(t: Table) -> dict:
+    """``[simulation.<method>]`` tables: each method's options, validated by its Options type."""
+    options = {}
+    for name, method_class in METHODS.items():
+        table = t.table(name, None)
+        if table is None:
+            continue
+        table.allowed = list(table.data)
+        try:
+            options[name] = make_options(method_class.Options, table.data)
+        except OptionError as exc:
+            raise table.error(exc.field, exc.allowed, exc.value) from None
+    return options
+
+
+def _read_steps(t: Table, duration: float) -> dict:
+    """``[simulation.steps]``: ``<method>`` (rk4) and ``<method>_<integrator>`` keys, s."""
+    steps = {}
+    step_table = t.table("steps", None)
+    if step_table is None:
+        return steps
+    keys = [INTEGRATORS[integrator].step_key(name)
+            for name, method_class in METHODS.items() for integrator in method_class.integrators]
+    for key in keys:
+        if key in step_table.data:
+            steps[key] = step_table.number(key, "s", above=0.0, maximum=duration)
+        else:
+            step_table.allowed.append(key)
+    step_table.finish()
+    return steps

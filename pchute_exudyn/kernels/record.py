@@ -1,0 +1,185 @@
+"""Record the argument types the package calls each kernel with from Python: a developer tool.
+
+``python -m pchute_exudyn.kernels.record [CASE ...]`` runs small models of every method (two bodies, a
+load-elongation line, SP of either order and slack rule, equilibrium point, full mass RK4 and implicit, a cluster),
+then each CASE file with each method, and formats a table (``number_text``), with numba compiling each kernel on
+first call, and adds the argument types each kernel was called with from Python to ``kernels/signatures.json`` (what
+``python -m pchute_exudyn.kernels.build`` compiles). Rerun it when a kernel's arguments change
+(``tests/test_kernels.py`` fails until then). It runs the whole package: a top-layer module.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from .build import describe_type, in_jit_process, numba_type
+from .selection import KERNEL_MODULES, SIGNATURES, VARIABLE
+
+COMMAND = "pchute_exudyn.kernels.record"
+"""This module as a command (``python -m``), run again in the jit form."""
+
+CASE = """
+[case]
+vehicle = "probe"
+[planet]
+name = "Mars"
+gravitational_parameter = 4.282828685e13
+equatorial_radius = 3393940.0
+polar_radius = 3376780.0
+[start]
+latitude_deg = 0.0
+longitude_deg = 0.0
+[atmosphere]
+model = "mars_grc"
+[bodies.probe]
+mass = 700.0
+inertia = [200.0, 180.0, 210.0]
+[bodies.probe.points]
+a = [-0.8, 0.3, 0.5]
+b = [-0.8, 0.3, -0.5]
+c = [-0.8, -0.6, 0.0]
+[bodies.probe.initial]
+altitude = 8000.0
+[bodies.canopy]
+mass = 16.0
+inertia = [250.0, 1100.0, 1100.0]
+[bodies.canopy.points]
+riser = [31.3, 0.0, 0.0]
+[bodies.canopy.initial]
+altitude = 8034.4
+[bodies.canopy.aerodynamics]
+reference_area = 178.0
+axial_coefficient = 0.46
+center = [-1.5, 0.0, 0.0]
+[bodies.canopy.aerodynamics.normal_coefficient]
+alpha_deg = [0.0, 45.0, 90.0]
+value = [0.0, 0.14, 0.0]
+[systems.main.confluence]
+mass = 0.15
+[systems.main.confluence.initial]
+altitude = 8001.2
+{bridles}[systems.main.lines.riser]
+attach = "canopy.riser"
+free_length = 1.83
+damping = 600.0
+load_elongation = { strain = [0.0, 0.01, 0.05], tension = [0.0, 1100.0, 9000.0] }
+[simulation]
+duration = 0.05
+output_step = 0.01
+"""
+CLUSTER = """
+[systems.main]
+canopies = ["canopy", "twin"]
+[bodies.twin]
+mass = 16.0
+inertia = [250.0, 1100.0, 1100.0]
+points.riser = [31.3, 0.0, 0.0]
+initial = { altitude = 8034.4, east = 3.0 }
+[bodies.twin.aerodynamics]
+reference_area = 178.0
+axial_coefficient = 0.46
+center = [-1.5, 0.0, 0.0]
+normal_coefficient = { alpha_deg = [0.0, 90.0], value = [0.0, 0.0] }
+[systems.main.lines.twin]
+attach = "twin.riser"
+free_length = 1.83
+stiffness = 4000.0
+damping = 600.0
+"""
+"""A second canopy on the same confluence: a cluster, for the canopy-contact kernel."""
+BRIDLE = """[systems.main.lines.{name}]
+attach = "probe.{name}"
+free_length = 0.7
+stiffness = 47000.0
+damping = 470.0
+"""
+
+
+def record(cases=()) -> dict:
+    """Run small models of every method, then each case file of ``cases`` with each method, with numba compiling
+    the kernels; the argument and return types of every kernel called from Python, by kernel name."""
+    import numpy as np
+
+    import pchute_exudyn as pc
+    from pchute_exudyn.physics.singular_perturbation import confluence_velocity
+    from pchute_exudyn.results.number_text import table_text
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "warm.toml"
+        base = CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc"))
+        path.write_text(base)
+        case = pc.load_case(path)
+        for options in ({"order": 0}, {"order": 1}, {"slack_rule": "force"}):
+            pc.simulate(case, "sp", "rk4", 1e-2, 0.05, **options)
+        pc.simulate(case, "equilibrium", "rk4", 1e-2, 0.05)
+        pc.simulate(case, "full", "rk4", 1e-4, 0.002)
+        pc.simulate(case, "full", "implicit", 1e-2, 0.05)
+        path.write_text(base + CLUSTER)
+        pc.simulate(pc.load_case(path), "sp", "rk4", 1e-2, 0.05)
+    confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [1.0], [1e4],
+                        [1e2])
+    table_text(["a", "b"], [np.zeros(2), np.ones(2)])
+    for path in cases:
+        case = pc.load_case(path)
+        pc.simulate(case, "sp", "rk4", 1e-2)
+        pc.simulate(case, "equilibrium", "rk4", 1e-2)
+        pc.simulate(case, "full", "implicit", 1e-2)
+    return signatures_in_use()
+
+
+def merged(old: dict, new: dict) -> dict:
+    """The signatures of ``old`` and ``new`` together (a recording adds to what earlier ones found)."""
+    table = {name: list(entries) for name, entries in old.items()}
+    for name, entries in new.items():
+        table.setdefault(name, []).extend(entry for entry in entries if entry not in table[name])
+    return dict(sorted(table.items()))
+
+
+def signatures_in_use() -> dict:
+    """Every kernel's compiled signatures in this (jit-form) process: {name: [[argument types], return type]}."""
+    from numba.core.registry import CPUDispatcher
+
+    found = {}
+    for name in sorted(sys.modules):
+        if not name.startswith(KERNEL_MODULES):
+            continue
+        for value in vars(sys.modules[name]).values():
+            if isinstance(value, CPUDispatcher) and value.py_func.__module__ == name:
+                kernel = f"{name}.{value.py_func.__qualname__}"
+                for arguments, result in value.overloads.items():
+                    entry = [[describe_type(t) for t in arguments], describe_type(result.signature.return_type)]
+                    if _exportable(entry) and entry not in found.setdefault(kernel, []):
+                        found[kernel].append(entry)
+    return {name: entries for name, entries in found.items() if entries}
+
+
+def _exportable(entry) -> bool:
+    """Whether a signature's types can cross from Python (a kernel called by another kernel may have been compiled
+    for constants, 'Literal[int](0)': that is not a call from Python)."""
+    try:
+        [numba_type(text) for text in [*entry[0], entry[1]]]
+    except (KeyError, ValueError):
+        return False
+    return True
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog=f"python -m {COMMAND}", description=__doc__.splitlines()[0])
+    parser.add_argument("cases", nargs="*", metavar="CASE",
+                        help="a case file to run with each method too, after the small models of every method")
+    args = parser.parse_args(argv)
+    if os.environ.get(VARIABLE) != "jit":
+        return in_jit_process(COMMAND, argv or sys.argv[1:])
+    old = json.loads(SIGNATURES.read_text()) if SIGNATURES.is_file() else {}
+    SIGNATURES.write_text(json.dumps(merged(old, record(args.cases)), indent=1) + "\n")
+    print(f"wrote {SIGNATURES}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
