@@ -194,7 +194,7 @@ def _check_size(case: Case, step: float, duration: float) -> None:
         raise InputError(f"{duration:g} s at a step of {step:g} s is {steps:.3g} steps; the engine counts at most "
                          f"{MAX_STEPS} in a run: shorten the run (--t-end) or lengthen the step (--dt)")
     samples = min(duration / case.simulation.output_step, steps) + 1
-    values = ((BODY_VALUES + 1) * len(case.bodies)   # one value per body to spare
+    values = ((BODY_VALUES + 1) * len(case.bodies)   # +1: the estimate as first written (19), so the limit is unchanged
               + sum(CONFLUENCE_VALUES + len(system.lines) for system in case.systems.values()))
     need = samples * values * BYTES_PER_SAMPLE_VALUE
     if need > MAX_OUTPUT_BYTES:
