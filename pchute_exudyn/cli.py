@@ -143,6 +143,8 @@ def _run_case(args, figure) -> int:
     finally:
         if progress is not None:
             progress.close()
+    for warning in result.summary["warnings"][len(case.warnings):]:   # the run's own: a trigger that never fired
+        print(f"pchute run: warning: {warning}", file=sys.stderr)
     result.save(out, plot=not args.no_plot, overwrite=args.overwrite, draw=figure.draw if figure else None)
     _print_run(result, out, plan.stability_limit)
     return 0

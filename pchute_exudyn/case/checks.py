@@ -80,10 +80,10 @@ def check_events(top, body_tables, system_tables, simulation_table, bodies, syst
     for name, system in systems.items():
         st = system_tables[name]
         key = canopy_key_of(st)
-        if system.deploy_time is not None and system.deploy_time >= duration:
+        if system.deploy_time is not None and math.isfinite(system.deploy_time) and system.deploy_time >= duration:
             raise st.error("deploy_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
                            system.deploy_time)
-        if system.cutaway_time is not None and system.cutaway_time >= duration:
+        if system.cutaway_time is not None and math.isfinite(system.cutaway_time) and system.cutaway_time >= duration:
             raise st.error("cutaway_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
                            system.cutaway_time)
         for canopy in system.canopies:
@@ -103,7 +103,10 @@ def check_events(top, body_tables, system_tables, simulation_table, bodies, syst
                                                  "deployment; remove this table")
         if not placed and system.confluence.initial is None:
             raise st.error("confluence.initial", "required (or give the system a deploy_time)")
+    carried = top.data.get("separations", {})
     for name, body in bodies.items():
+        if name in carried if isinstance(carried, dict) else False:
+            continue   # rides with the vehicle until it separates (case.read_triggers.read_separations)
         if body.initial is None and name not in canopies or \
                 body.initial is None and systems[canopies[name]].deploy_time is None:
             raise body_tables[name].error("initial", "required (only a canopy deployed at line stretch has none)")

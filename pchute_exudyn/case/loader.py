@@ -29,6 +29,7 @@ from .model import Body, Case
 from .overrides import apply_override, parse_override
 from .read_bodies import read_body
 from .read_systems import read_failures, read_system
+from .read_triggers import check_triggers, read_separations
 from .read_world import read_atmosphere, read_planet, read_simulation, read_start
 from .start import Release, ground_relative
 
@@ -90,7 +91,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     if vehicle not in bodies:
         raise info.error("vehicle", f"must name a body; bodies are: {', '.join(bodies)}", vehicle)
     system_tables = top.named_tables("systems", {})
-    systems = {sys_name: read_system(sys_name, st, bodies) for sys_name, st in system_tables.items()}
+    triggers: dict = {}
+    systems = {sys_name: read_system(sys_name, st, bodies, triggers) for sys_name, st in system_tables.items()}
     check_vehicle(info, vehicle, systems)
     simulation_table = top.table("simulation")
     simulation = read_simulation(simulation_table)
@@ -107,7 +109,9 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     bodies, systems = ground_relative(bodies, systems, vehicle, wind, frame, release)
     check_connections(system_tables, bodies, systems, vehicle)
-    failures = read_failures(top.table("failures", None), systems, simulation.duration)
+    failures = read_failures(top.table("failures", None), systems, simulation.duration, bodies, triggers)
+    separations = read_separations(top.table("separations", None), bodies, vehicle, triggers)
+    check_triggers(top, triggers, systems, failures, separations, atmosphere)
     top.allowed.extend(("extends", "remove"))
     top.finish()
     warnings = check_plausible(data, ctx)
@@ -115,7 +119,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     return Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
                 wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units), failures=failures,
-                velocities_relative_to=frame, release=release, warnings=warnings)
+                velocities_relative_to=frame, release=release, warnings=warnings, triggers=triggers,
+                separations=separations)
 
 
 def _heading(vehicle: Body, release: Release | None) -> tuple:

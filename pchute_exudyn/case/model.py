@@ -360,6 +360,37 @@ class Failures:
         return cut is not None and cut <= time
 
 
+@dataclass(frozen=True)
+class Separation:
+    """A body the vehicle carries (its mass and inertia part of the vehicle's) until it separates as its own 6-DoF
+    body (heat shield, forward bay cover).
+
+    Attributes
+    ----------
+    body : str
+        The carried body (a body of the case without an initial state).
+    position : tuple of 3 float
+        Where its centre of mass rides, in vehicle body axes from the vehicle's own centre of mass (m); its axes are
+        the vehicle's.
+    speed : float
+        Relative speed (m/s) of the two after separation, along ``direction``; momentum is conserved.
+    direction : tuple of 3 float
+        Unit vector in vehicle body axes: the way the body leaves.
+    time : float
+        Run time (s) of the separation; inf until its trigger fires (``case.events``).
+    """
+
+    body: str
+    position: tuple
+    speed: float
+    direction: tuple
+    time: float = math.inf
+
+    def carried_at(self, time: float) -> bool:
+        """Whether the body still rides with the vehicle at ``time`` (s)."""
+        return time < self.time
+
+
 def canopy_opening(system: ParachuteSystem, canopy: str, failures: Failures):
     """How ``canopy`` of ``system`` opens with ``failures``: the system's ``Inflation`` with the canopy's cutter delays
     and skipped stages, or its ``DragAreaSchedule``, or the constant trailing fraction of a canopy that never
@@ -403,6 +434,8 @@ class SimulationSettings:
         when the vehicle's centre of mass reaches it. None when the case flies on (``stop_at_ground = false``).
     descent_rate_events : tuple of float
         Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
+    seed : int
+        Seed of the triggers' sensor noise (``physics.triggers``).
     """
 
     duration: float
@@ -414,6 +447,7 @@ class SimulationSettings:
     options: dict = field(default_factory=dict)
     ground_altitude: float | None = None
     descent_rate_events: tuple = ()
+    seed: int = 0
 
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
@@ -452,6 +486,12 @@ class Case:
     warnings : tuple of str
         One line per implausible (but possible) value (``case.plausible``): printed with the run line and kept in
         ``summary.json``.
+    triggers : dict of str to Trigger
+        The events fired by a trigger (``physics.triggers``), by event name (``<system>.deploy``, ``<system>.cutaway``,
+        ``<system>.disreef<k>``, ``<canopy>.cutaway``, ``<body>.separation``). Until it fires, such an event's time in
+        the case is ``math.inf`` (pending); ``with_event_times`` sets it.
+    separations : dict of str to Separation
+        The bodies carried by the vehicle until they separate, by body name.
     bodies : dict of str to Body
     systems : dict of str to ParachuteSystem
     simulation : SimulationSettings
@@ -477,6 +517,8 @@ class Case:
     velocities_relative_to: str = "ground"
     release: Release | None = None
     warnings: tuple = ()
+    triggers: dict = field(default_factory=dict)
+    separations: dict = field(default_factory=dict)
 
     def unit_of(self, key: str) -> str | None:
         """The unit of ``key`` in override syntax (``main.lines.*.stiffness``, body and system names leading),
@@ -550,9 +592,12 @@ class Case:
 
     def active_bodies(self, time: float) -> list:
         """Free bodies present at ``time`` (s): every body but the canopies of systems not active then, the canopies
-        cut away alone by then and those that never leave the vehicle (``Failures``)."""
+        cut away alone by then, those that never leave the vehicle (``Failures``) and the bodies it still carries
+        (``separations``)."""
         active = []
         for body in self.free_bodies():
+            if body.name in self.separations and self.separations[body.name].carried_at(time):
+                continue   # rides with the vehicle (case.carried)
             system = self.canopy_system(body.name)
             if system is None or (self.acting(system, time) and not self.failures.absent(body.name)
                                   and not self.failures.cut_by(body.name, time)):

@@ -7,6 +7,7 @@ import math
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
 from ..physics.inflation import Inflation, InflationError, InflationStage
 from ..physics.lines import LoadElongation, LoadElongationError
+from ..physics.triggers import At
 from .fields import NO_VALUE, Table, check_number, default_of, dotted
 from .model import (
     Confluence,
@@ -18,18 +19,19 @@ from .model import (
     canopy_opening,
 )
 from .read_bodies import read_initial
+from .read_triggers import read_trigger
 
 
-def read_system(name: str, t: Table, bodies: dict) -> ParachuteSystem:
-    c = t.table("confluence")
-    initial_table = c.table("initial", None)
-    confluence = Confluence(c.number("mass", "kg", above=0.0),
-                            read_initial(initial_table, attitude=False) if initial_table is not None else None)
-    c.finish()
+def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None) -> ParachuteSystem:
+    """``[systems.<name>]``; the triggers of its events go into ``triggers`` (event name -> Trigger)."""
+    triggers = {} if triggers is None else triggers
+    confluence = _read_confluence(t.table("confluence"))
     canopies = _read_canopies(t, bodies)
     canopy_key = canopy_key_of(t)
-    deploy_time = t.number("deploy_time", "s", None, minimum=0.0)
-    cutaway_time = t.number("cutaway_time", "s", None, above=0.0)
+    deploy_time = event_time(t, "deploy_time", "deploy_trigger", t.number("deploy_time", "s", None, minimum=0.0),
+                             f"{name}.deploy", bodies, triggers)
+    cutaway_time = event_time(t, "cutaway_time", "cutaway_trigger", t.number("cutaway_time", "s", None, above=0.0),
+                              f"{name}.cutaway", bodies, triggers)
     deploy_point = None
     if "deploy_point" in t.data:
         deploy_point = _read_body_point(t, "deploy_point", bodies, t.string("deploy_point"))
@@ -38,7 +40,7 @@ def read_system(name: str, t: Table, bodies: dict) -> ParachuteSystem:
     schedule_table = t.table("drag_area_schedule", None)
     schedule = _read_schedule(schedule_table) if schedule_table is not None else None
     inflation_table = t.table("inflation", None)
-    inflation = _read_inflation(inflation_table) if inflation_table is not None else None
+    inflation = _read_inflation(inflation_table, name, bodies, triggers) if inflation_table is not None else None
     if schedule is not None and inflation is not None:
         raise t.error("inflation", "a system has a drag_area_schedule or an inflation, not both")
     efficiency, spread, contact = _read_cluster(t, canopies)
@@ -55,7 +57,7 @@ def read_system(name: str, t: Table, bodies: dict) -> ParachuteSystem:
         raise t.error("deploy_point", f"is on the system's own canopy '{deploy_point[0]}': a system deploys from "
                                       "the body it hangs from (e.g. \"vehicle.line_stretch\")",
                       ".".join(deploy_point))
-    if cutaway_time is not None and cutaway_time <= (deploy_time or 0.0):
+    if cutaway_time is not None and math.isfinite(cutaway_time) and cutaway_time <= (deploy_time or 0.0):
         raise t.error("cutaway_time", f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
                       cutaway_time)
     for key, value in (("drag_area_schedule", schedule), ("inflation", inflation)):
@@ -185,9 +187,46 @@ def _read_schedule(t: Table) -> DragAreaSchedule:
     return DragAreaSchedule(times, fractions)
 
 
-def _read_inflation(t: Table) -> Inflation:
-    """``[systems.<name>.inflation]``: the fill-constant opening (stage columns as equal-length lists)."""
+def _read_confluence(c: Table) -> Confluence:
+    initial_table = c.table("initial", None)
+    confluence = Confluence(c.number("mass", "kg", above=0.0),
+                            read_initial(initial_table, attitude=False) if initial_table is not None else None)
+    c.finish()
+    return confluence
+
+
+def event_time(t: Table, time_key: str, trigger_key: str, time, event: str, bodies: dict, triggers: dict):
+    """An event's time: ``time`` (the fixed-time key), or from its trigger (``trigger_key``, exclusive with it): a
+    run-time trigger gives its time, any other one is recorded in ``triggers`` and the event is pending (inf)."""
+    table = t.table(trigger_key, None)
+    if table is None:
+        return time
+    if time is not None:
+        raise t.error(trigger_key, f"give {time_key} or {trigger_key}, not both")
+    trigger = read_trigger(table, bodies)
+    if isinstance(trigger.condition, At):
+        return trigger.condition.time
+    triggers[event] = trigger
+    return math.inf
+
+
+def _read_inflation(t: Table, system: str = "", bodies=None, triggers=None) -> Inflation:
+    """``[systems.<name>.inflation]``: the fill-constant opening (stage columns as equal-length lists); with
+    ``disreef_triggers`` (one per disreef) the disreefs are pending until they fire (start inf)."""
     starts = t.sequence("stage_start", "s")
+    listed = t.raw("disreef_triggers", None, "table")
+    if listed is not None:
+        if not isinstance(listed, list) or not listed:
+            raise t.error("disreef_triggers", "must be a list of trigger tables, one per disreef", listed)
+        if list(starts) != [0.0]:
+            raise t.error("stage_start", "must be [0.0] with disreef_triggers (the triggers time the disreefs)",
+                          list(starts))
+        for k, table in enumerate(listed, start=2):
+            trigger = read_trigger(Table(table, t.path + ("disreef_triggers", k - 2), t.ctx), bodies)
+            if isinstance(trigger.condition, At):
+                raise t.error(f"disreef_triggers[{k - 2}]", "a disreef at a fixed time goes in stage_start", table)
+            triggers[f"{system}.disreef{k}"] = trigger
+        starts = (0.0,) + (math.inf,) * len(listed)
     columns = {key: t.vector(key, "", length=len(starts)) for key in ("fraction", "fill_constant", "exponent")}
     fractions = columns["fraction"]
     if any(b < a for a, b in zip(fractions, fractions[1:])):
@@ -204,7 +243,7 @@ def _read_inflation(t: Table) -> Inflation:
         raise t.error(exc.field, str(exc), exc.value) from None
 
 
-def read_failures(t: Table | None, systems: dict, duration: float) -> Failures:
+def read_failures(t: Table | None, systems: dict, duration: float, bodies=None, triggers=None) -> Failures:
     """``[failures]``: the canopies that fail and how (``case.model.Failures``; docs/case-format.md). Every key names
     canopies of the case's systems."""
     if t is None:
@@ -231,12 +270,15 @@ def read_failures(t: Table | None, systems: dict, duration: float) -> Failures:
         if name in not_inflated:
             raise t.error(f"cutaway.{name}", f"canopy '{name}' never inflates (failures.not_inflated): it cannot "
                                              "also be cut away", time)
-        earliest, latest = system.deploy_time or 0.0, min(duration, system.cutaway_time or duration)
+        deployed = system.deploy_time if system.deploy_time is not None else 0.0
+        earliest = deployed if math.isfinite(deployed) else 0.0   # a triggered deployment: checked as it fires
+        latest = min(duration, system.cutaway_time or duration)
         cutaway[name] = check_number(time, "s", None, earliest, None,
                                       lambda m, n=name, v=time: t.error(f"cutaway.{n}", m, v))
         if not cutaway[name] < latest:
             raise t.error(f"cutaway.{name}", f"must be before {latest:g} s (the system's cut-away or the end of the "
                                              "run)", cutaway[name])
+    cutaway.update(_cutaway_triggers(t, canopy, cutaway, not_inflated, bodies, triggers))
     delays, skipped = {}, {}
     for key, unit, out, read in (("disreef_delay", "s", delays, _delays),
                                  ("skipped_stages", "", skipped, _stage_numbers)):
@@ -255,6 +297,26 @@ def read_failures(t: Table | None, systems: dict, duration: float) -> Failures:
         except InflationError as exc:
             raise t.error(f"{exc.field}.{name}", str(exc), exc.value) from None
     return failures
+
+
+def _cutaway_triggers(t: Table, canopy, cutaway: dict, not_inflated: tuple, bodies, triggers) -> dict:
+    """``failures.cutaway_trigger.<canopy>``: canopy -> its cut-away time (inf: pending on its trigger)."""
+    tables = t.raw("cutaway_trigger", {}, "table")
+    if not isinstance(tables, dict):
+        raise t.error("cutaway_trigger", "must be a table of canopy = trigger", tables)
+    times = {}
+    for name, table in tables.items():
+        canopy(f"cutaway_trigger.{name}", name, table)
+        if name in cutaway or name in not_inflated:
+            raise t.error(f"cutaway_trigger.{name}", f"canopy '{name}' already has failures.cutaway or never "
+                                                     "inflates", table)
+        trigger = read_trigger(Table(table, t.path + ("cutaway_trigger", name), t.ctx), bodies)
+        if isinstance(trigger.condition, At):
+            times[name] = trigger.condition.time
+        else:
+            times[name] = math.inf
+            triggers[f"{name}.cutaway"] = trigger
+    return times
 
 
 def _named_values(t: Table, key: str, unit: str) -> dict:

@@ -112,8 +112,8 @@ def _read_wind(w: Table, ground_altitude: float):
     return wind
 
 
-def _read_integer(t: Table, key: str, minimum: int = 0) -> int:
-    value = t.raw(key, REQUIRED, "")
+def _read_integer(t: Table, key: str, minimum: int = 0, default=REQUIRED) -> int:
+    value = t.raw(key, default, "")
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         raise t.error(key, f"must be an integer >= {minimum}", value)
     return value
@@ -187,9 +187,10 @@ def read_simulation(t: Table) -> SimulationSettings:
     descent_rates = [check_number(r, "m/s", None, 0.0, None, lambda m: t.error("descent_rate_events", m, rates))
                      for r in rates]
     steps = _read_steps(t, duration)
+    seed = _read_integer(t, "seed", default=default_of(SimulationSettings, "seed"))
     t.finish()
     return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, options,
-                              ground_altitude if stop_at_ground else None, tuple(descent_rates))
+                              ground_altitude if stop_at_ground else None, tuple(descent_rates), seed)
 
 
 def _read_method_options(t: Table) -> dict:

@@ -85,7 +85,8 @@ class Inflation:
         _check(len(stages) >= 1, "stages", [], "an inflation needs at least one stage")
         starts = [stage.start for stage in stages]
         _check(starts[0] == 0.0, "stage_start", starts, "the first stage starts at line stretch: 0 s")
-        _check(all(b > a for a, b in zip(starts, starts[1:])), "stage_start", starts,
+        # a disreef fired by a trigger that has not fired yet starts at inf (pending; ``case.events``)
+        _check(all(b > a or b == math.inf for a, b in zip(starts, starts[1:])), "stage_start", starts,
                "stages must start in order: strictly increasing times since line stretch (s)")
         for key, name, test, allowed in (("fraction", "fraction", lambda v: 0.0 < v <= 1.0, "within (0, 1]"),
                                          ("fill_constant", "fill_constant", lambda v: v > 0.0, "> 0"),

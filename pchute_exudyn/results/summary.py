@@ -61,14 +61,36 @@ class StartEvent(Event):
 @dataclass(frozen=True)
 class DeployEvent(Event):
     system: str = ""
+    trigger: dict | None = field(default=None, metadata=OPTIONAL)   # what fired it (``run.sequence``)
     kind: ClassVar[str] = "deploy"
+
+    @property
+    def name(self) -> str:
+        return f"{self.system}.deploy"
 
 
 @dataclass(frozen=True)
 class CutawayEvent(Event):
     system: str = ""
     canopy: str | None = field(default=None, metadata=OPTIONAL)   # one canopy of a cluster cut away alone
+    trigger: dict | None = field(default=None, metadata=OPTIONAL)
     kind: ClassVar[str] = "cutaway"
+
+    @property
+    def name(self) -> str:
+        return f"{self.canopy or self.system}.cutaway"
+
+
+@dataclass(frozen=True)
+class SeparationEvent(Event):
+    body: str = ""
+    relative_speed: float = 0.0   # m/s, along the separation direction
+    trigger: dict | None = field(default=None, metadata=OPTIONAL)
+    kind: ClassVar[str] = "separation"
+
+    @property
+    def name(self) -> str:
+        return f"{self.body}.separation"
 
 
 @dataclass(frozen=True)
@@ -78,7 +100,12 @@ class StageStartEvent(Event):
     speed: float = 0.0       # m/s, the canopy's air speed at the stage start
     fill_time: float = 0.0   # s
     canopy: str | None = field(default=None, metadata=OPTIONAL)   # the canopy, in a cluster
+    trigger: dict | None = field(default=None, metadata=OPTIONAL)
     kind: ClassVar[str] = "stage_start"
+
+    @property
+    def name(self) -> str:
+        return f"{self.system}.disreef{self.stage}"
 
 
 @dataclass(frozen=True)
@@ -213,15 +240,48 @@ def failures_flown(failures) -> dict:
     for name in ("cutaway", "disreef_delay", "skipped_stages"):
         value = getattr(failures, name)
         if value:
-            flown[name] = {canopy: list(v) if isinstance(v, tuple) else v for canopy, v in value.items()}
+            flown[name] = {canopy: list(v) if isinstance(v, tuple) else v for canopy, v in value.items()
+                           if not (isinstance(v, float) and v == math.inf)}   # a trigger that never fired
     return flown
 
 
-def events_planned(systems: dict) -> dict:
+CLEARANCE_AFTER = 2.0
+"""s after a separation at which its clearance (the distance between the two centres of mass) is reported."""
+
+
+def separation_summary(case, columns: dict, events: list) -> dict:
+    """Per body that separated: the time (s), the relative speed (m/s) and the clearance (m) between its centre of
+    mass and the vehicle's ``CLEARANCE_AFTER`` s later (or at the run's end when it comes first: then
+    ``clearance_after`` says how long after)."""
+    out = {}
+    time = columns["time"]
+    for event in events:
+        if event.kind != "separation":
+            continue
+        at = min(event.time + CLEARANCE_AFTER, float(time[-1]))
+        i = int(np.argmin(np.abs(time - at)))
+        parts = [np.array([columns[f"{name}_{axis}"][i] for axis in ("east", "north", "altitude")])
+                 for name in (case.vehicle, event.body)]
+        out[event.body] = {"time": event.time, "relative_speed": event.relative_speed,
+                           "clearance": float(np.linalg.norm(parts[1] - parts[0])),
+                           "clearance_after": float(time[i] - event.time)}
+    return out
+
+
+def events_planned(systems: dict, triggers: dict | None = None) -> dict:
     """Per parachute system its fixed schedule: ``deploy_time`` and ``cutaway_time`` (s; None: present from the
-    start, never cut away), as the case states them, before any failure."""
-    return {name: {"deploy_time": system.deploy_time, "cutaway_time": system.cutaway_time}
-            for name, system in systems.items()}
+    start, never cut away), as the case states them, before any failure; an event fired by a trigger has None there
+    and ``deploy_trigger`` / ``cutaway_trigger``: what fires it."""
+    planned = {}
+    for name, system in systems.items():
+        entry = {}
+        for kind, time in (("deploy", system.deploy_time), ("cutaway", system.cutaway_time)):
+            trigger = (triggers or {}).get(f"{name}.{kind}")
+            entry[f"{kind}_time"] = None if trigger is not None else time
+            if trigger is not None:
+                entry[f"{kind}_trigger"] = trigger.describe()
+        planned[name] = entry
+    return planned
 
 
 @dataclass(frozen=True)
@@ -262,6 +322,7 @@ class RunSummary:
     warnings: tuple = ()    # one line per implausible case value (``Case.warnings``, ``case.plausible``)
     failures: dict = field(default_factory=dict)        # the [failures] the run flew with (``failures_flown``)
     events_planned: dict = field(default_factory=dict)  # per system its fixed deploy and cut-away times (s)
+    separations: dict = field(default_factory=dict)     # per separated body (``separation_summary``); {} without
 
     @property
     def steps_per_second(self) -> float | None:
@@ -278,7 +339,8 @@ class RunSummary:
                 **({"opening_loads": self.opening_loads} if self.opening_loads else {}),
                 **({"cluster": self.cluster} if self.cluster else {}),
                 **({"pendulum": self.pendulum} if self.pendulum else {}),
-                **({"descent": self.descent} if self.descent else {}), "warnings": list(self.warnings),
+                **({"descent": self.descent} if self.descent else {}),
+                **({"separations": self.separations} if self.separations else {}), "warnings": list(self.warnings),
                 "failures": self.failures, "events_planned": self.events_planned,
                 "units": self.units,
                 "versions": self.versions, "created": self.created}

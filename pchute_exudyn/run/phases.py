@@ -10,13 +10,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..case.carried import carried, case_at, vehicle_with
 from ..case.model import Case, Contact, ParachuteSystem
 from ..engine.state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
 from ..errors import SimulationError
 from ..physics.cluster import touching_spread
 from ..physics.deployment import cluster_placement, line_stretch_placement
 from ..physics.inflation import Inflation, InflationProgress, nominal_diameter
-from ..results.summary import CutawayEvent, DeployEvent
+from ..physics.separation import rigid_point_state, speed_shares
+from ..results.summary import CutawayEvent, DeployEvent, SeparationEvent
 
 
 def boundaries(case: Case, duration: float) -> list:
@@ -24,6 +26,7 @@ def boundaries(case: Case, duration: float) -> list:
     duration (s)."""
     times = {0.0, duration}
     events = [t for system in case.systems.values() for t in (system.deploy_time, system.cutaway_time)]
+    events += [separation.time for separation in case.separations.values()]
     for t in events + list(case.failures.cutaway.values()):
         if t is not None and 0.0 < t < duration:
             times.add(t)
@@ -31,11 +34,44 @@ def boundaries(case: Case, duration: float) -> list:
 
 
 def initial_states(case: Case) -> tuple[dict, dict]:
-    """States at t = 0 of the bodies and confluences that have an initial state in the case."""
+    """States at t = 0 of the bodies and confluences that have an initial state in the case (a vehicle carrying
+    bodies: of its composite's centre of mass, ``case.carried``)."""
     bodies = {body.name: initial_body_state(case, body) for body in case.free_bodies() if body.initial is not None}
     confluences = {system.name: initial_confluence_state(case, system) for system in case.systems.values()
                    if system.confluence.initial is not None}
+    riding = carried(case, 0.0)
+    if riding:
+        own = bodies[case.vehicle]
+        _, center = vehicle_with(case, riding)
+        position, velocity = rigid_point_state(own.position, own.attitude, own.velocity, own.angular_velocity, center)
+        bodies[case.vehicle] = BodyState(position, own.attitude, velocity, own.angular_velocity)
     return bodies, confluences
+
+
+def separate(case: Case, body_states: dict, time: float) -> tuple[dict, list]:
+    """The body states after the separations at ``time`` (s), and their events: the vehicle's composite state
+    re-referred to what it still carries, each leaving body at its own centre of mass with the rigid-body velocity
+    there and the separation speed shared by momentum (``physics.separation``)."""
+    leaving = [s for s in case.separations.values() if s.time == time]
+    if not leaving:
+        return body_states, []
+    vehicle = body_states[case.vehicle]
+    remaining, after = vehicle_with(case, carried(case, time))
+    _, before = vehicle_with(case, carried(case, time, before=True))
+    rigid = (vehicle.position, vehicle.attitude, vehicle.velocity, vehicle.angular_velocity)
+    states, events = dict(body_states), []
+    position, velocity = rigid_point_state(*rigid, after - before)
+    for separation in leaving:
+        body_mass = case.bodies[separation.body].mass
+        vehicle_share, body_share = speed_shares(remaining.mass, body_mass, separation.speed)
+        direction = vehicle.attitude @ np.asarray(separation.direction, float)
+        velocity = velocity + vehicle_share * direction
+        body_position, body_velocity = rigid_point_state(*rigid, np.asarray(separation.position, float) - before)
+        states[separation.body] = BodyState(body_position, vehicle.attitude.copy(),
+                                            body_velocity + body_share * direction, vehicle.angular_velocity.copy())
+        events.append(SeparationEvent(time, separation.body, separation.speed))
+    states[case.vehicle] = BodyState(position, vehicle.attitude, velocity, vehicle.angular_velocity)
+    return states, events
 
 
 def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) -> tuple[dict, ConfluenceState]:
@@ -95,9 +131,13 @@ def default_spread(case: Case, system: ParachuteSystem, canopies: list) -> float
 
 
 def next_phase(case: Case, start: float, end: float, body_states: dict, confluence_states: dict) -> Phase:
-    """The phase from ``start`` to ``end``: systems active then, newly deployed ones placed at line stretch."""
+    """The phase from ``start`` to ``end``: systems active then, bodies separated then leaving the vehicle, newly
+    deployed systems placed at line stretch."""
+    body_states, separations = separate(case, body_states, start)
+    case = case_at(case, start)
     systems = [s.name for s in case.systems.values() if case.acting(s, start)]
     phase = Phase(start, end, systems, case.active_bodies(start))
+    phase.events.extend(separations)
     for system in case.systems.values():
         if system.cutaway_time is not None and system.cutaway_time == start:
             phase.events.append(CutawayEvent(start, system.name))
@@ -138,3 +178,12 @@ def initial_phase(case: Case) -> Phase:
     phase = next_phase(case, 0.0, end, bodies, confluences)
     phase.inflation = inflation_progress(case)
     return phase
+
+
+def retime_openings(case: Case, openings: dict) -> None:
+    """Give each opening the line stretch and disreef times ``case`` now holds (a triggered deployment or disreef
+    that has fired, ``run.sequence``); the speeds measured so far stay."""
+    for (name, canopy), progress in openings.items():
+        system = case.systems[name]
+        progress.inflation = case.opening_of(system, canopy)
+        progress.line_stretch = system.deploy_time or 0.0

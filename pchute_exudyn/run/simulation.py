@@ -3,21 +3,24 @@ phase by phase, integrate, check, and name the outputs."""
 
 from __future__ import annotations
 
+import copy
 import math
 import tempfile
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
 
 from ..boundary import check_callable, check_case, check_flag
+from ..case.carried import case_at
 from ..case.method_table import INTEGRATORS, METHODS, OptionError
 from ..case.model import Case
 from ..case.plausible import check_time_scales
 from ..engine.bodies import Touchdown
 from ..engine.solver import integrate, versions
 from ..engine.state import BODY_VALUES, CONFLUENCE_VALUES, initial_confluence_state, initial_point
+from ..engine.triggers import TriggerMonitor
 from ..errors import InputError, Interrupted, SimulationError, short_repr
 from ..kernels import selection
 from ..methods.base import Method, line_arrays, line_constants, unstable_step_message
@@ -33,10 +36,12 @@ from ..results.summary import (
     merge_facts,
     opening_events,
     opening_loads,
+    separation_summary,
 )
 from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
 from .outputs import check_history, concatenate, derive_columns, scene
-from .phases import boundaries, inflation_progress, initial_states, next_phase
+from .phases import boundaries, inflation_progress, initial_states, next_phase, retime_openings
+from .sequence import Sequence
 
 MONITOR_INTERVAL = 0.1
 """Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
@@ -244,15 +249,20 @@ def add_step_monitor(model, method: Method, step: float, interval: float = MONIT
     model.add_pre_step(monitor)
 
 
-def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None, solution_file=None):
-    """Build and integrate one phase; returns the model, its checked history and its touchdown (or None)."""
+def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None, solution_file=None,
+               sequence: Sequence | None = None):
+    """Build and integrate one phase; returns the model, its checked history, its touchdown and its trigger monitor
+    (each None when the phase has none)."""
     model = plan.method.build(case, phase)
     if INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
-    touchdown = None
+    touchdown = monitor = None
     if case.simulation.ground_altitude is not None and not case.bodies[case.vehicle].fixed:
         touchdown = Touchdown(model, case, case.simulation.ground_altitude)
         model.add_stop_condition(touchdown)
+    if sequence is not None and sequence.pending_watches():
+        monitor = TriggerMonitor(model, case, sequence.pending_watches(), sequence.times)
+        model.add_stop_condition(monitor)
     try:
         raw = integrate(model, plan.integrator, plan.step, phase.end, output_step, case.simulation.spectral_radius,
                         start=phase.start, report=report, solution_file=solution_file)
@@ -263,38 +273,68 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
     except BaseException:
         model.release()
         raise
-    return model, raw, touchdown
+    return model, raw, touchdown, monitor
+
+
+@dataclass
+class _Run:
+    """What a run has gathered so far (``run``); ``saved`` restores it to a phase's start."""
+
+    body_states: dict
+    confluence_states: dict
+    openings: dict
+    events: list
+    histories: list = field(default_factory=list)
+    facts: dict = field(default_factory=dict)
+
+    def saved(self) -> _Run:
+        return _Run(self.body_states, self.confluence_states, copy.deepcopy(self.openings), list(self.events),
+                    list(self.histories), dict(self.facts))
 
 
 def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
     """Integrate ``case`` phase by phase as ``plan`` says; ``report`` receives the simulation time (s) as it goes;
     with ``solution_folder`` Exudyn writes each phase's solution file there (``ENGINE_SOLUTION``).
 
-    Returns the checked engine history of the whole run, the method's facts, the event log and the openings
-    (``physics.inflation.InflationProgress`` per system with an inflation).
+    Returns the checked engine history of the whole run, the method's facts, the event log, the openings
+    (``physics.inflation.InflationProgress`` per system with an inflation) and the sequence (``run.sequence``).
     """
     output_step = min(case.simulation.output_step, plan.duration)
-    body_states, confluence_states = initial_states(case)
-    events, histories, facts = [StartEvent.of(case)], [], {}
-    times = boundaries(case, plan.duration)
-    openings = inflation_progress(case)
-    for number, (start, end) in enumerate(zip(times, times[1:])):
-        phase = next_phase(case, start, end, body_states, confluence_states)
-        phase.inflation = openings
-        events.extend(phase.events)
+    sequence = Sequence(case)
+    state = _Run(*initial_states(case), inflation_progress(sequence.case), [StartEvent.of(case)])
+    start, number = 0.0, 0
+    while start < plan.duration:
+        current = sequence.case
+        end = next(t for t in boundaries(current, plan.duration) if t > start)
+        saved, watches = state.saved(), sequence.snapshot() if sequence.triggered else None
+        if sequence.triggered:
+            retime_openings(current, state.openings)
+        phase = next_phase(current, start, end, state.body_states, state.confluence_states)
+        sequence.note_conditions(start, phase.body_states)
+        phase.inflation = state.openings
+        state.events.extend(phase.events)
         solution_file = None if solution_folder is None else Path(solution_folder) / ENGINE_SOLUTION.format(number)
-        model, raw, touchdown = _run_phase(case, plan, phase, output_step, report, solution_file)
+        model, raw, touchdown, monitor = _run_phase(case_at(current, start), plan, phase, output_step, report,
+                                                    solution_file, sequence)
         try:
-            histories.append(raw)
-            merge_facts(facts, model.facts())
+            stopped = raw.stopped_at
+            if monitor is not None and monitor.firings and (touchdown is None or touchdown.crossing is None):
+                if sequence.fire(monitor.firings, start) < stopped:   # inside the step just taken: again to t_f
+                    state, _ = saved, sequence.restore(watches)
+                    continue
+            state.histories.append(raw)
+            number += 1
+            merge_facts(state.facts, model.facts())
             if touchdown is not None and touchdown.crossing is not None:
-                events.append(TouchdownEvent.from_crossing(*touchdown.crossing))
+                state.events.append(TouchdownEvent.from_crossing(*touchdown.crossing))
                 break
-            body_states, confluence_states = model.end_state()
+            state.body_states, state.confluence_states = model.end_state()
+            start = stopped if stopped is not None else end
         finally:
             model.release()   # every phase model's engine system freed as soon as it is read
-    raw = concatenate(case, histories)
-    return raw, facts, events + opening_events(case, openings, float(raw.time[-1])), openings
+    raw = concatenate(case, state.histories)
+    events = state.events + opening_events(sequence.case, state.openings, float(raw.time[-1]))
+    return raw, state.facts, sequence.attach(events), state.openings, sequence
 
 
 def _final_values(case: Case, columns: dict) -> dict:
@@ -309,7 +349,7 @@ def _final_values(case: Case, columns: dict) -> dict:
 
 
 def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns: dict, units: dict,
-              openings: dict | None = None) -> RunSummary:
+              openings: dict | None = None, sequence: Sequence | None = None) -> RunSummary:
     """The typed summary of a finished run."""
     last_deployment = max([e.time for e in events if e.kind == "deploy"], default=0.0)
     events = sorted(events + descent_rate_events(case.simulation.descent_rate_events, columns["time"],
@@ -327,8 +367,10 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
         method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {},
         cluster=cluster_summary(case, columns, events), pendulum=pendulum_summary(case, columns, events),
-        descent=descent_summary(case, columns), warnings=case.warnings, failures=failures_flown(case.failures),
-        events_planned=events_planned(case.systems))
+        descent=descent_summary(case, columns), failures=failures_flown(case.failures),
+        warnings=case.warnings + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
+        events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
+        separations=separation_summary(case, columns, events))
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"
@@ -399,12 +441,13 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     _check_arguments(case, progress, engine_solution, history)
     plan = resolve_run(case, method, integrator, step, duration, _options(options, option_values))
     with tempfile.TemporaryDirectory() as folder:
-        raw, facts, events, openings = run(case, plan, progress, folder if engine_solution else None)
+        raw, facts, events, openings, sequence = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
-    columns, units = derive_columns(case, raw, history)
-    contacts = cluster_columns(case, raw, columns, units)
-    pendulum_columns(case, raw, columns, units)
-    summary = summarize(case, plan, raw, facts, events + contacts, columns, units,
-                        opening_loads(case, openings, columns))
+    flown = sequence.case   # the case with every triggered event at the time it fired
+    columns, units = derive_columns(flown, raw, history)
+    contacts = cluster_columns(flown, raw, columns, units)
+    pendulum_columns(flown, raw, columns, units)
+    summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
+                        opening_loads(flown, openings, columns), sequence)
     return Result(columns, units, summary.to_dict(), run_summary=summary,
                   scene=scene(case, raw) if history else None, attachments=attachments)

@@ -2,9 +2,11 @@
 
 Writes into ``DIR/report/``: ``report.md`` (counts, percentiles, failed runs and their errors, errors against the
 reference), ``percentiles.json``, ``histograms.png``, ``scatter_<parameter>.png`` (outputs against each drawn input),
-``grid_<parameter>.png`` (outputs against each grid parameter, one line per configuration), when runs touch down
-the landing footprint (``footprint.json``, ``footprint.png``, ``touchdown.png``: ``study.footprint``) and, when the
-study has a reference, ``errors.csv`` and ``error_vs_wall_time.png``.
+``grid_<parameter>.png`` (outputs against each grid parameter, one line per configuration), when runs deploy a
+system on a trigger ``deployment_box_<system>.png`` (Mach number against dynamic pressure at the deployment, with the
+1st-99th percentile box), when runs touch down the landing footprint (``footprint.json``, ``footprint.png``,
+``touchdown.png``: ``study.footprint``) and, when the study has a reference, ``errors.csv`` and
+``error_vs_wall_time.png``.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from ..results.io import atomic_write_text, ensure_writable_dir, json_text
 from ..results.result import Result
 from ..views.plotting import save_figure
 from ..views.study_figures import (
+    deployment_box_figure,
     error_against_cost_figure,
     error_against_parameter_figure,
     footprint_figure,
@@ -61,7 +64,8 @@ OUTPUT_UNITS = {"final_east": "m", "final_north": "m", "final_lateral": "m", "fi
                 "descent_rate": "m/s", "pendulum_max_deg": "deg", "pendulum_rms_deg": "deg",
                 "pendulum_amplitude_deg": "deg"}
 PREFIX_UNITS = {"peak_tension_": "N", "rms_tension_": "N", "peak_load_share_": "-", "max_flyout_": "deg",
-                "mean_flyout_": "deg"}
+                "mean_flyout_": "deg", "deploy_mach_": "-", "deploy_dynamic_pressure_": "Pa", "deploy_altitude_": "m",
+                "deploy_time_": "s", "separation_time_": "s", "separation_clearance_": "m"}
 
 
 def output_label(name: str) -> str:
@@ -82,6 +86,10 @@ MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", 
                 "descent_rate", "pendulum_max_deg")
 CLUSTER_OUTPUTS = ("peak_load_share_", "max_flyout_", "mean_flyout_")
 """Per-cluster outputs the report's percentile table shows (``runner.cluster_outputs``), by prefix."""
+DEPLOY_OUTPUTS = ("deploy_mach_", "deploy_dynamic_pressure_", "deploy_altitude_", "deploy_time_")
+SEPARATION_OUTPUTS = ("separation_time_", "separation_clearance_")
+"""Per triggered deployment and per separation outputs (``runner.sequence_outputs``), by prefix: the report's
+percentile table shows them right after the main outputs, each system (body) in the order of its median time."""
 
 
 def _number(text):
@@ -251,6 +259,7 @@ def study_report(folder) -> dict:
         paths["histograms"] = _plot_histograms(ok, outputs[:12], stats, f"{title}: {len(ok)} ok runs"
                                                + (f" ({len(failed)} failed not shown)" if failed else ""), out)
     _input_figures(ok, failed, drawn, grid, outputs, labels, out, paths)
+    boxes = _deployment_boxes(ok, stats, title, out, paths, len(failed))
     footprint = _footprint(ok, outputs, title, out, paths, len(failed))
     errors = _errors(folder, rows, grid, labels, out, paths)
     counts = failure_counts(rows, planned_runs(folder))
@@ -261,18 +270,63 @@ def study_report(folder) -> dict:
     paths["failures"] = out / "failures.json"
     first = _failure_section(counts, rows, failed, found, parameters)
     first += choice_markdown([r for r in rows if r.get("reference") != "True"], categorical) if failed else []
-    extra = footprint + _by_category(ok, categorical, outputs) + _ranking(ranking, skipped)
+    extra = boxes + footprint + _by_category(ok, categorical, outputs) + _ranking(ranking, skipped)
     atomic_write_text(out / "report.md", _markdown(title, first, ok, failed, stats, errors, grid, paths, extra))
     paths["report"] = out / "report.md"
     return paths
 
 
 def _outputs(ok: list) -> list:
-    """The outputs the ok runs hold, in the report's order: the main ones, per cluster, then every peak tension."""
+    """The outputs the ok runs hold, in the report's order: the main ones, per triggered deployment and per
+    separation (in the order they happen), per cluster, then every peak tension."""
     systems = {k.removeprefix("peak_load_share_") for r in ok for k in r if k.startswith("peak_load_share_")}
     clustered = [f"{prefix}{system}" for system in sorted(systems) for prefix in CLUSTER_OUTPUTS]
-    return [o for o in MAIN_OUTPUTS + tuple(clustered) if any(isinstance(r.get(o), float) for r in ok)] + \
+    deployed = [f"{prefix}{system}" for system in _in_time_order(ok, "deploy_time_") for prefix in DEPLOY_OUTPUTS]
+    separated = [f"{prefix}{body}" for body in _in_time_order(ok, "separation_time_") for prefix in SEPARATION_OUTPUTS]
+    return [o for o in MAIN_OUTPUTS + tuple(deployed + separated + clustered)
+            if any(isinstance(r.get(o), float) for r in ok)] + \
         sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
+
+
+def _in_time_order(ok: list, prefix: str) -> list:
+    """The names after ``prefix`` (``deploy_time_``: systems, ``separation_time_``: bodies) in the ok runs' columns,
+    by their median time over the runs that have one (then by name; those without a time last)."""
+    names = {k.removeprefix(prefix) for r in ok for k in r if k.startswith(prefix)}
+    times = {name: [r[prefix + name] for r in ok if isinstance(r.get(prefix + name), float)] for name in names}
+    return sorted(names, key=lambda name: (0, float(np.median(times[name])), name) if times[name] else (1, 0.0, name))
+
+
+def _deployment_boxes(ok: list, stats: dict, title: str, out: Path, paths: dict, failed: int) -> list:
+    """``deployment_box_<system>.png`` for each system whose triggered deployment the ok runs record with its Mach
+    number and dynamic pressure (``failed`` runs have no values: counted, not drawn); returns the report lines."""
+    rows = []
+    for system in _in_time_order(ok, "deploy_time_"):
+        mach, pressure = f"deploy_mach_{system}", f"deploy_dynamic_pressure_{system}"
+        points = [(r[mach], r[pressure]) for r in ok if isinstance(r.get(mach), float)
+                  and isinstance(r.get(pressure), float)]
+        if not points or mach not in stats or pressure not in stats:
+            continue
+        box = {"mach": (stats[mach]["p1"], stats[mach]["p99"]),
+               "dynamic_pressure": (stats[pressure]["p1"], stats[pressure]["p99"])}
+        missing = f" ({failed} failed runs not shown)" if failed else ""
+        path = out / f"deployment_box_{_safe(system)}.png"
+        save_figure(deployment_box_figure(np.array(points), box, f"{title}: {system} deployment, {len(points)} ok "
+                                          f"runs{missing}", failed), path)
+        paths[f"deployment box {system}"] = path
+        rows.append(f"| {system} | {len(points)} | {box['mach'][0]:.4g} .. {box['mach'][1]:.4g} | "
+                    f"{box['dynamic_pressure'][0]:.5g} .. {box['dynamic_pressure'][1]:.5g} | "
+                    f"{stats[mach]['p50']:.4g} | {stats[pressure]['p50']:.5g} | `{path.name}` |")
+    if not rows:
+        return []
+    few = any(not stats[f"deploy_mach_{system}"]["p1_enough"] for system in _in_time_order(ok, "deploy_time_")
+              if f"deploy_mach_{system}" in stats)
+    return ["", "## Deployment box", "",
+            "The vehicle's Mach number and dynamic pressure when each system's trigger deployed it (`trigger."
+            "conditions` in each run's summary), over the ok runs: the 1st to 99th percentile of each, and the medians."
+            + (" With fewer than 1000 runs the box's edges are set by the few most extreme runs (the percentile "
+               "table's *)." if few else ""), "",
+            "| system | runs | Mach p1 .. p99 (-) | dynamic pressure p1 .. p99 (Pa) | Mach p50 (-) | "
+            "dynamic pressure p50 (Pa) | figure |", "|---|---|---|---|---|---|---|", *rows]
 
 
 def _input_figures(ok: list, failed: list, drawn: list, grid: list, outputs: list, labels: dict, out: Path,

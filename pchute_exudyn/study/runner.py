@@ -41,7 +41,39 @@ def scalar_outputs(result) -> dict:
         out[f"peak_tension_{label}"] = float(values.max()) if len(values) else None
         out[f"rms_tension_{label}"] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
     out.update(cluster_outputs(s))
+    out.update(sequence_outputs(s))
     return out
+
+
+def sequence_outputs(summary: dict) -> dict:
+    """The outputs of a run's triggered sequence (-, Pa, m, s): per system whose deployment a trigger fired (its
+    event carries ``trigger.conditions``), the vehicle's Mach number, dynamic pressure and altitude at the deployment
+    and its time; per separated body (``summary["separations"]``), the separation time and the distance between the
+    vehicle's and the body's centres of mass ``clearance_after`` s later. A run without triggered deployments or
+    separations has none of these columns (its study table keeps exactly the columns it had)."""
+    out = {}
+    for event in summary.get("events", []):
+        conditions = (event.get("trigger") or {}).get("conditions") if event.get("event") == "deploy" else None
+        system = event.get("system")
+        if not conditions or not system or f"deploy_time_{system}" in out:
+            continue
+        out[f"deploy_mach_{system}"] = _finite(conditions.get("mach"))
+        out[f"deploy_dynamic_pressure_{system}"] = _finite(conditions.get("dynamic_pressure"))
+        out[f"deploy_altitude_{system}"] = _finite(conditions.get("altitude"))
+        out[f"deploy_time_{system}"] = _finite(event.get("time"))
+    for body, entry in (summary.get("separations") or {}).items():
+        out[f"separation_time_{body}"] = _finite(entry.get("time"))
+        out[f"separation_clearance_{body}"] = _finite(entry.get("clearance"))
+    return out
+
+
+def _finite(value) -> float | None:
+    """``value`` as a float, or None when absent or not finite (an empty cell in the study table)."""
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        return None
+    return value if math.isfinite(value) else None
 
 
 def cluster_outputs(summary: dict) -> dict:

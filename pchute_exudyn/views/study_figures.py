@@ -1,5 +1,5 @@
 """Figures of a study's report (``study.report``, ``study.footprint``): histograms, outputs against inputs, errors
-against the reference and the landing footprint.
+against the reference, the deployment box and the landing footprint.
 
 The callers read the study folder and pass the data with its labels (strings); nothing here knows a study's files.
 Every function returns the figure; the caller saves it (``plotting.save_figure``).
@@ -161,5 +161,33 @@ def footprint_figure(points: np.ndarray, stats: dict, title: str, failed: int = 
         ax.plot([], [], "x", color="red", label=f"{failed} failed runs not shown: no touchdown")
         title = f"{title}\n({failed} failed runs not shown: no touchdown)"
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2)
+    figure.suptitle(title)
+    return figure
+
+
+def deployment_box_figure(points: np.ndarray, box: dict, title: str, failed: int = 0) -> Figure:
+    """A triggered deployment's conditions over the ok runs: the vehicle's Mach number (x, -) against its dynamic
+    pressure (y, Pa), one point per run (``points``: (runs, 2)), and the box of ``box`` (``{"mach": (p1, p99),
+    "dynamic_pressure": (p1, p99)}``: the 1st-99th percentile of each, taken separately); ``failed`` runs (no
+    deployment values) are counted in the legend, not drawn."""
+    from matplotlib.patches import Rectangle
+
+    figure, axes = new_figure(1, 1, size=(6.4, 5.8))
+    ax = axes[0, 0]
+    ax.plot(points[:, 0], points[:, 1], ".", color="tab:blue", markersize=5, alpha=0.8,
+            label=f"deployment ({len(points)} runs)")
+    (m1, m99), (q1, q99) = box["mach"], box["dynamic_pressure"]
+    ax.add_patch(Rectangle((m1, q1), m99 - m1, q99 - q1, fill=False, edgecolor="tab:red", linestyle="--",
+                           linewidth=1.2, label=f"1st-99th percentile box (each axis): Mach {m1:.3g}..{m99:.3g}, "
+                                            f"{q1:.4g}..{q99:.4g} Pa"))
+    ax.plot([float(np.median(points[:, 0]))], [float(np.median(points[:, 1]))], "k+", markersize=12,
+            markeredgewidth=2, label="medians")
+    if failed:   # an empty red x in the legend: the runs that are not in the figure
+        ax.plot([], [], "x", color="red", label=f"{failed} failed runs not shown: no deployment values")
+    ax.margins(0.15)
+    ax.set_xlabel("Mach number at deployment (-)")
+    ax.set_ylabel("dynamic pressure at deployment (Pa)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.13))
     figure.suptitle(title)
     return figure

@@ -1,0 +1,84 @@
+"""The sensed triggers of a phase as a stop condition: after every accepted step, each trigger that is armed and due
+samples the true state of its body (``physics.triggers.Watch``); the first firing stops the phase after that step,
+and the run places the event at its firing time (``run.simulation``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..case.model import Case
+from ..errors import SimulationError
+from ..physics.triggers import TriggerFailed
+from .model import Model
+from .state import BodyChannel
+
+
+def true_values(case: Case, position, velocity, time: float) -> dict:
+    """The true values a sensor reads (``physics.triggers.SENSED``, plus density in kg/m^3, speed of sound in m/s,
+    gravity in m/s^2, position and velocity) of a body at start-frame ``position`` (m) and ``velocity`` (m/s)."""
+    x, y, z = (float(v) for v in position)
+    altitude = case.start.altitude_scalar(x, y, z)
+    velocity = np.asarray(velocity, float)
+    ground = case.start.velocity_to_planet_fixed(np.array([x, y, z]), velocity, time)
+    air = velocity - np.array(case.air_motion()(x, y, z, altitude, time))
+    airspeed = float(np.linalg.norm(air))
+    density, sound = case.atmosphere.state(altitude) if case.atmosphere is not None else (0.0, math.nan)
+    gamma = case.atmosphere.kernel_parameters()[2] if case.atmosphere is not None else 1.4
+    return {"altitude": altitude, "altitude_ground": altitude - (case.simulation.ground_altitude or 0.0),
+            "pressure": density * sound * sound / gamma, "density": density, "speed_of_sound": sound,
+            "vertical_velocity": -float(np.dot(case.start.down(np.array([x, y, z])), velocity)),
+            "speed": float(np.linalg.norm(ground)), "airspeed": airspeed, "mach": airspeed / sound,
+            "dynamic_pressure": 0.5 * density * airspeed * airspeed,
+            "gravity": math.hypot(*case.start.gravity_scalar(x, y, z)),
+            "position": np.array([x, y, z]), "velocity": velocity}
+
+
+def pressure_function(case: Case):
+    """h (m) -> (pressure in Pa, density in kg/m^3) of the case's atmosphere (p = rho a^2 / gamma)."""
+    gamma = case.atmosphere.kernel_parameters()[2]
+
+    def pressure_at(altitude: float) -> tuple:
+        density, sound = case.atmosphere.state(altitude)
+        return density * sound * sound / gamma, density
+    return pressure_at
+
+
+class TriggerMonitor:
+    """Stop condition of the sensed triggers of a phase (``watches``: ``physics.triggers.Watch``; ``fired``: event ->
+    time of the events fired so far, updated by the run). ``firings`` holds what fired at the step that stopped."""
+
+    def __init__(self, model: Model, case: Case, watches: list, fired: dict):
+        self.case, self.watches, self.fired = case, watches, fired
+        self.model = model
+        self.start = model.phase.start
+        self.pressure_at = pressure_function(case) if case.atmosphere is not None else None
+        self.readers = {}
+        for watch in watches:
+            body = watch.trigger.sensor.body or case.vehicle
+            self.readers[body] = (model.channels[BodyChannel(body, "position")],
+                                  model.channels[BodyChannel(body, "velocity")])
+        self.firings: list = []
+
+    def __call__(self, t: float) -> bool:
+        if t <= self.start:   # the start state was sampled at the end of the phase before
+            return False
+        step = self.model.step
+        truths = {}
+        for watch in self.watches:
+            if watch.armed_by is not None and watch.armed_by not in self.fired:
+                continue
+            if not watch.due(t, step):
+                continue
+            body = watch.trigger.sensor.body or self.case.vehicle
+            if body not in truths:
+                position, velocity = self.readers[body]
+                truths[body] = true_values(self.case, position(), velocity(), t)
+            try:
+                firing = watch.observe(t, truths[body], self.fired, self.pressure_at)
+            except TriggerFailed as exc:
+                raise SimulationError(str(exc), exc.time) from None
+            if firing is not None:
+                self.firings.append(firing)
+        return bool(self.firings)

@@ -1,0 +1,99 @@
+"""A run's sequence of events as it unfolds: the times known so far (fixed ones, and each trigger's once it fires),
+the sensed triggers still watching (``physics.triggers.Watch``), and the case with the fired events in place
+(``case.events.with_event_times``), from which the phases are built.
+
+A sensed trigger that fires stops its phase after the step that decided (``engine.triggers.TriggerMonitor``). The
+event then happens exactly at the firing time t_f = sample time + lag: the run goes on to t_f in a new phase when t_f
+lies ahead, or integrates the phase again from its start to t_f when the firing time falls inside the step just taken
+(a lag shorter than that step, ``run.simulation.run``). Either way the phase boundary lands on t_f.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import replace
+
+from ..case.events import armed_by, known_times, with_event_times
+from ..case.model import Case
+from ..engine.triggers import true_values
+from ..physics.triggers import After, Watch
+
+
+class Sequence:
+    """The events of one run of ``case`` (see the module docstring)."""
+
+    def __init__(self, case: Case):
+        self.base = case
+        self.times = known_times(case)   # event -> run time (s): fixed, resolved or fired
+        self.records: dict = {}          # event -> its trigger's record (summary.json ``trigger``)
+        self.watches = [Watch(event, trigger, case.simulation.seed, armed_by(case, event))
+                        for event, trigger in case.triggers.items() if not trigger.timed]
+        self.case = case
+        self._resolve()
+
+    @property
+    def triggered(self) -> bool:
+        return bool(self.base.triggers)
+
+    def pending_watches(self) -> list:
+        return [watch for watch in self.watches if watch.event not in self.times]
+
+    def fire(self, firings: list, earliest: float) -> float:
+        """Record ``firings`` (``physics.triggers.Firing``; none before ``earliest``, s); returns the earliest event
+        time among them."""
+        for firing in firings:
+            self.times[firing.event] = max(firing.time, earliest)
+            self.records[firing.event] = firing.record
+        self._resolve()
+        return min(self.times[firing.event] for firing in firings)
+
+    def _resolve(self) -> None:
+        """Place every ``after`` trigger whose event is known, then rebuild the case with the triggered times."""
+        changed = True
+        while changed:
+            changed = False
+            for event, trigger in self.base.triggers.items():
+                condition = trigger.condition
+                if event in self.times or not isinstance(condition, After) or condition.event not in self.times:
+                    continue
+                reference = self.times[condition.event]
+                self.times[event] = reference + condition.delay
+                self.records[event] = {"quantity": "after", "threshold": condition.delay, "measured": None,
+                                       "true": None, "time": reference, "lag": 0.0, "event": condition.event}
+                changed = True
+        placed = {event: time for event, time in self.times.items() if event in self.base.triggers}
+        self.case = with_event_times(self.base, placed) if placed else self.base
+
+    def snapshot(self):
+        """What a phase integrated again from its start needs restored (the watches' samples and noise)."""
+        return copy.deepcopy(self.watches)
+
+    def restore(self, snapshot) -> None:
+        self.watches = snapshot
+
+    def note_conditions(self, time: float, body_states: dict) -> None:
+        """Add the vehicle's true altitude, Mach number, dynamic pressure and air speed to the record of each event
+        fired at ``time`` (s), from the phase's start states."""
+        state = body_states.get(self.base.vehicle)
+        if state is None or self.base.atmosphere is None:
+            return
+        for event, record in self.records.items():
+            if self.times.get(event) == time and "conditions" not in record:
+                truth = true_values(self.case, state.position, state.velocity, time)
+                record["conditions"] = {key: float(truth[key]) for key in ("altitude", "mach", "dynamic_pressure",
+                                                                           "airspeed")
+                                        if math.isfinite(truth[key])}
+
+    def attach(self, events: list) -> list:
+        """``events`` with each triggered one's record (``trigger``)."""
+        if not self.records:
+            return events
+        return [replace(e, trigger=self.records[e.name]) if getattr(e, "name", None) in self.records
+                and hasattr(e, "trigger") else e for e in events]
+
+    def warnings(self, end: float) -> list:
+        """One line per trigger that never fired before ``end`` (s)."""
+        return [f"{trigger.key} never fired ({trigger.describe()}) in the {end:g} s run"
+                for event, trigger in self.base.triggers.items()
+                if self.times.get(event, math.inf) > end]

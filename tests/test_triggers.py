@@ -1,0 +1,176 @@
+"""Triggers, sensors and separations (issue 36): closed forms on a body falling or thrown in vacuum over a flat
+planet, the sensor noise propagated to the fired altitude, the PA1 sequence by triggers against its fixed times, a
+user function against the built-in trigger it equals, and a separation's momentum."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pchute_exudyn import load_case, simulate
+from pchute_exudyn.physics.atmosphere import US76
+from pchute_exudyn.physics.triggers import Sensor, Threshold, Trigger, Watch
+
+ROOT = Path(__file__).resolve().parents[1]
+G = 9.80665
+VACUUM = """
+[case]
+name = "vacuum"
+vehicle = "vehicle"
+[planet]
+model = "flat"
+gravity = {g}
+[atmosphere]
+model = "us76"
+[bodies.vehicle]
+mass = 100.0
+inertia = [10.0, 10.0, 10.0]
+points.shield = [0.0, 0.5, 0.0]          # beside the CM: the pair's CM is at the altitude of the vehicle's
+[bodies.vehicle.initial]
+altitude = {altitude}
+velocity_down = {down}
+[bodies.shield]
+mass = 25.0
+inertia = [2.0, 1.5, 1.5]
+[separations.shield]
+trigger = {trigger}
+point = "vehicle.shield"
+speed = {speed}
+direction = [1.0, 0.0, 0.0]
+[simulation]
+duration = {duration}
+output_step = 0.01
+method = "full"
+steps.full = 0.01
+stop_at_ground = false
+"""
+
+
+def _vacuum(tmp_path: Path, trigger: str, altitude=3000.0, down=0.0, duration=12.0, speed=0.0):
+    path = tmp_path / "vacuum.toml"
+    path.write_text(VACUUM.format(g=G, altitude=altitude, down=down, trigger=trigger, duration=duration, speed=speed))
+    return load_case(path)
+
+
+def _separation(result) -> dict:
+    return next(e for e in result.summary["events"] if e["event"] == "separation")
+
+
+@pytest.mark.parametrize("rate, lag", [(None, 0.0), (None, 0.37), (20.0, 0.25)])
+def test_an_altitude_trigger_fires_at_the_analytic_crossing_plus_the_lag(tmp_path, rate, lag):
+    sensor = f", rate = {rate}" if rate else ""
+    case = _vacuum(tmp_path, f'{{ quantity = "altitude", below = 2700.0, lag = {lag}{sensor} }}')
+    event = _separation(simulate(case))
+    crossing = math.sqrt(2.0 * 300.0 / G)   # 7.82 s
+    if rate is None:   # every step, the crossing interpolated (cubic Hermite: exact under constant gravity)
+        assert event["trigger"]["time"] == pytest.approx(crossing, abs=1e-9)
+    else:              # the first sample at or after the crossing
+        assert 0.0 <= event["trigger"]["time"] - crossing <= 1.0 / rate
+    assert event["time"] == pytest.approx(event["trigger"]["time"] + lag, abs=1e-12)   # the lag exactly
+    assert event["trigger"]["true"] == pytest.approx(2700.0, abs=1e-6 if rate is None else G * crossing / rate)
+    assert event["time"] == pytest.approx(crossing + lag, abs=1e-9 if rate is None else 1.0 / rate)
+
+
+def test_an_apogee_trigger_fires_at_v0_over_g(tmp_path):
+    case = _vacuum(tmp_path, '{ quantity = "apogee" }', down=-30.0, duration=5.0)
+    event = _separation(simulate(case))
+    assert event["time"] == pytest.approx(30.0 / G, abs=1e-9)
+    assert abs(event["trigger"]["true"]) < 1e-9
+
+
+def test_a_separation_conserves_momentum_and_parts_at_its_speed(tmp_path):
+    case = _vacuum(tmp_path, '{ time = 1.0 }', speed=2.0, duration=1.5)
+    result = simulate(case)
+    i = int(np.searchsorted(result["time"], 1.2))
+    vehicle = np.array([result[f"vehicle_velocity_{a}"][i] for a in ("east", "north", "down")])
+    shield = np.array([result[f"shield_velocity_{a}"][i] for a in ("east", "north", "down")])
+    # body +x is east at zero attitude angles? the direction is the vehicle's +x: the relative speed is 2 m/s
+    assert np.linalg.norm(shield - vehicle) == pytest.approx(2.0, rel=1e-9)
+    pair = (100.0 * vehicle + 25.0 * shield) / 125.0   # the pair's centre of mass falls freely
+    assert pair == pytest.approx([0.0, 0.0, G * result["time"][i]], abs=1e-9)
+    assert result.summary["separations"]["shield"]["relative_speed"] == 2.0
+
+
+def test_altitude_noise_propagates_to_the_fired_altitude():
+    """500 seeded draws of a barometric trigger at 2000 m on a 10 m/s descent: the true altitude at firing spreads as
+    sigma_p / (rho g) (AR(1) noise slow against the crossing, so each draw is one offset)."""
+    atmosphere = US76()
+    threshold, sigma_p, rate, speed = 2000.0, 50.0, 100.0, 10.0
+
+    def truth(h):
+        rho, sound = atmosphere.state(h)
+        return {"altitude": h, "altitude_ground": h, "pressure": rho * sound ** 2 / 1.4, "density": rho,
+                "speed_of_sound": sound, "vertical_velocity": -speed, "speed": speed, "airspeed": speed,
+                "mach": speed / sound, "dynamic_pressure": 0.5 * rho * speed ** 2, "gravity": G,
+                "position": np.zeros(3), "velocity": np.zeros(3)}
+
+    def pressure_at(h):
+        rho, sound = atmosphere.state(h)
+        return rho * sound ** 2 / 1.4, rho
+
+    sensor = Sensor(rate=rate, pressure_noise=sigma_p, correlation_time=1000.0)
+    trigger = Trigger(Threshold("altitude", True, threshold), sensor, "test")
+    fired = []
+    for seed in range(500):
+        watch = Watch("shield.separation", trigger, seed)
+        k = 0
+        while True:
+            t = k / rate
+            firing = watch.observe(t, truth(threshold + 30.0 - speed * t), {}, pressure_at)   # 6 sigma above
+            if firing is not None:
+                fired.append(firing.record["true"])
+                break
+            k += 1
+    rho = atmosphere.state(threshold)[0]
+    propagated = sigma_p / (rho * G)
+    assert np.std(fired, ddof=1) == pytest.approx(propagated, rel=0.10)
+    assert np.mean(fired) == pytest.approx(threshold, abs=3.0 * propagated / math.sqrt(500) + speed / rate)
+
+
+PA1 = ROOT / "cases" / "cev_pa1.toml"
+PA1_TRIGGERS = ROOT / "cases" / "cev_pa1_triggers.toml"
+
+
+def _events(result) -> dict:
+    return {(e["event"], e.get("system")): e["time"] for e in result.summary["events"]
+            if e["event"] in ("deploy", "cutaway", "touchdown")}
+
+
+@pytest.mark.parametrize("method", ["sp", pytest.param("full", marks=pytest.mark.slow)])
+def test_pa1_by_triggers_reproduces_its_fixed_sequence(method):
+    fixed = _events(simulate(load_case(PA1), method=method))
+    triggered = simulate(load_case(PA1_TRIGGERS), method=method)
+    assert not triggered.summary["warnings"]
+    events = _events(triggered)
+    assert events.keys() == fixed.keys()
+    for key, time in fixed.items():
+        assert abs(events[key] - time) <= (0.2 if key[0] == "touchdown" else 0.05), key
+
+
+FIRE_MAIN = '''
+def fire_main(time, sensed, state):
+    return sensed["altitude_ground"] <= 796.0 and sensed["vertical_velocity"] < 0.0
+'''
+
+
+def test_a_user_function_equal_to_the_builtin_trigger_gives_the_same_run_bitwise(tmp_path):
+    (tmp_path / "avionics_36.py").write_text(FIRE_MAIN)
+    case = tmp_path / "user.toml"
+    case.write_text(f'extends = "{PA1_TRIGGERS.as_posix()}"\nremove = ["systems.main.deploy_trigger"]\n'
+                    '[systems.main]\ndeploy_trigger = { function = "avionics_36:fire_main", rate = 20.0 }\n')
+    builtin = simulate(load_case(PA1_TRIGGERS), method="sp", duration=15.0)
+    user = simulate(load_case(case), method="sp", duration=15.0)
+    assert list(user.columns) == list(builtin.columns)
+    for name in builtin.columns:
+        assert np.array_equal(user[name], builtin[name], equal_nan=True), name
+    assert next(e for e in user.summary["events"] if e.get("system") == "main")["trigger"]["quantity"] == "function"
+
+
+def test_a_trigger_that_never_fires_is_a_warning(tmp_path):
+    case = _vacuum(tmp_path, '{ quantity = "altitude", below = 100.0, rate = 10.0 }', duration=1.0)
+    result = simulate(case)
+    assert result.summary["warnings"] == ["separations.shield.trigger never fired (altitude below 100) in the 1 s run"]
+    assert "shield" not in result.summary.get("separations", {})
