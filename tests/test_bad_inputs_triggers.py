@@ -67,6 +67,8 @@ BATTERY = [
     ("user function that cannot be imported", lambda t: _run(t, _main('{ function = "nosuch_36:fire" }')),
      "systems.main.deploy_trigger.function = 'nosuch_36:fire': cannot import module 'nosuch_36': "
      "ModuleNotFoundError"),
+    ("density scale of zero", lambda t: _run(t, None, "atmosphere.density_scale=0"),
+     "atmosphere.density_scale = 0: must be > 0"),
     ("user function that raises", _raising,
      "systems.main.deploy_trigger: the function raises_36:fire raised ValueError: flight computer fault at "
      "t = 2.0000 s"),

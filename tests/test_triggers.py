@@ -174,3 +174,105 @@ def test_a_trigger_that_never_fires_is_a_warning(tmp_path):
     result = simulate(case)
     assert result.summary["warnings"] == ["separations.shield.trigger never fired (altitude below 100) in the 1 s run"]
     assert "shield" not in result.summary.get("separations", {})
+
+
+PA1_INFLATION = ROOT / "cases" / "cev_pa1_inflation.toml"
+PA1_CLUSTER = ROOT / "cases" / "cev_pa1_cluster.toml"
+
+
+def _written(tmp_path: Path, base: Path, text: str) -> Path:
+    path = tmp_path / f"{base.stem}_triggered.toml"
+    path.write_text(f'extends = "{base.as_posix()}"\n{text}')
+    return path
+
+
+def test_disreefs_by_triggers_time_the_stages_as_their_fixed_starts(tmp_path):
+    """cev_pa1_inflation.toml's disreefs at 8 and 16 s after line stretch, fired by time-after triggers: the same
+    stage starts, fill times and loads (the stage start is t_f - t_deploy, so equal to rounding)."""
+    path = _written(tmp_path, PA1_INFLATION, '[systems.main.inflation]\nstage_start = [0.0]\ndisreef_triggers = '
+                                             '[{ after = "main.deploy", delay = 8.0 }, { after = "main.disreef2", '
+                                             'delay = 8.0 }]\n')
+    fixed = simulate(load_case(PA1_INFLATION), method="sp", duration=30.0)
+    triggered = simulate(load_case(path), method="sp", duration=30.0)
+    stages = [[(e["event"], e["stage"], e["time"], e["fill_time"]) for e in r.summary["events"]
+               if e["event"] in ("stage_start", "disreef") and e["system"] == "main"] for r in (fixed, triggered)]
+    assert [s[:2] for s in stages[0]] == [s[:2] for s in stages[1]] == [("stage_start", 1), ("disreef", 2),
+                                                                          ("disreef", 3)]
+    for a, b in zip(*stages):
+        assert b[2] == pytest.approx(a[2], abs=1e-9) and b[3] == pytest.approx(a[3], rel=1e-9)
+    np.testing.assert_allclose(triggered["tension_main_riser"], fixed["tension_main_riser"], rtol=1e-6, atol=1e-3)
+    disreef = next(e for e in triggered.summary["events"] if e["event"] == "disreef" and e["stage"] == 3)
+    assert disreef["trigger"]["event"] == "main.disreef2"
+
+
+def test_a_canopy_cut_away_by_a_sensed_trigger_leaves_at_the_firing_time(tmp_path):
+    """One main of the PA1 cluster cut away when the capsule descends through 1700 m (geoid), sampled at 10 Hz with a
+    0.3 s lag: the canopy's cut-away is at the sample's time plus the lag, the sample is the first at or below 1700 m,
+    and the other mains fly on."""
+    path = _written(tmp_path, PA1_CLUSTER, '[failures.cutaway_trigger]\nmain3 = { quantity = "altitude", '
+                                           'below = 1700.0, rate = 10.0, lag = 0.3 }\n')
+    result = simulate(load_case(path), method="sp", duration=25.0)
+    cut = next(e for e in result.summary["events"] if e["event"] == "cutaway" and e.get("canopy") == "main3")
+    record = cut["trigger"]
+    assert cut["time"] == pytest.approx(record["time"] + 0.3, abs=1e-12)
+    assert record["true"] <= 1700.0 and record["time"] == pytest.approx(round(record["time"] * 10) / 10, abs=1e-9)
+    i = int(np.searchsorted(result["time"], record["time"] - 0.1 - 1e-9))   # the sample before: still above
+    assert result["capsule_altitude"][i] > 1700.0
+    after = result["time"] > cut["time"] + 0.5
+    assert np.isnan(result["tension_main_riser3"][after]).all() and np.isfinite(result["tension_main_riser1"][after]).all()
+
+
+def _air(time: float) -> dict:
+    """True values of a body slowing through Mach 2 at 1 Mach per second (sound at 250 m/s, density 0.01 kg/m^3)."""
+    speed = 250.0 * (3.0 - time)
+    return {"altitude": 9000.0, "altitude_ground": 9000.0, "pressure": 500.0, "density": 0.01,
+            "speed_of_sound": 250.0, "vertical_velocity": -50.0, "speed": speed, "airspeed": speed,
+            "mach": speed / 250.0, "dynamic_pressure": 0.005 * speed ** 2, "gravity": 3.71,
+            "position": np.zeros(3), "velocity": np.zeros(3)}
+
+
+def _fire_time(trigger: Trigger, fired: dict, step: float = 0.01) -> float:
+    watch = Watch("main.deploy", trigger, 7)
+    for k in range(1, 400):
+        if watch.due(k * step, step):
+            firing = watch.observe(k * step, _air(k * step), fired, None)
+            if firing is not None:
+                return firing.time
+    return math.inf
+
+
+def test_all_any_and_speed_sensing():
+    from pchute_exudyn.physics.triggers import After, AllOf, AnyOf
+    below_two = Threshold("mach", True, 2.0)
+    assert _fire_time(Trigger(below_two, Sensor(rate=100.0)), {}) == pytest.approx(1.0, abs=1e-9)
+    waits = AllOf((below_two, After("drogue.deploy", 1.0)))
+    assert _fire_time(Trigger(waits, Sensor(rate=100.0)), {"drogue.deploy": 0.5}) == pytest.approx(1.5, abs=1e-9)
+    either = AnyOf((below_two, Threshold("dynamic_pressure", True, 0.005 * 250.0 ** 2 * 1.5 ** 2)))
+    assert _fire_time(Trigger(either, Sensor(rate=100.0)), {}) == pytest.approx(1.0, abs=1e-9)   # q falls later
+    # a speed bias of +25 m/s reads 0.1 Mach high: fires 0.1 s late; the lag adds exactly
+    biased = Trigger(below_two, Sensor(rate=100.0, lag=0.5, speed_bias=25.0))
+    assert _fire_time(biased, {}) == pytest.approx(1.6, abs=1e-9)
+    assert _fire_time(Trigger(Threshold("speed", False, 600.0), Sensor()), {}) == pytest.approx(0.01)  # above: first
+
+
+def test_a_density_scale_multiplies_the_density_alone():
+    scaled = load_case(PA1, ["atmosphere.density_scale=1.1"]).atmosphere
+    plain = load_case(PA1).atmosphere
+    for altitude in (0.0, 1500.0, 11000.0):
+        assert scaled.density(altitude) == pytest.approx(1.1 * plain.density(altitude), rel=1e-15)
+        assert scaled.speed_of_sound(altitude) == plain.speed_of_sound(altitude)
+    assert load_case(PA1, ["atmosphere.density_scale=1.0"]).atmosphere is not None
+
+
+def test_the_run_line_names_a_trigger_that_never_fired(tmp_path, capsys):
+    from pchute_exudyn.cli import main
+    case = tmp_path / "late.toml"
+    case.write_text(f'extends = "{PA1_TRIGGERS.as_posix()}"\n')
+    code = main(["run", str(case), "--method", "sp", "--t-end", "5", "--no-plot", "--quiet", "--out",
+                 str(tmp_path / "out"), "--set", "main.deploy_trigger.below=-5"])
+    captured = capsys.readouterr()
+    assert code == 0
+    assert "pchute run: warning: systems.main.deploy_trigger never fired (altitude above the ground below -5)" \
+        in captured.err
+    assert "systems.drogue.cutaway_trigger never fired (0 s after main.deploy)" in captured.err
+    assert "(2 warning(s): see summary.json)" in captured.out

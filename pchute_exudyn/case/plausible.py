@@ -109,6 +109,17 @@ RANGES: tuple = (
     Range("atmosphere.turbulence.ground_altitude", "m", (-5e4, 1e7), (-1.2e4, 2e4)),
     _speeds("atmosphere.gusts[*].amplitude", 1e3, 100.0),
     Range("atmosphere.gusts[*].length", "s", (1e-9, 1e8), (1e-2, 1e4)),
+    Range("atmosphere.density_scale", "", (1e-6, 1e6), (0.5, 2.0)),
+    # triggers, sensors and separations
+    Range("*trigger*.rate", "Hz", (1e-6, 1e9), (0.1, 1e4)),
+    Range("*trigger*.lag", "s", (0.0, 1e7), (0.0, 60.0)),
+    Range("*trigger*.delay", "s", (0.0, 1e9), (0.0, 1e5)),
+    Range("*trigger*.pressure_noise", "Pa", (0.0, 1e6), (0.0, 1e4)),
+    Range("*trigger*.pressure_bias", "Pa", (-1e6, 1e6), (-1e4, 1e4)),
+    Range("*trigger*.correlation_time", "s", (0.0, 1e9), (0.0, 1e4)),
+    Range("*trigger*.speed_noise", "m/s", (0.0, 1e4), (0.0, 100.0)),
+    Range("*trigger*.speed_bias", "m/s", (-1e4, 1e4), (-100.0, 100.0)),
+    Range("separations.*.speed", "m/s", (0.0, 1e4), (0.0, 50.0)),
 )
 """Every plausibility range; the first whose pattern matches a key applies."""
 

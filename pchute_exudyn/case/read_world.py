@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ..physics.atmosphere import US76, MarsGRC, Wind
+from ..physics.atmosphere import US76, MarsGRC, ScaledAtmosphere, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
 from .fields import REQUIRED, Table, check_number, default_of
@@ -75,6 +75,9 @@ def read_atmosphere(t: Table, ground_altitude: float, heading: tuple):
         atmosphere = US76()
     else:
         atmosphere = MarsGRC()
+    scale = t.number("density_scale", "", 1.0, above=0.0)
+    if scale != 1.0:   # 1: the model itself (not a copy with a factor of 1)
+        atmosphere = ScaledAtmosphere(atmosphere, scale)
     w = t.table("wind", None)
     wind = _read_wind(w, ground_altitude) if w is not None else None
     turbulence_table = t.table("turbulence", None)

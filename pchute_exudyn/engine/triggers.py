@@ -15,14 +15,16 @@ from .model import Model
 from .state import BodyChannel
 
 
-def true_values(case: Case, position, velocity, time: float) -> dict:
+def true_values(case: Case, position, velocity, time: float, air_motion=None) -> dict:
     """The true values a sensor reads (``physics.triggers.SENSED``, plus density in kg/m^3, speed of sound in m/s,
-    gravity in m/s^2, position and velocity) of a body at start-frame ``position`` (m) and ``velocity`` (m/s)."""
+    gravity in m/s^2, position and velocity) of a body at start-frame ``position`` (m) and ``velocity`` (m/s) at
+    ``time`` (s); ``air_motion``: the case's (``Case.air_motion``), made once by a caller that samples often."""
     x, y, z = (float(v) for v in position)
     altitude = case.start.altitude_scalar(x, y, z)
     velocity = np.asarray(velocity, float)
     ground = case.start.velocity_to_planet_fixed(np.array([x, y, z]), velocity, time)
-    air = velocity - np.array(case.air_motion()(x, y, z, altitude, time))
+    air_motion = case.air_motion() if air_motion is None else air_motion
+    air = velocity - np.array(air_motion(x, y, z, altitude, time))
     airspeed = float(np.linalg.norm(air))
     density, sound = case.atmosphere.state(altitude) if case.atmosphere is not None else (0.0, math.nan)
     gamma = case.atmosphere.kernel_parameters()[2] if case.atmosphere is not None else 1.4
@@ -54,6 +56,7 @@ class TriggerMonitor:
         self.model = model
         self.start = model.phase.start
         self.pressure_at = pressure_function(case) if case.atmosphere is not None else None
+        self.air_motion = case.air_motion()
         self.readers = {}
         for watch in watches:
             body = watch.trigger.sensor.body or case.vehicle
@@ -74,7 +77,7 @@ class TriggerMonitor:
             body = watch.trigger.sensor.body or self.case.vehicle
             if body not in truths:
                 position, velocity = self.readers[body]
-                truths[body] = true_values(self.case, position(), velocity(), t)
+                truths[body] = true_values(self.case, position(), velocity(), t, self.air_motion)
             try:
                 firing = watch.observe(t, truths[body], self.fired, self.pressure_at)
             except TriggerFailed as exc:

@@ -73,9 +73,11 @@ US76_KIND, MARS_KIND, TABLE_KIND = 0.0, 1.0, 2.0
 """``kernel_parameters()[0]``: which model."""
 NO_SOUND, SOUND_FROM_TEMPERATURE, SOUND_CONSTANT = 0.0, 1.0, 2.0
 """``kernel_parameters()[1]``: how the speed of sound is had (none, sqrt(gamma R T), a constant)."""
-PARAMETER_HEAD = 6
+DENSITY_SCALE_AT = 6
+"""``kernel_parameters()[6]``: the factor (-) on the model's density (``ScaledAtmosphere``; 1 by default)."""
+PARAMETER_HEAD = 7
 """kernel parameters: kind, speed-of-sound kind, gamma (-), R (J/(kg K)), constant speed of sound (m/s), n (table
-rows); a table then has n altitudes (m), n log-densities and n temperatures (K)."""
+rows), density scale (-); a table then has n altitudes (m), n log-densities and n temperatures (K)."""
 
 
 class Atmosphere:
@@ -233,7 +235,7 @@ class TabulatedAtmosphere(Atmosphere):
         sound = (SOUND_FROM_TEMPERATURE if temperature else
                  SOUND_CONSTANT if self.speed_of_sound_constant is not None else NO_SOUND)
         head = [TABLE_KIND, sound, self.gamma, self.gas_constant, self.speed_of_sound_constant or 0.0,
-                len(altitude)]
+                len(altitude), 1.0]
         object.__setattr__(self, "_parameters", np.array(head + list(altitude) + list(self._log_density)
                                                          + list(temperature or (0.0,) * len(altitude))))
 
@@ -381,6 +383,7 @@ def atmosphere_state(parameters, altitude):
         i, w = bracket_packed(parameters, PARAMETER_HEAD, n, altitude)
         density = math.exp(_table_interpolate(parameters, 1, i, w))
         temperature = _table_interpolate(parameters, 2, i, w) if sound == SOUND_FROM_TEMPERATURE else 0.0
+    density *= parameters[6]   # DENSITY_SCALE_AT: 1 unless dispersed (exact: x 1.0 changes no bit)
     if sound == SOUND_FROM_TEMPERATURE:
         return density, math.sqrt(parameters[2] * parameters[3] * temperature), 0.0
     if sound == SOUND_CONSTANT:
@@ -390,8 +393,29 @@ def atmosphere_state(parameters, altitude):
 
 _US76_LAYERS = np.array(_US76)
 """The layer table as an array for the kernels: (H_b, T_b, L, p_b, rho_b, k) per layer."""
-_US76_PARAMETERS = np.array([US76_KIND, SOUND_FROM_TEMPERATURE, 1.4, US76_R, 0.0, 0.0])
-_MARS_PARAMETERS = np.array([MARS_KIND, SOUND_FROM_TEMPERATURE, MARS_GAMMA, MARS_R, 0.0, 0.0])
+_US76_PARAMETERS = np.array([US76_KIND, SOUND_FROM_TEMPERATURE, 1.4, US76_R, 0.0, 0.0, 1.0])
+_MARS_PARAMETERS = np.array([MARS_KIND, SOUND_FROM_TEMPERATURE, MARS_GAMMA, MARS_R, 0.0, 0.0, 1.0])
+
+
+@dataclass(frozen=True)
+class ScaledAtmosphere(Atmosphere):
+    """Another model's atmosphere with its density multiplied by ``density_scale`` (-, > 0) at every altitude, its
+    temperature and speed of sound unchanged: a Monte Carlo's density dispersion (``[atmosphere] density_scale``)."""
+
+    base: Atmosphere
+    density_scale: float
+
+    @property
+    def name(self) -> str:
+        return self.base.name
+
+    def kernel_parameters(self) -> np.ndarray:
+        parameters = self.base.kernel_parameters().copy()
+        parameters[DENSITY_SCALE_AT] = self.density_scale
+        return parameters
+
+    def outside(self, altitude: float) -> OutsideAtmosphereError:
+        return self.base.outside(altitude)
 
 
 @dataclass(frozen=True)

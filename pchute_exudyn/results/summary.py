@@ -249,22 +249,19 @@ CLEARANCE_AFTER = 2.0
 """s after a separation at which its clearance (the distance between the two centres of mass) is reported."""
 
 
-def separation_summary(case, columns: dict, events: list) -> dict:
-    """Per body that separated: the time (s), the relative speed (m/s) and the clearance (m) between its centre of
-    mass and the vehicle's ``CLEARANCE_AFTER`` s later (or at the run's end when it comes first: then
-    ``clearance_after`` says how long after)."""
+def separation_summary(case, raw, events: list) -> dict:
+    """Per body that separated: the time (s), the relative speed (m/s) and the clearance (m), the distance between
+    its centre of mass and the vehicle's ``CLEARANCE_AFTER`` s later (at the output sample nearest; at the run's end
+    when that comes first: ``clearance_after`` says how long after), from the engine history ``raw``."""
     out = {}
-    time = columns["time"]
+    time = raw.time
     for event in events:
         if event.kind != "separation":
             continue
-        at = min(event.time + CLEARANCE_AFTER, float(time[-1]))
-        i = int(np.argmin(np.abs(time - at)))
-        parts = [np.array([columns[f"{name}_{axis}"][i] for axis in ("east", "north", "altitude")])
-                 for name in (case.vehicle, event.body)]
+        i = int(np.argmin(np.abs(time - min(event.time + CLEARANCE_AFTER, float(time[-1])))))
+        apart = raw.bodies[event.body]["position"][i] - raw.bodies[case.vehicle]["position"][i]
         out[event.body] = {"time": event.time, "relative_speed": event.relative_speed,
-                           "clearance": float(np.linalg.norm(parts[1] - parts[0])),
-                           "clearance_after": float(time[i] - event.time)}
+                           "clearance": float(np.linalg.norm(apart)), "clearance_after": float(time[i] - event.time)}
     return out
 
 

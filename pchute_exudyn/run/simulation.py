@@ -370,7 +370,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         descent=descent_summary(case, columns), failures=failures_flown(case.failures),
         warnings=case.warnings + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
-        separations=separation_summary(case, columns, events))
+        separations=separation_summary(case, raw, events))
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"
