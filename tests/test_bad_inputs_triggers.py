@@ -14,6 +14,10 @@ SEPARATION = '[separations.{body}]\ntrigger = {{ time = 2.0 }}\npoint = "capsule
              'direction = [1.0, 0.0, 0.0]\n'
 
 
+MER1 = (ROOT / "cases" / "mer" / "case1.toml").as_posix()
+BALLAST = "[bodies.ballast]\nmass = 10.0\ninertia = [1.0, 1.0, 1.0]\n[bodies.ballast.initial]\naltitude = 8000.0\n"
+
+
 def _run(tmp: Path, text: str | None = None, *sets) -> list:
     case = TRIGGERS
     if text is not None:
@@ -60,13 +64,22 @@ BATTERY = [
      "systems.main.deploy_trigger.rate: required (Hz) with pressure_noise or speed_noise"),
     ("separation of the vehicle", lambda t: _run(t, _extends(PA1, SEPARATION.format(body="capsule"))),
      "separations.capsule = 'capsule': must name a body of the case other than the vehicle"),
-    ("separation of a body that flies on its own", lambda t: _run(t, _extends(
-        (ROOT / "cases" / "mer" / "case1.toml").as_posix(), SEPARATION.format(body="parachute")
-        .replace("capsule.bridle1", "vehicle.bridle1"))),
-     "body 'parachute' is carried by the vehicle until it separates: remove its [bodies.<name>.initial] table"),
+    ("separation of a canopy", lambda t: _run(t, _extends(MER1, SEPARATION.format(body="parachute")
+                                                          .replace("capsule.bridle1", "vehicle.bridle1"))),
+     "separations.parachute = 'parachute': body 'parachute' hangs on a system's lines (a canopy)"),
+    ("separation of a body that flies on its own", lambda t: _run(t, _extends(MER1, BALLAST + SEPARATION.format(
+        body="ballast").replace("capsule.bridle1", "vehicle.bridle1"))),
+     "body 'ballast' is carried by the vehicle until it separates: remove its [bodies.<name>.initial] table"),
+    ("separation after the end of the run", lambda t: _run(t, _extends(MER1, BALLAST.replace(
+        "[bodies.ballast.initial]\naltitude = 8000.0\n", "") + SEPARATION.format(body="ballast").replace(
+        "capsule.bridle1", "vehicle.bridle1").replace("time = 2.0", "time = 500.0"))),
+     "separations.ballast.trigger = 500.0: time must be before the end of the run (simulation.duration = 60 s)"),
     ("user function that cannot be imported", lambda t: _run(t, _main('{ function = "nosuch_36:fire" }')),
      "systems.main.deploy_trigger.function = 'nosuch_36:fire': cannot import module 'nosuch_36': "
      "ModuleNotFoundError"),
+    ("fixed cut-away before a triggered deployment", lambda t: _run(t, _extends(TRIGGERS, "[failures]\n"
+                                                                                        "cutaway.main_canopy = 5.0\n")),
+     "failures.cutaway.main_canopy = 5 s comes before the deployment its trigger fired at 9.5 s"),
     ("density scale of zero", lambda t: _run(t, None, "atmosphere.density_scale=0"),
      "atmosphere.density_scale = 0: must be > 0"),
     ("user function that raises", _raising,

@@ -94,9 +94,9 @@ def test_a_separation_conserves_momentum_and_parts_at_its_speed(tmp_path):
     assert result.summary["separations"]["shield"]["relative_speed"] == 2.0
 
 
-def test_altitude_noise_propagates_to_the_fired_altitude():
-    """500 seeded draws of a barometric trigger at 2000 m on a 10 m/s descent: the true altitude at firing spreads as
-    sigma_p / (rho g) (AR(1) noise slow against the crossing, so each draw is one offset)."""
+def noise_draws(draws: int = 500) -> tuple:
+    """(true altitudes at firing over ``draws`` seeds, the propagated sigma_p / (rho g)) of a barometric trigger at
+    2000 m on a 10 m/s descent, sigma_p = 50 Pa, 100 Hz, AR(1) noise slow against the crossing (each draw one offset)."""
     atmosphere = US76()
     threshold, sigma_p, rate, speed = 2000.0, 50.0, 100.0, 10.0
 
@@ -114,7 +114,7 @@ def test_altitude_noise_propagates_to_the_fired_altitude():
     sensor = Sensor(rate=rate, pressure_noise=sigma_p, correlation_time=1000.0)
     trigger = Trigger(Threshold("altitude", True, threshold), sensor, "test")
     fired = []
-    for seed in range(500):
+    for seed in range(draws):
         watch = Watch("shield.separation", trigger, seed)
         k = 0
         while True:
@@ -124,10 +124,14 @@ def test_altitude_noise_propagates_to_the_fired_altitude():
                 fired.append(firing.record["true"])
                 break
             k += 1
-    rho = atmosphere.state(threshold)[0]
-    propagated = sigma_p / (rho * G)
+    return np.array(fired), sigma_p / (atmosphere.state(threshold)[0] * G)
+
+
+def test_altitude_noise_propagates_to_the_fired_altitude():
+    """500 seeded draws: the true altitude at firing spreads as the propagated sigma_p / (rho g)."""
+    fired, propagated = noise_draws(500)
     assert np.std(fired, ddof=1) == pytest.approx(propagated, rel=0.10)
-    assert np.mean(fired) == pytest.approx(threshold, abs=3.0 * propagated / math.sqrt(500) + speed / rate)
+    assert np.mean(fired) == pytest.approx(2000.0, abs=3.0 * propagated / math.sqrt(500) + 0.1)
 
 
 PA1 = ROOT / "cases" / "cev_pa1.toml"
@@ -276,3 +280,33 @@ def test_the_run_line_names_a_trigger_that_never_fired(tmp_path, capsys):
         in captured.err
     assert "systems.drogue.cutaway_trigger never fired (0 s after main.deploy)" in captured.err
     assert "(2 warning(s): see summary.json)" in captured.out
+
+
+def test_a_cut_away_trigger_senses_only_once_its_system_is_out(tmp_path):
+    """cev_pa1.toml's drogues deploy at a fixed 3.5 s; a cut-away trigger that holds from the start (speed below
+    1000 m/s) must wait for the deployment and fire at the first sample after it."""
+    path = _written(tmp_path, PA1, 'remove = ["systems.drogue.cutaway_time"]\n[systems.drogue]\n'
+                                   'cutaway_trigger = { quantity = "speed", below = 1000.0, rate = 20.0 }\n')
+    result = simulate(load_case(path), method="sp", duration=6.0)
+    events = {e["event"]: e["time"] for e in result.summary["events"] if e.get("system") == "drogue"}
+    assert events["deploy"] == 3.5 and 3.5 < events["cutaway"] <= 3.5 + 0.05
+
+
+def test_a_trigger_firing_in_the_touchdown_step_is_kept_when_it_comes_first(tmp_path):
+    path = _written(tmp_path, PA1_TRIGGERS, '[failures.cutaway_trigger]\nmain_canopy = { quantity = "altitude", '
+                                            'below = 0.02, reference = "ground" }\n')
+    result = simulate(load_case(path), method="sp")
+    events = {e["event"]: e for e in result.summary["events"] if e["event"] in ("cutaway", "touchdown")
+              and e.get("canopy", "main_canopy") == "main_canopy"}
+    assert not result.summary["warnings"]
+    assert events["cutaway"]["time"] < events["touchdown"]["time"]
+    assert events["cutaway"]["trigger"]["true"] == pytest.approx(0.02, abs=1e-6)
+
+
+def test_a_separation_at_the_start_leaves_from_the_vehicles_own_state(tmp_path):
+    case = _vacuum(tmp_path, '{ time = 0.0 }', duration=0.5, speed=1.0)
+    result = simulate(case)
+    assert (result["vehicle_altitude"][0], result["vehicle_east"][0], result["vehicle_north"][0]) == \
+        pytest.approx((3000.0, 0.0, 0.0), abs=1e-9)
+    offset = [result[f"shield_{a}"][0] - result[f"vehicle_{a}"][0] for a in ("east", "north", "altitude")]
+    assert np.linalg.norm(offset) == pytest.approx(0.5, abs=1e-9)

@@ -110,7 +110,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     bodies, systems = ground_relative(bodies, systems, vehicle, wind, frame, release)
     check_connections(system_tables, bodies, systems, vehicle)
     failures = read_failures(top.table("failures", None), systems, simulation.duration, bodies, triggers)
-    separations = read_separations(top.table("separations", None), bodies, vehicle, triggers)
+    separations = read_separations(top.table("separations", None), bodies, vehicle, triggers, systems,
+                                   simulation.duration)
     check_triggers(top, triggers, systems, failures, separations, atmosphere)
     top.allowed.extend(("extends", "remove"))
     top.finish()

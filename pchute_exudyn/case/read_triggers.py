@@ -155,16 +155,21 @@ def check_events(triggers: dict, fixed: set, error) -> None:
                     pending.append(reference)
 
 
-def read_separations(t: Table | None, bodies: dict, vehicle: str, triggers: dict) -> dict:
+def read_separations(t: Table | None, bodies: dict, vehicle: str, triggers: dict, systems: dict,
+                     duration: float) -> dict:
     """``[separations.<body>]``: body -> Separation; each trigger goes into ``triggers`` (``<body>.separation``)."""
     if t is None:
         return {}
     separations = {}
+    on_lines = {line.body for system in systems.values() for line in system.lines}
     t.allowed = list(t.data)
     for name, st in ((n, Table(v, t.path + (n,), t.ctx)) for n, v in t.data.items()):
         if name not in bodies or name == vehicle or bodies[name].fixed:
             raise t.error(name, "must name a body of the case other than the vehicle, carried by the vehicle "
                                 "until it separates", name)
+        if name in on_lines:
+            raise t.error(name, f"body '{name}' hangs on a system's lines (a canopy): only a body with no line can "
+                                "ride with the vehicle until it separates", name)
         if bodies[name].initial is not None:
             raise t.error(name, f"body '{name}' is carried by the vehicle until it separates: remove its "
                                 "[bodies.<name>.initial] table")
@@ -179,6 +184,9 @@ def read_separations(t: Table | None, bodies: dict, vehicle: str, triggers: dict
         speed = st.number("speed", "m/s", minimum=0.0)
         trigger = read_trigger(st.table("trigger"), bodies)
         time = trigger.condition.time if isinstance(trigger.condition, At) else math.inf
+        if math.isfinite(time) and time >= duration:
+            raise st.error("trigger", f"time must be before the end of the run (simulation.duration = {duration:g} s)",
+                           time)
         if not isinstance(trigger.condition, At):
             triggers[f"{name}.separation"] = trigger
         st.finish()

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..case.model import Case
 from ..errors import SimulationError
-from ..physics.triggers import TriggerFailed
+from ..physics.triggers import TIME_TOLERANCE, TriggerFailed
 from .model import Model
 from .state import BodyChannel
 
@@ -58,10 +58,11 @@ class TriggerMonitor:
         self.pressure_at = pressure_function(case) if case.atmosphere is not None else None
         self.air_motion = case.air_motion()
         self.readers = {}
-        for watch in watches:
+        for watch in watches:   # a body not in this phase (not deployed yet, cut away) cannot be sensed in it
             body = watch.trigger.sensor.body or case.vehicle
-            self.readers[body] = (model.channels[BodyChannel(body, "position")],
-                                  model.channels[BodyChannel(body, "velocity")])
+            if BodyChannel(body, "position") in model.channels:
+                self.readers[body] = (model.channels[BodyChannel(body, "position")],
+                                      model.channels[BodyChannel(body, "velocity")])
         self.firings: list = []
 
     def __call__(self, t: float) -> bool:
@@ -70,11 +71,11 @@ class TriggerMonitor:
         step = self.model.step
         truths = {}
         for watch in self.watches:
-            if watch.armed_by is not None and watch.armed_by not in self.fired:
-                continue
-            if not watch.due(t, step):
-                continue
+            if watch.armed_by is not None and self.fired.get(watch.armed_by, math.inf) >= t - TIME_TOLERANCE:
+                continue   # its arming event has not happened before this sample (a known future time counts then)
             body = watch.trigger.sensor.body or self.case.vehicle
+            if body not in self.readers or not watch.due(t, step):
+                continue
             if body not in truths:
                 position, velocity = self.readers[body]
                 truths[body] = true_values(self.case, position(), velocity(), t, self.air_motion)

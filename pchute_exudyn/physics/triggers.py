@@ -185,7 +185,7 @@ def leaves(condition) -> list:
 def stream_seed(seed: int, event: str, stream: int) -> np.random.SeedSequence:
     """The seed of noise ``stream`` (0: pressure, 1: speed) of the trigger of ``event``: from the case's seed and the
     event's name alone (CRC-32, the same in every Python process), so any machine, method and step draws the same."""
-    return np.random.SeedSequence([int(seed) & 0xFFFFFFFF, zlib.crc32(event.encode()), stream])
+    return np.random.SeedSequence([int(seed), zlib.crc32(event.encode()), stream])
 
 
 class NoiseStream:
@@ -212,10 +212,13 @@ class NoiseStream:
 def barometric_altitude(truth: dict, pressure: float, pressure_at) -> float:
     """The altitude (m) whose pressure is ``pressure`` (Pa), by Newton's method on ``pressure_at(h) -> (p, rho)``
     from the true state (hydrostatic slope dp/dh = -rho g)."""
+    if not pressure > 0.0:   # a reading at or below zero: above the atmosphere as far as the altimeter knows
+        return math.inf
     h, gravity = truth["altitude"], truth["gravity"]
     p, rho = truth["pressure"], truth["density"]
-    for _ in range(8):
+    for _ in range(50):   # converges in 2-4 iterations for errors of 1 % of p, in under 10 for 90 %
         step = (p - pressure) / (rho * gravity)
+        step = max(min(step, 5.0 * p / (rho * gravity)), -5.0 * p / (rho * gravity))   # at most 5 scale heights
         h += step
         if abs(step) < 1e-6:
             break

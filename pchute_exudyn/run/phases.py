@@ -39,7 +39,7 @@ def initial_states(case: Case) -> tuple[dict, dict]:
     bodies = {body.name: initial_body_state(case, body) for body in case.free_bodies() if body.initial is not None}
     confluences = {system.name: initial_confluence_state(case, system) for system in case.systems.values()
                    if system.confluence.initial is not None}
-    riding = carried(case, 0.0)
+    riding = carried(case, 0.0, before=True)   # a body leaving at 0 s leaves the composite (``separate``)
     if riding:
         own = bodies[case.vehicle]
         _, center = vehicle_with(case, riding)
@@ -138,11 +138,11 @@ def next_phase(case: Case, start: float, end: float, body_states: dict, confluen
     systems = [s.name for s in case.systems.values() if case.acting(s, start)]
     phase = Phase(start, end, systems, case.active_bodies(start))
     phase.events.extend(separations)
-    for system in case.systems.values():
-        if system.cutaway_time is not None and system.cutaway_time == start:
+    for system in case.systems.values():   # (a system whose triggered deployment has not fired has nothing to cut)
+        if system.cutaway_time is not None and system.cutaway_time == start and system.deployed_by(start):
             phase.events.append(CutawayEvent(start, system.name))
     for canopy, time in case.failures.cutaway.items():
-        if time == start:
+        if time == start and case.canopy_system(canopy).deployed_by(start):
             phase.events.append(CutawayEvent(start, case.canopy_system(canopy).name, canopy))
     for name in systems:
         system = case.systems[name]

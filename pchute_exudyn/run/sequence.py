@@ -17,6 +17,7 @@ from dataclasses import replace
 from ..case.events import armed_by, known_times, with_event_times
 from ..case.model import Case
 from ..engine.triggers import true_values
+from ..errors import SimulationError
 from ..physics.triggers import After, Watch
 
 
@@ -46,7 +47,23 @@ class Sequence:
             self.times[firing.event] = max(firing.time, earliest)
             self.records[firing.event] = firing.record
         self._resolve()
+        for event, time in self.times.items():
+            if event.endswith(".deploy") and event in self.base.triggers:
+                self._check_after_deployment(event.removesuffix(".deploy"), time)
         return min(self.times[firing.event] for firing in firings)
+
+    def _check_after_deployment(self, system_name: str, time: float) -> None:
+        """A fixed-time cut-away of a system (or of one of its canopies) that comes before the deployment its trigger
+        placed at ``time`` (s) is an error of the case: nothing can be cut away before it is out."""
+        system = self.base.systems[system_name]
+        fixed = [(f"systems.{system_name}.cutaway_time", system.cutaway_time)]
+        fixed += [(f"failures.cutaway.{c}", self.base.failures.cutaway.get(c)) for c in system.canopies]
+        for key, cut in fixed:
+            if cut is not None and math.isfinite(cut) and cut <= time:
+                raise SimulationError(f"{key} = {cut:g} s comes before the deployment its trigger fired at "
+                                      f"{time:g} s ({self.base.triggers[system_name + '.deploy'].key}): cut it away "
+                                      "by a trigger after the deployment (after = \"" + system_name + ".deploy\")",
+                                      time)
 
     def _resolve(self) -> None:
         """Place every ``after`` trigger whose event is known, then rebuild the case with the triggered times."""
@@ -60,10 +77,16 @@ class Sequence:
                 reference = self.times[condition.event]
                 self.times[event] = reference + condition.delay
                 self.records[event] = {"quantity": "after", "threshold": condition.delay, "measured": None,
-                                       "true": None, "time": reference, "lag": 0.0, "event": condition.event}
+                                       "true": None, "time": reference + condition.delay, "lag": 0.0,
+                                       "event": condition.event}
                 changed = True
         placed = {event: time for event, time in self.times.items() if event in self.base.triggers}
         self.case = with_event_times(self.base, placed) if placed else self.base
+
+    def boundaries(self, duration: float) -> set:
+        """The run times (s) of the triggered events placed so far within the run: each is a phase boundary, so that
+        every triggered event (a disreef too) starts a phase and its conditions are read there."""
+        return {t for event, t in self.times.items() if event in self.base.triggers and 0.0 < t < duration}
 
     def snapshot(self):
         """What a phase integrated again from its start needs restored (the watches' samples and noise)."""

@@ -305,7 +305,8 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
     start, number = 0.0, 0
     while start < plan.duration:
         current = sequence.case
-        end = next(t for t in boundaries(current, plan.duration) if t > start)
+        end = next(t for t in sorted(set(boundaries(current, plan.duration)) | sequence.boundaries(plan.duration))
+                   if t > start)
         saved, watches = state.saved(), sequence.snapshot() if sequence.triggered else None
         if sequence.triggered:
             retime_openings(current, state.openings)
@@ -318,10 +319,11 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
                                                     solution_file, sequence)
         try:
             stopped = raw.stopped_at
-            if monitor is not None and monitor.firings and (touchdown is None or touchdown.crossing is None):
-                if sequence.fire(monitor.firings, start) < stopped:   # inside the step just taken: again to t_f
-                    state, _ = saved, sequence.restore(watches)
-                    continue
+            landed = touchdown.crossing[0] if touchdown is not None and touchdown.crossing is not None else math.inf
+            firings = [f for f in monitor.firings if f.time < landed] if monitor is not None else []
+            if firings and sequence.fire(firings, start) < stopped:   # inside the step just taken: again to t_f
+                state, _ = saved, sequence.restore(watches)
+                continue
             state.histories.append(raw)
             number += 1
             merge_facts(state.facts, model.facts())
