@@ -121,7 +121,9 @@ def test_presets_fill_in_what_is_not_given():
     assert (thesis.effective_kappa_max, thesis.effective_order) == (5.0, 0)
     assert SPOptions(preset="thesis", kappa_max=7.0).effective_kappa_max == 7.0
     assert SPOptions(order=0).effective_order == 0
-    assert set(PRESETS) == {"accurate", "thesis"}
+    assert set(PRESETS) == {"accurate", "thesis", "any_damping"}
+    assert SPOptions(preset="any_damping").effective_relaxation_time == 5e-3 == PRESETS["any_damping"]["relaxation_time"]
+    assert SPOptions().effective_relaxation_time == 0.0 == thesis.effective_relaxation_time
     mer = pc.load_case(MER / "case1.toml").simulation.options["sp"]
     assert (mer.preset, mer.effective_kappa_max, mer.effective_order) == ("thesis", 5.0, 0)   # the thesis's cases
 

@@ -4,22 +4,26 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..case.method_table import OptionError
 from ..engine.sp import SPConfluence, build_sp_model
 from ..errors import InputError
 from ..physics.linearization import damped_line_step_limit, sp_step_limit
-from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS
+from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS, relaxed_damping
 from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
-PRESETS = {"accurate": {"kappa_max": 10.0, "order": 1}, "thesis": {"kappa_max": 5.0, "order": 0}}
-"""SP presets: kappa_max and the confluence-mass order they stand for. ``thesis``: the thesis's settings (Eq. 3.10,
-kappa_max = 5). ``accurate`` (the default): the confluence mass to first order, which removes the error of the
-massless balance where the confluence swings with a body (MER cases 5-6, PA1's rocking capsule), and kappa_max = 10,
-which halves the artificial confluence damping while a line is slack (MER cases 3-4): at most 1.3 N of tension error
-after 2 s in every MER case at 1e-2 s, against 82 N with the thesis's settings, at the same cost
-(validation/output/benchmark_sp.md). kappa_max = 20 is as accurate at 1e-2 s but not at 2e-2 s."""
+PRESETS = {"accurate": {"kappa_max": 10.0, "order": 1, "relaxation_time": 0.0},
+           "thesis": {"kappa_max": 5.0, "order": 0, "relaxation_time": 0.0},
+           "any_damping": {"kappa_max": 10.0, "order": 1, "relaxation_time": 5e-3}}
+"""SP presets: kappa_max, the confluence-mass order and the relaxation time they stand for. ``thesis``: the thesis's
+settings (Eq. 3.10, kappa_max = 5). ``accurate`` (the default): the confluence mass to first order, which removes the
+error of the massless balance where the confluence swings with a body (MER cases 5-6, PA1's rocking capsule), and
+kappa_max = 10, which halves the artificial confluence damping while a line is slack (MER cases 3-4): at most 1.3 N
+of tension error after 2 s in every MER case at 1e-2 s, against 82 N with the thesis's settings, at the same cost
+(validation/output/benchmark_sp.md). kappa_max = 20 is as accurate at 1e-2 s but not at 2e-2 s. ``any_damping``:
+accurate's settings with a relaxation time of 5e-3 s, half the thesis's step: every line is damped at least tau K in
+the solve (``relaxed``), so RK4 at 1e-2 s is stable for any line damping, none included (docs/models/any_damping.md)."""
 
 
 @dataclass(frozen=True)
@@ -48,6 +52,10 @@ class SPOptions:
                                    "(the thesis), force = its tension would push (active set)", SLACK_RULES)
     order: int | None = option_field(None, "--sp-order", int, "0 = massless confluence (Eq. 3.10, the thesis), 1 = "
                                      "its weight and inertia kept to first order (default: the preset's)", SP_ORDERS)
+    relaxation_time: float | None = option_field(None, "--sp-relaxation-time", float, "tau (s, 0 to 1): each line is "
+                                                 "damped at least tau K, so the confluence relaxes no faster than "
+                                                 "1/tau; RK4 is stable up to a step of about 2.5 tau for any line "
+                                                 "damping (default: the preset's; 0 = off)")
 
     def __post_init__(self):
         if self.preset not in PRESETS:
@@ -61,6 +69,12 @@ class SPOptions:
             object.__setattr__(self, "kappa_max", float(kappa))
         if self.slack_rule not in SLACK_RULES:
             raise OptionError("slack_rule", self.slack_rule, f"must be one of: {', '.join(SLACK_RULES)}")
+        tau = self.relaxation_time
+        if tau is not None:
+            if isinstance(tau, bool) or not isinstance(tau, (int, float)) or not (math.isfinite(tau) and 0 <= tau <= 1):
+                raise OptionError("relaxation_time", tau, "must be within 0..1 (s): the confluence's slowest allowed "
+                                                          "relaxation (0 = off)")
+            object.__setattr__(self, "relaxation_time", float(tau))
         if self.order is not None:
             if isinstance(self.order, bool) or self.order not in SP_ORDERS:
                 raise OptionError("order", self.order, "must be 0 (the massless balance of Eq. 3.10, the thesis) or "
@@ -77,9 +91,15 @@ class SPOptions:
         """The confluence-mass order in effect: the given one, else the preset's."""
         return PRESETS[self.preset]["order"] if self.order is None else self.order
 
+    @property
+    def effective_relaxation_time(self) -> float:
+        """The relaxation time in effect (s): the given one, else the preset's."""
+        return PRESETS[self.preset]["relaxation_time"] if self.relaxation_time is None else self.relaxation_time
+
     def summary(self) -> dict:
+        tau = self.effective_relaxation_time   # only when on: summaries of runs without it keep their keys
         return {"sp_preset": self.preset, "kappa_max": self.effective_kappa_max, "slack_rule": self.slack_rule,
-                "sp_order": self.effective_order}
+                "sp_order": self.effective_order, **({"sp_relaxation_time": tau} if tau > 0.0 else {})}
 
 
 class SingularPerturbation(Method):
@@ -96,22 +116,39 @@ class SingularPerturbation(Method):
     Options = SPOptions
     outputs = {name: unit for name, (unit, _) in SPConfluence.OUTPUTS.items()}
 
+    def relaxed(self, system):
+        """``system`` as the solve sees it: each line damped at least tau K (``physics.singular_perturbation.
+        relaxed_damping``); itself without a relaxation time."""
+        tau = self.options.effective_relaxation_time
+        if tau <= 0.0:
+            return system
+        stiffness, damping = line_constants(system)
+        floors = relaxed_damping(stiffness, damping, tau)
+        return replace(system, lines=tuple(replace(line, damping=c) for line, c in zip(system.lines, floors)))
+
     def check(self, case, integrator):
         super().check(case, integrator)
+        if not case.free_bodies():
+            raise InputError("the sp method moves the confluence inside the moving bodies' force item, and every body "
+                             "of this case is fixed (the chapter 2 system): use --method full or equilibrium")
+        if self.options.effective_relaxation_time > 0.0:
+            return
         undamped = [case.line_label(system, line) for system, line in case.lines() if line.damping <= 0.0]
         if undamped:
             every = "every line" if len(undamped) == len(case.lines()) else f"line(s) {', '.join(undamped)}"
             raise InputError(f"the sp method needs damping on every line, but {every} has zero damping: alpha of "
                              "Eq. 3.6 is built from the line damping and is singular whenever only undamped lines are "
-                             "taut; use --method full (or the equilibrium method, which ignores damping)")
+                             "taut; use --sp-preset any_damping (a relaxation time), or --method full")
 
     def build(self, case, phase):
+        if self.options.effective_relaxation_time > 0.0:
+            case = replace(case, systems={name: self.relaxed(system) for name, system in case.systems.items()})
         return build_sp_model(case, phase, self.options)
 
     def step_limit(self, system, attach_position, confluence_position) -> StepLimit:
         step, eigenvalue = sp_step_limit(attach_position, confluence_position,
-                                         *line_arrays(system, attach_position, confluence_position))
+                                         *line_arrays(self.relaxed(system), attach_position, confluence_position))
         return StepLimit(system.name, step, eigenvalue)
 
     def lumped_step_limit(self, system) -> float:
-        return damped_line_step_limit(*line_constants(system))
+        return damped_line_step_limit(*line_constants(self.relaxed(system)))

@@ -61,6 +61,14 @@ SINGULAR = 1e-12
 """Relative singularity test: alpha counts as singular when its condition number exceeds 1/SINGULAR (its smallest
 eigenvalue is below about SINGULAR times its largest) or its determinant is not positive."""
 
+def relaxed_damping(stiffness, damping, relaxation_time: float) -> list:
+    """Each line's damping (N s/m) raised to at least tau K (K in N/m, tau = ``relaxation_time`` in s): the
+    relaxed SP law (docs/models/any_damping.md). The balance's fast mode decays at rate K / C (Eq. 3.10 linearised),
+    so with C >= tau K it is never faster than 1 / tau and RK4 is stable at steps up to about 2.5 tau for any C >= 0,
+    none included; a line already damped that much is left as it is."""
+    return [max(c, relaxation_time * k) for k, c in zip(stiffness, damping)]
+
+
 MAX_ACTIVE_SETS = 64
 """Active sets the force rule tries in one solve before it keeps the last (a set seen before ends it sooner)."""
 
