@@ -80,6 +80,9 @@ BATTERY = [
     ("fixed cut-away before a triggered deployment", lambda t: _run(t, _extends(TRIGGERS, "[failures]\n"
                                                                                         "cutaway.main_canopy = 5.0\n")),
      "failures.cutaway.main_canopy = 5 s comes before the deployment its trigger fired at 9.5 s"),
+    ("time trigger after the end of the run", lambda t: _run(t, _extends(
+        TRIGGERS, 'remove = ["systems.drogue.deploy_trigger"]\n[systems.drogue]\ndeploy_trigger = { time = 500.0 }\n')),
+     "systems.drogue.deploy_trigger.time = 500.0: must be before the end of the run (simulation.duration = 200 s)"),
     ("density scale of zero", lambda t: _run(t, None, "atmosphere.density_scale=0"),
      "atmosphere.density_scale = 0: must be > 0"),
     ("user function that raises", _raising,

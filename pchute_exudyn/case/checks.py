@@ -73,6 +73,11 @@ def check_release(body_tables, system_tables, bodies, systems, vehicle: str) -> 
                                                      "canopies are placed at line stretch: remove this table")
 
 
+def _given(st, event: str) -> str:
+    """The key the case gave an event's fixed time with: ``<event>_time``, or a ``{ time = t }`` trigger."""
+    return f"{event}_trigger.time" if f"{event}_trigger" in st.data else f"{event}_time"
+
+
 def check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle) -> None:
     """Cross-checks of deployments, cut-aways, canopies, initial states and the ground."""
     duration = simulation.duration
@@ -81,11 +86,11 @@ def check_events(top, body_tables, system_tables, simulation_table, bodies, syst
         st = system_tables[name]
         key = canopy_key_of(st)
         if system.deploy_time is not None and math.isfinite(system.deploy_time) and system.deploy_time >= duration:
-            raise st.error("deploy_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
-                           system.deploy_time)
+            raise st.error(_given(st, "deploy"), f"must be before the end of the run (simulation.duration = "
+                                                 f"{duration:g} s)", system.deploy_time)
         if system.cutaway_time is not None and math.isfinite(system.cutaway_time) and system.cutaway_time >= duration:
-            raise st.error("cutaway_time", f"must be before the end of the run (simulation.duration = {duration:g} s)",
-                           system.cutaway_time)
+            raise st.error(_given(st, "cutaway"), f"must be before the end of the run (simulation.duration = "
+                                                  f"{duration:g} s)", system.cutaway_time)
         for canopy in system.canopies:
             if canopy in canopies:
                 raise st.error(key, f"body '{canopy}' is already the canopy of system '{canopies[canopy]}'", canopy)

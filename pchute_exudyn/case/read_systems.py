@@ -58,7 +58,8 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
                                       "the body it hangs from (e.g. \"vehicle.line_stretch\")",
                       ".".join(deploy_point))
     if cutaway_time is not None and math.isfinite(cutaway_time) and cutaway_time <= (deploy_time or 0.0):
-        raise t.error("cutaway_time", f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
+        raise t.error("cutaway_trigger.time" if "cutaway_trigger" in t.data else "cutaway_time",
+                      f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
                       cutaway_time)
     for key, value in (("drag_area_schedule", schedule), ("inflation", inflation)):
         if value is not None and (not canopies or any(bodies[c].aerodynamics is None for c in canopies)):
