@@ -310,3 +310,17 @@ def test_a_separation_at_the_start_leaves_from_the_vehicles_own_state(tmp_path):
         pytest.approx((3000.0, 0.0, 0.0), abs=1e-9)
     offset = [result[f"shield_{a}"][0] - result[f"vehicle_{a}"][0] for a in ("east", "north", "altitude")]
     assert np.linalg.norm(offset) == pytest.approx(0.5, abs=1e-9)
+
+
+def test_the_disreef_of_a_system_present_from_the_start_has_its_time_known():
+    """``after = "main.disreef2"`` can wait on a fixed disreef of a system there from the start: its time counts
+    from t = 0 (case.events.known_times, the one home of the fixed event times)."""
+    from dataclasses import replace
+
+    from pchute_exudyn.case.events import known_times
+    case = load_case(PA1_INFLATION)
+    present = {name: replace(system, deploy_time=None) if name == "main" else system
+               for name, system in case.systems.items()}
+    times = known_times(present, case.failures, case.separations)
+    assert times["main.disreef2"] == 8.0 and times["main.disreef3"] == 16.0
+    assert known_times(case.systems, case.failures, case.separations)["main.disreef2"] == 9.5 + 8.0

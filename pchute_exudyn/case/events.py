@@ -16,34 +16,22 @@ from .model import Case
 DISREEF = "disreef"
 
 
-def event_names(case: Case) -> list:
-    """Every event the case has (fixed or triggered), in case order."""
-    names = []
-    for name, system in case.systems.items():
-        if system.deploy_time is not None:
-            names.append(f"{name}.deploy")
-        if system.cutaway_time is not None:
-            names.append(f"{name}.cutaway")
-        if system.inflation is not None:
-            names += [f"{name}.{DISREEF}{k}" for k in range(2, len(system.inflation.stages) + 1)]
-    names += [f"{canopy}.cutaway" for canopy in case.failures.cutaway]
-    names += [f"{body}.separation" for body in case.separations]
-    return names
-
-
-def known_times(case: Case) -> dict:
-    """event -> run time (s) of every event whose time is known (fixed, or already fired): not pending."""
+def known_times(systems: dict, failures, separations: dict) -> dict:
+    """event -> run time (s) of every event whose time is known (fixed, or already fired): not pending. Takes a
+    case's parts (``systems``, ``failures``, ``separations``), so the reader checks the event graph with it before
+    the Case exists; a disreef counts from line stretch (the start of the run for a system present from it)."""
     times = {}
-    for name, system in case.systems.items():
+    for name, system in systems.items():
         for key, value in (("deploy", system.deploy_time), ("cutaway", system.cutaway_time)):
             if value is not None and math.isfinite(value):
                 times[f"{name}.{key}"] = value
-        if system.inflation is not None and system.deploy_time is not None and math.isfinite(system.deploy_time):
+        stretch = system.deploy_time if system.deploy_time is not None else 0.0
+        if system.inflation is not None and math.isfinite(stretch):
             for k, stage in enumerate(system.inflation.stages[1:], start=2):
                 if math.isfinite(stage.start):
-                    times[f"{name}.{DISREEF}{k}"] = system.deploy_time + stage.start
-    times.update({f"{c}.cutaway": t for c, t in case.failures.cutaway.items() if math.isfinite(t)})
-    times.update({f"{b}.separation": s.time for b, s in case.separations.items() if math.isfinite(s.time)})
+                    times[f"{name}.{DISREEF}{k}"] = stretch + stage.start
+    times.update({f"{c}.cutaway": t for c, t in failures.cutaway.items() if math.isfinite(t)})
+    times.update({f"{b}.separation": s.time for b, s in separations.items() if math.isfinite(s.time)})
     return times
 
 

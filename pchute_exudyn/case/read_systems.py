@@ -8,6 +8,7 @@ from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
 from ..physics.inflation import Inflation, InflationError, InflationStage
 from ..physics.lines import LoadElongation, LoadElongationError
 from ..physics.triggers import At
+from .events import DISREEF
 from .fields import NO_VALUE, Table, check_number, default_of, dotted
 from .model import (
     Confluence,
@@ -226,7 +227,7 @@ def _read_inflation(t: Table, system: str = "", bodies=None, triggers=None) -> I
             trigger = read_trigger(Table(table, t.path + ("disreef_triggers", k - 2), t.ctx), bodies)
             if isinstance(trigger.condition, At):
                 raise t.error(f"disreef_triggers[{k - 2}]", "a disreef at a fixed time goes in stage_start", table)
-            triggers[f"{system}.disreef{k}"] = trigger
+            triggers[f"{system}.{DISREEF}{k}"] = trigger
         starts = (0.0,) + (math.inf,) * len(listed)
     columns = {key: t.vector(key, "", length=len(starts)) for key in ("fraction", "fill_constant", "exponent")}
     fractions = columns["fraction"]

@@ -24,6 +24,7 @@ from ..physics.triggers import (
     UserFunction,
     leaves,
 )
+from .events import known_times
 from .fields import Table, default_of
 from .model import Separation
 
@@ -203,16 +204,7 @@ def case_folder(t: Table) -> Path:
 
 def check_triggers(top: Table, triggers: dict, systems: dict, failures, separations: dict, atmosphere) -> None:
     """Every ``after`` names an event of the case, without cycles; a sensed quantity has the atmosphere it needs."""
-    fixed = set()
-    for name, system in systems.items():
-        for kind, time in (("deploy", system.deploy_time), ("cutaway", system.cutaway_time)):
-            if time is not None and math.isfinite(time):
-                fixed.add(f"{name}.{kind}")
-        if system.inflation is not None:
-            fixed |= {f"{name}.disreef{k}" for k, stage in enumerate(system.inflation.stages[1:], start=2)
-                      if math.isfinite(stage.start)}
-    fixed |= {f"{c}.cutaway" for c, t in failures.cutaway.items() if math.isfinite(t)}
-    fixed |= {f"{b}.separation" for b, s in separations.items() if math.isfinite(s.time)}
+    fixed = set(known_times(systems, failures, separations))
     check_events(triggers, fixed, lambda event, message, value: top.error(triggers[event].key, message, value))
     for trigger in triggers.values():
         needs = {c.quantity for c in leaves(trigger.condition) if isinstance(c, Threshold)} & {"mach",

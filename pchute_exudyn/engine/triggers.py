@@ -10,6 +10,7 @@ import numpy as np
 
 from ..case.model import Case
 from ..errors import SimulationError
+from ..physics.atmosphere import pressure_of
 from ..physics.triggers import TIME_TOLERANCE, TriggerFailed
 from .model import Model
 from .state import BodyChannel
@@ -29,7 +30,7 @@ def true_values(case: Case, position, velocity, time: float, air_motion=None) ->
     density, sound = case.atmosphere.state(altitude) if case.atmosphere is not None else (0.0, math.nan)
     gamma = case.atmosphere.kernel_parameters()[2] if case.atmosphere is not None else 1.4
     return {"altitude": altitude, "altitude_ground": altitude - (case.simulation.ground_altitude or 0.0),
-            "pressure": density * sound * sound / gamma, "density": density, "speed_of_sound": sound,
+            "pressure": pressure_of(density, sound, gamma), "density": density, "speed_of_sound": sound,
             "vertical_velocity": -float(np.dot(case.start.down(np.array([x, y, z])), velocity)),
             "speed": float(np.linalg.norm(ground)), "airspeed": airspeed, "mach": airspeed / sound,
             "dynamic_pressure": 0.5 * density * airspeed * airspeed,
@@ -38,12 +39,12 @@ def true_values(case: Case, position, velocity, time: float, air_motion=None) ->
 
 
 def pressure_function(case: Case):
-    """h (m) -> (pressure in Pa, density in kg/m^3) of the case's atmosphere (p = rho a^2 / gamma)."""
+    """h (m) -> (pressure in Pa, density in kg/m^3) of the case's atmosphere (``physics.atmosphere.pressure_of``)."""
     gamma = case.atmosphere.kernel_parameters()[2]
 
     def pressure_at(altitude: float) -> tuple:
         density, sound = case.atmosphere.state(altitude)
-        return density * sound * sound / gamma, density
+        return pressure_of(density, sound, gamma), density
     return pressure_at
 
 

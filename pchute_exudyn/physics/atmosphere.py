@@ -397,6 +397,12 @@ _US76_PARAMETERS = np.array([US76_KIND, SOUND_FROM_TEMPERATURE, 1.4, US76_R, 0.0
 _MARS_PARAMETERS = np.array([MARS_KIND, SOUND_FROM_TEMPERATURE, MARS_GAMMA, MARS_R, 0.0, 0.0, 1.0])
 
 
+def pressure_of(density: float, sound: float, gamma: float) -> float:
+    """p = rho a^2 / gamma (Pa) of an ideal gas from its density (kg/m^3), speed of sound (m/s) and gamma (-):
+    rho R T, what a barometric sensor reads (``physics.triggers``)."""
+    return density * sound * sound / gamma
+
+
 @dataclass(frozen=True)
 class ScaledAtmosphere(Atmosphere):
     """Another model's atmosphere with its density multiplied by ``density_scale`` (-, > 0) at every altitude, its

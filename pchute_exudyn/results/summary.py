@@ -24,6 +24,8 @@ from typing import ClassVar
 
 import numpy as np
 
+from ..case.events import DISREEF
+
 
 @dataclass(frozen=True)
 class Event:
@@ -105,7 +107,7 @@ class StageStartEvent(Event):
 
     @property
     def name(self) -> str:
-        return f"{self.system}.disreef{self.stage}"
+        return f"{self.system}.{DISREEF}{self.stage}"
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,8 @@ class Sequence:
 
     def __init__(self, case: Case):
         self.base = case
-        self.times = known_times(case)   # event -> run time (s): fixed, resolved or fired
+        # event -> run time (s): fixed, resolved or fired
+        self.times = known_times(case.systems, case.failures, case.separations)
         self.records: dict = {}          # event -> its trigger's record (summary.json ``trigger``)
         self.watches = [Watch(event, trigger, case.simulation.seed, armed_by(case, event))
                         for event, trigger in case.triggers.items() if not trigger.timed]

@@ -307,7 +307,8 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
         current = sequence.case
         end = next(t for t in sorted(set(boundaries(current, plan.duration)) | sequence.boundaries(plan.duration))
                    if t > start)
-        saved, watches = state.saved(), sequence.snapshot() if sequence.triggered else None
+        # what a phase integrated again to a firing time needs (only a run with sensed triggers has one)
+        saved, watches = (state.saved(), sequence.snapshot()) if sequence.triggered else (None, None)
         if sequence.triggered:
             retime_openings(current, state.openings)
         phase = next_phase(current, start, end, state.body_states, state.confluence_states)
