@@ -302,3 +302,52 @@ def test_channels_sampled_together_equal_the_channels_read_one_by_one(monkeypatc
     assert grouped.keys() == single.keys()
     for name in single:
         assert np.array_equal(np.asarray(grouped[name]), np.asarray(single[name]), equal_nan=True), name
+
+
+def test_the_kernels_gravity_is_the_engines_gravity_connector_bit_for_bit():
+    """``planet.engine_gravity_force`` against the force Exudyn's own ObjectConnectorGravity reports, at points near
+    and far from a planet centre off the origin: equal in every bit (the connector reports the pull on the second
+    marker as a tension, outward)."""
+    import exudyn as exu
+    import exudyn.itemInterface as eii
+
+    from pchute_exudyn.physics.planet import engine_gravity_force
+
+    mu, mass, centre = 4.282828685e13, 827.3, [1.5e3, -2.0e2, -3393940.0]
+    rng = np.random.default_rng(37)
+    for point in [*rng.normal(scale=5e3, size=(6, 3)), [0.0, 0.0, 9500.0], [1e-3, -2e-3, 120.25]]:
+        mbs = exu.SystemContainer().AddSystem()
+        ground = mbs.AddObject(eii.ObjectGround())
+        planet = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=ground, localPosition=centre))
+        node = mbs.AddNode(eii.NodePoint(referenceCoordinates=list(point)))
+        body = mbs.AddObject(eii.ObjectMassPoint(nodeNumber=node, mass=mass))
+        marker = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=body, localPosition=[0.0, 0.0, 0.0]))
+        connector = mbs.AddObject(eii.ObjectConnectorGravity(markerNumbers=[planet, marker],
+                                                             gravitationalConstant=mu, mass0=1.0, mass1=mass))
+        mbs.Assemble()
+        pull = mbs.GetObjectOutput(connector, exu.OutputVariableType.Force)
+        ours = engine_gravity_force(mu, mass, *centre, *map(float, point))
+        assert [-value for value in ours] == pull.tolist()
+
+
+@pytest.mark.parametrize("case_path, duration", [(MER / "case1.toml", 6.0), (MER / "case5_aero.toml", 3.0)])
+def test_the_stage_taking_over_gravity_changes_no_bit(monkeypatch, case_path, duration):
+    """An SP run whose fused stage kernel adds the bodies' gravity (the engine's connectors switched off) against the
+    same run with the connectors: every output column bitwise equal."""
+    from pchute_exudyn.engine.stage import Stage
+
+    case = pc.load_case(case_path)
+    taken = []
+    original = Stage.take_over_gravity
+
+    def watched(self):
+        original(self)
+        taken.append(self.layout[:, 7].copy())
+    monkeypatch.setattr(Stage, "take_over_gravity", watched)
+    own = _columns(case, duration=duration)
+    assert taken and all((masses > 0.0).all() for masses in taken)   # every free body's gravity was taken over
+    monkeypatch.setattr(Stage, "take_over_gravity", lambda self: None)
+    engine = _columns(case, duration=duration)
+    assert own.keys() == engine.keys()
+    for name in engine:
+        assert np.array_equal(np.asarray(own[name]), np.asarray(engine[name]), equal_nan=True), name

@@ -23,11 +23,12 @@ from .stage import Stage
 from .state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
 
 
-def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -> None:
+def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -> int | None:
     """Gravity on the body or point mass ``body`` whose centre of mass is at ``marker``.
 
     Spherical gravity -mu m r/|r|^3 by Exudyn's native gravity connector to the planet centre (exact at every
-    stage); on a flat planet a uniform mass-proportional load (none when g = 0).
+    stage), whose number it returns; on a flat planet a uniform mass-proportional load (none when g = 0), and it
+    returns None.
     """
     mbs = model.mbs
     if isinstance(case.planet, FlatPlanet):
@@ -36,8 +37,8 @@ def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -
             mbs.AddLoad(eii.LoadMassProportional(markerNumber=mass_marker,
                                                  loadVector=[0.0, 0.0, -case.planet.gravity_acceleration],
                                                  visualization=eii.VLoadMassProportional(show=False)))
-        return
-    mbs.AddObject(eii.ObjectConnectorGravity(
+        return None
+    return mbs.AddObject(eii.ObjectConnectorGravity(
         markerNumbers=[model.planet_marker, marker], gravitationalConstant=case.planet.gravitational_parameter,
         mass0=1.0, mass1=mass, visualization=eii.VObjectConnectorGravity(show=False)))
 
@@ -79,7 +80,9 @@ def add_body(model: Model, case: Case, body: Body, state: BodyState | None = Non
     center = mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=[0.0, 0.0, 0.0]))
     points = {name: mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=obj, localPosition=list(p)))
               for name, p in body.points.items()}
-    add_gravity(model, case, obj, center, mass)
+    connector = add_gravity(model, case, obj, center, mass)
+    if connector is not None and body.apparent_mass is None:   # its only force item besides the stage's
+        model.gravity_connectors[body.name] = (connector, mass)
     add_apparent_mass(model, case, body, node)
     result = BodyItems(node, obj, points)
     for name, kind in (("position", OV.Position), ("velocity", OV.Velocity), ("rotation", OV.RotationMatrix),

@@ -85,6 +85,8 @@ class Model:
             bodyNumber=self.ground, localPosition=case.start.planet_center.tolist()))
         self.systems = [case.systems[name].with_bodies(phase.bodies) for name in phase.systems]   # present lines
         self.bodies: dict = {}
+        self.gravity_connectors: dict = {}   # body name -> (its gravity connector, its mass in kg): the bodies on
+        #                                      which no other item than the stage's adds a force
         self.confluences: dict = {}
         self.channels: dict = {}
         self.channel_groups: list = []    # (keys, reader, split): channels sampled together by one call

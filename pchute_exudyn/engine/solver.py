@@ -99,6 +99,30 @@ def _pre_step_function(model: Model, progress: dict, step: float):
     return pre_step
 
 
+def _bookkeeping(model: Model, progress: dict, step: float):
+    """The pre-step hook's bookkeeping done after each step instead, for a fixed-step explicit run without pre-step
+    hooks (the state after step n is the state before step n + 1; one call of Python fewer per step): count the
+    step, record the coming step's end time (for messages), stop on Ctrl-C and check the state every CHECK_EVERY
+    steps. Returns a function of the post-step time that returns False to stop the solver."""
+    get_coordinates = model.mbs.systemData.GetODE2Coordinates
+    get_first_order = model.mbs.systemData.GetODE1Coordinates
+    last_end = [progress["time"]]
+
+    def after(t) -> bool:
+        if t - last_end[0] > ROUND_OFF * step:   # not the start, nor a round-off step at the end
+            progress["steps"] += 1
+        last_end[0] = t
+        progress["time"] = t + step
+        if progress["interrupted"]:
+            return False
+        if progress["steps"] % CHECK_EVERY == 0 and not (math.isfinite(float(get_coordinates().sum()))
+                                                         and math.isfinite(float(get_first_order().sum()))):
+            progress["bad"] = t
+            return False
+        return True
+    return after
+
+
 ROUND_OFF = 1e-6
 """Fraction of a step below which two times count as the same (Exudyn's accumulated time drifts by ~1e-10 s)."""
 
@@ -132,11 +156,13 @@ REPORT_EVERY = 100
 """Steps between calls of a run's progress reporter (``integrate(report=...)``)."""
 
 
-def _post_step_function(model: Model, step: float, end: float, output_step: float, progress: dict, report=None):
+def _post_step_function(model: Model, step: float, end: float, output_step: float, progress: dict, report=None,
+                        counts: bool = False):
     """Exudyn's post-step hook: runs the model's post-step hooks and stop conditions and samples every channel at
     the first step on or past each output time (within half a step; Exudyn's own sensor clock anchors each write
     to the last one and drifts off the grid: seen 55.4102 s for 55.41 s at 2e-4 s). Returns the hook and the
-    sample times and rows it fills."""
+    sample times and rows it fills. ``counts``: it also does the pre-step hook's bookkeeping (a run that needs
+    no pre-step call: ``_bookkeeping``)."""
     reads = [reader for _, reader in _sampled_channels(model)[0]] + [group[1] for group in model.channel_groups]
     rows: list = []
     times: list = []
@@ -147,11 +173,14 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
     count = model.post_step_count
 
     last = [None]   # solver time of the last sample (the recorded time is its grid value)
+    bookkeeping = _bookkeeping(model, progress, step) if counts else None
 
     def post_step(mbs_, t):
         if last[0] is not None and t <= last[0] + 0.5 * step:  # Exudyn calls this once more after the last step
             return True
         count[0] += 1
+        if bookkeeping is not None and not bookkeeping(t):
+            return False
         try:
             for hook in post_hooks:
                 hook(mbs_, t)
@@ -264,8 +293,11 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     settings, solver_type = _settings(integrator, step, start, duration, spectral_radius, solution_file, output_step)
     step = (duration - start) / solver_steps(start, duration, step)   # the step Exudyn takes
     progress = {"steps": 0, "time": start, "bad": None, "stopped": None, "interrupted": False}
-    model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))
-    post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report)
+    before_steps = model.pre_step_hooks or not INTEGRATORS[integrator].explicit   # an implicit step may be retried
+    if before_steps:
+        model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))
+    post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report,
+                                                 counts=not before_steps)
     model.mbs.SetPostStepUserFunction(post_step)
     model.step = step
     model.warm_up()

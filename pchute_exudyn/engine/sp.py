@@ -15,42 +15,45 @@ from the previous phase (zero for a newly deployed system) enters as a force ins
 from __future__ import annotations
 
 from array import array
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
-from ..physics.compiled import machine_code, python_form
+from ..physics.compiled import has_machine_code, machine_code
 from ..physics.lines import pack_tables
 from ..physics.singular_perturbation import (
     END_TENSION,
     MEMORY_ACCELERATION,
+    MEMORY_CLOCK,
+    MEMORY_DUE,
+    MEMORY_END,
+    MEMORY_END_SOLVE,
     MEMORY_GRAVITY,
     MEMORY_NEWER,
     MEMORY_OLDER,
     MEMORY_ORDER,
     MEMORY_POSITION,
     MEMORY_ROWS,
+    MEMORY_RUN,
     MEMORY_SETTINGS,
     MEMORY_TIMES,
     MEMORY_V0,
     STAGE_COLUMNS,
     WORK_DIRECTION,
     WORK_TAUT,
-    holds_after_v0_update,
     record_size,
-    sp_end_of_step,
-    sp_end_of_step_with_bodies,
-    sp_first_stage_with_bodies,
-    sp_rk_stage,
-    sp_rk_stage_with_bodies,
+    sp_settle,
+    sp_settle_with_bodies,
+    sp_step_stage,
+    sp_step_stage_with_bodies,
+    step_done,
 )
 from .bodies import add_bodies
 from .model import Model
-from .reduced import ReducedConfluence, step_size
+from .reduced import ReducedConfluence
 from .state import ConfluenceChannel, ConfluenceState, MethodChannel, Phase, TensionChannel
-
-_holds_after_v0_update = python_form(holds_after_v0_update)   # checked from Python once a step
 
 
 class StageSolution(NamedTuple):
@@ -82,12 +85,15 @@ class SPConfluence(ReducedConfluence):
     (``methods.sp.SPOptions``: kappa_max, slack_rule and order in effect).
 
     Per step the engine calls it at each RK stage (from the stage's force item) and once after the step
-    (``advance``); there is no pre-step call: the step size comes from the second stage's time.
+    (``advance``); there is no pre-step call: the step size comes from the second stage's time. The step's
+    bookkeeping (the stage count, the step's start and size, the end-of-step work due, the last end-of-step solve)
+    lives in the confluence's memory array with its states (``physics.singular_perturbation.MEMORY_ROWS``), so a
+    stage's call passes only the time and the stage's node coordinates into one compiled kernel.
 
     The end-of-step work (the RK4 update of the confluence position, the solve at the end-of-step state, v0 and
     order 1's record: ``sp_end_of_step``) is due after every step. When this is the model's only confluence
     (``Stage.fused``) it is deferred to the next step's first stage, whose state is the same and whose force call
-    hands over the coordinates: one kernel call does it and that stage's solve (``sp_first_stage_with_bodies``),
+    hands over the coordinates: one kernel call does it and that stage's solve (``sp_step_stage_with_bodies``),
     with no engine read. Anything that needs it sooner (a channel reader, the touchdown check, the step monitor, the
     end of the run) settles it at once from the engine (``settle``); the outputs sampled after a step are a slot
     the deferred work fills. Otherwise ``advance`` settles at once. The kernels are called through their compiled
@@ -110,7 +116,6 @@ class SPConfluence(ReducedConfluence):
         self.table_points, counts = pack_tables(line.load_elongation for line in system.lines)
         self.layout = np.column_stack([self.points, self.free_length, self.stiffness, self.damping, counts])
         self.work = np.zeros((len(system.lines), STAGE_COLUMNS))
-        self.start_time = float(start_time)
         acceleration = state.acceleration
         memory = self.memory = np.zeros((MEMORY_ROWS, 3))   # physics.singular_perturbation.MEMORY_ROWS
         memory[MEMORY_POSITION] = state.position
@@ -120,88 +125,65 @@ class SPConfluence(ReducedConfluence):
         mu, *vector = case.start.gravity_parameters()
         memory[MEMORY_ORDER], memory[MEMORY_GRAVITY] = (float(self.order), mu, 0.0), vector
         memory[MEMORY_ACCELERATION] = (0.0, 0.0, 0.0) if acceleration is None else acceleration
-        self.stage_index = 0
-        self.step_start = float(self.step_start)
-        self.end_of_step = None   # the end-of-step solve's (vx, vy, vz, C_c, kappa, taut) (``sp_end_of_step``)
-        self.pending = None       # (end time in s, whether the step completed) of end-of-step work not yet done
-        self._slot = None         # the output sample waiting for that work
+        memory[MEMORY_CLOCK] = (0.0, float(self.step_start), 0.0)   # no stage yet; t_n the phase start; h unknown
+        memory[MEMORY_RUN] = (0.0, float(start_time), 0.0)           # the run's step is set by ``warm_up``
+        self._slot = None         # the output sample waiting for the deferred end-of-step work
+        self._settles = 0         # end-of-step solves so far (``current`` remakes its solution after each)
         self.record = np.zeros(record_size(model.stage.states, len(system.lines)))   # the outputs (``_record``)
-        self._solution_of = None  # the end_of_step tuple ``solution`` was made from
-        self._kernels = {kernel: kernel for kernel in (sp_rk_stage, sp_end_of_step, sp_rk_stage_with_bodies,
-                                                       sp_end_of_step_with_bodies, sp_first_stage_with_bodies)}
+        self._solution_of = -1    # the ``_settles`` count ``solution`` was made at
+        self._kernels = {kernel: kernel for kernel in (sp_step_stage, sp_settle, sp_step_stage_with_bodies,
+                                                       sp_settle_with_bodies, step_done)}
+        self.stage_call = (None, (), None)   # the fused stage kernel, its arguments, its coordinates' form
 
     # -- the solver's calls -------------------------------------------------------------------------------------------
 
+    @property
+    def pending(self) -> bool:
+        """Whether the last step's end-of-step work is still due."""
+        return self.memory[MEMORY_DUE, 0] > 0.5
+
+    @property
+    def end_of_step(self) -> tuple:
+        """The last end-of-step solve's (vx, vy, vz in m/s, C_c in N s/m, kappa, lines counted taut)."""
+        vx, vy, vz = self.memory[MEMORY_END].tolist()
+        damping, kappa, taut = self.memory[MEMORY_END_SOLVE].tolist()
+        return vx, vy, vz, damping, kappa, int(taut)
+
     def stage_solve(self, t: float) -> None:
-        """The compiled SP solve at the current RK stage (``sp_rk_stage``), the stage's body states already set."""
-        index = self.stage_index
-        if self._needs_solve(t, index):
-            self._kernels[sp_rk_stage](self.stage.states, self.layout, self.table_points, self.work, self.part,
-                                       self.memory, t, index, self.step_size)
+        """The compiled SP solve at the current RK stage (``sp_step_stage``), the stage's body states already set."""
+        self._kernels[sp_step_stage](self.stage.states, self.layout, self.table_points, self.work, self.part,
+                                     self.memory, t)
 
-    def stage_solve_with_bodies(self, t: float, q, q_t, bodies, states, generalized, aerodynamics) -> None:
-        """``stage_solve`` with the stage's body kinematics in the same kernel call (the stage force item uses it
-        when this is the model's only confluence), the lines' generalized forces written to ``generalized`` and the
-        bodies' aerodynamic loads added (``aerodynamics``: ``engine.aerodynamics.AerodynamicLoads.parts``); at a
-        step's first stage, the deferred end-of-step work too."""
-        index = self.stage_index
-        pending = self.pending
-        if index == 0 and pending is not None:
-            self.stage_index = 1
-            self.end_of_step = self._kernels[sp_first_stage_with_bodies](
-                q, q_t, bodies, states, self.layout, self.table_points, self.work, self.part, self.memory,
-                pending[0], self.step_size, pending[1], self.start_time, self.record, t, generalized, *aerodynamics)
-            self._settled()
-            return
-        solve = self._needs_solve(t, index)
-        self._kernels[sp_rk_stage_with_bodies](q, q_t, bodies, states, self.layout, self.table_points, self.work,
-                                               self.part, self.memory, t, index, self.step_size, solve, generalized,
-                                               *aerodynamics)
-
-    def _needs_solve(self, t: float, index: int) -> bool:
-        """Count stage ``index`` (at ``t``, s) and say whether it needs a solve; at the second stage (t_n + h/2) set
-        the step size h. The first stage's state is the end-of-step state already solved: that solve stands when
-        it holds after the v0 update (``holds_after_v0_update``)."""
-        self.stage_index = index + 1
-        if index == 1:
-            self.step_size = step_size(self.model, 2.0 * (t - self.step_start))
-        if index == 0:
-            end = self.end_of_step
-            return not _holds_after_v0_update(end[3], end[5])
-        return index < 4
+    def settled_by_stage(self) -> None:
+        """After a stage call that did the deferred end-of-step work."""
+        self._settled()
 
     def advance(self, mbs, t):
         """Post-step hook, before any other: complete the step's count and make its end-of-step work due (done
         now unless it can wait for the next stage: see the class doc)."""
-        completed = self.stage_index == 4
-        if completed:
-            self.step_start = t
-        self.stage_index = 0
-        self.pending = (t, completed)
+        self._kernels[step_done](self.memory, t)
         if self.stage.fused is not self or not self.DEFER:
             self.settle()
 
     def settle(self) -> None:
         """Do the due end-of-step work now, from the engine's current state (the end of the last step)."""
-        if self.pending is None:
+        memory = self.memory
+        if memory[MEMORY_DUE, 0] < 0.5:
             return
-        t, completed = self.pending
         stage, kernels = self.stage, self._kernels
         if stage.fused is self:   # the end-of-step body states and the solve in one kernel call
-            self.end_of_step = kernels[sp_end_of_step_with_bodies](
-                stage.coordinates(), stage.velocities(), stage.global_layout, stage.states, self.layout,
-                self.table_points, self.work, self.part, self.memory, t, self.step_size, completed, self.start_time,
-                self.record)
-            stage.refreshed_now(t)
+            kernels[sp_settle_with_bodies](stage.coordinates(), stage.velocities(), stage.global_layout,
+                                           stage.states, self.layout, self.table_points, self.work, self.part,
+                                           memory, self.record)
+            stage.refreshed_now(float(memory[MEMORY_DUE, 1]))
         else:
-            stage.refresh(t)
-            self.end_of_step = kernels[sp_end_of_step](stage.states, self.layout, self.table_points, self.work,
-                                                       self.part, self.memory, t, self.step_size, completed,
-                                                       self.start_time, self.record)
+            stage.refresh(float(memory[MEMORY_DUE, 1]))
+            kernels[sp_settle](stage.states, self.layout, self.table_points, self.work, self.part, memory,
+                               self.record)
         self._settled()
 
     def _settled(self) -> None:
-        self.pending = None
+        self._settles += 1
         if self._slot is not None:   # the sample taken after the step gets its values
             self._slot.append(self.record.copy())
             self._slot = None
@@ -211,25 +193,30 @@ class SPConfluence(ReducedConfluence):
         self.settle()
 
     def warm_up(self) -> None:
-        """The solve at the phase start, and each kernel's compiled code for the argument types the solver passes
-        (``machine_code``; Exudyn passes the time as a float)."""
+        """The run's step into the bookkeeping, the solve at the phase start, and each kernel's compiled code for
+        the argument types the solver passes (``machine_code``; Exudyn passes the time as a float)."""
         stage, start = self.stage, float(self.model.phase.start)
-        step = float(self.model.step if self.model.step is not None else 0.0)
+        self.memory[MEMORY_RUN, 0] = self.model.step if self.model.step is not None else 0.0
         arguments = (stage.states, self.layout, self.table_points, self.work, self.part, self.memory)
         kernels = self._kernels
-        kernels[sp_rk_stage] = machine_code(sp_rk_stage, *arguments, start, 0, step)
-        kernels[sp_end_of_step] = machine_code(sp_end_of_step, *arguments, start, step, False, start, self.record)
+        kernels[sp_step_stage] = machine_code(sp_step_stage, *arguments, start)
+        kernels[sp_settle] = machine_code(sp_settle, *arguments, self.record)
+        kernels[step_done] = machine_code(step_done, self.memory, start)
         if stage.fused is self:
             q, q_t = array("d", stage.coordinates()), array("d", stage.velocities())   # as the force item passes them
-            head = (q, q_t, stage.global_layout, stage.states, *arguments[1:])
-            generalized, aerodynamics = stage.generalized, stage.loads.parts
-            kernels[sp_rk_stage_with_bodies] = machine_code(sp_rk_stage_with_bodies, *head, start, 0, step, True,
-                                                            generalized, *aerodynamics)
-            kernels[sp_end_of_step_with_bodies] = machine_code(sp_end_of_step_with_bodies, *head, start, step,
-                                                               False, start, self.record)
-            kernels[sp_first_stage_with_bodies] = machine_code(sp_first_stage_with_bodies, *head, start, step,
-                                                               False, start, self.record, start, generalized,
-                                                               *aerodynamics)
+            head = (q, q_t, stage.global_layout, stage.states, *arguments[1:], self.record)
+            kernels[sp_settle_with_bodies] = machine_code(sp_settle_with_bodies, *head)
+            # the node coordinates cross into the kernel as tuples where the compiled module has the kernel for
+            # their length (a tuple of floats costs a tenth of a typed array to make and to pass), else as arrays
+            rest = (*head[2:], start, stage.generalized, *stage.loads.parts)
+            coordinates = tuple if has_machine_code(sp_step_stage_with_bodies, tuple(q), tuple(q_t), *rest) else \
+                partial(array, "d")
+            kernels[sp_step_stage_with_bodies] = machine_code(sp_step_stage_with_bodies, coordinates(q),
+                                                              coordinates(q_t), *rest)
+            # the stage force item calls kernel(q, q_t, *arguments, t, generalized, *aerodynamics) with q and q_t
+            # made by ``coordinates``; a return of 1 or 3 says it did the deferred end-of-step work
+            # (``settled_by_stage``)
+            self.stage_call = (kernels[sp_step_stage_with_bodies], (stage.layout, *head[3:]), coordinates)
         self.advance(None, start)
         self.settle()
 
@@ -243,9 +230,10 @@ class SPConfluence(ReducedConfluence):
 
     def current(self) -> StageSolution:
         """The end-of-step solve as a ``StageSolution`` (made when first asked for after each step)."""
-        end = self.settled().end_of_step
-        if self._solution_of is not end:
-            self.solution, self._solution_of = StageSolution(end[:3], *end[3:], self.work), end
+        self.settle()
+        if self._solution_of != self._settles:
+            end = self.end_of_step
+            self.solution, self._solution_of = StageSolution(end[:3], *end[3:], self.work), self._settles
         return self.solution
 
     def velocity(self):
@@ -259,7 +247,7 @@ class SPConfluence(ReducedConfluence):
     def sample(self) -> list:
         """The sampled channels' values: a list holding a copy of the end-of-step record (``_record``), or an empty
         one that the deferred end-of-step work fills."""
-        if self.pending is None:
+        if not self.pending:
             return [self.record.copy()]
         if self._slot is None:
             self._slot = []

@@ -16,29 +16,30 @@ Generalized forces of a rotation-vector node: the force (N, start frame) and the
 
 from __future__ import annotations
 
-from array import array as coordinates  # Exudyn passes lists: a typed array is the cheapest way into a kernel
-
 import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case
 from ..physics.compiled import bound
 from ..physics.kinematics import (
+    BODY_MASS_AT,
     POINT_COLUMNS,
     ROW_BODY_RATE,
     ROW_POSITION,
     ROW_ROTATION,
     ROW_VELOCITY,
     STATE_COLUMNS,
+    add_gravity_forces,
     body_states,
 )
 from .aerodynamics import AerodynamicLoads
 from .model import Model
 from .state import BodyChannel, initial_body_state
 
-BODY_COLUMNS = 7
+BODY_COLUMNS = 8
 """Columns of a body layout row: index of its first coordinate (-1: fixed), reference position, reference
-rotation vector."""
+rotation vector, and the mass whose gravity the stage adds (``physics.kinematics.BODY_MASS_AT``; 0: the engine's
+gravity connector adds it)."""
 
 
 class Stage:
@@ -74,6 +75,8 @@ class Stage:
         system_data = model.mbs.systemData
         self._read, self._read_t = system_data.GetODE2Coordinates, system_data.GetODE2Coordinates_t
         self._stage_states = bound(body_states)     # from the force function's arguments, at every stage
+        self.gravity = case.start.gravity_parameters()   # (mu, planet centre) or (0, uniform g): for the stage's
+        self._add_gravity = bound(add_gravity_forces)   # own gravity (``take_over_gravity``)
         self._step_states = bound(body_states)      # from the engine's state, after a step
         self.has_item = False
 
@@ -122,14 +125,33 @@ class Stage:
         self.aerodynamic = bool(self.loads.members)
         if not self.free or not (self.aerodynamic or self.parts):
             return
-        if len(self.confluences) == 1 and hasattr(self.confluences[0], "stage_solve_with_bodies"):
+        force = self.force
+        if len(self.confluences) == 1 and hasattr(self.confluences[0], "stage_call"):
             self.fused = self.confluences[0]
+            self.take_over_gravity()
+            force = self._fused_force()
         nodes = [self.model.bodies[name].node for name in self.free]
         zero = np.zeros((len(self.generalized), len(self.generalized)))
-        self.model.mbs.AddObject(eii.ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=self.force,
+        self.model.mbs.AddObject(eii.ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=force,
                                                        jacobianUserFunction=lambda *args: zero,
                                                        visualization=eii.VObjectGenericODE2(show=False)))
         self.has_item = True
+
+    def take_over_gravity(self) -> None:
+        """The fused stage kernel adds the free bodies' gravity itself (``physics.kinematics.add_gravity_forces``,
+        bit for bit what the engine's gravity connectors add) and their connectors are switched off: they cost the
+        engine about a microsecond per body and stage. Only on a spherical planet, without canopy contact (added
+        after the kernel's forces, it would come after the gravity), and for the bodies on which nothing else adds
+        a force (an apparent mass's item would change the order of the engine's sum, and its rounding)."""
+        connectors = self.model.gravity_connectors
+        if self.gravity[0] == 0.0 or self.contacts:
+            return
+        for name in self.free:
+            if name not in connectors:
+                continue
+            connector, mass = connectors[name]
+            self.layout[self.row[name], BODY_MASS_AT] = mass
+            self.model.mbs.SetObjectParameter(connector, "activeConnector", False)
 
     def assembled(self) -> None:
         """After Exudyn's Assemble: where each free body's coordinates sit in the system's coordinate vector."""
@@ -174,33 +196,52 @@ class Stage:
         """The force user function: aerodynamic loads at this stage's state plus every confluence's part."""
         try:
             generalized = self.generalized
-            loads = self.loads
-            if self.fused is not None:   # one SP confluence: the kinematics, its solve, the forces in one call
-                if loads.scheduled:
-                    loads.schedule(t)
-                self.fused.stage_solve_with_bodies(t, coordinates("d", q), coordinates("d", q_t), self.layout,
-                                                   self.states, generalized, loads.parts)
-                if loads.status[0] != 0.0:   # the aerodynamics met a problem and added nothing: mend, add them
-                    loads.apply_after(t)
+            self._stage_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
+            for confluence in self.confluences:
+                confluence.stage_solve(t)
+            parts = self.parts
+            if parts:
+                np.copyto(generalized, parts[0])
+                for part in parts[1:]:
+                    generalized += part
             else:
-                self._stage_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
-                for confluence in self.confluences:
-                    confluence.stage_solve(t)
-                parts = self.parts
-                if parts:
-                    np.copyto(generalized, parts[0])
-                    for part in parts[1:]:
-                        generalized += part
-                else:
-                    generalized.fill(0.0)
-                if self.aerodynamic:
-                    loads.apply(t)
+                generalized.fill(0.0)
+            if self.aerodynamic:
+                self.loads.apply(t)
             for contact in self.contacts:
                 contact.add_forces(self.states, generalized)
             return generalized
         except Exception as exc:  # keep our own error for the solver to report
             self.model.record_failure(exc)
             raise
+
+    def _fused_force(self):
+        """The force user function of a model whose only confluence solves with the kinematics and the
+        aerodynamics in one kernel call (``engine.sp.SPConfluence.stage_call``): that call and nothing else in
+        Python at most stages, every name it needs bound here (a stage of an MER SP run is about 5 us in all)."""
+        fused, loads, states, generalized = self.fused, self.loads, self.states, self.generalized
+        contacts, record_failure = self.contacts, self.model.record_failure
+        add_gravity, layout, gravity = self._add_gravity, self.layout, self.gravity
+
+        def fused_force(mbs, t, item, q, q_t):
+            try:
+                if loads.scheduled:
+                    loads.schedule(t)
+                kernel, arguments, form = fused.stage_call
+                code = kernel(form(q), form(q_t), *arguments, t, generalized, *loads.parts)
+                if code:
+                    if code != 2.0:      # it did the last step's deferred end-of-step work
+                        fused.settled_by_stage()
+                    if code >= 2.0:      # the aerodynamics met a problem and added nothing: mend, add them,
+                        loads.apply_after(t)   # then the gravity the kernel left out
+                        add_gravity(layout, states, *gravity, generalized)
+                for contact in contacts:
+                    contact.add_forces(states, generalized)
+                return generalized.tolist()   # the engine takes a list faster than an array
+            except Exception as exc:  # keep our own error for the solver to report
+                record_failure(exc)
+                raise
+        return fused_force
 
     def settled_rows(self) -> list:
         """The states at the end of the last step, as lists (a fused confluence may owe its end-of-step work:

@@ -118,6 +118,16 @@ def machine_code(function, *arguments):
     return function.code_for(arguments)
 
 
+def has_machine_code(function, *arguments) -> bool:
+    """Whether kernel ``function`` runs as machine code for the types of ``arguments`` (in the compiled form: the
+    compiled module has an export for them; the jit form compiles any; the Python form has none)."""
+    if MODE == "python":
+        return False
+    if MODE == "jit":
+        return True
+    return tuple(describe(argument) for argument in arguments) in function.codes
+
+
 def bound(function):
     """A caller of kernel ``function`` that runs the machine code for the types of its first call's arguments
     (``machine_code``) from then on: for a per-stage call site whose arguments always have the same types (a

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .compiled import kernel
+from .planet import engine_gravity_force
 from .rotations import rotation_from_vector
 
 STATE_COLUMNS = 21
@@ -108,6 +109,27 @@ def add_point_forces(states, points, forces, generalized):
         if k >= 0:
             add_point_force(states[int(points[j, 0])], points[j, 1], points[j, 2], points[j, 3], forces[j, 0],
                             forces[j, 1], forces[j, 2], generalized, k)
+
+
+BODY_MASS_AT = 7
+"""The column of a stage's body layout (``body_states``' ``bodies``) holding the mass (kg) whose gravity
+``add_gravity_forces`` adds, 0 where the engine adds it."""
+
+
+@kernel
+def add_gravity_forces(bodies, states, mu, cx, cy, cz, generalized):
+    """Add the gravity of the bodies that carry a mass in their layout row (BODY_MASS_AT) to ``generalized``:
+    ``planet.engine_gravity_force`` at each centre of mass, from a planet of ``mu`` (m^3/s^2) centred at (cx, cy,
+    cz) (m), on the node's force coordinates."""
+    for b in range(bodies.shape[0]):
+        mass, k = bodies[b, BODY_MASS_AT], int(bodies[b, 0])
+        if mass > 0.0 and k >= 0:
+            row = states[b]
+            fx, fy, fz = engine_gravity_force(mu, mass, cx, cy, cz, row[POSITION_AT], row[POSITION_AT + 1],
+                                              row[POSITION_AT + 2])
+            generalized[k] += fx
+            generalized[k + 1] += fy
+            generalized[k + 2] += fz
 
 
 def body_point(position, rotation, velocity=None, angular_velocity_local=None, local=(0.0, 0.0, 0.0)):

@@ -48,7 +48,7 @@ import numpy as np
 
 from .aerodynamics import aerodynamics_stage
 from .compiled import kernel
-from .kinematics import POINT_COLUMNS, add_point_forces, body_states, point_motions
+from .kinematics import POINT_COLUMNS, add_gravity_forces, add_point_forces, body_states, point_motions
 from .lines import pack_tables, table_tension
 from .planet import gravity_acceleration
 from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
@@ -416,10 +416,11 @@ def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0
 
 
 (MEMORY_POSITION, MEMORY_STAGE_VELOCITIES, MEMORY_V0, MEMORY_SETTINGS, MEMORY_ORDER, MEMORY_GRAVITY, MEMORY_TIMES,
- MEMORY_NEWER, MEMORY_OLDER, MEMORY_ACCELERATION) = 0, 1, 5, 6, 7, 8, 9, 10, 11, 12
+ MEMORY_NEWER, MEMORY_OLDER, MEMORY_ACCELERATION, MEMORY_CLOCK, MEMORY_DUE, MEMORY_RUN, MEMORY_END,
+ MEMORY_END_SOLVE) = 0, 1, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17
 """The rows of an SP confluence's memory by name (see MEMORY_ROWS; MEMORY_STAGE_VELOCITIES is k_1, the first of
 four)."""
-MEMORY_ROWS = 13
+MEMORY_ROWS = 18
 """Rows (of 3 floats) of an SP confluence's memory for ``sp_rk_stage``:
 
 0 the confluence position q_n at the start of the step under way (m); 1-4 the stage velocities k_1 .. k_4 of the
@@ -427,7 +428,13 @@ step (m/s; row 1 is also the end-of-step solve's velocity); 5 v0 (m/s); 6 (m_c i
 slack rule else 0); 7 (order, gravity mu in m^3/s^2, number of recorded end-of-step velocities, at most 2); 8 the
 planet centre (m; mu > 0) or the uniform gravity (m/s^2; mu = 0); 9 (times of the newer and the older recorded
 end-of-step velocities in s, -); 10 and 11 those velocities (m/s); 12 the acceleration carried from the previous
-phase (m/s^2)."""
+phase (m/s^2).
+
+The step's bookkeeping, kept here so that a stage's call from Python passes nothing but the time (``sp_step_stage``):
+13 (the index of the coming RK stage, 0-4; t_n, the start of the step under way in s; its step h in s); 14 (1 when
+the end-of-step work of the last step is due, else 0; that step's end time in s; 1 when it completed its four
+stages); 15 (the run's step as the engine holds it in s, 0 until the solver sets it; the phase start in s; -);
+16 and 17 the last end-of-step solve's (vx, vy, vz) in m/s and (C_c in N s/m, kappa, lines counted taut)."""
 
 RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
 """a_k of the classical RK4 tableau (Exudyn's RK44): stage k's state is q_n + h a_k k_(k-1) (stage 1: q_n)."""
@@ -580,3 +587,99 @@ def sp_first_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, par
     if aerodynamics[0] > 0.0:
         aerodynamics_stage(t, states, aerodynamics, field, aerodynamic_work, generalized)
     return end
+
+
+@kernel
+def count_stage(memory, t):
+    """Count the RK stage at time ``t`` (s) in ``memory``'s step bookkeeping (rows MEMORY_CLOCK, MEMORY_RUN) and
+    return (its index 0-4, whether it needs a solve). The second stage (t_n + h/2) sets the step h: the run's step
+    when the span 2 (t - t_n) is within 1e-6 of it, else the span (a short last step). The first stage's state is
+    the end-of-step state already solved: that solve stands when it holds after the v0 update
+    (``holds_after_v0_update``); a fifth call or more solves nothing."""
+    index = int(memory[MEMORY_CLOCK, 0])
+    memory[MEMORY_CLOCK, 0] = index + 1
+    if index == 1:
+        span = 2.0 * (t - memory[MEMORY_CLOCK, 1])
+        step = memory[MEMORY_RUN, 0]
+        memory[MEMORY_CLOCK, 2] = step if step > 0.0 and abs(span - step) <= 1e-6 * step else span
+    if index == 0:
+        return index, not holds_after_v0_update(memory[MEMORY_END_SOLVE, 0], memory[MEMORY_END_SOLVE, 2])
+    return index, index < 4
+
+
+@kernel
+def step_done(memory, t):
+    """After a step ending at ``t`` (s): the step's end-of-step work becomes due (MEMORY_DUE) and, when the step
+    completed its four stages, t is the next step's start; the stage count starts again."""
+    completed = memory[MEMORY_CLOCK, 0] == 4.0
+    if completed:
+        memory[MEMORY_CLOCK, 1] = t
+    memory[MEMORY_CLOCK, 0] = 0.0
+    memory[MEMORY_DUE, 0], memory[MEMORY_DUE, 1] = 1.0, t
+    memory[MEMORY_DUE, 2] = 1.0 if completed else 0.0
+
+
+@kernel
+def _keep_end(memory, vx, vy, vz, c_c, kappa, taut):
+    """Keep the end-of-step solve (MEMORY_END, MEMORY_END_SOLVE); the due work is done."""
+    memory[MEMORY_END, 0], memory[MEMORY_END, 1], memory[MEMORY_END, 2] = vx, vy, vz
+    memory[MEMORY_END_SOLVE, 0], memory[MEMORY_END_SOLVE, 1], memory[MEMORY_END_SOLVE, 2] = c_c, kappa, taut
+    memory[MEMORY_DUE, 0] = 0.0
+
+
+@kernel
+def sp_step_stage(states, layout, tables, work, part, memory, t):
+    """An RK stage at ``t`` (s) with the step's bookkeeping in ``memory`` (``count_stage``), then ``sp_rk_stage``
+    when it needs a solve (the body states already set)."""
+    index, solve = count_stage(memory, t)
+    if solve:
+        sp_rk_stage(states, layout, tables, work, part, memory, t, index, memory[MEMORY_CLOCK, 2])
+
+
+@kernel
+def sp_settle(states, layout, tables, work, part, memory, record):
+    """The due end-of-step work (``sp_end_of_step`` with the bookkeeping's time, step and completion), the body
+    states already set at the end of the step; the solve kept in memory."""
+    due = MEMORY_DUE
+    vx, vy, vz, c_c, kappa, taut = sp_end_of_step(states, layout, tables, work, part, memory, memory[due, 1],
+                                                  memory[MEMORY_CLOCK, 2], memory[due, 2] > 0.5,
+                                                  memory[MEMORY_RUN, 1], record)
+    _keep_end(memory, vx, vy, vz, c_c, kappa, taut)
+
+
+@kernel
+def sp_settle_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, record):
+    """``kinematics.body_states`` from the end-of-step node coordinates, then ``sp_settle``."""
+    body_states(q, q_t, bodies, states)
+    sp_settle(states, layout, tables, work, part, memory, record)
+
+
+@kernel
+def sp_step_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, record, t, generalized,
+                              aerodynamics, field, aerodynamic_work):
+    """A stage of a model whose only confluence is this one, in one call: the body states from the stage's node
+    coordinates, the SP solve, the lines' generalized forces into ``generalized`` and the bodies' aerodynamic loads
+    added (as ``sp_rk_stage_with_bodies``). At a step's first stage with the last step's end-of-step work due, that
+    work first (``sp_first_stage_with_bodies``). Last, the gravity of the bodies whose layout rows carry their mass
+    (``kinematics.add_gravity_forces``), added after everything else as the engine's gravity connectors would add
+    it. Returns 1 when it did the end-of-step work, plus 2 when the aerodynamics reported a problem and added nothing
+    (their status in ``aerodynamic_work``; the gravity is then left to the caller too)."""
+    done = 0.0
+    if memory[MEMORY_CLOCK, 0] == 0.0 and memory[MEMORY_DUE, 0] > 0.5:
+        memory[MEMORY_CLOCK, 0] = 1.0
+        due = MEMORY_DUE
+        vx, vy, vz, c_c, kappa, taut = sp_first_stage_with_bodies(
+            q, q_t, bodies, states, layout, tables, work, part, memory, memory[due, 1], memory[MEMORY_CLOCK, 2],
+            memory[due, 2] > 0.5, memory[MEMORY_RUN, 1], record, t, generalized, aerodynamics, field,
+            aerodynamic_work)
+        _keep_end(memory, vx, vy, vz, c_c, kappa, taut)
+        done = 1.0
+    else:
+        index, solve = count_stage(memory, t)
+        sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index,
+                                memory[MEMORY_CLOCK, 2], solve, generalized, aerodynamics, field, aerodynamic_work)
+    if aerodynamic_work[0] != 0.0:   # the aerodynamics added nothing: the caller adds them, then the gravity
+        return done + 2.0
+    g = MEMORY_GRAVITY
+    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, 1], memory[g, 0], memory[g, 1], memory[g, 2], generalized)
+    return done
