@@ -134,6 +134,7 @@ class SPConfluence(ReducedConfluence):
         self._kernels = {kernel: kernel for kernel in (sp_step_stage, sp_settle, sp_step_stage_with_bodies,
                                                        sp_settle_with_bodies, step_done)}
         self.stage_call = (None, (), None)   # the fused stage kernel, its arguments, its coordinates' form
+        self._coordinates = None        # tuple or typed array: the coordinates' form (``warm_up``)
 
     # -- the solver's calls -------------------------------------------------------------------------------------------
 
@@ -153,6 +154,16 @@ class SPConfluence(ReducedConfluence):
         """The compiled SP solve at the current RK stage (``sp_step_stage``), the stage's body states already set."""
         self._kernels[sp_step_stage](self.stage.states, self.layout, self.table_points, self.work, self.part,
                                      self.memory, t)
+
+    def bind_stage_call(self) -> None:
+        """Set ``stage_call`` = (the fused stage kernel, its arguments after the node coordinates and the time, the
+        form the coordinates take: tuple or typed array): the stage force item calls ``kernel(form(q), form(q_t), t,
+        *arguments)``; a return of 1 or 3 says it did the deferred end-of-step work (``settled_by_stage``). Again
+        whenever the aerodynamics' arguments change (a turbulence field grown)."""
+        stage = self.stage
+        arguments = (stage.layout, stage.states, self.layout, self.table_points, self.work, self.part, self.memory,
+                     self.record, stage.generalized, *stage.loads.parts)
+        self.stage_call = (self._kernels[sp_step_stage_with_bodies], arguments, self._coordinates)
 
     def settled_by_stage(self) -> None:
         """After a stage call that did the deferred end-of-step work."""
@@ -208,15 +219,13 @@ class SPConfluence(ReducedConfluence):
             kernels[sp_settle_with_bodies] = machine_code(sp_settle_with_bodies, *head)
             # the node coordinates cross into the kernel as tuples where the compiled module has the kernel for
             # their length (a tuple of floats costs a tenth of a typed array to make and to pass), else as arrays
-            rest = (*head[2:], start, stage.generalized, *stage.loads.parts)
-            coordinates = tuple if has_machine_code(sp_step_stage_with_bodies, tuple(q), tuple(q_t), *rest) else \
-                partial(array, "d")
+            rest = (stage.global_layout, *head[3:], stage.generalized, *stage.loads.parts)
+            coordinates = tuple if has_machine_code(sp_step_stage_with_bodies, tuple(q), tuple(q_t), start, *rest) \
+                else partial(array, "d")
             kernels[sp_step_stage_with_bodies] = machine_code(sp_step_stage_with_bodies, coordinates(q),
-                                                              coordinates(q_t), *rest)
-            # the stage force item calls kernel(q, q_t, *arguments, t, generalized, *aerodynamics) with q and q_t
-            # made by ``coordinates``; a return of 1 or 3 says it did the deferred end-of-step work
-            # (``settled_by_stage``)
-            self.stage_call = (kernels[sp_step_stage_with_bodies], (stage.layout, *head[3:]), coordinates)
+                                                              coordinates(q_t), start, *rest)
+            self._coordinates = coordinates
+            self.bind_stage_call()
         self.advance(None, start)
         self.settle()
 

@@ -222,21 +222,24 @@ class Stage:
         fused, loads, states, generalized = self.fused, self.loads, self.states, self.generalized
         contacts, record_failure = self.contacts, self.model.record_failure
         add_gravity, layout, gravity = self._add_gravity, self.layout, self.gravity
+        schedule = loads.schedule if loads.scheduled else None
 
         def fused_force(mbs, t, item, q, q_t):
             try:
-                if loads.scheduled:
-                    loads.schedule(t)
+                if schedule is not None:
+                    schedule(t)
                 kernel, arguments, form = fused.stage_call
-                code = kernel(form(q), form(q_t), *arguments, t, generalized, *loads.parts)
+                code = kernel(form(q), form(q_t), t, *arguments)
                 if code:
                     if code != 2.0:      # it did the last step's deferred end-of-step work
                         fused.settled_by_stage()
                     if code >= 2.0:      # the aerodynamics met a problem and added nothing: mend, add them,
                         loads.apply_after(t)   # then the gravity the kernel left out
                         add_gravity(layout, states, *gravity, generalized)
-                for contact in contacts:
-                    contact.add_forces(states, generalized)
+                        fused.bind_stage_call()   # the turbulence field may be a new array
+                if contacts:
+                    for contact in contacts:
+                        contact.add_forces(states, generalized)
                 return generalized.tolist()   # the engine takes a list faster than an array
             except Exception as exc:  # keep our own error for the solver to report
                 record_failure(exc)

@@ -655,7 +655,7 @@ def sp_settle_with_bodies(q, q_t, bodies, states, layout, tables, work, part, me
 
 
 @kernel
-def sp_step_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, record, t, generalized,
+def sp_step_stage_with_bodies(q, q_t, t, bodies, states, layout, tables, work, part, memory, record, generalized,
                               aerodynamics, field, aerodynamic_work):
     """A stage of a model whose only confluence is this one, in one call: the body states from the stage's node
     coordinates, the SP solve, the lines' generalized forces into ``generalized`` and the bodies' aerodynamic loads
