@@ -74,8 +74,7 @@ def _pre_step_function(model: Model, progress: dict, step: float):
     """Exudyn's pre-step hook: counts steps, runs the model's pre-step hooks, checks the state every CHECK_EVERY
     steps; returning False stops the solver (the failure is raised after it returns)."""
     hooks = list(model.pre_step_hooks)
-    get_coordinates = model.mbs.systemData.GetODE2Coordinates
-    get_first_order = model.mbs.systemData.GetODE1Coordinates
+    finite = _finite_state(model)
 
     def pre_step(mbs_, t):
         # t is the end time of the coming step; Exudyn's accumulated time can fall short of the end time by round-off
@@ -91,36 +90,18 @@ def _pre_step_function(model: Model, progress: dict, step: float):
         except Exception as exc:  # stop cleanly and raise it after the solver has returned
             model.record_failure(exc)
             return False
-        if progress["steps"] % CHECK_EVERY == 0 and not (math.isfinite(float(get_coordinates().sum()))
-                                                         and math.isfinite(float(get_first_order().sum()))):
+        if progress["steps"] % CHECK_EVERY == 0 and not finite():
             progress["bad"] = t
             return False
         return True
     return pre_step
 
 
-def _bookkeeping(model: Model, progress: dict, step: float):
-    """The pre-step hook's bookkeeping done after each step instead, for a fixed-step explicit run without pre-step
-    hooks (the state after step n is the state before step n + 1; one call of Python fewer per step): count the
-    step, record the coming step's end time (for messages), stop on Ctrl-C and check the state every CHECK_EVERY
-    steps. Returns a function of the post-step time that returns False to stop the solver."""
+def _finite_state(model: Model):
+    """A check that the engine's state holds no NaN or infinity (about 2 us)."""
     get_coordinates = model.mbs.systemData.GetODE2Coordinates
     get_first_order = model.mbs.systemData.GetODE1Coordinates
-    last_end = [progress["time"]]
-
-    def after(t) -> bool:
-        if t - last_end[0] > ROUND_OFF * step:   # not the start, nor a round-off step at the end
-            progress["steps"] += 1
-        last_end[0] = t
-        progress["time"] = t + step
-        if progress["interrupted"]:
-            return False
-        if progress["steps"] % CHECK_EVERY == 0 and not (math.isfinite(float(get_coordinates().sum()))
-                                                         and math.isfinite(float(get_first_order().sum()))):
-            progress["bad"] = t
-            return False
-        return True
-    return after
+    return lambda: math.isfinite(float(get_coordinates().sum())) and math.isfinite(float(get_first_order().sum()))
 
 
 ROUND_OFF = 1e-6
@@ -161,8 +142,10 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
     """Exudyn's post-step hook: runs the model's post-step hooks and stop conditions and samples every channel at
     the first step on or past each output time (within half a step; Exudyn's own sensor clock anchors each write
     to the last one and drifts off the grid: seen 55.4102 s for 55.41 s at 2e-4 s). Returns the hook and the
-    sample times and rows it fills. ``counts``: it also does the pre-step hook's bookkeeping (a run that needs
-    no pre-step call: ``_bookkeeping``)."""
+    sample times and rows it fills. ``counts``: it also does the pre-step hook's bookkeeping, for a fixed-step
+    explicit run without pre-step hooks, which then needs no pre-step call (the state after step n is the state
+    before step n + 1): count the step, record the coming step's end time (for messages), stop on Ctrl-C, check the
+    state every CHECK_EVERY steps."""
     reads = [reader for _, reader in _sampled_channels(model)[0]] + [group[1] for group in model.channel_groups]
     rows: list = []
     times: list = []
@@ -173,14 +156,23 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
     count = model.post_step_count
 
     last = [None]   # solver time of the last sample (the recorded time is its grid value)
-    bookkeeping = _bookkeeping(model, progress, step) if counts else None
+    last_end = [start]   # the end of the last step (counts)
+    finite = _finite_state(model)
 
     def post_step(mbs_, t):
         if last[0] is not None and t <= last[0] + 0.5 * step:  # Exudyn calls this once more after the last step
             return True
         count[0] += 1
-        if bookkeeping is not None and not bookkeeping(t):
-            return False
+        if counts:
+            if t - last_end[0] > ROUND_OFF * step:   # not the start, nor a round-off step at the end
+                progress["steps"] += 1
+            last_end[0] = t
+            progress["time"] = t + step
+            if progress["interrupted"]:
+                return False
+            if progress["steps"] % CHECK_EVERY == 0 and not finite():
+                progress["bad"] = t
+                return False
         try:
             for hook in post_hooks:
                 hook(mbs_, t)

@@ -135,13 +135,12 @@ class SPConfluence(ReducedConfluence):
                                                        sp_settle_with_bodies, step_done)}
         self.stage_call = (None, (), None)   # the fused stage kernel, its arguments, its coordinates' form
         self._coordinates = None        # tuple or typed array: the coordinates' form (``warm_up``)
+        self.pending = False   # whether the last step's end-of-step work is due: memory's MEMORY_DUE flag as Python
+        #                        sees it (set by ``advance``, cleared by ``_settled`` whoever did the work)
+        self._step_done = self._kernels[step_done]   # its machine code from ``warm_up`` on
+        self._settle_now = True                      # whether ``advance`` does the work at once (``warm_up``)
 
     # -- the solver's calls -------------------------------------------------------------------------------------------
-
-    @property
-    def pending(self) -> bool:
-        """Whether the last step's end-of-step work is still due."""
-        return self.memory[MEMORY_DUE, 0] > 0.5
 
     @property
     def end_of_step(self) -> tuple:
@@ -172,15 +171,16 @@ class SPConfluence(ReducedConfluence):
     def advance(self, mbs, t):
         """Post-step hook, before any other: complete the step's count and make its end-of-step work due (done
         now unless it can wait for the next stage: see the class doc)."""
-        self._kernels[step_done](self.memory, t)
-        if self.stage.fused is not self or not self.DEFER:
+        self._step_done(self.memory, t)
+        self.pending = True
+        if self._settle_now:
             self.settle()
 
     def settle(self) -> None:
         """Do the due end-of-step work now, from the engine's current state (the end of the last step)."""
-        memory = self.memory
-        if memory[MEMORY_DUE, 0] < 0.5:
+        if not self.pending:
             return
+        memory = self.memory
         stage, kernels = self.stage, self._kernels
         if stage.fused is self:   # the end-of-step body states and the solve in one kernel call
             kernels[sp_settle_with_bodies](stage.coordinates(), stage.velocities(), stage.global_layout,
@@ -194,6 +194,7 @@ class SPConfluence(ReducedConfluence):
         self._settled()
 
     def _settled(self) -> None:
+        self.pending = False
         self._settles += 1
         if self._slot is not None:   # the sample taken after the step gets its values
             self._slot.append(self.record.copy())
@@ -212,7 +213,8 @@ class SPConfluence(ReducedConfluence):
         kernels = self._kernels
         kernels[sp_step_stage] = machine_code(sp_step_stage, *arguments, start)
         kernels[sp_settle] = machine_code(sp_settle, *arguments, self.record)
-        kernels[step_done] = machine_code(step_done, self.memory, start)
+        kernels[step_done] = self._step_done = machine_code(step_done, self.memory, start)
+        self._settle_now = stage.fused is not self or not self.DEFER
         if stage.fused is self:
             q, q_t = array("d", stage.coordinates()), array("d", stage.velocities())   # as the force item passes them
             head = (q, q_t, stage.global_layout, stage.states, *arguments[1:], self.record)
