@@ -164,13 +164,15 @@ def test_the_accurate_preset_removes_the_slack_phase_error_of_case_4():
 # -- cost -------------------------------------------------------------------------------------------------------------
 
 def test_sp_is_faster_than_the_implicit_full_mass_model_at_the_same_step():
+    """Issue 37 measured 3.3x on MER case 1 (validation/benchmark_sp.py); 2.5x leaves room for a noisy machine and
+    still fails if the stage cost returns to where it was (2.3x)."""
     case = pc.load_case(MER / "case1.toml")
     best = {}
     for _ in range(3):
         for method, integrator in (("sp", "rk4"), ("full", "implicit")):
             wall = pc.simulate(case, method, integrator, 1e-2, 20.0).summary["wall_time"]
             best[method] = min(best.get(method, wall), wall)
-    assert best["sp"] < best["full"], best
+    assert best["full"] > 2.5 * best["sp"], best
 
 
 JIT_CHECK = r"""
