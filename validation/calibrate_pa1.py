@@ -1,4 +1,4 @@
-"""Calibrate the representative PA1 model to the flight's two event times (thesis Table 3.9), two ways.
+"""Calibrate the representative PA1 model to the two event times of thesis Table 3.9, two ways.
 
 Run:  python validation/calibrate_pa1.py
 
@@ -24,42 +24,47 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 OUT = HERE / "output" / "fits"
 FITS = ("pa1_calibration", "pa1_calibration_ground")
-FLIGHT = {"descent_rate": 31.74, "touchdown": 78.87}   # s after tower jettison (thesis Table 3.9)
-PLAUSIBILITY = """## How plausible the fitted values are
+TIMELINE = {"descent_rate": 31.74, "touchdown": 78.87}
+"""Thesis Table 3.9 (s after tower jettison): the 2009 pre-flight timeline, not flight data (docs/models/cev_pa1.md)."""
+PLAUSIBILITY = """## What was fitted, and how plausible the fitted values are
 
-The figures below are approximate public CPAS values, quoted from memory of the CPAS AIAA papers (Romero & Ray;
-Ray). They are not re-derived here.
+The targets are the thesis's Table 3.9 times. The thesis was written in 2009 and PA-1 flew on 6 May 2010: Table 3.9
+is the timeline planned before the flight, not a measurement of it. The public figures of the flight disagree with
+each other on touchdown (95 s, 97 s or about 135 s after ignition) and give no descent-rate time
+(docs/models/cev_pa1.md, "The thesis's timeline beside the flight"), so neither fit is a calibration to the flight.
+
+Values to weigh the fits against (docs/models/sources.md gives the sources):
 * The Main is a 116 ft (35.4 m) ringsail, S0 = 984 m^2 each (the case's 2946 m^2 is three of them).
-* A single Main's full-open C_D0 is about 0.8-0.85, less per canopy in a cluster of three.
-* The Mains open in two reefed stages of several seconds each, then fill to full open within seconds of the last
-  disreef.
+* The handbook range of ringsail drag coefficients is C_D0 0.75-0.85 on the nominal area (Knacke, NWC TP 6575,
+  March 1991, Table 5-2, as read from a secondary transcription), and a cluster of three delivers a few per cent less
+  per canopy than one canopy alone.
+* CPAS Mains open in reefed stages, each a fill from the disreef to the stage's area, then fill to full open.
 
 **Drag and full-open time** (`cases/cev_pa1_calibrated.toml`):
-* C_A 0.912 per canopy is about 10-15 % above those C_D0 values.
+* C_A 0.912 is above the handbook's ringsail range (7 % above its top), before any cluster loss. The timeline asks
+  for more drag than a ringsail cluster is known to give: the planned vehicle was lighter, or its mains larger, than
+  the representative model's, or its opening differed. The fit does not measure the mains' drag.
 * Reaching full open 26.7 s after line stretch means the final fill takes 10.7 s after the second reefed stage
   (16 s), against the case's 2 s. That is slow for a Main.
-* Together they say the flight's mains reached their full drag later than the representative schedule and then
-  dragged more. That is plausible for a cluster whose canopies open one after another, but it is not a measured
-  schedule.
 
 **Drag and ground altitude:**
-* C_A 0.591 is about 25 % below those values.
+* C_A 0.591 is 21 % below the bottom of the handbook's range.
 * The ground 142 m lower puts the start 1242 m above it instead of 1100 m. The start height is itself an estimate
   of the representative model.
 
 **What the two times cannot tell.** Two event times cannot separate drag, opening time and start height. The
 descent-rate crossing lies where the descent rate levels out, so it is very sensitive to all of them: 0.1 s of
 residual at the second fit's end. A measured descent-rate or altitude history (a `history` target) would decide
-between them.
+between them; none of PA-1's is public.
 
-Until then `cases/cev_pa1_calibrated.toml` keeps the first fit. It changes only the canopy, as CPAS calibrations
-do, and leaves the geometry and altitudes of the representative model alone."""
+`cases/cev_pa1_calibrated.toml` keeps the first fit. It changes only the canopy, as CPAS calibrations do, and
+leaves the geometry and altitudes of the representative model alone."""
 
 
 def main() -> int:
-    lines = ["# PA1 calibrated to its flight's event times", "",
+    lines = ["# PA1 calibrated to the thesis's Table 3.9 timeline", "",
              "`python validation/calibrate_pa1.py`. Targets: the 30 ft/s descent rate 31.74 s and touchdown 78.87 s "
-             "after tower jettison (thesis Table 3.9), each with a standard deviation of 0.1 s; SP (accurate preset) "
+             "after tower jettison (thesis Table 3.9, the 2009 pre-flight timeline), each with a standard deviation of 0.1 s; SP (accurate preset) "
              "at 1e-2 s.", "",
              "| fit | free key | start | fitted | standard error | descent rate (s) | touchdown (s) | runs |",
              "|---|---|---|---|---|---|---|---|"]
@@ -78,19 +83,20 @@ def main() -> int:
         print(f"{name}: {result['fitted']} -> descent rate {descent:.2f} s, touchdown {touchdown:.2f} s", flush=True)
     spec, result = fitted[FITS[0]]
     case_file = ROOT / "cases" / "cev_pa1_calibrated.toml"
-    header = ("# Orion/CEV PA1 (cases/cev_pa1.toml) calibrated to the flight's event times of thesis Table 3.9: the\n"
-              "# mains' full-open drag coefficient and full-open time fitted by `python validation/calibrate_pa1.py`\n"
-              "# (validation/fits/pa1_calibration.toml; report in validation/output/fits/pa1_calibration/).\n")
+    header = ("# Orion/CEV PA1 (cases/cev_pa1.toml) calibrated to the two event times of thesis Table 3.9, the thesis's\n"
+              "# 2009 pre-flight timeline (not flight data): the mains' full-open drag coefficient and full-open time\n"
+              "# fitted by `python validation/calibrate_pa1.py` (validation/fits/pa1_calibration.toml; report in\n"
+              "# validation/output/fits/pa1_calibration/).\n")
     body = calibrated_case(spec, result["fitted"], case_file.parent).split("\n", 1)[1]
     atomic_write_text(case_file, header + body + '\n[case]\nname = "CEV PA1 calibrated"\n'
-                      'description = "Orion Pad Abort 1, the mains\' drag and full-open time fitted to the flight\'s '
-                      'event times"\n')
+                      'description = "Orion Pad Abort 1, the mains\' drag and full-open time fitted to the thesis\'s '
+                      'Table 3.9 timeline"\n')
     run = pc.simulate(pc.load_case(case_file), "sp", "rk4", 1e-2, preset="accurate")
     events = event_times(run.summary)
     lines += ["", f"`cases/cev_pa1_calibrated.toml` (the first fit), run with `pchute run cases/cev_pa1_calibrated.toml "
                   f"--method sp --sp-preset accurate`: descent rate {events['descent_rate']:.2f} s "
-                  f"({events['descent_rate'] - FLIGHT['descent_rate']:+.2f} s), touchdown {events['touchdown']:.2f} s "
-                  f"({events['touchdown'] - FLIGHT['touchdown']:+.2f} s)."]
+                  f"({events['descent_rate'] - TIMELINE['descent_rate']:+.2f} s), touchdown {events['touchdown']:.2f} s "
+                  f"({events['touchdown'] - TIMELINE['touchdown']:+.2f} s)."]
     lines += ["", PLAUSIBILITY]
     atomic_write_text(OUT / "pa1.md", "\n".join(lines) + "\n")
     print(f"calibrated case: descent rate {events['descent_rate']:.2f} s, touchdown {events['touchdown']:.2f} s")

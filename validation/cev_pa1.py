@@ -152,7 +152,7 @@ def main(argv=None) -> int:
                              "order 1 keeps the confluence mass", (60.0, 70.0)), OUT / "capsule_rocking.png")
 
     # event log (thesis Table 3.9)
-    rows = ["| event | thesis: since ignition (s) | thesis: simulation (s) | " + " | ".join(results) + " |",
+    rows = ["| event | thesis (2009 plan): since ignition (s) | thesis (2009 plan): simulation (s) | " + " | ".join(results) + " |",
             "|---|---|---|" + "---|" * len(results)]
     for name, key, since_ignition, simulated in THESIS_EVENTS:
         ours = []
@@ -217,6 +217,10 @@ def main(argv=None) -> int:
         f"Exudyn {v['exudyn']}, pchute-exudyn {v['pchute_exudyn']}, {v['platform']}.",
         "",
         "## Event log (thesis Table 3.9)",
+        "",
+        "The thesis columns are Table 3.9: the timeline the thesis simulated in 2009, before PA-1 flew (6 May 2010), "
+        "not flight data. docs/models/cev_pa1.md (\"The thesis's timeline beside the flight\") sets the flight's "
+        "public figures beside it.",
         "",
         *rows,
         "",

@@ -36,13 +36,15 @@ from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
 from .model import Contact
 
-CANOPY_TYPES = {   # C_D0 on S0, subsonic, mid-range of Knacke, Parachute Recovery Systems Design Manual, Table 5-1
-    "disk_gap_band": 0.55,
-    "ringsail": 0.85,
-    "ribbon": 0.50,
-    "flat_circular": 0.77,
-    "cross": 0.70,
+CANOPY_TYPES = {   # C_D0 on S0, subsonic: mid-range of Knacke's type tables (docs/models/sources.md)
+    "disk_gap_band": 0.55,   # Table 5-2 (slotted); 0.53-0.58 in Maydew, AGARD-AG-319
+    "ringsail": 0.80,        # Table 5-2: 0.75-0.85
+    "ribbon": 0.50,          # Table 5-2: flat ribbon 0.45-0.50, conical ribbon 0.50-0.55
+    "flat_circular": 0.77,   # Table 5-1 (solid textile): 0.75-0.80
+    "cross": 0.72,           # Table 5-1: 0.60-0.85
 }
+KNACKE_TABLE = {"disk_gap_band": "5-2", "ringsail": "5-2", "ribbon": "5-2", "flat_circular": "5-1", "cross": "5-1"}
+"""Which of Knacke's type tables (NWC TP 6575, March 1991: 5-1 solid textile, 5-2 slotted canopies) holds each type."""
 PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2, density model, radius m)
     "mars": (['name = "Mars"', "gravitational_parameter = 4.282828685e13   # m^3/s^2 (MER's, thesis Table 3.3)",
               "equatorial_radius = 3393940.0              # m", "polar_radius = 3376780.0                   # m",
@@ -567,7 +569,8 @@ class _Writer:
                 f"{nominal_diameter(p.reference_area):.4f} m",
                 f"axial_coefficient = {{ alpha_deg = [0.0, {AXIAL_FLAT_TO_DEG}, 90.0], value = "
                 f"[{_n(c.canopy_drag_coefficient)}, {_n(c.canopy_drag_coefficient)}, 0.0] }}",
-                "# C_A: C_D0 " + (f"of a {c.canopy_type} (Knacke, Table 5-1, mid-range)" if c.drag_coefficient is None
+                "# C_A: C_D0 " + (f"of a {c.canopy_type} (Knacke, Table {KNACKE_TABLE[c.canopy_type]}, mid-range)"
+                                  if c.drag_coefficient is None
                                   else "as given") + f" to {AXIAL_FLAT_TO_DEG:g} deg, then to 0 edge-on (assumed)",
                 "center = [0.0, 0.0, 0.0]                   # m: at the centre of mass",
                 f"[bodies.{name}.aerodynamics.normal_coefficient]   # MER's zero-trim canopy table to 60 deg, "

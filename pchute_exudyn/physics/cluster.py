@@ -12,7 +12,7 @@ import numpy as np
 DEFAULT_DRAG_EFFICIENCY = (1.0, 0.97, 0.95, 0.93, 0.91, 0.90, 0.89, 0.88)
 """eta(n), n = 1, 2, ...: the drag coefficient of each canopy of a cluster of n inflating canopies as a fraction of
 the same canopy's alone (held beyond the last entry). Clustered canopies crowd each other and lose a few per cent of
-drag for each canopy added (Knacke, Parachute Recovery Systems Design Manual, NWC TP 6575, 1992, section 5 on
+drag for each canopy added (Knacke, Parachute Recovery Systems Design Manual, NWC TP 6575, March 1991, chapter 5 on
 clusters; the values follow that trend and are assumed, not digitised: override them per system)."""
 
 
