@@ -36,15 +36,17 @@ from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
 from .model import Contact
 
-CANOPY_TYPES = {   # C_D0 on S0, subsonic: mid-range of Knacke's type tables (docs/models/sources.md)
-    "disk_gap_band": 0.55,   # Table 5-2 (slotted); 0.53-0.58 in Maydew, AGARD-AG-319
+CANOPY_TYPES = {   # C_D0 on S0, subsonic: the middle of the published ranges (DRAG_SOURCE; docs/models/sources.md)
+    "disk_gap_band": 0.55,   # Maydew, AGARD-AG-319: 0.53-0.58
     "ringsail": 0.80,        # Table 5-2: 0.75-0.85
-    "ribbon": 0.50,          # Table 5-2: flat ribbon 0.45-0.50, conical ribbon 0.50-0.55
+    "ribbon": 0.50,          # Table 5-2: where flat ribbon (0.45-0.50) meets conical ribbon (0.50-0.55)
     "flat_circular": 0.77,   # Table 5-1 (solid textile): 0.75-0.80
     "cross": 0.72,           # Table 5-1: 0.60-0.85
 }
-KNACKE_TABLE = {"disk_gap_band": "5-2", "ringsail": "5-2", "ribbon": "5-2", "flat_circular": "5-1", "cross": "5-1"}
-"""Which of Knacke's type tables (NWC TP 6575, March 1991: 5-1 solid textile, 5-2 slotted canopies) holds each type."""
+DRAG_SOURCE = {"disk_gap_band": "Maydew, AGARD-AG-319", "ringsail": "Knacke, Table 5-2", "ribbon": "Knacke, Table 5-2",
+               "flat_circular": "Knacke, Table 5-1", "cross": "Knacke, Table 5-1"}
+"""Where each type's C_D0 range comes from: Knacke's type tables (NWC TP 6575, March 1991: 5-1 solid textile, 5-2
+slotted canopies); for the disk-gap-band, whose row there we have not seen, Maydew and Peterson, AGARD-AG-319."""
 PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2, density model, radius m)
     "mars": (['name = "Mars"', "gravitational_parameter = 4.282828685e13   # m^3/s^2 (MER's, thesis Table 3.3)",
               "equatorial_radius = 3393940.0              # m", "polar_radius = 3376780.0                   # m",
@@ -569,7 +571,7 @@ class _Writer:
                 f"{nominal_diameter(p.reference_area):.4f} m",
                 f"axial_coefficient = {{ alpha_deg = [0.0, {AXIAL_FLAT_TO_DEG}, 90.0], value = "
                 f"[{_n(c.canopy_drag_coefficient)}, {_n(c.canopy_drag_coefficient)}, 0.0] }}",
-                "# C_A: C_D0 " + (f"of a {c.canopy_type} (Knacke, Table {KNACKE_TABLE[c.canopy_type]}, mid-range)"
+                "# C_A: C_D0 " + (f"of a {c.canopy_type} ({DRAG_SOURCE[c.canopy_type]}, mid-range)"
                                   if c.drag_coefficient is None
                                   else "as given") + f" to {AXIAL_FLAT_TO_DEG:g} deg, then to 0 edge-on (assumed)",
                 "center = [0.0, 0.0, 0.0]                   # m: at the centre of mass",

@@ -1,4 +1,4 @@
-"""The fit's report in its folder: ``fit.json`` (strict), ``fit_report.md``, ``targets.png`` (every target measured,
+"""The fit's report in its folder: ``fit.json`` (strict), ``fit_report.md``, ``targets.png`` (every target's value,
 at the start and fitted) and ``calibrated.toml`` (a case file extending the base case with the fitted values)."""
 
 from __future__ import annotations
@@ -79,7 +79,7 @@ def _markdown(spec: FitSpec, result: dict, paths: dict) -> str:
     scaled = "scaled by the residuals' variance" if result["covariance_scaled_by_residuals"] else \
         "from the targets' standard deviations"
     lines += ["", f"Standard errors from the Jacobian at the fit, (J^T J)^-1 {scaled}.", "",
-              "| target | measured | std | start | fitted | fitted - measured |", "|---|---|---|---|---|---|"]
+              "| target | target value | std | start | fitted | fitted - target |", "|---|---|---|---|---|---|"]
     for target, measured, initial, fitted in _rows(spec, result):
         if target.kind == "history":
             start_rms, fitted_rms = (float(np.sqrt(np.mean((v - measured) ** 2))) for v in (initial, fitted))

@@ -14,16 +14,16 @@ def fit_targets_figure(name: str, panels: list) -> Figure:
     figure, axes = new_figure(len(panels), 1, size=(8.0, 2.6 * len(panels) + 0.6))
     for ax, (times, label, std, measured, initial, fitted) in zip(axes[:, 0], panels):
         if times is not None:
-            ax.plot(times, measured, ".", color="k", markersize=3, label="measured")
+            ax.plot(times, measured, ".", color="k", markersize=3, label="target")
             ax.plot(times, initial, "--", color="tab:blue", label="start")
             ax.plot(times, fitted, "-", color="tab:red", label="fitted")
             ax.set_xlabel("time (s)")
             ax.set_ylabel(label)
         else:
-            ax.errorbar([0], measured, yerr=[std], fmt="o", color="k", capsize=4, label="measured +- std")
+            ax.errorbar([0], measured, yerr=[std], fmt="o", color="k", capsize=4, label="target +- std")
             ax.plot([1], initial, "s", color="tab:blue", label="start")
             ax.plot([2], fitted, "D", color="tab:red", label="fitted")
-            ax.set_xticks([0, 1, 2], ["measured", "start", "fitted"])
+            ax.set_xticks([0, 1, 2], ["target", "start", "fitted"])
             ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize="x-small")
