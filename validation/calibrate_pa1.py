@@ -11,11 +11,13 @@ fits side by side and checks the calibrated case file by running it.
 
 from __future__ import annotations
 
-import re
 import sys
 from pathlib import Path
 
+import numpy as np
+
 import pchute_exudyn as pc
+from pchute_exudyn.case.files import tomllib
 from pchute_exudyn.fit import load_fit, run_fit
 from pchute_exudyn.fit.evaluate import event_times
 from pchute_exudyn.fit.report import calibrated_case, write_report
@@ -66,7 +68,20 @@ REFIT_NOISE = 1e-9
 """Relative change of a fitted value below which a rerun keeps the committed case's value: refits land within about
 1e-12 of each other (scipy's path through the finite-difference Jacobian), and a shipped case must not change its
 results by that noise."""
-NUMBER = r"[-+]?\d+\.\d*(?:e[-+]?\d+)?"
+
+
+def _leaves(table: dict, prefix: str = "") -> dict:
+    """A TOML table's values by dotted key."""
+    leaves = {}
+    for key, value in table.items():
+        leaves.update(_leaves(value, f"{prefix}{key}.") if isinstance(value, dict) else {prefix + key: value})
+    return leaves
+
+
+def _close(a, b) -> bool:
+    if isinstance(a, str) or isinstance(b, str):
+        return a == b
+    return np.shape(a) == np.shape(b) and np.allclose(a, b, rtol=REFIT_NOISE, atol=0.0)
 
 
 def committed_if_noise(case_file: Path, body: str) -> str:
@@ -75,14 +90,9 @@ def committed_if_noise(case_file: Path, body: str) -> str:
     if not case_file.exists():
         return body
     committed = case_file.read_text()
-    start = committed.find(body.split("\n", 1)[0])
-    if start < 0:
-        return body
-    old = committed[start:start + len(body) + 200].split("\n[case]")[0].rstrip("\n") + "\n"
-    new_numbers, old_numbers = re.findall(NUMBER, body), re.findall(NUMBER, old)
-    same_shape = re.sub(NUMBER, "#", body).strip() == re.sub(NUMBER, "#", old).strip()
-    if same_shape and all(abs(float(a) - float(b)) <= REFIT_NOISE * abs(float(b))
-                          for a, b in zip(new_numbers, old_numbers, strict=True)):
+    old = committed[committed.find("extends = "):].split("\n[case]")[0].rstrip("\n") + "\n"
+    new_values, old_values = _leaves(tomllib.loads(body)), _leaves(tomllib.loads(old))
+    if new_values.keys() == old_values.keys() and all(_close(new_values[k], old_values[k]) for k in new_values):
         print("calibrated case: the refit is within 1e-9 of the committed values; they are kept", flush=True)
         return old
     return body
