@@ -14,7 +14,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from . import __version__
-from .case.method_table import INTEGRATORS, METHODS
+from .case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
 from .kernels import lock, selection
 
@@ -24,6 +24,7 @@ EXIT_INTERRUPTED = 130   # 128 + SIGINT, as shells report an interrupted command
 EXIT_TERMINATED = 143    # 128 + SIGTERM
 DEFAULT_SETTLE = 2.0     # s: pchute compare's settling time without --settle
 FIGURE_COLUMNS = 12      # pchute compare draws at most this many single-column figures (the first compared)
+ADAPTIVE_STEP_ESTIMATE = 1e-2   # s: an adaptive run's steps counted at the thesis's step when deciding on a build
 
 
 class _Parser(argparse.ArgumentParser):
@@ -46,9 +47,10 @@ def _add_run(subparsers) -> None:
     run.add_argument("--integrator", choices=tuple(INTEGRATORS), default=None,
                      help="rk4 = explicit Runge-Kutta 4, fixed step (the thesis's); implicit = Exudyn's "
                           "generalized-alpha; default: the case's simulation.integrator")
-    run.add_argument("--dt", type=float, default=None, metavar="S",
-                     help="integration step in s; default: the case's simulation.steps entry for the method, or "
-                          "else half the step's stability limit, rounded down (printed in the run line)")
+    run.add_argument("--dt", type=_step, default=None, metavar="S",
+                     help="integration step in s, or auto (adaptive RK4 steps); default: the case's "
+                          "simulation.steps entry for the method, else adaptive steps with RK4, else half the step's "
+                          "stability limit, rounded down (printed in the run line)")
     run.add_argument("--t-end", type=float, default=None, metavar="S",
                      help="simulated duration in s; default: the case's simulation.duration")
     run.add_argument("--out", default=None, metavar="DIR",
@@ -68,6 +70,14 @@ def _add_run(subparsers) -> None:
     run.add_argument("--quiet", action="store_true",
                      help="no progress line (it is shown only on a terminal anyway); the one-line summary remains")
     run.set_defaults(func=_run)
+
+
+def _step(text: str):
+    """--dt: a step in s, or 'auto' (adaptive steps); checked with the run's other inputs (``resolve_run``)."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
 def _option_flags():
@@ -120,6 +130,7 @@ def _run(args) -> int:
 def _run_case(args, figure) -> int:
     from .boundary import load_case
     from .results.io import check_result_folder
+    from .results.summary import run_line
     from .run.simulation import resolve_method, resolve_run, simulate
     from .views.progress import TerminalProgress
 
@@ -132,12 +143,13 @@ def _run_case(args, figure) -> int:
     for warning in case.warnings:   # implausible but possible values (case.plausible): the run goes on
         print(f"pchute run: warning: {warning}", file=sys.stderr)
     progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
-    steps = plan.duration / plan.step
+    steps = plan.duration / (plan.step if plan.control is None else ADAPTIVE_STEP_ESTIMATE)
     if _entry["process"] and lock.worth_building_first(steps):
         lock.build_then_restart(steps, args.quiet)
     if lock.start_background_build() and not args.quiet:
         print(lock.BACKGROUND_NOTE, file=sys.stderr)
     try:
+        step = ADAPTIVE_STEP if plan.control is not None else step
         result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options,
                           progress=progress, engine_solution=args.exudyn_solution)
     finally:
@@ -146,51 +158,12 @@ def _run_case(args, figure) -> int:
     for warning in result.summary["warnings"][len(case.warnings):]:   # the run's own: a trigger that never fired
         print(f"pchute run: warning: {warning}", file=sys.stderr)
     result.save(out, plot=not args.no_plot, overwrite=args.overwrite, draw=figure.draw if figure else None)
-    _print_run(result, out, plan.stability_limit)
+    print(run_line(result.summary, out, plan.stability_limit))
     return 0
 
 
-def _print_run(result, out: Path, stability_limit: float | None = None) -> None:
-    """The run's one-line summary; a step chosen from the stability limit says so."""
-    s, f = result.summary, result.summary["final"]
-    ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"
-    chosen = "" if stability_limit is None else f" (none set: from the stability limit {stability_limit:.3g} s)"
-    print(f"{s['case']}: {s['method']}/{s['integrator']} step {s['step']:g} s{chosen}, {ending} {f['time']:.2f} s in "
-          f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
-          f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}"
-          + (f" ({len(s['warnings'])} warning(s): see summary.json)" if s.get("warnings") else ""))
-
-
-_NEW_HELP = {   # NewCase field -> (metavar, help); the defaults come from NewCase
-    "planet": (None, "mars (MER's ellipsoid, NASA GRC atmosphere), earth (WGS-84, US76) or flat (9.80665 m/s^2, US76)"),
-    "mass": ("KG", "vehicle mass in kg"),
-    "diameter": ("M", "vehicle diameter in m (a cylinder half as tall)"),
-    "drag_area": ("M2", "each canopy's drag area C_D0 S0 in m^2 (or --canopy-diameter); default MER's 82.1"),
-    "canopy_diameter": ("M", "each canopy's nominal diameter D0 in m (instead of --drag-area)"),
-    "canopy_type": (None, "canopy type: its drag coefficient C_D0"),
-    "canopy_mass": ("KG", "each canopy's mass in kg; default 0.15 kg per m^2 of S0"),
-    "canopies": ("N", "canopies: 1, or 2 to 8 for a cluster"),
-    "bridles": ("N", "bridles from the vehicle to the confluence: 1 or 3 to 12"),
-    "bridle_length": ("M", "bridle free length in m; default the vehicle's diameter"),
-    "riser_length": ("M", "riser free length in m; default half the canopy's nominal diameter"),
-    "suspension_line_length": ("M", "canopy suspension-line length in m; default the nominal diameter"),
-    "altitude": ("M", "start altitude of the vehicle's centre of mass in m"),
-    "speed": ("M/S", "start descent speed in m/s; default the steady rate of descent there"),
-    "name": ("TEXT", "the case's name"),
-    "drag_coefficient": ("C", "each canopy's drag coefficient C_D0 on its nominal area S0; default its type's"),
-    "wind_speed": ("M/S", "a constant wind's speed in m/s (the descent starts moving with the air)"),
-    "wind_from_deg": ("DEG", "where the wind comes from, deg clockwise from north"),
-    "release_airspeed": ("M/S", "release the vehicle from an aircraft at this airspeed in m/s: its canopies deploy "
-                                "at line stretch after --static-line-time and open by their type's fill constant"),
-    "release_heading_deg": ("DEG", "the aircraft's heading at the release, deg clockwise from north"),
-    "release_flight_path_deg": ("DEG", "the aircraft's flight-path angle at the release, deg (-90 to 90, climbing "
-                                       "> 0)"),
-    "static_line_time": ("S", "time from the release to line stretch in s"),
-}
-
-
 def _add_new(subparsers) -> None:
-    from .case.new import CANOPY_TYPES, PLANETS, choice_fields
+    from .case.new import CANOPY_TYPES, COMMAND_HELP, PLANETS, choice_fields
 
     new = subparsers.add_parser(
         "new", help="write a new, runnable case file from a few choices",
@@ -201,7 +174,7 @@ def _add_new(subparsers) -> None:
     new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
     choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES)}
     for name, default in choice_fields():
-        metavar, text = _NEW_HELP[name]
+        metavar, text = COMMAND_HELP[name]
         kind = str if name in ("planet", "canopy_type", "name") else int if isinstance(default, int) else float
         new.add_argument("--" + name.replace("_", "-"), dest=f"new_{name}", type=kind, default=None,
                          choices=choices.get(name), metavar=metavar,

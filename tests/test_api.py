@@ -8,6 +8,7 @@ import pytest
 
 import pchute_exudyn as pc
 from pchute_exudyn.cli import main
+from pchute_exudyn.physics.step_control import StepRule
 
 from .conftest import MER
 
@@ -83,9 +84,15 @@ def test_api_input_errors(mer_case1):
         pc.simulate(mer_case1, step=float("nan"))
     with pytest.raises(pc.InputError, match="duration"):
         pc.simulate(mer_case1, duration=-1.0)
-    with pytest.raises(pc.InputError, match="no step given, the case sets no simulation.steps.equilibrium and "
-                                            "nothing in it limits the step"):
-        pc.simulate(pc.load_case(MER.parent / "simple" / "simple.toml", {"simulation.steps": {}}), method="equilibrium")
+    with pytest.raises(pc.InputError, match="step .--dt. = 'fast': must be a number > 0 .s. or 'auto'"):
+        pc.simulate(mer_case1, step="fast")
+    with pytest.raises(pc.InputError, match="adaptive steps are RK4's; the implicit integrator needs a step in s"):
+        pc.simulate(mer_case1, "full", "implicit", step="auto")
+    # nothing moves but the confluence of the equilibrium method, which has no dynamics: adaptive steps take the
+    # largest step (before adaptive steps this case had no step to choose: "nothing in it limits the step")
+    static = pc.simulate(pc.load_case(MER.parent / "simple" / "simple.toml", {"simulation.steps": {}}),
+                         method="equilibrium", duration=1.0)
+    assert static.summary["step_control"]["largest"] == StepRule().largest
 
 
 def test_failed_run_writes_no_result(capsys, tmp_path):

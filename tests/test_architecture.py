@@ -136,7 +136,7 @@ def test_no_module_exceeds_its_limit():
 
 PACKED_READ = re.compile(r"row\[[0-9]+(:[0-9]+)?\]|memory\[[0-9]+\]")
 LAYOUT_HOMES = {"pchute_exudyn/physics/kinematics.py", "pchute_exudyn/physics/singular_perturbation.py",
-                "pchute_exudyn/physics/aerodynamics.py"}
+                "pchute_exudyn/physics/sp_stepping.py", "pchute_exudyn/physics/aerodynamics.py"}
 """The modules that define a packed layout (the body state row, SP's memory, the aerodynamics row): the only
 places a position in one may be written as a number."""
 INTEGRATOR_COMPARISON = re.compile(r"""(==|!=)\s*["'](rk4|implicit)["']|["'](rk4|implicit)["']\s*(==|!=)""")

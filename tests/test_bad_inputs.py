@@ -333,7 +333,8 @@ BATTERY = [
     ("new: unknown planet", lambda t: ["new", str(t / "n.toml"), "--planet", "venus"], "invalid choice: 'venus'"),
     ("new: both drag area and diameter", lambda t: ["new", str(t / "n.toml"), "--drag-area", "40",
                                                     "--canopy-diameter", "8"], "give one of them, not both"),
-    ("new: two bridles", lambda t: ["new", str(t / "n.toml"), "--bridles", "2"], "bridles = 2"),
+    ("new: thirteen bridles", lambda t: ["new", str(t / "n.toml"), "--bridles", "13"], "bridles = 13: must be a whole "
+                                                                                       "number from 1 to 12"),
     ("new: bridle shorter than its attach radius", lambda t: ["new", str(t / "n.toml"), "--bridle-length", "0.5"],
      "must exceed the attach circle's radius"),
     ("new: existing file", lambda t: ["new", _file(t, "n.toml", "")], "exists; pass --overwrite"),

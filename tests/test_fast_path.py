@@ -165,12 +165,14 @@ def test_the_accurate_preset_removes_the_slack_phase_error_of_case_4():
 
 def test_sp_is_faster_than_the_implicit_full_mass_model_at_the_same_step():
     """Issue 37 measured 3.3x on MER case 1 (validation/benchmark_sp.py); 2.5x leaves room for a noisy machine and
-    still fails if the stage cost returns to where it was (2.3x)."""
+    still fails if the stage cost returns to where it was (2.3x). 60 s of descent, not 20: each run's fixed cost
+    (building, outputs) weighs less (issue 46 measured 2.4x at 20 s and 2.7-2.8x at 60 s on one machine, with and
+    without its changes)."""
     case = pc.load_case(MER / "case1.toml")
     best = {}
     for _ in range(3):
         for method, integrator in (("sp", "rk4"), ("full", "implicit")):
-            wall = pc.simulate(case, method, integrator, 1e-2, 20.0).summary["wall_time"]
+            wall = pc.simulate(case, method, integrator, 1e-2, 60.0).summary["wall_time"]
             best[method] = min(best.get(method, wall), wall)
     assert best["full"] > 2.5 * best["sp"], best
 
@@ -248,7 +250,8 @@ def test_the_python_form_of_the_kernels_gives_the_compiled_results(tmp_path):
 
 def test_without_the_compiled_module_a_short_run_runs_the_python_form_and_a_long_one_waits_for_the_build(tmp_path):
     """No module of the current source in the kernel folder (``PCHUTE_KERNEL_DIR``, empty here): a short run uses
-    the Python form and starts a background build; the 440-s descent (44 000 steps, about 20 s with the Python form)
+    the Python form and starts a background build; the 440-s descent at 1e-2 s (44 000 steps, about 20 s with the
+    Python form)
     started next does not run that way: it waits for that build (or builds the module itself), says so, and runs in
     a process that loads it; then a short run loads it too, with the first one's results."""
     env = {k: v for k, v in os.environ.items() if not k.startswith("PCHUTE_KERNELS")}
@@ -256,7 +259,7 @@ def test_without_the_compiled_module_a_short_run_runs_the_python_form_and_a_long
     first, _ = _run(tmp_path, "first", env)
     assert first["versions"]["kernels"] == "python"
     done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(ROOT / "cases" / "simple" /
-                           "descent_440s.toml"), "--no-plot", "--out", str(tmp_path / "long")], env=env,
+                           "descent_440s.toml"), "--dt", "0.01", "--no-plot", "--out", str(tmp_path / "long")], env=env,
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     assert "building them first" in done.stderr and "Python form" in done.stderr

@@ -78,8 +78,8 @@ def test_every_recorded_signature_names_an_existing_kernel_with_its_argument_cou
 
 
 def test_every_kernel_call_of_every_method_runs_compiled_code():
-    """Small models of every method, a cluster, a load-elongation line, winds and turbulence, with outputs and
-    summaries: no call fell back to the Python form (the signatures cover what the package calls)."""
+    """Small models of every method, a cluster, a load-elongation line, winds and turbulence, the rocket's reduced
+    canopies at adaptive steps, with outputs and summaries: no call fell back to the Python form (the signatures cover what the package calls)."""
     from pchute_exudyn.kernels.record import BRIDLE, CASE, CLUSTER
 
     compiled.FALLBACKS.clear()
@@ -92,6 +92,7 @@ def test_every_kernel_call_of_every_method_runs_compiled_code():
     winds = pc.load_case(ROOT / "cases" / "cev_pa1_winds.toml")
     pc.simulate(winds, "sp", duration=3.0)
     pc.simulate(pc.load_case(ROOT / "cases" / "cev_pa1_aero.toml"), "sp", duration=3.0)
+    pc.simulate(pc.load_case(ROOT / "cases" / "rocket" / "dual_deploy.toml"), "sp")   # reduced canopies, own steps
     assert compiled.FALLBACKS == {}
 
 

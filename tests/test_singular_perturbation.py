@@ -116,10 +116,15 @@ def test_rank_one_alpha_is_detected_and_conditioned():
     assert 0.0 < sol.damping < math.inf and sol.condition_number == pytest.approx(5.0)
     assert np.all(np.isfinite(sol.velocity))
     assert sol.velocity[0] == pytest.approx(0.0, abs=1e-12)   # no lateral force: keeps the previous lateral velocity
-    # all taut but only two collinear lines (a riser and one bridle straight below): rank 1, conditioned too
+    # all taut but only collinear lines (a riser and two bridles straight below): rank 1, conditioned too
+    three = confluence_velocity([(0, 0, 1.1), (0, 0, -1.1), (0, 0, -1.1)], np.zeros((3, 3)), (0, 0, 0), (1.0, 0, 0),
+                                [1.0, 1.0, 1.0], [1000.0, 1000.0, 1000.0], [10.0, 10.0, 10.0])
+    assert all(three.taut) and three.damping > 0 and three.velocity[0] == pytest.approx(1.0)
+    # two lines are a pair in series (solve_series): no alpha, the confluence on the line between the attach points
     two = confluence_velocity([(0, 0, 1.1), (0, 0, -1.1)], [(0, 0, 0), (0, 0, 0)], (0, 0, 0), (1.0, 0, 0),
                               [1.0, 1.0], [1000.0, 1000.0], [10.0, 10.0])
-    assert all(two.taut) and two.damping > 0 and two.velocity[0] == pytest.approx(1.0)
+    assert all(two.taut) and two.damping == 0.0 and two.velocity == pytest.approx((0.0, 0.0, 0.0), abs=1e-15)
+    assert two.tensions == pytest.approx([100.0, 100.0], rel=1e-12)   # 0.2 m stretch on 2000 N/m in series
 
 
 def test_all_slack_keeps_the_previous_velocity():

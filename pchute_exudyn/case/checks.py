@@ -124,10 +124,16 @@ def check_events(top, body_tables, system_tables, simulation_table, bodies, syst
 
 def check_connections(system_tables, bodies, systems, vehicle) -> None:
     """A system must join different bodies: lines that all end on one free body tie it to itself (its canopy would
-    fall free), a system with canopies must hang them from the vehicle, and no line may run to another system's
-    canopy (each canopy hangs on risers to its own system's confluence)."""
+    fall free), a system with canopies must hang them from the vehicle, no line may run to another system's canopy
+    (each canopy hangs on risers to its own system's confluence), and a packed system's gear rides in the vehicle
+    (its deploy point a vehicle point, ``case.carried``)."""
     owner = {canopy: name for name, system in systems.items() for canopy in system.canopies}
     for name, system in systems.items():
+        if system.packed and system.deploy_point[0] != vehicle:
+            raise system_tables[name].error("deploy_point", f"is on body '{system.deploy_point[0]}', not the vehicle "
+                                                            f"'{vehicle}': a packed system rides in the vehicle until "
+                                                            "it deploys (remove packed, or deploy from the vehicle)",
+                                            ".".join(system.deploy_point))
         attached = {line.body for line in system.lines}
         if len(attached) == 1 and not bodies[next(iter(attached))].fixed:
             raise system_tables[name].error("lines", f"every line attaches to body '{next(iter(attached))}': the "

@@ -30,6 +30,10 @@ class Integrator:
         return method_name if self.name == "rk4" else f"{method_name}_{self.name}"
 
 
+ADAPTIVE_STEP = "auto"
+"""The step that asks for adaptive steps (``--dt auto``, ``step = "auto"``, a study's ``steps = ["auto"]``): an RK4
+run without a step gets them anyway (``physics.step_control``)."""
+
 INTEGRATORS = {integrator.name: integrator for integrator in (Integrator("rk4", explicit=True),
                                                                Integrator("implicit", explicit=False))}
 """Integrator name -> Integrator, in the order of the choices. ``rk4``: Exudyn's explicit RK44, fixed step;

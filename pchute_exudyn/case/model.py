@@ -22,6 +22,7 @@ from ..physics.interpolation import interpolate_held
 from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
+from ..physics.step_control import StepRule
 from .method_table import INTEGRATORS
 from .start import Release
 
@@ -272,6 +273,15 @@ class ParachuteSystem:
         just touch (``physics.cluster.touching_spread``).
     contact : Contact or None
         Canopy-canopy contact of a cluster; None: none (a single canopy, or switched off).
+    canopy_model : {"rigid", "reduced"}
+        rigid: the canopy is a 6-DoF body (every method); reduced: with the SP method, a single canopy on a riser in
+        series with one bridle is a massless drag point at the riser's end (its weight and inertia to first order,
+        its attitude along its air-relative velocity: docs/models/reduced_canopy.md); full mass and the equilibrium
+        point fly it rigid.
+    packed : bool
+        True: until it deploys, the system's gear rides in the vehicle (``case.carried``): each canopy that leaves it
+        (its own inertia about its own centre of mass) and the confluence as a point mass, at the deploy point, so
+        the suspended mass is the same before and after the deployment; False: it is absent until then.
     """
 
     name: str
@@ -286,6 +296,8 @@ class ParachuteSystem:
     drag_efficiency: tuple = DEFAULT_DRAG_EFFICIENCY
     deploy_spread: float | None = None
     contact: Contact | None = None
+    canopy_model: str = "rigid"
+    packed: bool = False
 
     @property
     def cluster(self) -> bool:
@@ -436,6 +448,8 @@ class SimulationSettings:
         Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
     seed : int
         Seed of the triggers' sensor noise (``physics.triggers``).
+    step_rule : StepRule
+        The adaptive steps of an RK4 run that sets no step (``physics.step_control``).
     """
 
     duration: float
@@ -448,6 +462,7 @@ class SimulationSettings:
     ground_altitude: float | None = None
     descent_rate_events: tuple = ()
     seed: int = 0
+    step_rule: StepRule = field(default_factory=StepRule)
 
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
@@ -608,12 +623,13 @@ class Case:
         """The mass (kg) body ``body_name`` flies with at ``time`` (s): its own, and for the vehicle also that of each
         canopy that never leaves it (``Failures.absent``) from its system's deployment on (a deployed canopy brings
         its mass into the model then; one that stays packed adds it to the vehicle instead, so the system's mass is
-        the same either way)."""
+        the same either way). A ``packed`` system's such canopies ride at its deploy point throughout
+        (``case.carried``), not here."""
         mass = self.bodies[body_name].mass
         if body_name != self.vehicle or not self.failures.not_inflated:
             return mass
         for system in self.systems.values():
-            if system.deployed_by(time):
+            if system.deployed_by(time) and not system.packed:
                 mass += sum(self.bodies[c].mass for c in system.canopies if self.failures.absent(c))
         return mass
 

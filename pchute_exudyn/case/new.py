@@ -17,8 +17,9 @@ written into the file beside its number, and in ``docs/tutorial.md``):
   top face;
 * lines: stiffness from LINE_STRAIN of stretch under the vehicle's weight in steady descent, damping
   LINE_DAMPING_TIME x stiffness (MER's ratio); the confluence CONFLUENCE_MASS_FRACTION of the vehicle's mass;
-* the run: SP at SP_STEP, to touchdown on the reference surface; the other methods at half their stability limit
-  (``simulation.stability_step``).
+* the run: SP to touchdown on the reference surface, RK4 at adaptive steps (no ``[simulation.steps]``;
+  docs/models/step_control.md); with one bridle and one light canopy (LIGHT_CANOPY_TIME), a reduced canopy
+  (``canopy_model = "reduced"``) unless it opens by an inflation (a release).
 """
 
 from __future__ import annotations
@@ -68,9 +69,12 @@ LINE_STRAIN = 0.025
 """Stretch (-) of each line under its share of the vehicle's weight in steady descent (MER's riser: 2.6 %)."""
 LINE_DAMPING_TIME = 0.01
 """Line damping / stiffness (s): MER's 470 N s/m on 47 000 N/m."""
-SP_STEP = 0.01
-"""SP's step (s) in a new case: the thesis's, within the stability limit of a confluence whose lines have
-LINE_DAMPING_TIME (about 0.02 s with the lines under their steady load, where half of it would round to 5e-3 s)."""
+LIGHT_CANOPY_TIME = 0.05
+"""The drag time constant (s) below which a canopy is light: m_canopy / (rho C_D0 S0 V) at the start, rho and V the
+density and the steady rate of descent there (a release: its airspeed). A light canopy's speed along its riser settles
+faster than the steps its descent needs, so with one bridle (its riser in series with it) ``pchute new`` writes
+``canopy_model = "reduced"`` (SP flies it as a massless drag point at the riser's end), removing its fast modes. Not
+in a release: its canopy opens by an inflation, which a reduced canopy refuses."""
 CONFLUENCE_MASS_FRACTION = 0.002
 """Confluence mass / vehicle mass (-) when none is given (assumed: links and swivel)."""
 COMMENT_COLUMN = 44
@@ -130,7 +134,8 @@ class NewCase:
     canopies : int
         1, or 2 to 8 for a cluster (each canopy its own body and riser, on the cone where they just touch).
     bridles : int
-        Bridles from the vehicle to the confluence (1 to 12).
+        Bridles from the vehicle to the confluence (1 to 12; 2 on opposite sides of the attach circle). With one
+        bridle and one light canopy (LIGHT_CANOPY_TIME), the canopy is reduced (``canopy_model = "reduced"``).
     bridle_length, riser_length, suspension_line_length : float or None
         Free lengths (m); None: the vehicle's diameter, half the canopy's nominal diameter and one nominal diameter.
     altitude : float
@@ -198,8 +203,6 @@ class NewCase:
                              "one of them, not both")
         _integer("canopies", self.canopies, 1, 8)
         _integer("bridles", self.bridles, 1, 12)
-        if self.bridles == 2:
-            raise InputError("bridles = 2: two bridles cannot hold the vehicle's attitude; give 1 or 3 to 12")
         if self.bridle_length is not None and self.bridle_length <= ATTACH_RADIUS * self.diameter:
             raise InputError(f"bridle_length = {self.bridle_length!r}: must exceed the attach circle's radius, "
                              f"{ATTACH_RADIUS * self.diameter:g} m (0.35 x diameter)")
@@ -337,6 +340,14 @@ class _Layout:
         normal = float(np.interp(math.degrees(theta), *NORMAL_COEFFICIENT))
         return self.drag_efficiency * self.choices.canopy_drag_coefficient * math.cos(theta) + normal * math.sin(theta)
 
+    def canopy_drag_time(self, speed: float) -> float:
+        """A canopy's drag time constant m_canopy / (rho C_D0 S0 V) (s) at ``speed`` V (m/s) at the start, rho where
+        its drag acts then (``canopy_height`` above the vehicle); inf at rest."""
+        c = self.choices
+        density = PLANETS[c.planet][3]().density(c.altitude + self.canopy_height)
+        drag = density * c.canopy_drag_coefficient * self.reference_area * speed
+        return self.canopy_mass / drag if drag > 0.0 else math.inf
+
     def steady_rate(self, altitude: float) -> float:
         """The closed-form steady rate of descent (m/s) of the vehicle at ``altitude`` (m), sqrt(2 m g / (rho n C_V
         S0)): m the suspended mass (vehicle, canopies and confluence), g there, n canopies of vertical coefficient
@@ -405,6 +416,35 @@ def new_case(choices: NewCase | None = None, **kwargs):
 
     choices = _choices(choices, kwargs)
     return build_case(tomllib.loads(new_case_text(choices)), {}, f"new_case({choices.name!r})")
+
+
+COMMAND_HELP = {   # NewCase field -> (metavar, help) of `pchute new`; the defaults come from NewCase
+    "planet": (None, "mars (MER's ellipsoid, NASA GRC atmosphere), earth (WGS-84, US76) or flat (9.80665 m/s^2, US76)"),
+    "mass": ("KG", "vehicle mass in kg"),
+    "diameter": ("M", "vehicle diameter in m (a cylinder half as tall)"),
+    "drag_area": ("M2", "each canopy's drag area C_D0 S0 in m^2 (or --canopy-diameter); default MER's 82.1"),
+    "canopy_diameter": ("M", "each canopy's nominal diameter D0 in m (instead of --drag-area)"),
+    "canopy_type": (None, "canopy type: its drag coefficient C_D0"),
+    "canopy_mass": ("KG", "each canopy's mass in kg; default 0.15 kg per m^2 of S0"),
+    "canopies": ("N", "canopies: 1, or 2 to 8 for a cluster"),
+    "bridles": ("N", "bridles from the vehicle to the confluence, 1 to 12 (2: on opposite sides of the attach "
+                     "circle; 1 under one light canopy: the canopy reduced, canopy_model = \"reduced\")"),
+    "bridle_length": ("M", "bridle free length in m; default the vehicle's diameter"),
+    "riser_length": ("M", "riser free length in m; default half the canopy's nominal diameter"),
+    "suspension_line_length": ("M", "canopy suspension-line length in m; default the nominal diameter"),
+    "altitude": ("M", "start altitude of the vehicle's centre of mass in m"),
+    "speed": ("M/S", "start descent speed in m/s; default the steady rate of descent there"),
+    "name": ("TEXT", "the case's name"),
+    "drag_coefficient": ("C", "each canopy's drag coefficient C_D0 on its nominal area S0; default its type's"),
+    "wind_speed": ("M/S", "a constant wind's speed in m/s (the descent starts moving with the air)"),
+    "wind_from_deg": ("DEG", "where the wind comes from, deg clockwise from north"),
+    "release_airspeed": ("M/S", "release the vehicle from an aircraft at this airspeed in m/s: its canopies deploy "
+                                "at line stretch after --static-line-time and open by their type's fill constant"),
+    "release_heading_deg": ("DEG", "the aircraft's heading at the release, deg clockwise from north"),
+    "release_flight_path_deg": ("DEG", "the aircraft's flight-path angle at the release, deg (-90 to 90, climbing "
+                                       "> 0)"),
+    "static_line_time": ("S", "time from the release to line stretch in s"),
+}
 
 
 def choice_fields() -> list:
@@ -585,7 +625,7 @@ class _Writer:
         bridle_tension = weight / max(c.bridles, 1) * (p.bridle_length * (1.0 + LINE_STRAIN) / self.rise)
         riser_tension = (weight + p.confluence_mass * p.gravity) / c.canopies / math.cos(self.plan.spread)
         rows = ["[systems.main]", f"canopies = {self.canopy_names()}".replace("'", '"') if c.canopies > 1
-                else 'canopy = "canopy"', *self.deployment(), "[systems.main.confluence]",
+                else 'canopy = "canopy"', *self.canopy_model(), *self.deployment(), "[systems.main.confluence]",
                 f"mass = {_n(p.confluence_mass)}                            # kg (0.2 % of the vehicle's, assumed)"]
         if not c.released:
             rows += ["[systems.main.confluence.initial]", f"altitude = {_n(self.confluence_altitude)}   # m: where "
@@ -597,6 +637,22 @@ class _Writer:
             rows += self.line(f"riser_{name}" if c.canopies > 1 else "riser", f"{name}.riser", p.riser_length,
                               riser_tension)
         return rows
+
+    def canopy_model(self) -> list:
+        """``canopy_model = "reduced"`` for one light canopy on one bridle (LIGHT_CANOPY_TIME), unless it opens by an
+        inflation (a release), which a reduced canopy refuses; nothing (rigid) otherwise."""
+        c = self.c
+        if c.bridles != 1 or c.canopies != 1:
+            return []
+        time = self.plan.canopy_drag_time(c.release_airspeed if c.released else self.speed)
+        if time >= LIGHT_CANOPY_TIME:
+            return []
+        why = f"its drag time constant m / (rho C_D0 S0 V) = {time:.2g} s < {LIGHT_CANOPY_TIME:g} s"
+        if c.released:
+            return [f"# canopy_model: rigid (the default), though light ({why}): it opens by an inflation, which a "
+                    "reduced canopy refuses"]
+        return [f'canopy_model = "reduced"   # light ({why}): a drag point at the riser\'s end, without its fast '
+                "modes (docs/models/reduced_canopy.md)"]
 
     def deployment(self) -> list:
         """A released vehicle's system: deployed at line stretch after the static line's time, opening by its type's
@@ -632,8 +688,5 @@ class _Writer:
         duration = 10.0 * math.ceil((1.25 * c.altitude / p.steady_rate(0.0) + 10.0 + before) / 10.0)
         return ["[simulation]", f"duration = {_n(duration)}   # s: an upper bound; the run ends at touchdown "
                 "(the vehicle's centre of mass at 0 m)", "output_step = 0.02                         # s",
-                'method = "sp"', 'integrator = "rk4"', "[simulation.steps]",
-                f"sp = {_n(SP_STEP)}   # s: the thesis's SP step. Its confluence relaxes at K/C = "
-                f"{1.0 / LINE_DAMPING_TIME:g} 1/s (RK4 stable to 0.028 s",
-                "# with the lines at free length, about 0.02 s loaded; the run checks it as it goes). The other "
-                "methods run at half", "# their stability limit, rounded down (printed in the run line)."]
+                'method = "sp"', 'integrator = "rk4"', "# No [simulation.steps]: RK4 takes adaptive steps "
+                "(docs/models/step_control.md); to fix one, `[simulation.steps] sp = 0.01` or `--dt 0.01`."]

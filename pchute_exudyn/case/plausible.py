@@ -84,6 +84,10 @@ RANGES: tuple = (
     Range("simulation.duration", "s", (1e-9, 1e8), (1e-3, 1e5)),
     Range("simulation.ground_altitude", "m", (-5e4, 1e7), (-1.2e4, 2e4)),
     Range("simulation.descent_rate_events", "m/s", (0.0, 2e4), (0.0, 1e3)),
+    Range("simulation.step_control.relative", "", (1e-15, 1.0), (1e-8, 0.1)),
+    Range("simulation.step_control.absolute", "m/s", (1e-15, 1e4), (1e-9, 10.0)),
+    *(Range(f"simulation.step_control.{key}", "s", (1e-12, 1e6), (1e-9, 100.0))
+      for key in ("first", "largest", "smallest")),
     # inflation
     Range("systems.*.inflation.fill_constant", "", (1e-6, 1e4), (1e-2, 100.0)),
     Range("systems.*.inflation.exponent", "", (0.0, 100.0), (0.1, 10.0)),

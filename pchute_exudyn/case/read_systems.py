@@ -22,6 +22,27 @@ from .model import (
 from .read_bodies import read_initial
 from .read_triggers import read_trigger
 
+CANOPY_MODELS = ("rigid", "reduced")
+"""``canopy_model`` of a system (``case.model.ParachuteSystem``)."""
+
+
+def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, opening) -> None:
+    """A reduced canopy (docs/models/reduced_canopy.md) is one canopy with aerodynamics, on a riser in series with one
+    bridle from another body, fully open from its deployment."""
+    if len(canopies) != 1 or len(lines) != 2 or sorted(line.body == canopies[0] for line in lines) != [False, True]:
+        raise t.error("canopy_model", "reduced needs one canopy on one riser in series with one bridle from another "
+                                      "body (two lines: a shock cord); use rigid for this layout", "reduced")
+    body = bodies[canopies[0]]
+    if body.aerodynamics is None or not body.aerodynamics.enabled:
+        raise t.error("canopy_model", f"reduced needs canopy '{canopies[0]}' to have aerodynamics, enabled (its "
+                                      "drag is what holds it)", "reduced")
+    if body.apparent_mass is not None:
+        raise t.error("canopy_model", f"reduced drops canopy '{canopies[0]}''s inertia to first order, so it takes no "
+                                      "apparent_mass; use rigid to keep the air it carries", "reduced")
+    if opening is not None:
+        raise t.error("canopy_model", "reduced flies its canopy fully open from its deployment: remove the "
+                                      "inflation or drag_area_schedule, or use rigid", "reduced")
+
 
 def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None) -> ParachuteSystem:
     """``[systems.<name>]``; the triggers of its events go into ``triggers`` (event name -> Trigger)."""
@@ -33,11 +54,8 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
                              f"{name}.deploy", bodies, triggers)
     cutaway_time = event_time(t, "cutaway_time", "cutaway_trigger", t.number("cutaway_time", "s", None, above=0.0),
                               f"{name}.cutaway", bodies, triggers)
-    deploy_point = None
-    if "deploy_point" in t.data:
-        deploy_point = _read_body_point(t, "deploy_point", bodies, t.string("deploy_point"))
-    else:
-        t.allowed.append("deploy_point")
+    deploy_point = _read_deploy_point(t, bodies)
+    packed = _read_packed(t, deploy_time)
     schedule_table = t.table("drag_area_schedule", None)
     schedule = _read_schedule(schedule_table) if schedule_table is not None else None
     inflation_table = t.table("inflation", None)
@@ -45,10 +63,13 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
     if schedule is not None and inflation is not None:
         raise t.error("inflation", "a system has a drag_area_schedule or an inflation, not both")
     efficiency, spread, contact = _read_cluster(t, canopies)
+    canopy_model = t.string("canopy_model", "rigid", CANOPY_MODELS)
     line_tables = t.named_tables("lines")
     if not line_tables:
         raise t.error("lines", "a system needs at least one line")
     lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
+    if canopy_model == "reduced":
+        _check_reduced(t, canopies, lines, bodies, schedule or inflation)
     if deploy_time is not None:
         missing = [key for key, value in ((canopy_key, canopies), ("deploy_point", deploy_point)) if not value]
         if missing:
@@ -80,7 +101,32 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
                                  "reference area and the drag-area fraction); set contact.enabled = false otherwise")
     t.finish()
     return ParachuteSystem(name, confluence, tuple(lines), canopies, deploy_time, deploy_point, cutaway_time,
-                           schedule, inflation, efficiency, spread, contact)
+                           schedule, inflation, efficiency, spread, contact, canopy_model=canopy_model, packed=packed)
+
+
+def _read_deploy_point(t: Table, bodies: dict) -> tuple | None:
+    """``deploy_point = "<body>.<point>"``, or None."""
+    if "deploy_point" not in t.data:
+        t.allowed.append("deploy_point")
+        return None
+    return _read_body_point(t, "deploy_point", bodies, t.string("deploy_point"))
+
+
+class _Spelled(str):
+    """A value shown in an error as the case file spells it (``true``), not as Python's repr."""
+
+    def __repr__(self) -> str:
+        return str(self)
+
+
+def _read_packed(t: Table, deploy_time) -> bool:
+    """``packed``: the system's gear rides in the vehicle until it deploys (``case.carried``); a system present
+    from the start has none."""
+    packed = t.boolean("packed", default_of(ParachuteSystem, "packed"))
+    if packed and deploy_time is None:
+        raise t.error("packed", "a system present from the start (no deploy_time or deploy_trigger) has no packed "
+                                "gear: give it a deploy_time or deploy_trigger, or remove packed", _Spelled("true"))
+    return packed
 
 
 def _read_canopies(t: Table, bodies: dict) -> tuple:

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..physics.atmosphere import US76, MarsGRC, ScaledAtmosphere, Wind
 from ..physics.planet import FlatPlanet, Planet, StartFrame
+from ..physics.step_control import StepRule
 from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
 from .fields import REQUIRED, Table, check_number, default_of
 from .method_table import INTEGRATORS, METHODS, OptionError, make_options
@@ -191,9 +192,26 @@ def read_simulation(t: Table) -> SimulationSettings:
                      for r in rates]
     steps = _read_steps(t, duration)
     seed = _read_integer(t, "seed", default=default_of(SimulationSettings, "seed"))
+    rule = _read_step_rule(t.table("step_control", None))
     t.finish()
     return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, options,
-                              ground_altitude if stop_at_ground else None, tuple(descent_rates), seed)
+                              ground_altitude if stop_at_ground else None, tuple(descent_rates), seed, rule)
+
+
+def _read_step_rule(t: Table | None) -> StepRule:
+    """``[simulation.step_control]``: the adaptive steps' tolerances and bounds (``physics.step_control.StepRule``)."""
+    if t is None:
+        return StepRule()
+    rule = StepRule(relative=t.number("relative", "", default_of(StepRule, "relative"), above=0.0, maximum=1.0),
+                    absolute=t.number("absolute", "m/s", default_of(StepRule, "absolute"), above=0.0),
+                    first=t.number("first", "s", default_of(StepRule, "first"), above=0.0),
+                    largest=t.number("largest", "s", default_of(StepRule, "largest"), above=0.0),
+                    smallest=t.number("smallest", "s", default_of(StepRule, "smallest"), above=0.0))
+    for key, value in (("first", rule.first), ("largest", rule.largest)):
+        if value < rule.smallest:
+            raise t.error(key, f"must not be below the smallest step ({rule.smallest:g} s)", value)
+    t.finish()
+    return rule
 
 
 def _read_method_options(t: Table) -> dict:

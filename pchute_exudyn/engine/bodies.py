@@ -127,20 +127,22 @@ def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deploy
     return model.stage.add_aerodynamics(body, schedule, deployed_at, efficiency)
 
 
-def add_bodies(model: Model, case: Case, reduced: bool = False) -> None:
+def add_bodies(model: Model, case: Case, reduced: bool = False, massless=()) -> None:
     """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics, each
     cluster's canopy contact, and the model's stage; ``reduced``: the model's right-hand side refreshes the stage's
-    body states at every stage, and the body channels read them."""
+    body states at every stage, and the body channels read them. ``massless``: bodies of the phase that get no
+    engine body (reduced canopies: their confluence's kernel moves them and applies their drag)."""
     phase = model.phase
+    model.massless = set(massless)
     for body in case.bodies.values():
-        if body.fixed or body.name in phase.bodies:
+        if (body.fixed or body.name in phase.bodies) and body.name not in model.massless:
             add_body(model, case, body, phase.body_states.get(body.name))
     model.stage = Stage(model, case)
     if reduced and phase.systems:   # refreshed by the systems' right-hand sides, so only when there are some
         model.stage.serve_channels()
     loads = model.aerodynamic_loads
     for body in case.bodies.values():
-        if body.name not in phase.bodies:
+        if body.name not in phase.bodies or body.name in model.massless:
             continue
         system = case.canopy_system(body.name)
         if system is None:

@@ -11,10 +11,13 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import numpy as np
+
 from ..case.model import Case, ParachuteSystem
 from ..errors import SimulationError
 from ..physics.equilibrium import equilibrium_point, equilibrium_velocity
-from ..physics.lines import line_tensions
+from ..physics.lines import line_tensions, pack_tables
+from ..physics.singular_perturbation import solve_series
 from .bodies import add_bodies
 from .model import Model
 from .reduced import ReducedConfluence
@@ -45,8 +48,11 @@ class EquilibriumConfluence(ReducedConfluence):
         self.guess = tuple(state.position.tolist())   # warm start: the last solution
         self.solves = self.failures = self.consecutive_failures = self.iterations = 0
         self.max_iterations_used = 0
+        self.table_points, self.table_counts = pack_tables(line.load_elongation for line in system.lines)
 
     def compute(self, t, q, positions, velocities):
+        if len(positions) == 2:   # a pair in series: the massless confluence on the line between them
+            return self._series(positions, velocities)
         solved = equilibrium_point(positions, self.free_length, self.stiffness, guess=self.guess, tables=self.tables)
         self.solves += 1
         self.iterations += solved.iterations
@@ -69,6 +75,18 @@ class EquilibriumConfluence(ReducedConfluence):
                                              self.stiffness, self.damping, self.tables)
         return EquilibriumSolution(position, tuple(velocity), tuple(tensions), tuple(directions), solved.iterations,
                                    solved.converged)
+
+    def _series(self, positions, velocities) -> EquilibriumSolution:
+        """Two lines in series (``physics.singular_perturbation.solve_series``), the same law as SP's."""
+        tensions, directions, active = np.zeros(2), np.zeros((2, 3)), np.zeros(2, np.bool_)
+        attach = np.asarray(positions, float)
+        lines = np.column_stack([self.free_length, self.stiffness, self.damping])
+        vx, vy, vz, fraction = solve_series(attach, np.asarray(velocities, float), lines, self.table_points,
+                                            self.table_counts, tensions, directions, active, 0.0, 0.0, 0.0)
+        position = tuple((attach[0] + fraction * (attach[1] - attach[0])).tolist())
+        self.solves += 1
+        return EquilibriumSolution(position, (vx, vy, vz), tuple(tensions.tolist()),
+                                   tuple(tuple(d) for d in directions.tolist()), 0, True)
 
     def derivative(self, solution) -> list:
         return [0.0]

@@ -17,6 +17,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case
+from ..physics.kinematics import ROW_POSITION, ROW_ROTATION
 from .state import BodyChannel, BodyState, ConfluenceState, Phase
 
 OV = exu.OutputVariableType
@@ -65,6 +66,10 @@ class Confluence:
     def finish(self) -> None:
         """Work left after the solve (a reduced confluence's deferred end-of-step work)."""
 
+    def relax(self, relaxation_time: float) -> None:
+        """Damp the lines at least ``relaxation_time`` (s) times their stiffness from the coming step on (adaptive
+        steps: ``Method.relaxation_for_step``); only a method that relaxes them does anything."""
+
 
 class Model:
     """A built Exudyn model of one phase of a run (see the module docstring).
@@ -85,6 +90,7 @@ class Model:
             bodyNumber=self.ground, localPosition=case.start.planet_center.tolist()))
         self.systems = [case.systems[name].with_bodies(phase.bodies) for name in phase.systems]   # present lines
         self.bodies: dict = {}
+        self.massless: set = set()   # bodies of the phase that are no engine body: reduced canopies (``engine.sp``)
         self.gravity_connectors: dict = {}   # body name -> (its gravity connector, its mass in kg): the bodies on
         #                                      which no other item than the stage's adds a force
         self.confluences: dict = {}
@@ -161,11 +167,40 @@ class Model:
         """The current value of channel ``key`` as an array."""
         return np.asarray(self.channels[key](), float)
 
+    def velocity_weights(self) -> np.ndarray:
+        """A weight per velocity coordinate of the engine (``GetODE2Coordinates_t``): sqrt(m) (kg^0.5) for a body's
+        or a full-mass confluence's velocity, sqrt(I_jj) (kg^0.5 m) for a body's body-axis angular rate about its
+        axis j; then sum (w u)^2 is twice the kinetic energy (exactly for principal axes) and a weighted norm of
+        velocity errors is the kinetic-energy norm (``physics.step_control``)."""
+        weights = np.zeros(len(self.mbs.systemData.GetODE2Coordinates_t()))
+        for name, items in self.bodies.items():
+            body = self.case.bodies[name]
+            if body.fixed or int(items.node) < 0:
+                continue
+            first = self.mbs.GetNodeODE2Index(items.node)
+            weights[first:first + 3] = np.sqrt(body.mass)
+            weights[first + 3:first + 6] = np.sqrt(np.diag(np.asarray(body.inertia, float)))
+        for name, confluence in self.confluences.items():
+            node = getattr(confluence, "node", None)
+            if node is not None:
+                first = self.mbs.GetNodeODE2Index(node)
+                weights[first:first + 3] = np.sqrt(self.case.systems[name].confluence.mass)
+        return weights
+
     def attach_positions(self, system) -> np.ndarray:
-        """Current positions (n_lines, 3) of a system's attach points (m)."""
+        """Current positions (n_lines, 3) of a system's attach points (m); a reduced canopy's from its state row."""
         get = self.mbs.GetMarkerOutput
-        return np.array([get(self.bodies[line.body].point_markers[line.point], OV.Position, CURRENT)
-                         for line in system.lines])
+        rows = self.stage.settled_rows() if self.massless else None
+        points = []
+        for line in system.lines:
+            if line.body in self.massless:
+                row = rows[self.stage.row[line.body]]
+                rotation = np.asarray(row[ROW_ROTATION], float).reshape(3, 3)
+                points.append(np.asarray(row[ROW_POSITION], float)
+                              + rotation @ np.asarray(self.case.bodies[line.body].points[line.point], float))
+            else:
+                points.append(get(self.bodies[line.body].point_markers[line.point], OV.Position, CURRENT))
+        return np.array(points)
 
     def release(self) -> None:
         """After the phase: drop the engine's system and with it the user functions it holds. Exudyn keeps those from

@@ -23,7 +23,7 @@ import numpy as np
 from ..case.model import Case, ParachuteSystem
 from ..physics.compiled import bound
 from ..physics.kinematics import add_point_forces, point_motions
-from ..physics.singular_perturbation import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
+from ..physics.sp_stepping import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
 from .model import Confluence, Model
 from .state import ConfluenceChannel, MethodChannel, TensionChannel
 

@@ -137,6 +137,14 @@ REPORT_EVERY = 100
 """Steps between calls of a run's progress reporter (``integrate(report=...)``)."""
 
 
+def _hook_parts(model: Model) -> tuple:
+    """What a post-step hook works with: the channels' readers, the sample rows and times it fills, the model's
+    post-step hooks and stop conditions, its post-step count and its state check."""
+    reads = [reader for _, reader in _sampled_channels(model)[0]] + [group[1] for group in model.channel_groups]
+    return (reads, [], [], list(model.post_step_hooks), list(model.stop_conditions), model.post_step_count,
+            _finite_state(model))
+
+
 def _post_step_function(model: Model, step: float, end: float, output_step: float, progress: dict, report=None,
                         counts: bool = False):
     """Exudyn's post-step hook: runs the model's post-step hooks and stop conditions and samples every channel at
@@ -146,18 +154,11 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
     explicit run without pre-step hooks, which then needs no pre-step call (the state after step n is the state
     before step n + 1): count the step, record the coming step's end time (for messages), stop on Ctrl-C, check the
     state every CHECK_EVERY steps."""
-    reads = [reader for _, reader in _sampled_channels(model)[0]] + [group[1] for group in model.channel_groups]
-    rows: list = []
-    times: list = []
+    reads, rows, times, post_hooks, stop_conditions, count, finite = _hook_parts(model)
     start = progress["time"]
     next_sample = [start]
-    post_hooks = list(model.post_step_hooks)
-    stop_conditions = list(model.stop_conditions)
-    count = model.post_step_count
-
     last = [None]   # solver time of the last sample (the recorded time is its grid value)
     last_end = [start]   # the end of the last step (counts)
-    finite = _finite_state(model)
 
     def post_step(mbs_, t):
         if last[0] is not None and t <= last[0] + 0.5 * step:  # Exudyn calls this once more after the last step
@@ -194,6 +195,69 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
             return False
         return True
     return post_step, times, rows
+
+
+def _adaptive_post_step_function(model: Model, end: float, output_step: float, progress: dict, report, counts: bool,
+                                 control):
+    """``_post_step_function`` of a run whose steps ``control`` chooses: after the model's hooks and stop conditions
+    it asks ``control.after_step(t)`` for the coming step and sets it as the engine's step (the engine's explicit
+    solver takes the step size it holds at each step's start). A sample is taken at the first step end on or past
+    each output time, and at every step end where steps are longer than the output step."""
+    reads, rows, times, post_hooks, stop_conditions, count, finite = _hook_parts(model)
+    start = progress["time"]
+    next_sample = [start]
+    last = [None]
+    last_end = [start]
+    solver = []   # the engine's solver object, once it runs
+
+    def post_step(mbs_, t):
+        if last[0] is not None and t <= last[0]:  # Exudyn calls this once more after the last step
+            return True
+        count[0] += 1
+        taken = t - last_end[0]
+        if counts and not _count_step(progress, t, taken > ROUND_OFF * control.rule.smallest, finite):
+            return False
+        last_end[0] = t
+        try:
+            for hook in post_hooks:
+                hook(mbs_, t)
+            stop = False
+            for condition in stop_conditions:
+                stop = condition(t) or stop
+            if stop or t >= next_sample[0] - 0.5 * taken or t >= end - 0.5 * taken:
+                rows.append([read() for read in reads])
+                times.append(t)
+                last[0] = t
+                next_sample[0] = (math.floor(t / output_step + ROUND_OFF) + 1) * output_step
+            if stop:
+                progress["stopped"] = t
+                return False
+            coming = control.after_step(t)
+            if not solver:
+                solver.append(mbs_.sys["dynamicSolver"].it)
+            solver[0].currentStepSize = coming
+            if counts:
+                progress["time"] = min(t + coming, end)
+            if report is not None and count[0] % REPORT_EVERY == 0:
+                report(t)
+        except Exception as exc:  # stop cleanly and raise it after the solver has returned
+            model.record_failure(exc)
+            return False
+        return True
+    return post_step, times, rows
+
+
+def _count_step(progress: dict, t: float, taken: bool, finite) -> bool:
+    """The pre-step hook's bookkeeping done after a step ending at ``t`` (s) (``_post_step_function``'s ``counts``):
+    count it when ``taken`` (not the start), and False to stop on Ctrl-C or a state gone NaN or infinite."""
+    if taken:
+        progress["steps"] += 1
+    if progress["interrupted"]:
+        return False
+    if progress["steps"] % CHECK_EVERY == 0 and not finite():
+        progress["bad"] = t
+        return False
+    return True
 
 
 class _interrupt_flag:
@@ -269,12 +333,16 @@ def _samples(model: Model, rows: list) -> dict:
 
 
 def integrate(model: Model, integrator: str, step: float, duration: float, output_step: float,
-              spectral_radius: float = 0.9, start: float = 0.0, report=None, solution_file=None) -> RawHistory:
+              spectral_radius: float = 0.9, start: float = 0.0, report=None, solution_file=None,
+              control=None) -> RawHistory:
     """Integrate a built model from ``start`` to ``duration`` (s, absolute times) with ``step`` (s), sampling on the
     grid of ``output_step`` (s). A stop condition (``model.stop_conditions``) may end it early, after a step it
     samples; ``RawHistory.stopped_at`` then holds that time. ``report``, if given, receives the simulation time (s)
     every REPORT_EVERY steps. Ctrl-C stops the solver after the step it is in and raises ``errors.Interrupted``.
     ``solution_file``: a path for Exudyn's own solution file (coordinates every ``output_step``), for its viewer.
+    ``control``: for an explicit integrator, a step control that chooses every step as the run goes
+    (``control.after_step(t)`` returns the coming step in s; ``step`` is then the largest, the model's ``step`` None
+    and the sample times the step ends'); None: every step is ``step``.
 
     Raises
     ------
@@ -288,10 +356,14 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     before_steps = model.pre_step_hooks or not INTEGRATORS[integrator].explicit   # an implicit step may be retried
     if before_steps:
         model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))
-    post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report,
-                                                 counts=not before_steps)
+    if control is None:
+        post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report,
+                                                     counts=not before_steps)
+    else:
+        post_step, times, rows = _adaptive_post_step_function(model, duration, output_step, progress, report,
+                                                              not before_steps, control)
     model.mbs.SetPostStepUserFunction(post_step)
-    model.step = step
+    model.step = step if control is None else None
     model.warm_up()
     wall = _solve(model, settings, solver_type, progress, integrator, step)
     if progress["interrupted"]:
@@ -304,7 +376,7 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
             f"at step {step:g} s: try a smaller step", progress["bad"])
     model.finish()
     samples = _samples(model, rows)
-    times = grid_times(times, start, step, output_step)
+    times = grid_times(times, start, step, output_step) if control is None else times
     raw = RawHistory.from_samples(times, samples, progress["steps"], wall)
     raw.stopped_at = progress["stopped"]
     return raw

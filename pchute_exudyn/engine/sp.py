@@ -14,6 +14,7 @@ from the previous phase (zero for a newly deployed system) enters as a force ins
 
 from __future__ import annotations
 
+import math
 from array import array
 from functools import partial
 from typing import NamedTuple
@@ -22,9 +23,18 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.compiled import has_machine_code, machine_code
+from ..physics.kinematics import POINT_COLUMNS
 from ..physics.lines import pack_tables
 from ..physics.singular_perturbation import (
     END_TENSION,
+    STAGE_COLUMNS,
+    WORK_DIRECTION,
+    WORK_SCRATCH,
+    WORK_TAUT,
+    WORK_TENSION,
+    relaxed_damping,
+)
+from ..physics.sp_stepping import (
     MEMORY_ACCELERATION,
     MEMORY_CLOCK,
     MEMORY_DUE,
@@ -40,9 +50,6 @@ from ..physics.singular_perturbation import (
     MEMORY_SETTINGS,
     MEMORY_TIMES,
     MEMORY_V0,
-    STAGE_COLUMNS,
-    WORK_DIRECTION,
-    WORK_TAUT,
     record_size,
     sp_settle,
     sp_settle_with_bodies,
@@ -53,7 +60,12 @@ from ..physics.singular_perturbation import (
 from .bodies import add_bodies
 from .model import Model
 from .reduced import ReducedConfluence
+from .reduced_canopy import ReducedCanopy, bridle_first, reduced_canopy
 from .state import ConfluenceChannel, ConfluenceState, MethodChannel, Phase, TensionChannel
+
+RATE_MEMORY = 2.0
+"""s: the time over which a line's stretch-rate envelope fades (``SPConfluence.relaxation_allowed``): a pendulum's
+period or two."""
 
 
 class StageSolution(NamedTuple):
@@ -87,7 +99,7 @@ class SPConfluence(ReducedConfluence):
     Per step the engine calls it at each RK stage (from the stage's force item) and once after the step
     (``advance``); there is no pre-step call: the step size comes from the second stage's time. The step's
     bookkeeping (the stage count, the step's start and size, the end-of-step work due, the last end-of-step solve)
-    lives in the confluence's memory array with its states (``physics.singular_perturbation.MEMORY_ROWS``), so a
+    lives in the confluence's memory array with its states (``physics.sp_stepping.MEMORY_ROWS``), so a
     stage's call passes only the time and the stage's node coordinates into one compiled kernel.
 
     The end-of-step work (the RK4 update of the confluence position, the solve at the end-of-step state, v0 and
@@ -117,7 +129,7 @@ class SPConfluence(ReducedConfluence):
         self.layout = np.column_stack([self.points, self.free_length, self.stiffness, self.damping, counts])
         self.work = np.zeros((len(system.lines), STAGE_COLUMNS))
         acceleration = state.acceleration
-        memory = self.memory = np.zeros((MEMORY_ROWS, 3))   # physics.singular_perturbation.MEMORY_ROWS
+        memory = self.memory = np.zeros((MEMORY_ROWS, 3))   # physics.sp_stepping.MEMORY_ROWS
         memory[MEMORY_POSITION] = state.position
         memory[MEMORY_V0] = state.velocity                    # v0 of the first step: the state's velocity
         memory[MEMORY_SETTINGS] = (system.confluence.mass, self.kappa_max,
@@ -139,6 +151,10 @@ class SPConfluence(ReducedConfluence):
         #                        sees it (set by ``advance``, cleared by ``_settled`` whoever did the work)
         self._step_done = self._kernels[step_done]   # its machine code from ``warm_up`` on
         self._settle_now = True                      # whether ``advance`` does the work at once (``warm_up``)
+        self._built_damping = None                   # the lines' damping as built, once ``relax`` changes it
+        self._rates, self._rates_at = [], 0.0        # the lines' stretch-rate envelope (``relaxation_allowed``)
+        name = reduced_canopy(case, system)
+        self.canopy = None if name is None else ReducedCanopy(model, case, system, name, memory)
 
     # -- the solver's calls -------------------------------------------------------------------------------------------
 
@@ -170,7 +186,9 @@ class SPConfluence(ReducedConfluence):
 
     def advance(self, mbs, t):
         """Post-step hook, before any other: complete the step's count and make its end-of-step work due (done
-        now unless it can wait for the next stage: see the class doc)."""
+        now unless it can wait for the next stage: see the class doc); a reduced canopy's air for the coming step."""
+        if self.canopy is not None:
+            self.canopy.update_air(t)
         self._step_done(self.memory, t)
         self.pending = True
         if self._settle_now:
@@ -231,6 +249,38 @@ class SPConfluence(ReducedConfluence):
         self.advance(None, start)
         self.settle()
 
+    def relaxation_allowed(self, share: float, t: float) -> float:
+        """The longest relaxation time (s) whose extra damping changes no taut line's tension by more than ``share``
+        of it at the lines' stretch rates: (C + share T / r) / K per line, r the envelope of |de/dt| over the last
+        RATE_MEMORY s (a rate that swings through zero counts at its swing's size), de/dt from the last solve's
+        damping force (T - T_el) / C; inf where nothing stretches (a steady descent). ``t``: the time now (s)."""
+        work = self.settled().work
+        tension, elastic = work[:, WORK_TENSION].tolist(), work[:, WORK_SCRATCH + 5].tolist()
+        built = self.layout[:, POINT_COLUMNS + 2] if self._built_damping is None else self._built_damping
+        damping = self.layout[:, POINT_COLUMNS + 2].tolist()
+        fade = math.exp(-(t - self._rates_at) / RATE_MEMORY) if self._rates else 0.0
+        self._rates_at = t
+        rates, allowed = [], math.inf
+        for i, (c, k) in enumerate(zip(built.tolist(), self.stiffness)):
+            now = abs(tension[i] - elastic[i]) / damping[i] if tension[i] > 0.0 and damping[i] > 0.0 else 0.0
+            rate = max(now, fade * self._rates[i]) if self._rates else now
+            rates.append(rate)
+            if rate > 0.0 and k > 0.0 and tension[i] > 0.0:
+                allowed = min(allowed, (c + share * tension[i] / rate) / k)
+        self._rates = rates
+        return allowed
+
+    def relax(self, relaxation_time: float) -> None:
+        """Each line damped at least ``relaxation_time`` (s) times its stiffness from now on (the layout's damping
+        column, which every kernel call reads): ``physics.singular_perturbation.relaxed_damping`` of the built
+        lines' damping."""
+        if len(self.system.lines) == 2:   # a pair in series: nothing to relax (``solve_series``)
+            return
+        if self._built_damping is None:
+            self._built_damping = self.layout[:, POINT_COLUMNS + 2].copy()
+        self.layout[:, POINT_COLUMNS + 2] = relaxed_damping(self.stiffness, self._built_damping.tolist(),
+                                                            relaxation_time)
+
     # -- what it reports ----------------------------------------------------------------------------------------------
 
     def settled(self) -> SPConfluence:
@@ -290,8 +340,15 @@ class SPConfluence(ReducedConfluence):
                 / (memory[MEMORY_TIMES, 0] - memory[MEMORY_TIMES, 1])).tolist()
 
     def position(self) -> list:
-        """The confluence position (m) at the end of the last step: the SP state."""
+        """The confluence position (m) at the end of the last step: the SP state; with a reduced canopy the state is
+        its drag point, and the confluence is on the line to it (``engine.reduced_canopy``)."""
+        if self.canopy is not None:
+            return self.canopy.position_of_confluence(self.settled().work)
         return self.settled().memory[MEMORY_POSITION].tolist()
+
+    def step_limit(self, step: float) -> float | None:
+        """A reduced canopy's drag point's RK4 limit (s) at a step ``step`` (s), for adaptive steps; None without."""
+        return None if self.canopy is None else self.canopy.step_limit(self.settled().work, step)
 
     def position_reader(self):
         return self.position
@@ -304,8 +361,11 @@ def build_sp_model(case: Case, phase: Phase, options) -> Model:
     """Build the SP Exudyn model of ``case`` for one phase (bodies and aerodynamics as in the full model) with the
     SP method's ``options``; order 1 keeps the confluence mass to first order (``physics.singular_perturbation``)."""
     model = Model(case, phase)
-    add_bodies(model, case, reduced=True)
+    canopies = {system.name: reduced_canopy(case, system) for system in model.systems}
+    add_bodies(model, case, reduced=True, massless={name for name in canopies.values() if name is not None})
     for system in model.systems:
+        if canopies[system.name] is not None:
+            system = bridle_first(system)
         sp = SPConfluence(model, case, system, phase.confluence_states[system.name], options, phase.start)
         sp.register(case)
     return model.assemble()

@@ -57,7 +57,7 @@ class Stage:
         self.model = model
         names = [name for name, body in case.bodies.items() if body.fixed or name in model.phase.bodies]
         self.row = {name: i for i, name in enumerate(names)}
-        self.free = [name for name in names if not case.bodies[name].fixed]
+        self.free = [name for name in names if not case.bodies[name].fixed and name not in model.massless]
         self.states = np.zeros((len(names), STATE_COLUMNS))
         self.layout = np.full((len(names), BODY_COLUMNS), -1.0)   # from the force function's own arguments
         self.global_layout = None                                  # from the whole coordinate vectors (refresh)
@@ -81,7 +81,13 @@ class Stage:
         self.has_item = False
 
     def _set_reference(self, case: Case, name: str) -> None:
-        items, row = self.model.bodies[name], self.row[name]
+        row = self.row[name]
+        if name in self.model.massless:   # a reduced canopy's row: its kernel writes it (``physics.reduced_canopy``)
+            state = self.model.phase.body_states[name]
+            self.states[row, ROW_POSITION], self.states[row, ROW_ROTATION] = state.position, state.attitude.ravel()
+            self.states[row, ROW_VELOCITY] = state.velocity
+            return
+        items = self.model.bodies[name]
         if case.bodies[name].fixed:   # its state is constant
             state = initial_body_state(case, case.bodies[name])
             self.states[row, ROW_POSITION], self.states[row, ROW_ROTATION] = state.position, state.attitude.ravel()
@@ -262,9 +268,10 @@ class Stage:
 
     def serve_channels(self) -> None:
         """Serve the free bodies' output channels from the stage states (a reduced model's confluences refresh
-        them at the end of every step, before the outputs are sampled), sampled together as one array (``sample``)."""
+        them at the end of every step, before the outputs are sampled), sampled together as one array (``sample``);
+        and a reduced canopy's, whose row its kernel writes."""
         model, keys, columns = self.model, [], []
-        for name in self.free:
+        for name in self.free + sorted(model.massless, key=self.row.get):
             r = self.row[name]
             for quantity, part in (("position", ROW_POSITION), ("velocity", ROW_VELOCITY), ("rotation", ROW_ROTATION),
                                    ("angular_velocity", ROW_BODY_RATE)):

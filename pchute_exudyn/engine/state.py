@@ -144,6 +144,7 @@ class RawHistory:
     steps: int = 0
     wall_time: float = 0.0
     stopped_at: float | None = None                   # time a stop condition (touchdown) ended the run
+    step_control: dict | None = None                  # adaptive steps taken (smallest, largest, mean in s; count)
 
     @classmethod
     def from_samples(cls, times, samples: dict, steps: int, wall_time: float) -> RawHistory:

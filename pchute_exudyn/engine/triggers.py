@@ -12,6 +12,7 @@ from ..case.model import Case
 from ..errors import SimulationError
 from ..physics.atmosphere import pressure_of
 from ..physics.triggers import TIME_TOLERANCE, TriggerFailed
+from .bodies import MAX_DESCENT_ACCELERATION
 from .model import Model
 from .state import BodyChannel
 
@@ -65,11 +66,16 @@ class TriggerMonitor:
                 self.readers[body] = (model.channels[BodyChannel(body, "position")],
                                       model.channels[BodyChannel(body, "velocity")])
         self.firings: list = []
+        self.next_check: dict = {}   # adaptive steps: event -> the time of its next look (s)
+        self.window: set = set()     # adaptive steps: the events that can fire now, sampled at their sample times
+        self.horizon = math.inf      # adaptive steps: the longest step (s; set by the run)
 
     def __call__(self, t: float) -> bool:
+        step = self.model.step
+        if step is None:
+            return self._adaptive(t)
         if t <= self.start:   # the start state was sampled at the end of the phase before
             return False
-        step = self.model.step
         truths = {}
         for watch in self.watches:
             if watch.armed_by is not None and self.fired.get(watch.armed_by, math.inf) >= t - TIME_TOLERANCE:
@@ -77,13 +83,54 @@ class TriggerMonitor:
             body = watch.trigger.sensor.body or self.case.vehicle
             if body not in self.readers or not watch.due(t, step):
                 continue
-            if body not in truths:
-                position, velocity = self.readers[body]
-                truths[body] = true_values(self.case, position(), velocity(), t, self.air_motion)
-            try:
-                firing = watch.observe(t, truths[body], self.fired, self.pressure_at)
-            except TriggerFailed as exc:
-                raise SimulationError(str(exc), exc.time) from None
-            if firing is not None:
-                self.firings.append(firing)
+            self._observe(watch, t, self._truth(body, t, truths))
         return bool(self.firings)
+
+    def _truth(self, body: str, t: float, truths: dict):
+        """The true values of ``body`` at ``t`` (s), read once per sample time (``truths``: those read so far)."""
+        if body not in truths:
+            position, velocity = self.readers[body]
+            truths[body] = true_values(self.case, position(), velocity(), t, self.air_motion)
+        return truths[body]
+
+    def _observe(self, watch, t: float, truth) -> None:
+        """A sample of ``watch`` at ``t`` (s): its firing, if any, recorded."""
+        try:
+            firing = watch.observe(t, truth, self.fired, self.pressure_at)
+        except TriggerFailed as exc:
+            raise SimulationError(str(exc), exc.time) from None
+        if firing is not None:
+            self.firings.append(firing)
+
+    def _adaptive(self, t: float) -> bool:
+        """Adaptive steps (the model has no fixed step; ``run.step_control``): a trigger samples only at its own
+        sample times k / rate, on which the step control lands the steps (``landing``) while the trigger can fire.
+        A noise-free altitude threshold cannot fire before ``Watch.earliest`` (the touchdown check's bound on the
+        body's acceleration towards it, MAX_DESCENT_ACCELERATION): while that is more than ``horizon`` (the longest
+        step, s) away its samples are skipped (no step can reach it), and its next look is halfway to it less the
+        horizon (the step that passes that time still ends before it)."""
+        if t <= self.start:
+            return False
+        truths = {}
+        for watch in self.watches:
+            if watch.armed_by is not None and self.fired.get(watch.armed_by, math.inf) >= t - TIME_TOLERANCE:
+                continue
+            body = watch.trigger.sensor.body or self.case.vehicle
+            if body not in self.readers or t < self.next_check.get(watch.event, -math.inf):
+                continue
+            truth = self._truth(body, t, truths)
+            earliest = watch.earliest(t, truth, MAX_DESCENT_ACCELERATION)
+            if earliest > t + self.horizon:   # the coming steps end before it: its next look halfway there
+                self.window.discard(watch.event)
+                self.next_check[watch.event] = t + 0.5 * (earliest - t - self.horizon)
+                continue
+            self.window.add(watch.event)
+            if watch.on_sample(t):
+                self._observe(watch, t, truth)
+        return bool(self.firings)
+
+    def landing(self, t: float) -> float:
+        """The next sample time (s) after ``t`` of a trigger that can fire now: adaptive steps end there, so that
+        each sample is taken at its own time (inf: none)."""
+        return min((w.next_sample(t) for w in self.watches if w.event in self.window), default=math.inf)
+

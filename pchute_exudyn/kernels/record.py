@@ -2,10 +2,11 @@
 
 ``python -m pchute_exudyn.kernels.record [CASE ...]`` runs small models of every method (two bodies, a
 load-elongation line, SP of either order and slack rule, equilibrium point, full mass RK4 and implicit, a cluster),
-then each CASE file with each method, and formats a table (``number_text``), with numba compiling each kernel on
-first call, and adds the argument types each kernel was called with from Python to ``kernels/signatures.json`` (what
-``python -m pchute_exudyn.kernels.build`` compiles). Rerun it when a kernel's arguments change
-(``tests/test_kernels.py`` fails until then). It runs the whole package: a top-layer module.
+the rocket case (reduced canopies at adaptive steps), then each CASE file with each method, and formats a table
+(``number_text``), with numba compiling each kernel on first call, and adds the argument types each kernel was called
+with from Python to ``kernels/signatures.json`` (what ``python -m pchute_exudyn.kernels.build`` compiles). Rerun it
+when a kernel's arguments change (``tests/test_kernels.py`` fails until then). It runs the whole package: a
+top-layer module.
 """
 
 from __future__ import annotations
@@ -19,6 +20,9 @@ from pathlib import Path
 
 from .build import describe_type, in_jit_process, numba_type
 from .selection import KERNEL_MODULES, SIGNATURES, VARIABLE
+
+ROCKET = Path(__file__).resolve().parents[2] / "cases" / "rocket" / "dual_deploy.toml"
+"""A shipped case with reduced canopies, run whole with its own step control (its kernels are recorded too)."""
 
 COMMAND = "pchute_exudyn.kernels.record"
 """This module as a command (``python -m``), run again in the jit form."""
@@ -117,10 +121,12 @@ def record(cases=()) -> dict:
         for options in ({"order": 0}, {"order": 1}, {"slack_rule": "force"}):
             pc.simulate(case, "sp", "rk4", 1e-2, 0.05, **options)
         pc.simulate(case, "equilibrium", "rk4", 1e-2, 0.05)
+        pc.simulate(case, "sp", "rk4", None, 0.05)   # adaptive steps (physics.step_control)
         pc.simulate(case, "full", "rk4", 1e-4, 0.002)
         pc.simulate(case, "full", "implicit", 1e-2, 0.05)
         path.write_text(base + CLUSTER)
         pc.simulate(pc.load_case(path), "sp", "rk4", 1e-2, 0.05)
+    pc.simulate(pc.load_case(ROCKET), "sp")   # reduced canopies (physics.reduced_canopy), adaptive steps, triggers
     confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [1.0], [1e4],
                         [1e2])
     table_text(["a", "b"], [np.zeros(2), np.ones(2)])
@@ -158,6 +164,15 @@ def signatures_in_use() -> dict:
     return {name: entries for name, entries in found.items() if entries}
 
 
+def _fits(name: str, entry) -> bool:
+    """Whether a recorded signature still fits the kernel ``name`` ('package.module.function'): the kernel is still
+    defined where its name says, with as many parameters (a kernel moved, gone or changed loses its old ones)."""
+    module, _, function = name.rpartition(".")
+    kernel = getattr(sys.modules.get(module), function, None)
+    code = getattr(getattr(kernel, "py_func", kernel), "__code__", None)
+    return code is not None and code.co_argcount == len(entry[0])
+
+
 def _exportable(entry) -> bool:
     """Whether a signature's types can cross from Python (a kernel called by another kernel may have been compiled
     for constants, 'Literal[int](0)': that is not a call from Python)."""
@@ -176,7 +191,9 @@ def main(argv=None) -> int:
     if os.environ.get(VARIABLE) != "jit":
         return in_jit_process(COMMAND, argv or sys.argv[1:])
     old = json.loads(SIGNATURES.read_text()) if SIGNATURES.is_file() else {}
-    SIGNATURES.write_text(json.dumps(merged(old, record(args.cases)), indent=1) + "\n")
+    new = record(args.cases)
+    old = {name: [entry for entry in entries if _fits(name, entry)] for name, entries in old.items()}
+    SIGNATURES.write_text(json.dumps(merged(old, new), indent=1) + "\n")
     print(f"wrote {SIGNATURES}")
     return 0
 

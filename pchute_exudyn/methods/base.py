@@ -32,11 +32,18 @@ def option_field(default, flag: str | None, parse, help: str, choices: tuple | N
 
 @dataclass(frozen=True)
 class StepLimit:
-    """The largest stable RK4 step of one confluence and the mode that sets it."""
+    """The largest stable RK4 step of one confluence and the mode that sets it; ``cause``: where a layout or a setting
+    makes that mode fast, what it is and its remedy (the message then says so instead of a step)."""
 
     system: str
     step: float               # s
     eigenvalue: complex       # 1/s, the limiting eigenvalue of the linearised confluence
+    cause: str = ""
+
+
+SMALLEST_SUGGESTED_STEP = 1e-6
+"""s: a stability limit below it is never offered as a step (a layout or a setting is the cause: the message says
+which, or that the mode is too fast for RK4)."""
 
 
 class Method:
@@ -97,6 +104,16 @@ class Method:
         a step) for a step-limited method that does not say."""
         return None if self.step_limited else math.inf
 
+    def relaxation_for_step(self, step: float, system: ParachuteSystem) -> float:
+        """The relaxation time (s) of ``system``'s line damping at an adaptive step of ``step`` (s;
+        ``run.step_control``): 0, none, unless the method relaxes its confluence to take steps beyond its damped
+        mode."""
+        return 0.0
+
+    def relaxed(self, system: ParachuteSystem, relaxation_time: float = 0.0) -> ParachuteSystem:
+        """``system`` as the method's solve sees it at ``relaxation_time`` (s): itself unless the method relaxes."""
+        return system
+
     def settings(self) -> dict:
         """The options as ``summary.json`` reports them."""
         report = getattr(self.options, "summary", None)
@@ -130,7 +147,12 @@ def unstable_step_message(method: Method, step: float, limit: StepLimit, time: f
     mode = limit.eigenvalue
     mode_text = f"{mode.real:.4g} {'+' if mode.imag >= 0 else '-'} {abs(mode.imag):.4g}i" if mode.imag else \
         f"{mode.real:.4g}"
-    return (f"the RK4 step {step:g} s exceeds the stability limit of the {limit.system} confluence ({method.name} "
+    what = (f"the RK4 step {step:g} s exceeds the stability limit of the {limit.system} confluence ({method.name} "
             f"method) at t = {time:.3f} s ({limit.step:.3g} s, set by its mode lambda = {mode_text} 1/s, counting "
-            f"every line as taut, the stiffest case): the results would be wrong. Use --dt {suggestion:g} or "
-            f"smaller{method.implicit_hint}")
+            f"every line as taut, the stiffest case): the results would be wrong")
+    if limit.cause:
+        return f"{what}. {limit.cause}"
+    if suggestion < SMALLEST_SUGGESTED_STEP:
+        return (f"{what}. That mode is too fast for any explicit step: check the lines' stiffness and damping and "
+                f"the masses{method.implicit_hint or ', or use --method full --integrator implicit'}")
+    return f"{what}. Use --dt {suggestion:g} or smaller{method.implicit_hint}"

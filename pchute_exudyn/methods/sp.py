@@ -9,7 +9,12 @@ from dataclasses import dataclass, replace
 from ..case.method_table import OptionError
 from ..engine.sp import SPConfluence, build_sp_model
 from ..errors import InputError
-from ..physics.linearization import damped_line_step_limit, sp_step_limit
+from ..physics.linearization import (
+    ILL_CONDITIONED,
+    crosswise_damping_ratio,
+    damped_line_step_limit,
+    sp_step_limit,
+)
 from ..physics.singular_perturbation import SLACK_RULES, SP_ORDERS, relaxed_damping
 from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
@@ -24,6 +29,15 @@ of tension error after 2 s in every MER case at 1e-2 s, against 82 N with the th
 (validation/output/benchmark_sp.md). kappa_max = 20 is as accurate at 1e-2 s but not at 2e-2 s. ``any_damping``:
 accurate's settings with a relaxation time of 5e-3 s, half the thesis's step: every line is damped at least tau K in
 the solve (``relaxed``), so RK4 at 1e-2 s is stable for any line damping, none included (docs/models/any_damping.md)."""
+
+
+RELAXED_STEPS = 1.5
+"""An adaptive step over the relaxation time it asks for (``SingularPerturbation.relaxation_for_step``): RK4 is
+stable on the real mode -1/tau up to 2.785 tau: 1.86 such steps, a margin for the sideways stiffness of stretched
+lines (the mode of a loaded MER or pchute new confluence runs up to 1.5 times faster than -1/tau) and the grid of
+tau (9 %). More relaxation (a smaller ratio) makes a light body's mode on its damped lines faster (tau K / m) and
+changes the lines' tensions more: at 1.35 a canopy under a 100 kg vehicle on three bridles was left bouncing by
+7.5 % of its riser's load in a steady descent (``tests/test_step_control.py``)."""
 
 
 @dataclass(frozen=True)
@@ -116,15 +130,34 @@ class SingularPerturbation(Method):
     Options = SPOptions
     outputs = {name: unit for name, (unit, _) in SPConfluence.OUTPUTS.items()}
 
-    def relaxed(self, system):
+    def relaxed(self, system, relaxation_time: float = 0.0):
         """``system`` as the solve sees it: each line damped at least tau K (``physics.singular_perturbation.
-        relaxed_damping``); itself without a relaxation time."""
-        tau = self.options.effective_relaxation_time
+        relaxed_damping``), tau the larger of the options' relaxation time and ``relaxation_time`` (s, an adaptive
+        step's: ``relaxation_for_step``); itself without one."""
+        tau = max(self.options.effective_relaxation_time, relaxation_time)
         if tau <= 0.0:
             return system
         stiffness, damping = line_constants(system)
         floors = relaxed_damping(stiffness, damping, tau)
         return replace(system, lines=tuple(replace(line, damping=c) for line, c in zip(system.lines, floors)))
+
+    def relaxation_for_step(self, step: float, system) -> float:
+        """At an adaptive step ``step`` (s) the lines are damped at least tau K with tau = step / RELAXED_STEPS
+        beyond the options' own relaxation time (docs/models/step_control.md): the confluence's damped mode, rate K / C
+        (Eq. 3.10 linearised), then never limits RK4 below 1.86 steps, and a line already damped more is as it is.
+        Steps that long are taken only where the motion is smooth, where the lines stretch slowly. A pair in series
+        has no confluence mode and is not relaxed. tau is rounded down to a grid of eighth octaves, so that the
+        lines' damping changes only when the step has changed by 9 %. A cluster's lines are not relaxed either: its
+        canopies' flyout and breathing keep them stretching, and damping them more changes how the canopies share
+        the load (on ``pchute new``'s three-canopy Mars cluster the tensions left their steady values by 9 % within
+        10 s with relaxed lines, by 2.3 % at a fixed 0.01 s and without relaxation)."""
+        if len(system.lines) == 2:
+            return 0.0
+        if len(system.canopies) > 1:
+            return self.options.effective_relaxation_time
+        tau = step / RELAXED_STEPS   # on a grid of eighth octaves, rounded down: it changes only every 9 %
+        tau = 2.0 ** (math.floor(8.0 * math.log2(tau)) / 8.0) if tau > 0.0 else 0.0
+        return max(self.options.effective_relaxation_time, tau)
 
     def check(self, case, integrator):
         super().check(case, integrator)
@@ -146,9 +179,34 @@ class SingularPerturbation(Method):
         return build_sp_model(case, phase, self.options)
 
     def step_limit(self, system, attach_position, confluence_position) -> StepLimit:
-        step, eigenvalue = sp_step_limit(attach_position, confluence_position,
-                                         *line_arrays(self.relaxed(system), attach_position, confluence_position))
-        return StepLimit(system.name, step, eigenvalue)
+        if len(system.lines) == 2:   # a pair in series has no confluence mode (``solve_series``)
+            return StepLimit(system.name, math.inf, complex(0.0))
+        mass = system.confluence.mass if self.options.effective_order == 1 else 0.0
+        lines = line_arrays(self.relaxed(system), attach_position, confluence_position)
+        step, eigenvalue = sp_step_limit(attach_position, confluence_position, *lines, mass=mass,
+                                         kappa_max=self.options.effective_kappa_max)
+        return StepLimit(system.name, step, eigenvalue, self._cause(system, step, attach_position,
+                                                                    confluence_position, lines))
+
+    def _cause(self, system, step, attach_position, confluence_position, lines) -> str:
+        """What makes a short limit short, and its remedy (``StepLimit.cause``): lines nearly collinear or in one
+        plane under the massless preset, or lines damped too little for the step."""
+        if step >= 1e-2:
+            return ""
+        ratio = crosswise_damping_ratio(attach_position, confluence_position, *lines)
+        if ratio < ILL_CONDITIONED and self.options.effective_order == 0:
+            return (f"The {system.name} system's lines are nearly collinear or in one plane (the damping across them "
+                    f"is {ratio:.2g} of that along them), and the massless balance of the {self.options.preset} "
+                    "preset has almost none there: use --sp-preset accurate (the confluence's mass to first order "
+                    "damps it), or --method equilibrium")
+        rates = [k / c for k, c in zip(lines[1], lines[2]) if c > 0.0]
+        if rates and step <= 1.2 * 2.785 / max(rates) and self.options.effective_relaxation_time <= 0.0:
+            return (f"The {system.name} system's lines are damped too little for the step (K/C up to "
+                    f"{max(rates):.3g} 1/s): use --sp-preset any_damping (a relaxation time), or --dt auto "
+                    "(adaptive steps)")
+        return ""
 
     def lumped_step_limit(self, system) -> float:
+        if len(system.lines) == 2:
+            return math.inf
         return damped_line_step_limit(*line_constants(self.relaxed(system)))

@@ -12,12 +12,14 @@ dx = L n_x the term is K (L0/L) n_x n_y, as a finite difference of the line forc
 
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .compiled import kernel
+from .singular_perturbation import SINGULAR, minimum_damping
 
 
 def line_stiffness(stiffness, free_length, length, direction):
@@ -182,6 +184,20 @@ def spectral_step_bound(mass, stiffness, damping) -> float:
     return RK4_LEFT_RADIUS / rho if rho > 0.0 else math.inf
 
 
+def body_line_step_limit(mass, stiffness, damping) -> float:
+    """A stable RK4 step (s) for a body of ``mass`` (kg) on lines of ``stiffness`` (N/m) and ``damping`` (N s/m)
+    pulling along one direction, the stiffest layout: the roots of m lambda^2 + (sum C) lambda + sum K = 0 and RK4's
+    limit along their rays (``max_stable_step_rk4``). Where every line has the same C/K (``pchute new``'s lines),
+    C_bar and K_bar share their eigenvectors and every other layout's modes are those of a smaller K on the same
+    rays, slower; with other ratios it is an estimate (``spectral_step_bound`` bounds any layout, up to twice
+    smaller). Sideways stiffness T/L of stretched lines is left out. inf without stiffness or damping."""
+    c, k = float(np.sum(damping)), float(np.sum(stiffness))
+    if c <= 0.0 and k <= 0.0:
+        return math.inf
+    root = cmath.sqrt(c * c - 4.0 * mass * k)
+    return max_stable_step_rk4([(-c + root) / (2.0 * mass), (-c - root) / (2.0 * mass)])
+
+
 def damped_line_step_limit(stiffness, damping) -> float | None:
     """Largest stable RK4 step (s) of a massless confluence's first-order mode at free length, without geometry:
     there the eigenvalues of C_bar^-1 K_bar are Rayleigh quotients sum K (n.v)^2 / sum C (n.v)^2 <= max K/C, so
@@ -212,13 +228,67 @@ def full_mass_step_limit(mass, attach_position, confluence_position, free_length
     return float(steps[worst]), complex(found.eigenvalues[worst])
 
 
-def sp_step_limit(attach_position, confluence_position, free_length, stiffness, damping):
+def sp_step_limit(attach_position, confluence_position, free_length, stiffness, damping, mass: float = 0.0,
+                  kappa_max: float | None = None):
     """Largest stable RK4 step (s) of an SP confluence at the given geometry with every line taut, and its fastest
     eigenvalue (1/s): real and negative, about -K/C (-100 1/s for MER, a limit near 2.8e-2 s). Slack lines raise
-    alpha through C_c, which only slows this mode."""
+    alpha through C_c, which only slows this mode.
+
+    The solve's own regularisation of alpha counts (docs/models/step_control.md, "Every line layout"): with the
+    confluence ``mass`` (kg) kept to first order its inertia adds m_c / tau to alpha, tau at most the step h, so the
+    mode is that of (C_bar + (m_c / h) I)^-1 K_bar and the limit the largest h that RK4 keeps stable at that h;
+    massless with ``kappa_max`` given, a singular C_bar (collinear lines, or lines in one plane) is solved with the
+    C_c of Eq. 3.13. A C_bar that is regular but nearly singular (lines close to collinear) has no such help in the
+    massless solve: its sideways mode is fast, and the limit says so."""
     c_bar, k_bar = _all_taut(attach_position, confluence_position, free_length, stiffness, damping)
-    eigenvalues = sp_eigenvalues(c_bar, k_bar)
-    if len(eigenvalues) == 0:   # no damping at all: nothing to limit (the SP solve refuses such lines)
+    regularisation = 0.0
+    values = np.linalg.eigvalsh(c_bar)
+    if mass <= 0.0 and kappa_max is not None and values.max() > 0.0 and values.min() <= SINGULAR * values.max():
+        regularisation = minimum_damping(values, kappa_max)
+    if values.min() > ILL_CONDITIONED * values.max():
+        mass = 0.0   # the mass term only raises the limit (the Rayleigh quotients of K_bar over alpha fall): needless
+    if mass <= 0.0 and regularisation == 0.0:
+        eigenvalues = sp_eigenvalues(c_bar, k_bar)
+        if len(eigenvalues) == 0:   # no damping at all: nothing to limit (the SP solve refuses such lines)
+            return math.inf, complex(0.0)
+        fastest = eigenvalues[np.argmax(np.abs(eigenvalues))]
+        return max_stable_step_rk4(eigenvalues), complex(fastest)
+    return _regularised_step_limit(c_bar, k_bar, regularisation, mass)
+
+
+def crosswise_damping_ratio(attach_position, confluence_position, free_length, stiffness, damping) -> float:
+    """C_bar's smallest eigenvalue over its largest, every line taut (-): near 0 when the lines are nearly collinear
+    or lie in one plane (the damping across them vanishes); 0 without damping."""
+    values = np.linalg.eigvalsh(_all_taut(attach_position, confluence_position, free_length, stiffness, damping)[0])
+    return float(values.min() / values.max()) if values.max() > 0.0 else 0.0
+
+
+ILL_CONDITIONED = 1e-3
+"""C_bar's smallest eigenvalue over its largest below which ``sp_step_limit`` counts the mass term (the limit without
+it is a safe lower bound, close enough where C_bar is well conditioned, and one eigen-solve instead of a dozen)."""
+
+
+def _regularised_step_limit(c_bar, k_bar, regularisation: float, mass: float):
+    """``sp_step_limit`` with alpha = C_bar + (C_c + m_c / h) I. With the mass term the limit L(h) falls as h grows
+    (m_c / h, and the damping with it, falls), so the largest stable step is the root of L(h) = h, bracketed and
+    bisected (in log h) to 3 %; the step returned is the bracket's stable end."""
+    identity = np.eye(3)
+
+    def limit_at(extra):
+        values = np.linalg.eigvals(-np.linalg.solve(c_bar + (regularisation + extra) * identity, k_bar))
+        return max_stable_step_rk4(values), values
+
+    if mass <= 0.0:
+        step, values = limit_at(0.0)
+    else:
+        low, high = 1e-9, 10.0
+        while high > 1.03 * low:
+            middle = math.sqrt(low * high)
+            if limit_at(mass / middle)[0] >= middle:
+                low = middle
+            else:
+                high = middle
+        step, values = low, limit_at(mass / low)[1]
+    if len(values) == 0:
         return math.inf, complex(0.0)
-    fastest = eigenvalues[np.argmax(np.abs(eigenvalues))]
-    return max_stable_step_rk4(eigenvalues), complex(fastest)
+    return step, complex(values[np.argmax(np.abs(values))])

@@ -121,6 +121,85 @@ def table_tension(points, count, strain):
     return f0 + (f1 - f0) / (e1 - e0) * (strain - e0)
 
 
+@kernel
+def _elastic(points, count, stretch, free_length, stiffness):
+    """Elastic tension (N) of a line stretched by ``stretch`` (m): K (L - L0), or its table's (0 when slack)."""
+    if stretch <= 0.0:
+        return 0.0
+    return stiffness * stretch if count == 0 else table_tension(points, count, stretch / free_length)
+
+
+@kernel
+def _slope(points, count, stretch, free_length, stiffness):
+    """Tangent stiffness (N/m) of a line at ``stretch`` (m): K, or its table's slope / L0 (the segment's, from the
+    right at a breakpoint; the first segment's when slack)."""
+    if count == 0:
+        return stiffness
+    strain = max(stretch / free_length, 0.0)
+    i = 0
+    while i < count - 2 and points[i + 1, 0] <= strain:
+        i += 1
+    return (points[i + 1, 1] - points[i, 1]) / (points[i + 1, 0] - points[i, 0]) / free_length
+
+
+@kernel
+def series_constants(lines, tables, table_counts, length, load):
+    """The elastic side of two lines in series (``series_pair``) at the distance ``length`` (m) between their far
+    attach points, with ``load`` (N) along it on the confluence (the first line carries it on top of the second's
+    tension): (the second line's elastic tension T_2,el in N, the pair's series damping C_s in N s/m, the first line's
+    stretch e_1 in m). Slack (length <= L0_1 + L0_2): (0, 0, e L0_1 / (L0_1 + L0_2))."""
+    l1, k1, c1 = lines[0, 0], lines[0, 1], lines[0, 2]
+    l2, k2, c2 = lines[1, 0], lines[1, 1], lines[1, 2]
+    n1, n2 = int(table_counts[0]), int(table_counts[1])
+    stretch = length - l1 - l2
+    if stretch <= 0.0:
+        return 0.0, 0.0, stretch * l1 / (l1 + l2)
+    if n1 == 0 and n2 == 0:
+        first = min(max((stretch * k2 + load) / (k1 + k2), 0.0), stretch)
+    else:   # T_1(e_1) - T_2(e - e_1) - load rises with e_1
+        low, high = 0.0, stretch
+        first = 0.5 * stretch
+        for _ in range(200):
+            first = 0.5 * (low + high)
+            if high - low <= 1e-15 * stretch:
+                break
+            if _elastic(tables[0], n1, first, l1, k1) - _elastic(tables[1], n2, stretch - first, l2, k2) < load:
+                low = first
+            else:
+                high = first
+    t1, t2 = _slope(tables[0], n1, first, l1, k1), _slope(tables[1], n2, stretch - first, l2, k2)
+    total = t1 + t2
+    damping = (c1 * t2 * t2 + c2 * t1 * t1) / (total * total) if total > 0.0 else 0.0
+    return _elastic(tables[1], n2, stretch - first, l2, k2), damping, first
+
+
+@kernel
+def series_pair(lines, tables, table_counts, length, length_rate, load):
+    """Two lines in series through a massless confluence, as one tension-only line (docs/models/step_control.md,
+    "Lines in series"): ``lines`` rows (L0 in m, K in N/m, C in N s/m) of the first line (from A) and the second
+    (to B), ``length`` the distance AB (m), ``length_rate`` its rate (m/s) and ``load`` a force on the confluence
+    along AB (N, towards B; its weight's component, 0 when massless), which the first line carries on top of the
+    second's tension: T_1 = T_2 + load.
+
+    The elastic split e_1 + e_2 = e = length - L0_1 - L0_2 with T_1(e_1) = T_2(e_2) + load (for linear lines
+    K_1 e_1 = K_2 e_2 + load; a table's by bisection); the pair's damping the series value that matches its
+    compliance to first order in frequency, C_s = (C_1 K_2^2 + C_2 K_1^2) / (K_1 + K_2)^2 with the tangent
+    stiffnesses at the split (exact at every frequency when C_1 / K_1 = C_2 / K_2); T_2 = T_2,el + C_s de/dt,
+    tension only (``series_constants``). Returns (T_1, T_2 in N, the first line's stretch e_1 in m, its rate in
+    m/s); slack (e <= 0, or no tension): e_1 = e L0_1 / (L0_1 + L0_2)."""
+    l1, l2 = lines[0, 0], lines[1, 0]
+    share = l1 / (l1 + l2)
+    elastic, damping, first = series_constants(lines, tables, table_counts, length, load)
+    second = elastic + damping * length_rate
+    stretch = length - l1 - l2
+    if stretch <= 0.0 or (second <= 0.0 and second + load <= 0.0):
+        return 0.0, 0.0, stretch * share, length_rate * share
+    t1 = _slope(tables[0], int(table_counts[0]), first, l1, lines[0, 1])
+    t2 = _slope(tables[1], int(table_counts[1]), stretch - first, l2, lines[1, 1])
+    rate_share = t2 / (t1 + t2) if t1 + t2 > 0.0 else share
+    return max(second + load, 0.0), max(second, 0.0), first, length_rate * rate_share
+
+
 def pack_tables(tables) -> tuple[np.ndarray, np.ndarray]:
     """Per-line tables (LoadElongation or None) as the compiled kernels take them: points (n_lines, m, 2), zero
     padded, and the number of points of each line (0: a linear line, K (L - L0))."""

@@ -46,11 +46,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .aerodynamics import aerodynamics_stage
 from .compiled import kernel
-from .kinematics import POINT_COLUMNS, add_gravity_forces, add_point_forces, body_states, point_motions
-from .lines import pack_tables, table_tension
-from .planet import gravity_acceleration
+from .kinematics import POINT_COLUMNS, add_point_forces, point_motions
+from .lines import pack_tables, series_pair, table_tension
 from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
 
 SLACK_RULES = ("stretch", "force")
@@ -284,6 +282,42 @@ def _mask(active):
 
 
 @kernel
+def solve_series(attach, attach_velocity, lines, tables, table_counts, tensions, directions, active, wx, wy, wz):
+    """Two lines in series through the massless confluence (docs/models/step_control.md, "Lines in series"): the
+    pair acts as one tension-only line between their attach points A (line 0) and B (line 1), ``lines.series_pair``,
+    and the confluence sits on AB where the lines' elastic stretches put it, moving with that point. (wx, wy, wz) is
+    the confluence's weight (N; 0 massless): its component along AB makes line 0's tension exceed line 1's; the
+    caller shares the rest between A and B. Writes both tensions (N), the unit vectors n from the confluence to each
+    attach point (-u and u, u from A to B) and the lines counted taut; returns (vx, vy, vz) of the confluence (m/s)
+    and its fraction (-) of the way from A to B.
+
+    The massless balance T_1 n_1 + T_2 n_2 = 0 has no solution off AB with a tension: the confluence has no
+    stiffness across the pair, so Eq. 3.10's alpha is singular there and a state of its own would only follow the
+    line with a fast, artificial mode. In the massless limit this is exact."""
+    ax, ay, az = attach[0, 0], attach[0, 1], attach[0, 2]
+    dx, dy, dz = attach[1, 0] - ax, attach[1, 1] - ay, attach[1, 2] - az
+    length = math.sqrt(dx * dx + dy * dy + dz * dz)
+    ux, uy, uz = dx / length, dy / length, dz / length
+    rx = attach_velocity[1, 0] - attach_velocity[0, 0]
+    ry = attach_velocity[1, 1] - attach_velocity[0, 1]
+    rz = attach_velocity[1, 2] - attach_velocity[0, 2]
+    length_rate = rx * ux + ry * uy + rz * uz
+    first, second, stretch, stretch_rate = series_pair(lines, tables, table_counts, length, length_rate,
+                                                       wx * ux + wy * uy + wz * uz)
+    along = lines[0, 0] + stretch        # from A to the confluence (m)
+    tensions[0], tensions[1] = first, second
+    for i in range(2):
+        active[i] = tensions[i] > 0.0
+        sign = -1.0 if i == 0 else 1.0
+        directions[i, 0], directions[i, 1], directions[i, 2] = sign * ux, sign * uy, sign * uz
+    turn = along / length                # the confluence turns with u: (r - (r.u) u) along / length
+    vx = attach_velocity[0, 0] + stretch_rate * ux + turn * (rx - length_rate * ux)
+    vy = attach_velocity[0, 1] + stretch_rate * uy + turn * (ry - length_rate * uy)
+    vz = attach_velocity[0, 2] + stretch_rate * uz + turn * (rz - length_rate * uz)
+    return vx, vy, vz, along / length
+
+
+@kernel
 def solve_confluence(attach, attach_velocity, cx, cy, cz, v0x, v0y, v0z, lines, tables, table_counts, kappa_max,
                      force_rule, rate, b0x, b0y, b0z, tensions, directions, active, geometry):
     """The SP solve (Eqs. 3.10-3.13) on arrays; the one home of the method, ``confluence_velocity`` wraps it.
@@ -292,9 +326,14 @@ def solve_confluence(attach, attach_velocity, cx, cy, cz, v0x, v0y, v0z, lines, 
     m/s, per line (L0 in m, K in N/m, C in N s/m) as ``lines`` (n, 3), the tables (``lines.pack_tables``),
     kappa_max, ``force_rule`` (the force slack rule, else stretch), the mass term's rate (N s/m) and b0 = m_c g +
     rate v_r (N). Writes the tensions (n) in N, the unit vectors n (n, 3) and the lines counted taut (n), using
-    ``geometry`` (n, 6) as scratch; returns (vx, vy, vz, C_c, kappa). Allocates only the force rule's record.
+    ``geometry`` (n, 6) as scratch; returns (vx, vy, vz, C_c, kappa). Allocates only the force rule's record. Two
+    lines are a pair in series (``solve_series``: C_c = 0, kappa = 0, no alpha).
     """
     n = attach.shape[0]
+    if n == 2:
+        vx, vy, vz, _ = solve_series(attach, attach_velocity, lines, tables, table_counts, tensions, directions,
+                                     active, 0.0, 0.0, 0.0)
+        return vx, vy, vz, 0.0, 0.0
     visited = np.empty(MAX_ACTIVE_SETS if force_rule else 1, np.int64)
     seen = 0
     forced = False
@@ -380,6 +419,9 @@ end-of-step solve (N, column END_TENSION: ``sp_end_of_step``; a later stage's so
  WORK_SCRATCH) = 0, 1, 4, 5, 8, 11, 14
 """Where each part of a work row starts (three columns each for n, the attach motion and the force; six of scratch)."""
 END_TENSION = 20
+WORK_COLUMNS = (WORK_TENSION, WORK_DIRECTION, WORK_TAUT, WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_FORCE,
+                WORK_SCRATCH)
+"""The work row's columns as one tuple, for kernels that fill it (``reduced_canopy.canopy_stage``)."""
 
 
 @kernel
@@ -400,6 +442,8 @@ def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0
     p, v, d, f = WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_DIRECTION, WORK_FORCE
     point_motions(states, points, work[:, p:v + 3])   # (x, y, z, vx, vy, vz): position and velocity side by side
     active = np.empty(n, np.bool_)
+    if n == 2:   # a pair in series: b0 is then the confluence's weight, shared by the two ends by its place on AB
+        return _series_stage(states, layout, tables, work, generalized, active, b0x, b0y, b0z)
     vx, vy, vz, c_c, kappa = solve_confluence(
         work[:, p:p + 3], work[:, v:v + 3], cx, cy, cz, v0x, v0y, v0z, layout[:, POINT_COLUMNS:POINT_COLUMNS + 3],
         tables, layout[:, POINT_COLUMNS + 3], kappa_max, force_rule > 0.0, rate, b0x, b0y, b0z, work[:, WORK_TENSION],
@@ -415,271 +459,30 @@ def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0
     return vx, vy, vz, c_c, kappa, taut
 
 
-(MEMORY_POSITION, MEMORY_STAGE_VELOCITIES, MEMORY_V0, MEMORY_SETTINGS, MEMORY_ORDER, MEMORY_GRAVITY, MEMORY_TIMES,
- MEMORY_NEWER, MEMORY_OLDER, MEMORY_ACCELERATION, MEMORY_CLOCK, MEMORY_DUE, MEMORY_RUN, MEMORY_END,
- MEMORY_END_SOLVE) = 0, 1, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17
-"""The rows of an SP confluence's memory by name (see MEMORY_ROWS; MEMORY_STAGE_VELOCITIES is k_1, the first of
-four)."""
-MEMORY_ROWS = 18
-"""Rows (of 3 floats) of an SP confluence's memory for ``sp_rk_stage``:
-
-0 the confluence position q_n at the start of the step under way (m); 1-4 the stage velocities k_1 .. k_4 of the
-step (m/s; row 1 is also the end-of-step solve's velocity); 5 v0 (m/s); 6 (m_c in kg, kappa_max, 1 for the force
-slack rule else 0); 7 (order, gravity mu in m^3/s^2, number of recorded end-of-step velocities, at most 2); 8 the
-planet centre (m; mu > 0) or the uniform gravity (m/s^2; mu = 0); 9 (times of the newer and the older recorded
-end-of-step velocities in s, -); 10 and 11 those velocities (m/s); 12 the acceleration carried from the previous
-phase (m/s^2).
-
-The step's bookkeeping, kept here so that a stage's call from Python passes nothing but the time (``sp_step_stage``):
-13 (the index of the coming RK stage, 0-4; t_n, the start of the step under way in s; its step h in s); 14 (1 when
-the end-of-step work of the last step is due, else 0; that step's end time in s; 1 when it completed its four
-stages); 15 (the run's step as the engine holds it in s, 0 until the solver sets it; the phase start in s; -);
-16 and 17 the last end-of-step solve's (vx, vy, vz) in m/s and (C_c in N s/m, kappa, lines counted taut)."""
-
-RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
-"""a_k of the classical RK4 tableau (Exudyn's RK44): stage k's state is q_n + h a_k k_(k-1) (stage 1: q_n)."""
-RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
-
-
 @kernel
-def _mass_term(memory, t, qx, qy, qz):
-    """The order-1 mass term (``MassTerm``) as (rate, b0 x, y, z): the reference velocity is the latest recorded
-    end-of-step velocity from before ``t``; with none, the carried acceleration enters as a force."""
-    if memory[MEMORY_ORDER, 0] < 0.5:
-        return 0.0, 0.0, 0.0, 0.0
-    m = memory[MEMORY_SETTINGS, 0]
-    g = MEMORY_GRAVITY
-    gx, gy, gz = gravity_acceleration(memory[MEMORY_ORDER, 1], memory[g, 0], memory[g, 1], memory[g, 2], qx, qy, qz)
-    for j in range(int(memory[MEMORY_ORDER, 2])):   # the newer first
-        time = memory[MEMORY_TIMES, j]
-        if time < t:
-            rate, row = m / (t - time), MEMORY_NEWER + j
-            return rate, m * gx + rate * memory[row, 0], m * gy + rate * memory[row, 1], m * gz + rate * memory[row, 2]
-    a = MEMORY_ACCELERATION
-    return 0.0, m * (gx - memory[a, 0]), m * (gy - memory[a, 1]), m * (gz - memory[a, 2])
-
-
-@kernel
-def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
-    """SP at RK4 stage ``index`` (0-3) of a step of ``h`` (s) at time ``t`` (s): the stage's confluence position
-    from ``memory`` (``MEMORY_ROWS``), the order-1 mass term when the memory asks for it, ``sp_stage``, and the
-    stage velocity into memory row index + 1. Returns (vx, vy, vz, C_c, kappa, lines counted taut)."""
-    qx, qy, qz = memory[MEMORY_POSITION, 0], memory[MEMORY_POSITION, 1], memory[MEMORY_POSITION, 2]
-    if index > 0:
-        step = h * RK4_STAGE_FRACTIONS[index]
-        k = MEMORY_STAGE_VELOCITIES + index - 1   # k_(index), the previous stage's velocity
-        qx, qy, qz = qx + step * memory[k, 0], qy + step * memory[k, 1], qz + step * memory[k, 2]
-    rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
-    v0, settings = MEMORY_V0, MEMORY_SETTINGS
-    vx, vy, vz, c_c, kappa, taut = sp_stage(states, layout, tables, work, part, qx, qy, qz, memory[v0, 0],
-                                            memory[v0, 1], memory[v0, 2], memory[settings, 1], memory[settings, 2],
-                                            rate, bx, by, bz)
-    k = MEMORY_STAGE_VELOCITIES + index
-    memory[k, 0], memory[k, 1], memory[k, 2] = vx, vy, vz
-    return vx, vy, vz, c_c, kappa, taut
-
-
-@kernel
-def rk4_update(memory, h):
-    """Complete an RK4 step of ``h`` (s): q_(n+1) = q_n + h (k_1 + 2 k_2 + 2 k_3 + k_4) / 6 into memory row 0, added
-    term by term as (h b_j) k_j in Exudyn's own order, so that the result is the engine's to the last bit."""
-    for j in range(4):
-        factor = h * RK4_WEIGHTS[j]
-        for i in range(3):
-            memory[MEMORY_POSITION, i] += factor * memory[MEMORY_STAGE_VELOCITIES + j, i]
-
-
-@kernel
-def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, start_time, record):
-    """The SP work after a step of ``h`` (s) ending at ``t`` (s): the RK4 update when the step ``completed`` its
-    four stages, the solve at the end-of-step state (its velocity is the next step's k_1), then v0 for the next step
-    (after ``start_time``, the phase start: before it the case's initial velocity stands) and, for order 1, the
-    velocity recorded for the backward difference; the outputs into ``record`` (``_record``). Returns
-    ``sp_rk_stage``'s (vx, vy, vz, C_c, kappa, taut)."""
-    if completed:
-        rk4_update(memory, h)
-    vx, vy, vz, c_c, kappa, taut = sp_rk_stage(states, layout, tables, work, part, memory, t, 0, 0.0)
-    work[:, END_TENSION] = work[:, WORK_TENSION]
-    if t > start_time:
-        memory[MEMORY_V0, 0], memory[MEMORY_V0, 1], memory[MEMORY_V0, 2] = vx, vy, vz
-    count = int(memory[MEMORY_ORDER, 2])
-    if memory[MEMORY_ORDER, 0] > 0.5 and (count == 0 or t > memory[MEMORY_TIMES, 0]):
-        memory[MEMORY_TIMES, 1] = memory[MEMORY_TIMES, 0]   # the newer becomes the older
-        for i in range(3):
-            memory[MEMORY_OLDER, i] = memory[MEMORY_NEWER, i]
-        memory[MEMORY_TIMES, 0] = t
-        memory[MEMORY_NEWER, 0], memory[MEMORY_NEWER, 1], memory[MEMORY_NEWER, 2] = vx, vy, vz
-        memory[MEMORY_ORDER, 2] = min(count + 1, 2)
-    _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record)
-    return vx, vy, vz, c_c, kappa, taut
-
-
-def record_size(states, lines: int) -> int:
-    """Length of an SP confluence's end-of-step record (``_record``) for ``states`` and ``lines`` lines."""
-    return states.size + 9 + lines
-
-
-@kernel
-def _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record):
-    """An SP confluence's outputs at the end of a step, as one array: the stage's body states (rows of
-    ``kinematics.STATE_COLUMNS``, flattened), the confluence position (3, m), the end-of-step solve's (vx, vy, vz,
-    C_c, kappa, taut), and the end-of-step tensions (one per line, N)."""
-    k = 0
-    for row in range(states.shape[0]):
-        for column in range(states.shape[1]):
-            record[k] = states[row, column]
-            k += 1
-    for i in range(3):
-        record[k + i] = memory[MEMORY_POSITION, i]
-    record[k + 3], record[k + 4], record[k + 5] = vx, vy, vz
-    record[k + 6], record[k + 7], record[k + 8] = c_c, kappa, taut
-    for i in range(work.shape[0]):
-        record[k + 9 + i] = work[i, END_TENSION]
-
-
-@kernel
-def sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index, h, solve,
-                            generalized, aerodynamics, field, aerodynamic_work):
-    """``kinematics.body_states`` from the stage's node coordinates, then (when ``solve``) ``sp_rk_stage``, the
-    lines' generalized forces (``part``, from this solve or the last) copied into ``generalized``, and the bodies'
-    aerodynamic loads added (``aerodynamics.aerodynamics_stage`` on ``aerodynamics``, ``field`` and
-    ``aerodynamic_work``, when there are any): a model with one SP confluence does a stage's kernel work in one
-    call. Returns nothing (the stage velocity goes to memory row index + 1)."""
-    body_states(q, q_t, bodies, states)
-    if solve:
-        sp_rk_stage(states, layout, tables, work, part, memory, t, index, h)
-    generalized[:] = part
-    if aerodynamics[0] > 0.0:
-        aerodynamics_stage(t, states, aerodynamics, field, aerodynamic_work, generalized)
-
-
-@kernel
-def holds_after_v0_update(damping, taut_count):
-    """Whether an end-of-step solve that returned C_c = ``damping`` (N s/m) with ``taut_count`` lines taut is also
-    the next step's first-stage solve: v0 enters Eq. 3.10 only through C_c (and the all-slack case), so without
-    them the v0 update between the two does not change it (order 1's reference velocity is the same for both calls:
-    see ``sp_rk_stage``)."""
-    return damping == 0.0 and taut_count > 0
-
-
-@kernel
-def sp_end_of_step_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, h, completed,
-                               start_time, record):
-    """``kinematics.body_states`` from the end-of-step node coordinates, then ``sp_end_of_step``: a model with one
-    SP confluence does its post-step kernel work in one call. Returns ``sp_end_of_step``'s tuple."""
-    body_states(q, q_t, bodies, states)
-    return sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, start_time, record)
-
-
-@kernel
-def sp_first_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t_end, h, completed,
-                               start_time, record, t, generalized, aerodynamics, field, aerodynamic_work):
-    """The end-of-step work of the step that ended at ``t_end`` (s), done at the next step's first RK stage (time
-    ``t``, s; the same state): ``sp_end_of_step_with_bodies``, then that stage's solve with the updated v0 unless
-    the end-of-step solve holds for it (``holds_after_v0_update``). The same arithmetic, in the same order, as the
-    two calls it replaces; the lines' generalized forces and the aerodynamic loads into ``generalized`` as
-    ``sp_rk_stage_with_bodies``. Returns ``sp_end_of_step``'s tuple."""
-    end = sp_end_of_step_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t_end, h,
-                                     completed, start_time, record)
-    if not holds_after_v0_update(end[3], end[5]):
-        sp_rk_stage(states, layout, tables, work, part, memory, t, 0, h)
-    generalized[:] = part
-    if aerodynamics[0] > 0.0:
-        aerodynamics_stage(t, states, aerodynamics, field, aerodynamic_work, generalized)
-    return end
-
-
-@kernel
-def count_stage(memory, t):
-    """Count the RK stage at time ``t`` (s) in ``memory``'s step bookkeeping (rows MEMORY_CLOCK, MEMORY_RUN) and
-    return (its index 0-4, whether it needs a solve). The second stage (t_n + h/2) sets the step h: the run's step
-    when the span 2 (t - t_n) is within 1e-6 of it, else the span (a short last step). The first stage's state is
-    the end-of-step state already solved: that solve stands when it holds after the v0 update
-    (``holds_after_v0_update``); a fifth call or more solves nothing."""
-    index = int(memory[MEMORY_CLOCK, 0])
-    memory[MEMORY_CLOCK, 0] = index + 1
-    if index == 1:
-        span = 2.0 * (t - memory[MEMORY_CLOCK, 1])
-        step = memory[MEMORY_RUN, 0]
-        memory[MEMORY_CLOCK, 2] = step if step > 0.0 and abs(span - step) <= 1e-6 * step else span
-    if index == 0:
-        return index, not holds_after_v0_update(memory[MEMORY_END_SOLVE, 0], memory[MEMORY_END_SOLVE, 2])
-    return index, index < 4
-
-
-@kernel
-def step_done(memory, t):
-    """After a step ending at ``t`` (s): the step's end-of-step work becomes due (MEMORY_DUE) and, when the step
-    completed its four stages, t is the next step's start; the stage count starts again."""
-    completed = memory[MEMORY_CLOCK, 0] == 4.0
-    if completed:
-        memory[MEMORY_CLOCK, 1] = t
-    memory[MEMORY_CLOCK, 0] = 0.0
-    memory[MEMORY_DUE, 0], memory[MEMORY_DUE, 1] = 1.0, t
-    memory[MEMORY_DUE, 2] = 1.0 if completed else 0.0
-
-
-@kernel
-def _keep_end(memory, vx, vy, vz, c_c, kappa, taut):
-    """Keep the end-of-step solve (MEMORY_END, MEMORY_END_SOLVE); the due work is done."""
-    memory[MEMORY_END, 0], memory[MEMORY_END, 1], memory[MEMORY_END, 2] = vx, vy, vz
-    memory[MEMORY_END_SOLVE, 0], memory[MEMORY_END_SOLVE, 1], memory[MEMORY_END_SOLVE, 2] = c_c, kappa, taut
-    memory[MEMORY_DUE, 0] = 0.0
-
-
-@kernel
-def sp_step_stage(states, layout, tables, work, part, memory, t):
-    """An RK stage at ``t`` (s) with the step's bookkeeping in ``memory`` (``count_stage``), then ``sp_rk_stage``
-    when it needs a solve (the body states already set)."""
-    index, solve = count_stage(memory, t)
-    if solve:
-        sp_rk_stage(states, layout, tables, work, part, memory, t, index, memory[MEMORY_CLOCK, 2])
-
-
-@kernel
-def sp_settle(states, layout, tables, work, part, memory, record):
-    """The due end-of-step work (``sp_end_of_step`` with the bookkeeping's time, step and completion), the body
-    states already set at the end of the step; the solve kept in memory."""
-    due = MEMORY_DUE
-    vx, vy, vz, c_c, kappa, taut = sp_end_of_step(states, layout, tables, work, part, memory, memory[due, 1],
-                                                  memory[MEMORY_CLOCK, 2], memory[due, 2] > 0.5,
-                                                  memory[MEMORY_RUN, 1], record)
-    _keep_end(memory, vx, vy, vz, c_c, kappa, taut)
-
-
-@kernel
-def sp_settle_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, record):
-    """``kinematics.body_states`` from the end-of-step node coordinates, then ``sp_settle``."""
-    body_states(q, q_t, bodies, states)
-    sp_settle(states, layout, tables, work, part, memory, record)
-
-
-@kernel
-def sp_step_stage_with_bodies(q, q_t, t, bodies, states, layout, tables, work, part, memory, record, generalized,
-                              aerodynamics, field, aerodynamic_work):
-    """A stage of a model whose only confluence is this one, in one call: the body states from the stage's node
-    coordinates, the SP solve, the lines' generalized forces into ``generalized`` and the bodies' aerodynamic loads
-    added (as ``sp_rk_stage_with_bodies``). At a step's first stage with the last step's end-of-step work due, that
-    work first (``sp_first_stage_with_bodies``). Last, the gravity of the bodies whose layout rows carry their mass
-    (``kinematics.add_gravity_forces``), added after everything else as the engine's gravity connectors would add
-    it. Returns 1 when it did the end-of-step work, plus 2 when the aerodynamics reported a problem and added nothing
-    (their status in ``aerodynamic_work``; the gravity is then left to the caller too)."""
-    done = 0.0
-    if memory[MEMORY_CLOCK, 0] == 0.0 and memory[MEMORY_DUE, 0] > 0.5:
-        memory[MEMORY_CLOCK, 0] = 1.0
-        due = MEMORY_DUE
-        vx, vy, vz, c_c, kappa, taut = sp_first_stage_with_bodies(
-            q, q_t, bodies, states, layout, tables, work, part, memory, memory[due, 1], memory[MEMORY_CLOCK, 2],
-            memory[due, 2] > 0.5, memory[MEMORY_RUN, 1], record, t, generalized, aerodynamics, field,
-            aerodynamic_work)
-        _keep_end(memory, vx, vy, vz, c_c, kappa, taut)
-        done = 1.0
-    else:
-        index, solve = count_stage(memory, t)
-        sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index,
-                                memory[MEMORY_CLOCK, 2], solve, generalized, aerodynamics, field, aerodynamic_work)
-    if aerodynamic_work[0] != 0.0:   # the aerodynamics added nothing: the caller adds them, then the gravity
-        return done + 2.0
-    g = MEMORY_GRAVITY
-    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, 1], memory[g, 0], memory[g, 1], memory[g, 2], generalized)
-    return done
+def _series_stage(states, layout, tables, work, generalized, active, wx, wy, wz):
+    """``sp_stage`` for two lines in series (``solve_series``): the forces -T n on the bodies; the confluence's
+    weight (wx, wy, wz) in N (0 for the massless order) pulls line 0 harder along AB, and its part across AB is
+    shared by the two attach points as a beam's two supports share a load (1 - f and f, f the confluence's
+    fraction of the way from line 0's attach point)."""
+    points = layout[:, :POINT_COLUMNS]
+    p, v, d, f = WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_DIRECTION, WORK_FORCE
+    vx, vy, vz, fraction = solve_series(work[:, p:p + 3], work[:, v:v + 3],
+                                        layout[:, POINT_COLUMNS:POINT_COLUMNS + 3], tables,
+                                        layout[:, POINT_COLUMNS + 3], work[:, WORK_TENSION], work[:, d:d + 3], active,
+                                        wx, wy, wz)
+    work[0, WORK_SCRATCH] = fraction   # for the end-of-step position (``sp_stepping.sp_end_of_step``)
+    ux, uy, uz = work[1, d], work[1, d + 1], work[1, d + 2]
+    along = wx * ux + wy * uy + wz * uz
+    cx, cy, cz = wx - along * ux, wy - along * uy, wz - along * uz   # the weight across AB
+    taut = 0
+    for i in range(2):
+        taut += 1 if active[i] else 0
+        work[i, WORK_TAUT] = 1.0 if active[i] else 0.0
+        share = 1.0 - fraction if i == 0 else fraction
+        work[i, f] = -work[i, WORK_TENSION] * work[i, d] + share * cx
+        work[i, f + 1] = -work[i, WORK_TENSION] * work[i, d + 1] + share * cy
+        work[i, f + 2] = -work[i, WORK_TENSION] * work[i, d + 2] + share * cz
+    generalized[:] = 0.0
+    add_point_forces(states, points, work[:, f:f + 3], generalized)
+    return vx, vy, vz, 0.0, 0.0, taut

@@ -80,14 +80,16 @@ class Threshold:
 
 @dataclass(frozen=True)
 class Apogee:
-    """The sensed vertical velocity goes from > 0 to <= 0."""
+    """The sensed vertical velocity goes from > 0 to <= 0; a first sample that already descends (a start at or past
+    apogee, the state another tool hands over) fires too."""
 
     quantity = "apogee"
     value = 0.0
     sensed_name = "vertical_velocity"
 
     def holds(self, sensed: dict, previous: dict | None) -> bool:
-        return previous is not None and previous["vertical_velocity"] > 0.0 >= sensed["vertical_velocity"]
+        descending = sensed["vertical_velocity"] <= 0.0
+        return descending and (previous is None or previous["vertical_velocity"] > 0.0)
 
     def describe(self) -> str:
         return "apogee"
@@ -290,6 +292,36 @@ class Watch:
         """Whether a sample is due at the step end ``time`` (s) of a step ``step`` (s)."""
         return self.period is None or time >= self.index * self.period - 0.5 * step - TIME_TOLERANCE
 
+    def earliest(self, time: float, truth: dict, acceleration: float) -> float:
+        """The earliest run time (s) at which this trigger can fire, from the true values ``truth`` at ``time`` (s):
+        a noise-free altitude threshold cannot be crossed before the body, at its vertical velocity now and at most
+        ``acceleration`` (m/s^2) towards it, has covered the distance; any other trigger can fire at its next sample
+        (``time`` itself)."""
+        condition, sensor = self.trigger.condition, self.trigger.sensor
+        if not isinstance(condition, Threshold) or condition.quantity != "altitude" or sensor.noisy or \
+                sensor.pressure_bias != 0.0 or sensor.speed_bias != 0.0:
+            return time
+        distance = truth[condition.sensed_name] - condition.value
+        speed = -truth["vertical_velocity"]   # towards the threshold
+        if not condition.below:
+            distance, speed = -distance, -speed
+        if distance <= 0.0:
+            return time
+        return time + (math.sqrt(speed * speed + 2.0 * acceleration * distance) - speed) / acceleration
+
+    def next_sample(self, time: float) -> float:
+        """The first sample time (s) after ``time`` (s) not taken yet (inf for a trigger sampled every step)."""
+        if self.period is None:
+            return math.inf
+        return max(self.index, math.floor(time / self.period + TIME_TOLERANCE) + 1) * self.period
+
+    def on_sample(self, time: float) -> bool:
+        """Whether ``time`` (s) is a sample time not taken yet (every step end for a trigger without a rate)."""
+        if self.period is None:
+            return True
+        k = round(time / self.period)
+        return k >= self.index and abs(time - k * self.period) <= TIME_TOLERANCE
+
     def observe(self, time: float, truth: dict, fired: dict, pressure_at) -> Firing | None:
         """Take the sample due at ``time`` (s) from the true values ``truth``; ``fired``: event -> time of the events
         fired so far. Returns the Firing when the trigger fires."""
@@ -400,3 +432,4 @@ def _hermite_root(y0: float, y1: float, d0: float, d1: float, value: float, gues
         if abs(change) < 1e-15:
             break
     return w
+

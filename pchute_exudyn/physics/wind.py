@@ -117,6 +117,7 @@ def dryden_correlation(component: str, lag: float, length: float) -> float:
     return math.exp(-r) if component == "u" else math.exp(-r) * (1.0 - 0.5 * r)
 
 
+@kernel
 def low_altitude_scales(height: float, wind_speed_6m: float) -> tuple:
     """(sigma_u, sigma_v, sigma_w) (m/s) and (L_u, L_v, L_w) (m) at ``height`` above the ground (m) from the wind
     speed at 6 m (20 ft, m/s): MIL-F-8785C's low-altitude forms, sigma_w = 0.1 W20, sigma_u = sigma_v = sigma_w /
@@ -191,26 +192,18 @@ class DrydenTurbulence:
         return max(max(self.scales(float(h))[0]) for h in heights)
 
     def _extend(self) -> None:
-        """Generate the next BLOCK cells from block k's own seed, continuing the recursions."""
+        """Generate the next BLOCK cells from block k's own seed, continuing the recursions (``dryden_block``)."""
         k = len(self.values[0]) // BLOCK
         noise = np.random.Generator(np.random.PCG64(np.random.SeedSequence([self.seed, k]))).standard_normal(
-            (BLOCK, 5)).tolist()
-        state = self._state if self._state is not None else noise[0]   # the stationary distribution: N(0, 1)
-        xu, v1, v2, w1, w2 = state
-        u_out, v_out, w_out = self.values
-        cell, fixed = self.cell, self.sigma is not None
-        sigma, length = self.scales(0.0) if fixed else (None, None)
-        for i, (n0, n1, n2, n3, n4) in enumerate(noise):
-            if not fixed:
-                sigma, length = self.scales((k * BLOCK + i) * cell)
-            if k or i:   # the first cell is the initial state itself
-                xu = _first_order(xu, cell / length[0], n0)
-                v1, v2 = _second_order(v1, v2, cell / length[1], n1, n2)
-                w1, w2 = _second_order(w1, w2, cell / length[2], n3, n4)
-            u_out.append(sigma[0] * xu)
-            v_out.append(sigma[1] * 0.5 * (v1 + SQRT3 * v2))
-            w_out.append(sigma[2] * 0.5 * (w1 + SQRT3 * w2))
-        self._state = (xu, v1, v2, w1, w2)
+            (BLOCK, 5))
+        state = np.array(self._state if self._state is not None else noise[0])   # stationary: N(0, 1)
+        fixed = self.sigma is not None
+        sigma, length = (np.array(self.sigma), np.array(self.length)) if fixed else (np.zeros(3), np.zeros(3))
+        block = np.empty((3, BLOCK))
+        dryden_block(noise, k * BLOCK, state, self.cell, fixed, sigma, length, float(self.wind_speed_6m or 0.0), block)
+        for values, row in zip(self.values, block.tolist()):
+            values.extend(row)
+        self._state = tuple(state.tolist())
         self.field = np.array(self.values)
 
     def extend_to(self, cells: int) -> None:
@@ -273,12 +266,35 @@ def turbulence_velocity(field, parameters, altitude, mean_east, mean_north):
 SQRT3 = math.sqrt(3.0)
 
 
+@kernel
+def dryden_block(noise, first, state, cell, fixed, sigma, length, wind_speed_6m, block):
+    """The cells ``first`` .. ``first`` + n - 1 of a Dryden field (``DrydenTurbulence``) into ``block`` (3, n): the
+    recursions continued from ``state`` (xi_u, z_v1, z_v2, z_w1, z_w2; updated in place) with the white ``noise``
+    (n, 5); the intensities and scale lengths ``sigma`` and ``length`` (m/s, m) when ``fixed``, else the
+    low-altitude forms at each cell's height from ``wind_speed_6m`` (m/s). Cell 0 is the initial state itself."""
+    xu, v1, v2, w1, w2 = state[0], state[1], state[2], state[3], state[4]
+    s0, s1, s2, l0, l1, l2 = sigma[0], sigma[1], sigma[2], length[0], length[1], length[2]
+    for i in range(noise.shape[0]):
+        if not fixed:
+            (s0, s1, s2), (l0, l1, l2) = low_altitude_scales((first + i) * cell, wind_speed_6m)
+        if first + i > 0:
+            xu = _first_order(xu, cell / l0, noise[i, 0])
+            v1, v2 = _second_order(v1, v2, cell / l1, noise[i, 1], noise[i, 2])
+            w1, w2 = _second_order(w1, w2, cell / l2, noise[i, 3], noise[i, 4])
+        block[0, i] = s0 * xu
+        block[1, i] = s1 * 0.5 * (v1 + SQRT3 * v2)
+        block[2, i] = s2 * 0.5 * (w1 + SQRT3 * w2)
+    state[0], state[1], state[2], state[3], state[4] = xu, v1, v2, w1, w2
+
+
+@kernel
 def _first_order(x: float, r: float, noise: float) -> float:
     """One cell of a unit-variance first-order process (cell / L = ``r``): exact AR(1)."""
     a = math.exp(-r)
     return a * x + math.sqrt(1.0 - a * a) * noise
 
 
+@kernel
 def _second_order(z1: float, z2: float, r: float, n1: float, n2: float) -> tuple:
     """One cell of the Dryden v/w shaping filter (1 + sqrt(3) L s) / (1 + L s)^2 in unit-covariance state
     coordinates: z' = M z + chol(I - M M^T) n with M = exp(-r) [[1 + r, r], [-r, 1 - r]] (the filter's transition

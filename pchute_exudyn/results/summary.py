@@ -322,6 +322,7 @@ class RunSummary:
     failures: dict = field(default_factory=dict)        # the [failures] the run flew with (``failures_flown``)
     events_planned: dict = field(default_factory=dict)  # per system its fixed deploy and cut-away times (s)
     separations: dict = field(default_factory=dict)     # per separated body (``separation_summary``); {} without
+    step_control: dict | None = None   # adaptive steps: smallest, largest, mean (s) and count; None: a fixed step
 
     @property
     def steps_per_second(self) -> float | None:
@@ -330,6 +331,7 @@ class RunSummary:
     def to_dict(self) -> dict:
         return {"case": self.case, "case_file": self.case_file, "description": self.description,
                 "vehicle": self.vehicle, "method": self.method, "integrator": self.integrator, "step": self.step,
+                **({"step_control": self.step_control} if self.step_control is not None else {}),
                 "duration": self.duration, **self.method_settings, **self.method_facts,
                 "output_step": self.output_step, "ground_altitude": self.ground_altitude, "end": self.end,
                 "steps": self.steps, "wall_time": self.wall_time,
@@ -343,3 +345,21 @@ class RunSummary:
                 "failures": self.failures, "events_planned": self.events_planned,
                 "units": self.units,
                 "versions": self.versions, "created": self.created}
+
+
+def run_line(summary: dict, out, stability_limit: float | None = None) -> str:
+    """The one-line account of a finished run (``pchute run``): its method, step (adaptive: the steps taken, smallest
+    to largest, and their mean; chosen from the stability limit: that limit), end, wall time and final position."""
+    s, f = summary, summary["final"]
+    ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"
+    control = s.get("step_control")
+    if control and control.get("count"):
+        step = (f"adaptive steps {control['smallest']:.3g} to {control['largest']:.3g} s (mean "
+                f"{control['mean']:.3g} s)")
+    else:
+        chosen = "" if stability_limit is None else f" (none set: from the stability limit {stability_limit:.3g} s)"
+        step = f"step {s['step']:g} s{chosen}"
+    return (f"{s['case']}: {s['method']}/{s['integrator']} {step}, {ending} {f['time']:.2f} s in "
+            f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
+            f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}"
+            + (f" ({len(s['warnings'])} warning(s): see summary.json)" if s.get("warnings") else ""))

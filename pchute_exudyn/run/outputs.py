@@ -27,6 +27,7 @@ from ..physics.aerodynamics import angles_of_attack_deg
 from ..physics.kinematics import body_point, relative_to_body
 from ..physics.lines import line_states
 from ..physics.rotations import attitude_angles_deg, tilt_deg
+from ..physics.step_control import merge_summaries
 
 MAX_LINE_STRAIN = 1.0
 """A line stretched beyond (1 + MAX_LINE_STRAIN) times its free length means the integration diverged (parachute
@@ -46,6 +47,8 @@ def concatenate(case: Case, histories: list) -> RawHistory:
     time = np.concatenate([raw.time[rows] for raw, rows in zip(histories, keep)])
     out = RawHistory(time=time, steps=sum(r.steps for r in histories), wall_time=sum(r.wall_time for r in histories),
                      stopped_at=histories[-1].stopped_at)
+    if any(r.step_control is not None for r in histories):
+        out.step_control = merge_summaries([r.step_control for r in histories])
 
     def gather(get, shape):
         parts = []

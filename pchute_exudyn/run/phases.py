@@ -2,8 +2,9 @@
 
 Exudyn cannot add bodies to a running model, so a run with sequential parachute systems is a sequence of models:
 each phase holds the vehicle and the systems active in it (a system deployed later does not exist yet, so it has no
-effect; one cut away is gone, so its lines stop acting). At a boundary the bodies' and confluences' states carry
-over, and a newly deployed system is placed at line stretch (``physics.deployment``).
+effect, or rides in the vehicle as packed gear, ``case.carried``; one cut away is gone, so its lines stop acting). At
+a boundary the bodies' and confluences' states carry over, the vehicle's re-referred to what it still carries, and a
+newly deployed system is placed at line stretch (``physics.deployment``).
 """
 
 from __future__ import annotations
@@ -35,11 +36,11 @@ def boundaries(case: Case, duration: float) -> list:
 
 def initial_states(case: Case) -> tuple[dict, dict]:
     """States at t = 0 of the bodies and confluences that have an initial state in the case (a vehicle carrying
-    bodies: of its composite's centre of mass, ``case.carried``)."""
+    bodies or packed gear: of its composite's centre of mass, ``case.carried``)."""
     bodies = {body.name: initial_body_state(case, body) for body in case.free_bodies() if body.initial is not None}
     confluences = {system.name: initial_confluence_state(case, system) for system in case.systems.values()
                    if system.confluence.initial is not None}
-    riding = carried(case, 0.0, before=True)   # a body leaving at 0 s leaves the composite (``separate``)
+    riding = carried(case, 0.0, before=True)   # a part leaving at 0 s leaves the composite (``separate``)
     if riding:
         own = bodies[case.vehicle]
         _, center = vehicle_with(case, riding)
@@ -50,14 +51,16 @@ def initial_states(case: Case) -> tuple[dict, dict]:
 
 def separate(case: Case, body_states: dict, time: float) -> tuple[dict, list]:
     """The body states after the separations at ``time`` (s), and their events: the vehicle's composite state
-    re-referred to what it still carries, each leaving body at its own centre of mass with the rigid-body velocity
-    there and the separation speed shared by momentum (``physics.separation``)."""
+    re-referred to what it still carries (also when a packed system's gear leaves it then, ``case.carried``), each
+    leaving body at its own centre of mass with the rigid-body velocity there and the separation speed shared by
+    momentum (``physics.separation``); a deploying canopy is placed by ``deploy``."""
     leaving = [s for s in case.separations.values() if s.time == time]
-    if not leaving:
+    riding, rode = carried(case, time), carried(case, time, before=True)
+    if len(riding) == len(rode):   # nothing leaves the vehicle at ``time``
         return body_states, []
     vehicle = body_states[case.vehicle]
-    remaining, after = vehicle_with(case, carried(case, time))
-    _, before = vehicle_with(case, carried(case, time, before=True))
+    remaining, after = vehicle_with(case, riding)
+    _, before = vehicle_with(case, rode)
     rigid = (vehicle.position, vehicle.attitude, vehicle.velocity, vehicle.angular_velocity)
     states, events = dict(body_states), []
     position, velocity = rigid_point_state(*rigid, after - before)

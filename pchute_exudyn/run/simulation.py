@@ -14,7 +14,7 @@ import numpy as np
 
 from ..boundary import check_callable, check_case, check_flag
 from ..case.carried import case_at
-from ..case.method_table import INTEGRATORS, METHODS, OptionError
+from ..case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
 from ..case.model import Case
 from ..case.plausible import check_time_scales
 from ..engine.bodies import Touchdown
@@ -25,6 +25,7 @@ from ..errors import InputError, Interrupted, SimulationError, short_repr
 from ..kernels import selection
 from ..methods.base import Method, line_arrays, line_constants, unstable_step_message
 from ..physics.linearization import damped_line_step_limit, sp_step_limit, spectral_step_bound
+from ..physics.step_control import StepRule
 from ..results.result import Result
 from ..results.summary import (
     RunSummary,
@@ -42,6 +43,7 @@ from .analysis import cluster_columns, cluster_summary, descent_summary, pendulu
 from .outputs import check_history, concatenate, derive_columns, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase, retime_openings
 from .sequence import Sequence
+from .step_control import AdaptiveSteps
 
 MONITOR_INTERVAL = 0.1
 """Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
@@ -71,6 +73,7 @@ class RunPlan:
     step: float
     duration: float
     stability_limit: float | None = None   # s: set when the step was chosen from it (``stability_step``)
+    control: StepRule | None = None        # adaptive steps (``run.step_control``): ``step`` is then the largest
 
 
 def option_error(exc: OptionError, method_class=None) -> InputError:
@@ -108,7 +111,8 @@ def _check_number(name: str, value, flag: str) -> float:
         except OverflowError:   # an integer of hundreds of digits
             number = math.inf
     if not (math.isfinite(number) and number > 0.0):
-        raise InputError(f"{name} ({flag}) = {short_repr(value)}: must be a number > 0 (s)")
+        allowed = f" or {ADAPTIVE_STEP!r} (adaptive steps)" if name == "step" else ""
+        raise InputError(f"{name} ({flag}) = {short_repr(value)}: must be a number > 0 (s){allowed}")
     return number
 
 
@@ -125,18 +129,26 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     except OptionError as exc:
         raise InputError(str(exc)) from None
     duration = _check_number("duration", case.simulation.duration if duration is None else duration, "--t-end")
-    limit = None
+    limit = control = None
     if step is None:
         step = case.simulation.default_step(resolved.name, integrator)
         if step is None:
-            step, limit = stability_step(case, resolved, integrator)
-            step = min(step, duration)
+            step = ADAPTIVE_STEP if INTEGRATORS[integrator].explicit else None
+    if step == ADAPTIVE_STEP:
+        if not INTEGRATORS[integrator].explicit:
+            raise InputError(f"step (--dt) = {ADAPTIVE_STEP!r}: adaptive steps are RK4's; the {integrator} "
+                             "integrator needs a step in s")
+        control = case.simulation.step_rule
+        step = min(control.largest, duration)
+    elif step is None:
+        step, limit = stability_step(case, resolved, integrator)
+        step = min(step, duration)
     step = _check_number("step", step, "--dt")
     if step > duration:
         raise InputError(f"step (--dt) = {step:g} s: must not exceed the duration ({duration:g} s)")
     _check_size(case, step, duration)
     check_time_scales(case, step)
-    return RunPlan(resolved, integrator, step, duration, limit)
+    return RunPlan(resolved, integrator, step, duration, limit, control)
 
 
 def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, float]:
@@ -255,7 +267,7 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
     """Build and integrate one phase; returns the model, its checked history, its touchdown and its trigger monitor
     (each None when the phase has none)."""
     model = plan.method.build(case, phase)
-    if INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
+    if plan.control is None and INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
     touchdown = monitor = None
     if case.simulation.ground_altitude is not None and not case.bodies[case.vehicle].fixed:
@@ -263,11 +275,15 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
         model.add_stop_condition(touchdown)
     if sequence is not None and sequence.pending_watches():
         monitor = TriggerMonitor(model, case, sequence.pending_watches(), sequence.times)
+        monitor.horizon = plan.step   # adaptive steps: at most the plan's step
         model.add_stop_condition(monitor)
+    control = None if plan.control is None else AdaptiveSteps(model, case, plan.method, plan.control,
+                                                              None if monitor is None else monitor.landing)
     try:
         raw = integrate(model, plan.integrator, plan.step, phase.end, output_step, case.simulation.spectral_radius,
-                        start=phase.start, report=report, solution_file=solution_file)
+                        start=phase.start, report=report, solution_file=solution_file, control=control)
         check_history(case, raw, plan.step)
+        raw.step_control = None if control is None else control.summary()
     except Interrupted as exc:   # say how far the whole run got, not the phase
         model.release()
         raise Interrupted(exc.time, plan.duration) from None
@@ -374,7 +390,8 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         descent=descent_summary(case, columns), failures=failures_flown(case.failures),
         warnings=case.warnings + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
-        separations=separation_summary(case, raw, events))
+        separations=separation_summary(case, raw, events),
+        step_control=None if plan.control is None else {"rule": "adaptive", **(raw.step_control or {})})
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"

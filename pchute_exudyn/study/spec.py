@@ -61,7 +61,7 @@ from ..boundary import check_path
 from ..case.fields import Context, Table
 from ..case.files import read_toml
 from ..case.loader import load_case
-from ..case.method_table import INTEGRATORS, METHODS, OptionError, make_options
+from ..case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError, make_options
 from ..case.overrides import Scale
 from ..errors import CaseError
 
@@ -144,7 +144,7 @@ class Configuration:
 
     @property
     def label(self) -> str:
-        parts = [self.method or "case method", self.integrator or "", f"{self.step:g}" if self.step else ""]
+        parts = [self.method or "case method", self.integrator or "", _step_label(self.step)]
         parts += [f"{name} {value:g}" if isinstance(value, float) else f"{name} {value}"
                   for name, value in self.options]
         return " ".join(p for p in parts if p)
@@ -298,17 +298,38 @@ def _read_options(t: Table, method: str | None) -> tuple:
     return tuple((f.name, given[f.name]) for f in fields(options_type) if f.name in given)
 
 
+def _step_label(step) -> str:
+    """A configuration's step as its label shows it: '0.01', 'auto' or nothing (the case's)."""
+    return "" if not step else step if isinstance(step, str) else f"{step:g}"
+
+
+def _step(t: Table, key: str):
+    """A configuration's ``step``: a number > 0 (s), ``"auto"`` (adaptive steps) or absent (None: the case's)."""
+    if t.data.get(key) == ADAPTIVE_STEP:
+        t.raw(key, None, "s")
+        return ADAPTIVE_STEP
+    return t.number(key, "s", None, above=0.0)
+
+
+def _steps(t: Table) -> list:
+    """A configuration's ``steps``: a list of steps > 0 (s) and ``"auto"`` (adaptive steps)."""
+    value = t.raw("steps", None, "s")
+    numbers = [item for item in value if item != ADAPTIVE_STEP] if isinstance(value, list) else value
+    if not isinstance(value, list) or not value or \
+            (numbers and any(isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0.0 for x in numbers)):
+        raise t.error("steps", f"must be a list of steps > 0 (s) or {ADAPTIVE_STEP!r} (adaptive steps)", value)
+    return [item if item == ADAPTIVE_STEP else float(item) for item in value]
+
+
 def read_configuration(t: Table, single_step: bool) -> list:
     if single_step:
         t.allowed.append("per")
     method = t.string("method", None, tuple(METHODS))
     integrator = t.string("integrator", None, INTEGRATORS)
     if single_step:
-        steps = [t.number("step", "s", None, above=0.0)]
+        steps = [_step(t, "step")]
     else:
-        steps = list(t.sequence("steps", "s")) if "steps" in t.data else [t.number("step", "s", None, above=0.0)]
-        if any(s is not None and not s > 0.0 for s in steps):
-            raise t.error("steps", "every step must be > 0 (s)", steps)
+        steps = _steps(t) if "steps" in t.data else [_step(t, "step")]
         t.allowed.extend(["step", "steps"])
     options = _read_options(t, method)
     t.finish()

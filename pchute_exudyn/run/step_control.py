@@ -1,0 +1,331 @@
+"""A run's adaptive steps: the step rule of ``physics.step_control`` with the model's stability limits as caps.
+
+After every step ``AdaptiveSteps.after_step`` reads the bodies' velocity coordinates (one engine read), updates the
+indicator and returns the coming step, never beyond CAP_FRACTION of the smallest stability limit of the phase:
+
+* each moving body's translational mode on its lines (their stiffness and damping summed, as if they pulled along
+  one direction) with its drag's damping rho V S C_A, S the drag area open now
+  (``physics.linearization.body_line_step_limit``; the mass with the air it carries along its axis when it has an
+  apparent mass);
+* each moving body pitching on its lines (``_rotation_limits``: a light canopy on its riser wobbles at 20 Hz);
+* each confluence by its method's limit at the current geometry (``Method.step_limit``: SP's damped mode, a full-mass
+  confluence's modes), with the lines as the method damps them at that step (``Method.relaxed``).
+
+The limits that move with the state (geometry, air speed) are checked again every CAP_INTERVAL of simulated time
+(longer while they stay put), at least CAP_STEPS steps apart. A limit below the rule's smallest step stops the
+run, naming what sets it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..case.model import Case
+from ..engine.model import Model
+from ..engine.sp import RATE_MEMORY
+from ..engine.state import TensionChannel
+from ..errors import SimulationError
+from ..methods.base import Method, line_constants
+from ..methods.sp import RELAXED_STEPS
+from ..physics.compiled import machine_code
+from ..physics.kinematics import ROW_POSITION, ROW_VELOCITY
+from ..physics.linearization import body_line_step_limit
+from ..physics.singular_perturbation import relaxed_damping
+from ..physics.step_control import CAP_FRACTION, StepRule, extrapolation_error, next_step
+
+CAP_INTERVAL = 1.0
+"""Simulated time (s) between checks of the limits that move with the state, after a check that found them moved
+by more than CAP_STEADY; each check that finds them steady doubles it, up to CAP_INTERVAL_LONGEST. A step whose
+indicator exceeds 1 (the motion changed) brings the next check forward to CAP_STEPS steps after the last."""
+CAP_INTERVAL_LONGEST = 64.0
+CAP_STEADY = 0.1
+"""Relative change (-) of the smallest limit below which a check counts as steady."""
+CAP_STEPS = 100
+"""Fewest steps between two such checks."""
+ALLOWANCE_STEPS = 8
+"""Steps between two looks at the relaxation's cap (``_relaxation_cap``: the lines' stretch-rate envelope fades over
+seconds)."""
+RELAXATION_SHARE = 0.01
+"""Largest share (-) of a line's tension that the relaxation's extra damping may add at the current stretch rates
+(``_relaxation_cap``)."""
+
+
+class AdaptiveSteps:
+    """The step control of one phase (see the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        The phase's built model.
+    case : Case
+    method : Method
+    rule : StepRule
+    landing : callable, optional
+        ``landing(t)``: the next time (s) after ``t`` a step must end on (a sensed trigger's sample time while it
+        can fire: ``engine.triggers.TriggerMonitor.landing``); inf: none.
+    """
+
+    def __init__(self, model: Model, case: Case, method: Method, rule: StepRule, landing=None):
+        self.model, self.case, self.method, self.rule = model, case, method, rule
+        self.landing = landing   # t -> the next time (s) a step must end on (a trigger's sample), or None
+        self.read = model.mbs.systemData.GetODE2Coordinates_t
+        size = len(self.read())
+        self.history, self.times, self.count = np.zeros((3, size)), np.zeros(3), 0
+        self._constants = {system.name: line_constants(system) for system in model.systems}
+        self.weights = model.velocity_weights()
+        self.mass = sum(case.bodies[name].mass for name in model.phase.bodies)   # kg, the moving bodies
+        self.last_end = model.phase.start
+        self.step = min(rule.first, rule.largest)
+        self.cap = math.inf
+        self.cause = ""
+        self.next_check, self.steps_since_check, self.interval = -math.inf, 0, CAP_INTERVAL
+        self._error = machine_code(extrapolation_error, self.history, self.times, self.count,
+                                   np.asarray(self.read(), float), self.weights, self.mass, float(model.phase.start),
+                                   float(rule.absolute), float(rule.relative))
+        self.relaxation: dict = {}   # system -> the relaxation time its lines have now (s)
+        self.unrelaxed: dict = {}    # relaxing system -> the step cap (s) of its lines' own damping
+        self.allowance, self.since_allowance = None, 0   # the relaxation's step cap (s), looked at every few steps
+        self.taken: list = []   # (smallest, largest, count, sum) of the steps taken
+        self._limits: dict = {}    # (system, relaxation time) -> its confluence's StepLimit, this check's
+
+    def after_step(self, t: float) -> float:
+        """The coming step (s) after the step that ended at ``t`` (s; at the phase start, the first step)."""
+        taken = t - self.last_end
+        self.last_end = t
+        velocities = np.asarray(self.read(), float)
+        error, self.count = self._error(self.history, self.times, self.count, velocities, self.weights, self.mass, t,
+                                        self.rule.absolute, self.rule.relative)
+        self.steps_since_check += 1
+        if error > 1.0 and self.interval > CAP_INTERVAL:   # the motion changed: check the caps soon
+            self.next_check, self.interval = t, CAP_INTERVAL
+        if t >= self.next_check and self.steps_since_check >= CAP_STEPS or self.next_check == -math.inf:
+            self._check_caps(t)
+        if taken > 0.0:
+            self._count(taken)
+            self.step = next_step(taken, error, CAP_FRACTION * self.cap, self.rule.largest)
+        else:
+            self.step = min(self.step, CAP_FRACTION * self.cap)
+        coming = min(self.step, self._relaxation_cap(t))
+        if self.landing is not None:
+            land = self.landing(t) - t
+            if land < coming:
+                coming = land   # the step that ends on a trigger's sample; the rule's step stays for the next
+        self._relax(coming)
+        return coming
+
+    def _count(self, taken: float) -> None:
+        if not self.taken:
+            self.taken = [taken, taken, 0, 0.0]
+        record = self.taken
+        record[0], record[1] = min(record[0], taken), max(record[1], taken)
+        record[2] += 1
+        record[3] += taken
+
+    def _relaxation_cap(self, t: float) -> float:
+        if self.unrelaxed and (self.since_allowance >= ALLOWANCE_STEPS or self.allowance is None):
+            self.allowance, self.since_allowance = self._allowance(t), 0
+        self.since_allowance += 1
+        return math.inf if self.allowance is None else self.allowance
+
+    def _allowance(self, t: float) -> float:
+        """The longest step (s) whose relaxation (``Method.relaxation_for_step``) keeps each relaxing confluence's
+        tensions within RELAXATION_SHARE of their own (``relaxation_allowed``): its extra damping acts on the lines'
+        stretch rates, nil in a steady descent, not at a cluster's flyout or a swing; never below the step the lines'
+        own damping allows (``unrelaxed``). For the first RATE_MEMORY s of a phase (a deployment, a cut-away, a
+        cluster's flyout) the envelope has not seen the lines move yet: the lines keep their own damping."""
+        cap = math.inf
+        settling = t - self.model.phase.start < RATE_MEMORY
+        for name, unrelaxed in self.unrelaxed.items():
+            allowed = self.model.confluences[name].relaxation_allowed(RELAXATION_SHARE, t)
+            cap = min(cap, unrelaxed if settling else max(unrelaxed, RELAXED_STEPS * allowed))
+        return cap
+
+    def _relax(self, step: float) -> None:
+        """The lines as the method damps them at ``step`` (s), where that changes: not beyond their own damping at a
+        step their own damping keeps stable (``unrelaxed``), so that an opening's and a swing's short steps fly the
+        lines as they are."""
+        for system in self.model.systems:
+            own = step <= self.unrelaxed.get(system.name, 0.0)
+            tau = self.method.relaxation_for_step(0.0 if own else step, system)
+            if tau != self.relaxation.get(system.name, 0.0):
+                self.relaxation[system.name] = tau
+                self.model.confluences[system.name].relax(tau)
+
+    def _check_caps(self, t: float) -> None:
+        """The caps at the current state. Where the method relaxes the lines at long steps
+        (``Method.relaxation_for_step``) their damping grows with the step, and a light body's limit on them falls
+        with it: the bodies' cap is the largest limit c with c >= its own limit at the damping of a step CAP_FRACTION
+        c, found by bisection (in log c, to 10 %); the confluences' limits (which grow with that damping) are then
+        taken at it, twice."""
+        previous = self.cap
+        self._limits = {}
+        drag = self._drag_damping()
+        fixed = min([(self.rule.largest / CAP_FRACTION, "the largest step")] + self._rotation_limits(),
+                    key=lambda item: item[0])
+
+        def bodies_at(cap):
+            return min([fixed] + self._body_limits(CAP_FRACTION * cap, drag), key=lambda item: item[0])
+        cap = bodies_at(fixed[0])
+        relaxing = any(self.method.relaxation_for_step(CAP_FRACTION * fixed[0], s) > 0.0 for s in self.model.systems)
+        if cap[0] < fixed[0] and relaxing:
+            low, high = cap[0], fixed[0]
+            while high > 1.1 * low:
+                middle = math.sqrt(low * high)
+                low, high = (middle, high) if bodies_at(middle)[0] >= middle else (low, middle)
+            cap = bodies_at(low)
+        for _ in range(2 if relaxing else 1):
+            cap = min([cap] + self._confluence_limits(CAP_FRACTION * cap[0]), key=lambda item: item[0])
+        self.unrelaxed = {system.name: CAP_FRACTION * min([math.inf] + [limit for limit, _ in
+                                                                      self._confluence_limits(0.0, system)])
+                          for system in self.model.systems
+                          if self.method.relaxation_for_step(CAP_FRACTION * cap[0], system) > 0.0}
+        self.cap, self.cause = cap
+        steady = abs(self.cap - previous) <= CAP_STEADY * self.cap
+        self.interval = min(2.0 * self.interval, CAP_INTERVAL_LONGEST) if steady and not self._schedules_moving() \
+            else CAP_INTERVAL   # a schedule's fraction counts for two intervals (``_drag_fraction``)
+        self.next_check, self.steps_since_check = t + self.interval, 0
+        if CAP_FRACTION * self.cap < self.rule.smallest:
+            raise SimulationError(
+                f"at t = {t:.3f} s {self.cause} limits RK4 to {self.cap:.3g} s, below the smallest adaptive step "
+                f"{self.rule.smallest:g} s: the model has a mode too fast to integrate explicitly (check the "
+                "masses, inertias and line stiffnesses), or use --method full --integrator implicit", t)
+
+    def _body_limits(self, step: float, drag: dict) -> list:
+        """Each moving body's translational mode on all its lines (their stiffness and damping summed, as if they
+        pulled along one direction, the damping as the method relaxes it at ``step``, s) with its drag's damping
+        (``_drag_damping``): ``body_line_step_limit``."""
+        sums: dict = {}
+        for system in self.model.systems:
+            stiffness, damping = self._constants[system.name]
+            tau = self.method.relaxation_for_step(step, system)
+            if tau > 0.0:
+                damping = relaxed_damping(stiffness, damping, tau)
+            for line, k, c in zip(system.lines, stiffness, damping):
+                if line.body in self.model.massless:   # a reduced canopy: its own limit (``_confluence_limits``)
+                    continue
+                total = sums.setdefault(line.body, [0.0, 0.0])
+                total[0] += k
+                total[1] += c
+        limits = []
+        for body, (mass, damping) in drag.items():
+            k, c = sums.get(body, (0.0, 0.0))
+            limit = body_line_step_limit(mass, [k], [c + damping])
+            what = "its lines and its drag" if body in sums and damping > 0.0 else "its lines" if body in sums \
+                else "its drag"
+            limits.append((limit, f"body {body} on {what}"))
+        return limits
+
+    def _rotation_limits(self) -> list:
+        """Each moving body's pitching on its lines: the tension T of each line at its attach point p (from the centre
+        of mass) turns the body back with a stiffness up to T |p| (N m/rad) about the axes across p, against the
+        body's smallest moment of inertia about them; RK4's limit on the imaginary axis, 2.828 / omega."""
+        stiff: dict = {}
+        for system in self.model.systems:
+            for line in system.lines:
+                body = self.case.bodies[line.body]
+                if body.fixed or line.body in self.model.massless:
+                    continue
+                tension = float(self.model.channels[TensionChannel(system.name, line.name)]())
+                lever = np.asarray(body.points[line.point], float)
+                arm = float(np.linalg.norm(lever))
+                if tension > 0.0 and arm > 0.0:
+                    stiff.setdefault(line.body, []).append(tension * arm / crosswise_inertia(body.inertia, lever))
+        return [(IMAGINARY_LIMIT / math.sqrt(sum(rates)), f"body {body} pitching on its lines")
+                for body, rates in stiff.items()]
+
+    def _confluence_limits(self, step: float, only=None) -> list:
+        """Each confluence's limit (or ``only``'s) with its lines as the method relaxes them at ``step`` (s), kept per
+        system and relaxation until the next check of the caps; a reduced canopy's at ``step``."""
+        limits = []
+        for system in self.model.systems if only is None else [only]:
+            confluence = self.model.confluences.get(system.name)
+            if confluence is None:
+                continue
+            key = (system.name, self.method.relaxation_for_step(step, system))
+            if key not in self._limits:
+                relaxed = self.method.relaxed(system, key[1])
+                self._limits[key] = self.method.step_limit(relaxed, self.model.attach_positions(system),
+                                                           confluence.state_position())
+            found = self._limits[key]
+            if found is not None and math.isfinite(found.step):
+                limits.append((found.step, f"the {system.name} confluence ({self.method.name} method, mode "
+                                           f"{found.eigenvalue:.4g} 1/s)"))
+            canopy = getattr(confluence, "step_limit", None)
+            limit = canopy(step) if canopy is not None else None
+            if limit is not None:
+                limits.append((limit, f"the {system.name} system's reduced canopy"))
+        return limits
+
+    def _drag_damping(self) -> dict:
+        """Each moving body's mass (kg; with the air it carries along its axis when it has an apparent mass) and its
+        drag's damping rho V S C_A (N s/m, the derivative of the drag 0.5 rho V^2 S C_A by the air speed V, S the
+        drag area open until the next checks: a reefed canopy's fraction of it, ``_drag_fraction``; 0 without
+        aerodynamics)."""
+        case, stage = self.case, self.model.stage
+        rows = stage.settled_rows() if stage is not None else None
+        air = case.air_motion()
+        found = {}
+        for name in self.model.phase.bodies:
+            if name in self.model.massless:
+                continue
+            body = case.bodies[name]
+            mass, damping = body.mass, 0.0
+            aerodynamics = body.aerodynamics
+            if rows is not None and case.atmosphere is not None and aerodynamics is not None and aerodynamics.enabled:
+                row = rows[stage.row[name]]
+                x, y, z = row[ROW_POSITION]
+                altitude = case.start.altitude_scalar(x, y, z)
+                speed = math.dist(row[ROW_VELOCITY], air(x, y, z, altitude, self.last_end))
+                density = case.atmosphere.density(altitude)
+                if body.apparent_mass is not None:
+                    mass += body.apparent_mass.masses(density)[0][0]
+                fraction = self._drag_fraction(name)
+                damping = density * speed * fraction * aerodynamics.reference_area * largest_coefficient(aerodynamics)
+            found[name] = (mass, damping)
+        return found
+
+    def _drag_fraction(self, body: str) -> float:
+        """The largest drag-area fraction (-) of ``body`` until two check intervals from now: a drag-area schedule's
+        (reefed, disreefing), 1 for an opening whose fill is measured as it goes (``InflationProgress``: its future
+        is unknown) and a body without a schedule."""
+        member = self.model.aerodynamic_loads.get(body)
+        schedule = None if member is None else member.schedule
+        if schedule is None or not hasattr(schedule, "fraction"):
+            return 1.0
+        since = self.last_end - member.deployed_at
+        until = since + 2.0 * CAP_INTERVAL
+        return max([schedule(since), schedule(until)]
+                   + [f for time, f in zip(schedule.time, schedule.fraction) if since < time < until])
+
+    def _schedules_moving(self) -> bool:
+        """Whether a drag-area schedule still changes (the caps are then checked every CAP_INTERVAL)."""
+        return any(member is not None and hasattr(member.schedule, "time")
+                   and self.last_end - member.deployed_at < member.schedule.time[-1]
+                   for member in self.model.aerodynamic_loads.values())
+
+    def summary(self) -> dict:
+        """The steps taken: smallest, largest and mean (s), and their count."""
+        if not self.taken:
+            return {}
+        smallest, largest, count, total = self.taken
+        return {"smallest": smallest, "largest": largest, "mean": total / count, "count": count}
+
+
+IMAGINARY_LIMIT = 2.828
+"""RK4's stability limit (-) on the imaginary axis: h omega for an undamped mode."""
+
+
+def crosswise_inertia(inertia, lever) -> float:
+    """The smallest moment of inertia (kg m^2) of a body about the axes across ``lever`` (m, body axes)."""
+    unit = np.asarray(lever, float) / np.linalg.norm(lever)
+    basis = np.linalg.svd(unit.reshape(1, 3))[2][1:]   # two unit vectors across the lever
+    return float(np.linalg.eigvalsh(basis @ np.asarray(inertia, float) @ basis.T).min())
+
+
+def largest_coefficient(aerodynamics) -> float:
+    """The largest axial coefficient C_A (-) of a body's table (over Mach and angle), times the largest drag-area
+    fraction an opening reaches is left to the caller's margin (CAP_FRACTION)."""
+    values = np.abs(np.asarray(aerodynamics.axial_coefficient.value, float))
+    return float(values.max()) if values.size else 0.0
