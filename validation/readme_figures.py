@@ -14,7 +14,8 @@ Each figure comes from the output of the script named beside it in the README, w
 (canopy/closed_forms.json), `validation/canopy_effects.py` (canopy/effects.md), `validation/cluster_checks.py`
 (cluster/closed_forms.md), `validation/cev_pa1_cluster.py` (cluster/pa1_cluster.md), `validation/cluster_study.py`
 (cluster/study_executors.md, studies/pa1_cluster/report/percentiles.json), `validation/wind_envelope.py`
-(winds/envelope.md), `validation/release.py` (release/release.md); the test count
+(winds/envelope.md), `validation/release.py` (release/release.md), `validation/benchmark_steps.py`
+(benchmark_steps.md), `validation/benchmark_rocketpy.py` (rocketpy/benchmark.json); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
 the check (tests/test_architecture.py), so a README that disagrees with the committed outputs fails CI.
 """
@@ -360,15 +361,45 @@ def new_case_lines() -> list:
 
 
 def study_overhead_lines() -> list:
-    """A study's time around its solves (study_overhead.py)."""
-    rows = [[c.strip() for c in line.split("|")[1:-1]] for line in
-            (OUT / "study_overhead.md").read_text().splitlines() if line.startswith("| before") or
-            line.startswith("| now")]
-    before, now, large = rows
-    return [f"Around the solves (`python validation/study_overhead.py --before DIR --runs 200 --large 2000`, "
-            f"[table](validation/output/study_overhead.md)): the 200-run PA1 footprint study on 2 workers takes "
-            f"{now[3]} s against {before[3]} s before (wall time x workers / sum of solve times {now[5]}, was "
-            f"{before[5]}); {large[1]} runs take {large[3]} s ({large[5]})."]
+    """A study's time around its solves, and the 2000-draw study at adaptive and fixed steps (study_overhead.py)."""
+    text = (OUT / "study_overhead.md").read_text()
+    rows = [[c.strip() for c in line.split("|")[1:-1]] for line in text.splitlines()
+            if line.startswith("| before") or line.startswith("| now")]
+    before, now, large, fixed = rows
+    inside = re.search(r"Every percentile inside its interval: (\w+)", text).group(1)
+    return [f"Around the solves (`python validation/study_overhead.py --before DIR --runs 200 --large 2000 "
+            f"--compare-fixed`, [table](validation/output/study_overhead.md)): the 200-run PA1 footprint study on 2 "
+            f"workers takes {now[3]} s against {before[3]} s before (wall time x workers / sum of solve times "
+            f"{now[5]}, was {before[5]}); {large[1]} runs take {large[3]} s at adaptive steps ({large[5]}), "
+            f"{fixed[3]} s at a fixed 1e-2 s, every footprint percentile (1 to 99 %) of the one inside the other's "
+            f"95 % bootstrap interval: {inside}."]
+
+
+def steps_lines() -> list:
+    """Adaptive steps on the 440-s descent against the code before (benchmark_steps.py)."""
+    path = OUT / "benchmark_steps.md"
+    before, now = next(iter(table(path, "before").values())), next(iter(table(path, "now").values()))
+    text = path.read_text()
+    change = re.search(r"touchdown [\d.]+ s against [\d.]+ s \(([-+][\d.]+) %\)", text).group(1)
+    rounds = re.search(r"--repeat (\d+)", text).group(1)
+    return [f"  cases set theirs. The 440-s descent takes {now[1]} steps instead of {before[1]} and solves "
+            f"{now[4].rstrip('x')} times faster side by side (median of {rounds}), touchdown {change} % "
+            "([table](validation/output/benchmark_steps.md), `python validation/benchmark_steps.py --before DIR`)."]
+
+
+def rocketpy_lines() -> list:
+    """The rocket's dual deploy against RocketPy (benchmark_rocketpy.py)."""
+    import json
+
+    data = json.loads((OUT / "rocketpy" / "benchmark.json").read_text())
+    rates = [abs(r["percent"]) for r in data["descent_rates"]]
+    touchdown = next(r for r in data["touchdown"] if r["quantity"] == "time")
+    medians = data["medians"]
+    return [f"  [table](validation/output/rocketpy/benchmark.md)): descent rates under each canopy within "
+            f"{max(rates):.2f} %, touchdown within {abs(touchdown['percent']):.2f} %, the differences explained "
+            "(RocketPy's normal gravity, our canopies' drag in the air 7-10 m above the rocket); solve "
+            f"{medians['ours_solve']:.3f} s against RocketPy's {medians['rocketpy_flight']:.3f} s "
+            f"(medians of {data['rounds']} rounds in one process)."]
 
 
 def startup_lines() -> list:
@@ -416,7 +447,7 @@ def figures() -> list:
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
             *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines(), *startup_lines(),
-            *study_overhead_lines(), *attitude_lines()]
+            *study_overhead_lines(), *attitude_lines(), *steps_lines(), *rocketpy_lines()]
 
 
 def _key(line: str) -> str:

@@ -20,18 +20,30 @@ import sys
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.study.statistics import bootstrap_interval
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 OUT = HERE / "output" / "study_overhead.md"
 STUDY = HERE / "studies" / "pa1_footprint.toml"
 
+OUTCOMES = ("final_east", "final_north", "touchdown_time", "touchdown_speed")
+"""runs.csv columns of the footprint whose percentiles the fixed-step and adaptive studies compare."""
+PERCENTILES = (1.0, 10.0, 50.0, 90.0, 99.0)
+
 SIDE = r"""
 import csv, json, sys, tempfile, time
+OUTCOMES = ("final_east", "final_north", "touchdown_time", "touchdown_speed")
 from pathlib import Path
 from pchute_exudyn.study import load_study, run_study
-runs, workers, study, cases = int(sys.argv[1]), int(sys.argv[2]), Path(sys.argv[3]), sys.argv[4]
+runs, workers, study, cases, steps = int(sys.argv[1]), int(sys.argv[2]), Path(sys.argv[3]), sys.argv[4], sys.argv[5]
 with tempfile.TemporaryDirectory() as folder:
     text = study.read_text().replace("runs = 200", f"runs = {runs}").replace('"../../cases/', f'"{cases}/')
+    if steps != "study":
+        text = text.replace('steps = ["auto"]', f"steps = [{steps}]")
     path = Path(folder) / "study.toml"
     path.write_text(text)
     started = time.perf_counter()
@@ -41,19 +53,23 @@ with tempfile.TemporaryDirectory() as folder:
 solves = [float(r["wall_time"]) for r in rows if r["status"] == "ok"]
 whole = [float(r["run_time"]) for r in rows if r["status"] == "ok" and r.get("run_time")]
 import pchute_exudyn
+touchdowns = {key: [float(r[key]) for r in rows if r["status"] == "ok" and r.get("touchdown_time")]
+              for key in OUTCOMES}
 print(json.dumps({"runs": runs, "wall": wall, "solves": sum(solves), "failed": counts["failed"],
                   "run_times": sum(whole) if len(whole) == len(solves) else None,
-                  "package": str(Path(pchute_exudyn.__file__).parent)}))
+                  "package": str(Path(pchute_exudyn.__file__).parent), "outcomes": touchdowns}))
 """
 
 
-def side(code: Path, runs: int, workers: int) -> dict:
-    """One study run by the package in ``code`` (its own process, compiled kernels)."""
+def side(code: Path, runs: int, workers: int, steps: str = "study") -> dict:
+    """One study run by the package in ``code`` (its own process, compiled kernels); ``steps``: the study file's
+    (``study``) or the configuration's steps replaced (e.g. ``1.0e-2``)."""
     environment = {**os.environ, "PYTHONPATH": str(code), "PCHUTE_KERNELS": "compiled"}
     subprocess.run([sys.executable, "-m", "pchute_exudyn.kernels.build"], env=environment, check=True,
                    capture_output=True, cwd=code)
     with tempfile.TemporaryDirectory() as elsewhere:   # not the repository: `python -c` puts its folder first
-        done = subprocess.run([sys.executable, "-c", SIDE, str(runs), str(workers), str(STUDY), str(ROOT / "cases")],
+        done = subprocess.run([sys.executable, "-c", SIDE, str(runs), str(workers), str(STUDY), str(ROOT / "cases"),
+                               steps],
                               env=environment, check=True, capture_output=True, text=True, cwd=elsewhere)
     result = json.loads(done.stdout.strip().splitlines()[-1])
     if Path(result["package"]).resolve() != (code / "pchute_exudyn").resolve():
@@ -75,23 +91,54 @@ def row(label: str, r: dict) -> str:
             f"{r['solves'] / r['runs']:.3f} | {inside} | {around} |")
 
 
+def percentile_comparison(adaptive: dict, fixed: dict) -> list:
+    """Markdown: each footprint outcome's PERCENTILES in the adaptive study against the fixed-step study's value and
+    95 % bootstrap interval (``study.statistics.bootstrap_interval``), and whether it lies inside."""
+    lines = ["## The footprint at adaptive steps against the fixed-step study", "",
+             "| outcome | percentile | fixed 1e-2 s | its 95 % bootstrap interval | adaptive | inside |",
+             "|---|---|---|---|---|---|"]
+    inside_all = True
+    for key in OUTCOMES:
+        a, f = np.asarray(adaptive[key], float), np.asarray(fixed[key], float)
+        for p in PERCENTILES:
+            low, high = bootstrap_interval(f, p)
+            value = float(np.percentile(a, p))
+            inside = low <= value <= high
+            inside_all &= inside
+            lines.append(f"| {key} | {p:g} | {np.percentile(f, p):.4f} | {low:.4f} .. {high:.4f} | {value:.4f} | "
+                         f"{'yes' if inside else 'NO'} |")
+    lines += ["", f"Every percentile inside its interval: {'yes' if inside_all else 'NO'} ({len(adaptive['final_east'])} "
+              f"and {len(fixed['final_east'])} touchdowns).", ""]
+    return lines
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--before", type=Path, default=None, help="checkout of the code before")
     parser.add_argument("--runs", type=int, default=200)
     parser.add_argument("--large", type=int, default=None, help="also a study of this many draws (this code)")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--compare-fixed", action="store_true",
+                        help="with --large: the same draws at SP's fixed 1e-2 s too, and the footprint's percentiles "
+                             "of the adaptive study against the fixed-step study's bootstrap intervals")
     args = parser.parse_args(argv)
-    rows = []
+    rows, comparison = [], []
     if args.before is not None:
-        rows.append(row(f"before ({commit_of(args.before)})", side(args.before, args.runs, args.workers)))
-    rows.append(row(f"now ({commit_of(ROOT)})", side(ROOT, args.runs, args.workers)))
+        rows.append(row(f"before ({commit_of(args.before)}), 1e-2 s", side(args.before, args.runs, args.workers,
+                                                                        "1.0e-2")))
+    rows.append(row(f"now ({commit_of(ROOT)}), adaptive steps", side(ROOT, args.runs, args.workers)))
     if args.large:
-        rows.append(row(f"now ({commit_of(ROOT)}), {args.large} draws", side(ROOT, args.large, args.workers)))
+        adaptive = side(ROOT, args.large, args.workers)
+        rows.append(row(f"now ({commit_of(ROOT)}), {args.large} draws, adaptive steps", adaptive))
+        if args.compare_fixed:
+            fixed = side(ROOT, args.large, args.workers, "1.0e-2")
+            rows.append(row(f"now ({commit_of(ROOT)}), {args.large} draws, 1e-2 s", fixed))
+            comparison = percentile_comparison(adaptive["outcomes"], fixed["outcomes"])
     lines = ["# A study's time around its solves", "",
              f"`python validation/study_overhead.py{' --before DIR' if args.before else ''} --runs {args.runs}"
              f"{f' --large {args.large}' if args.large else ''} --workers {args.workers}`: "
-             "validation/studies/pa1_footprint.toml (PA1 in wind and Dryden turbulence, SP 1e-2 s) on "
+             "validation/studies/pa1_footprint.toml (PA1 in wind and Dryden turbulence, SP; adaptive steps, the study's, "
+             "unless the row says 1e-2 s) on "
              f"{args.workers} local worker processes, each side in its own process with compiled kernels; one "
              "machine, one after the other. Ratio = wall time x workers / sum of the runs' solve times (1: no time "
              "outside the solves).", "",
@@ -101,8 +148,8 @@ def main(argv=None) -> int:
              "In its worker a run also loads its case, builds each phase's model and computes its outputs and "
              "summary (the record's `run_time` less its `wall_time`); outside the workers' runs: the study's set-up "
              "(drawing the runs: scipy.stats's import, 0.6 s), the workers' start, recording, the last runs' tail "
-             "and the final tables. The code before records no `run_time`.", ""]
-    OUT.write_text("\n".join(lines))
+             "and the final tables. The code before records no `run_time`.", "", *comparison]
+    atomic_write_text(OUT, "\n".join(lines))
     print("\n".join(lines))
     return 0
 

@@ -52,7 +52,11 @@ RUNS = [
     ("PA1 cluster winds, SP, to touchdown", "cases/cev_pa1_cluster_winds.toml", dict(method="sp")),
     ("PA1 cluster, full implicit, 30 s", "cases/cev_pa1_cluster.toml",
      dict(method="full", integrator="implicit", duration=30.0)),
-    ("440-s descent, SP, to touchdown", "cases/simple/descent_440s.toml", dict(method="sp")),
+    # issue 46: a case without steps takes adaptive steps now; at its former default step (1e-2 s) it is unchanged
+    ("440-s descent, SP 1e-2 s, to touchdown", "cases/simple/descent_440s.toml", dict(method="sp", step=1e-2)),
+    ("PA1 triggers, SP, to touchdown", "cases/cev_pa1_triggers.toml", dict(method="sp")),
+    ("MER 5 aero trim, SP, 20 s", "cases/mer/case5_aero_trim.toml", dict(method="sp", duration=20.0)),
+    ("MER EDL, SP, to touchdown", "cases/mer/edl.toml", dict(method="sp")),
 ]
 MACHINE = ("wall_time", "created", "versions", "steps_per_second", "case_file")
 """Summary keys that describe the machine or the moment, not the result."""
