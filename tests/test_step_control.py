@@ -132,6 +132,26 @@ def test_adaptive_steps_are_asked_for_by_name_and_a_wrong_step_is_one_line(tmp_p
     assert "step_control" not in fixed and fixed["step"] == 0.01 and fixed["steps"] == 200
 
 
+def test_nearly_collinear_bridles_under_the_massless_preset_stop_with_the_layout_and_its_remedy(tmp_path):
+    """Three bridles 4 mm off the vehicle's axis, straight below the riser: the damping across the lines is 4e-6 of
+    that along them. The thesis's massless preset would need steps of 2e-7 s: the run stops with one line naming the
+    layout and the remedy, not a step; the default preset (the confluence's mass to first order) flies it."""
+    near = CASE.replace("b2 = [-0.5, 0.4, 0.0], b3 = [-0.5, -0.2, 0.35], b4 = [-0.5, -0.2, -0.35]",
+                        "b2 = [-0.5, 0.004, 0.0], b3 = [-0.5, -0.002, 0.0035], b4 = [-0.5, -0.002, -0.0035]")
+    air = tmp_path / "air.csv"
+    air.write_text("altitude,density\n-100000.0,1.0\n100000.0,1.0\n")
+    path = tmp_path / "near.toml"
+    path.write_text(near.format(air=air.as_posix(), bridles=THREE_BRIDLES.replace("0.61", "0.5"), model="rigid",
+                                canopy_mass=10.0, ix=5.0, iy=3.0))
+    case = pc.load_case(path)
+    with pytest.raises(pc.SimulationError) as stopped:
+        pc.simulate(case, "sp", duration=2.0, preset="thesis", order=0)
+    message = str(stopped.value)
+    assert "nearly collinear or in one plane" in message and "--sp-preset accurate" in message, message
+    assert "--dt" not in message and "\n" not in message
+    assert pc.simulate(case, "sp", duration=2.0).final("time") == pytest.approx(2.0)
+
+
 def test_a_study_configuration_takes_adaptive_steps(tmp_path):
     """``steps = ["auto", 0.01]`` in a study: one run each, the adaptive one recorded with its label."""
     from pchute_exudyn.study import load_study, run_study

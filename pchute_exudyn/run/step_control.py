@@ -89,6 +89,7 @@ class AdaptiveSteps:
         self.allowance, self.since_allowance = None, 0   # the relaxation's step cap (s), looked at every few steps
         self.taken: list = []   # (smallest, largest, count, sum) of the steps taken
         self._limits: dict = {}    # (system, relaxation time) -> its confluence's StepLimit, this check's
+        self._remedies: dict = {}  # a confluence limit's description -> the layout or setting its method names
 
     def after_step(self, t: float) -> float:
         """The coming step (s) after the step that ended at ``t`` (s; at the phase start, the first step)."""
@@ -187,10 +188,12 @@ class AdaptiveSteps:
             else CAP_INTERVAL   # a schedule's fraction counts for two intervals (``_drag_fraction``)
         self.next_check, self.steps_since_check = t + self.interval, 0
         if CAP_FRACTION * self.cap < self.rule.smallest:
-            raise SimulationError(
-                f"at t = {t:.3f} s {self.cause} limits RK4 to {self.cap:.3g} s, below the smallest adaptive step "
-                f"{self.rule.smallest:g} s: the model has a mode too fast to integrate explicitly (check the "
-                "masses, inertias and line stiffnesses), or use --method full --integrator implicit", t)
+            what = f"at t = {t:.3f} s {self.cause} limits RK4 to {self.cap:.3g} s, below the smallest adaptive step " \
+                   f"{self.rule.smallest:g} s"
+            remedy = self._remedies.get(self.cause)   # a layout or a setting the method names (``StepLimit.cause``)
+            raise SimulationError(f"{what}. {remedy}" if remedy else
+                                  f"{what}: the model has a mode too fast to integrate explicitly (check the masses, "
+                                  "inertias and line stiffnesses), or use --method full --integrator implicit", t)
 
     def _body_limits(self, step: float, drag: dict) -> list:
         """Each moving body's translational mode on all its lines (their stiffness and damping summed, as if they
@@ -250,8 +253,10 @@ class AdaptiveSteps:
                                                            confluence.state_position())
             found = self._limits[key]
             if found is not None and math.isfinite(found.step):
-                limits.append((found.step, f"the {system.name} confluence ({self.method.name} method, mode "
-                                           f"{found.eigenvalue:.4g} 1/s)"))
+                what = f"the {system.name} confluence ({self.method.name} method, mode {found.eigenvalue:.4g} 1/s)"
+                limits.append((found.step, what))
+                if found.cause:
+                    self._remedies[what] = found.cause
             canopy = getattr(confluence, "step_limit", None)
             limit = canopy(step) if canopy is not None else None
             if limit is not None:
