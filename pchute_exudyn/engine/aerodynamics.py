@@ -22,6 +22,8 @@ from ..physics.aerodynamics import (
     VALUE_ALPHA,
     VALUE_COLUMNS,
     WORK_FRACTIONS,
+    WORK_STATUS,
+    WORK_STATUS_VALUE,
     aerodynamics_stage,
     centre_load,
     pack_body,
@@ -172,15 +174,15 @@ class AerodynamicLoads:
             self.schedule(t)
         arguments = self._arguments
         self._kernel(t, *arguments)
-        if self.status[0] != 0.0:
+        if self.status[WORK_STATUS] != 0.0:
             self.apply_after(t)
 
     def apply_after(self, t: float) -> None:
         """After a kernel call that reported a problem (status non-zero: nothing was added): mend it and call again
         until the loads are added."""
         status = self.status
-        while status[0] != 0.0:
-            self._mend(status[0], status[1], t)
+        while status[WORK_STATUS] != 0.0:
+            self._mend(status[WORK_STATUS], status[WORK_STATUS_VALUE], t)
             arguments = self._arguments
             self.bind(arguments[0], arguments[4])   # the field may be a new array
             self._kernel(t, *self._arguments)

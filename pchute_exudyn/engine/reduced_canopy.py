@@ -14,8 +14,10 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.linearization import max_stable_step_rk4
+from ..physics.reduced_canopy import BRIDLE_ROW, RISER_ROW
 from ..physics.singular_perturbation import WORK_ATTACH_POSITION, WORK_SCRATCH, WORK_TENSION
 from ..physics.sp_stepping import (
+    CANOPY_DRAG,
     MEMORY_AIR,
     MEMORY_CANOPY,
     MEMORY_NEWER,
@@ -24,6 +26,10 @@ from ..physics.sp_stepping import (
     MEMORY_SETTINGS,
     MEMORY_TIMES,
     MEMORY_V0,
+    ORDER_FIRST,
+    ORDER_RECORDED,
+    SETTING_MASS,
+    TIME_NEWER,
 )
 from .model import Model
 
@@ -54,12 +60,13 @@ class ReducedCanopy:
         state = model.phase.body_states[name]
         memory[MEMORY_POSITION] = state.position + state.attitude @ point   # P: the riser's end
         memory[MEMORY_V0] = state.velocity
-        memory[MEMORY_SETTINGS, 0] = body.mass + system.confluence.mass     # kg: first order in them
+        memory[MEMORY_SETTINGS, SETTING_MASS] = body.mass + system.confluence.mass     # kg: first order in them
         memory[MEMORY_CANOPY] = (model.stage.row[name] + 1.0, 0.0, float(np.linalg.norm(point)))
-        if memory[MEMORY_ORDER, 0] > 0.5:   # its inertia from the phase's start: the start velocity is the first
-            memory[MEMORY_TIMES, 0], memory[MEMORY_NEWER] = model.phase.start, state.velocity   # reference (SP's
-            memory[MEMORY_ORDER, 2] = 1.0   # confluence carries an acceleration instead; the canopy deploys at rest
-            #                                 in the vehicle's frame, and its drag must speed it up)
+        if memory[MEMORY_ORDER, ORDER_FIRST] > 0.5:   # its inertia from the phase's start: the start velocity is the
+            # first reference (SP's confluence carries an acceleration instead; the canopy deploys at rest in the
+            # vehicle's frame, and its drag must speed it up)
+            memory[MEMORY_TIMES, TIME_NEWER], memory[MEMORY_NEWER] = model.phase.start, state.velocity
+            memory[MEMORY_ORDER, ORDER_RECORDED] = 1.0
         self.area, self.coefficient = body.aerodynamics.reference_area, body.aerodynamics.axial_coefficient
         self.air, self.altitude = case.air_motion(), case.start.altitude_scalar
         self.mass = body.mass + system.confluence.mass
@@ -76,13 +83,13 @@ class ReducedCanopy:
         if self.coefficient.uses_mach:
             vx, vy, vz = memory[MEMORY_V0].tolist()
             mach = math.dist((vx, vy, vz), wind) / sound
-        memory[MEMORY_CANOPY, 1] = 0.5 * density * self.area * self.coefficient(0.0, mach)
+        memory[MEMORY_CANOPY, CANOPY_DRAG] = 0.5 * density * self.area * self.coefficient(0.0, mach)
         memory[MEMORY_AIR] = wind
 
     def position_of_confluence(self, work: np.ndarray) -> list:
         """The confluence on AP, where the lines' elastic stretches put it (the kernel's fraction)."""
-        fraction, a = work[0, WORK_SCRATCH], WORK_ATTACH_POSITION
-        start, end = work[0, a:a + 3], work[1, a:a + 3]
+        fraction, a = work[BRIDLE_ROW, WORK_SCRATCH], WORK_ATTACH_POSITION
+        start, end = work[BRIDLE_ROW, a:a + 3], work[RISER_ROW, a:a + 3]
         return (start + fraction * (end - start)).tolist()
 
     def step_limit(self, work: np.ndarray, step: float) -> float:
@@ -90,14 +97,15 @@ class ReducedCanopy:
         drag's slope 2 d V, the pair's damping and the inertia m / h; across it the tension over the length against
         d V and m / h (K_s from the lines' stiffest slopes)."""
         memory = self.memory
-        drag, speed = memory[MEMORY_CANOPY, 1], math.dist(memory[MEMORY_V0].tolist(), memory[MEMORY_AIR].tolist())
+        drag = memory[MEMORY_CANOPY, CANOPY_DRAG]
+        speed = math.dist(memory[MEMORY_V0].tolist(), memory[MEMORY_AIR].tolist())
         (k1, k2), (c1, c2) = _constants(self.lines)
         stiffness, damping = k1 * k2 / (k1 + k2), (c1 * k2 * k2 + c2 * k1 * k1) / (k1 + k2) ** 2
         inertia = self.mass / step
         a = WORK_ATTACH_POSITION
-        length = float(np.linalg.norm(work[1, a:a + 3] - work[0, a:a + 3]))
+        length = float(np.linalg.norm(work[RISER_ROW, a:a + 3] - work[BRIDLE_ROW, a:a + 3]))
         along = stiffness / (2.0 * drag * speed + damping + inertia)
-        across = work[1, WORK_TENSION] / length / (drag * speed + inertia)
+        across = work[RISER_ROW, WORK_TENSION] / length / (drag * speed + inertia)
         return max_stable_step_rk4([-max(along, across)])
 
 

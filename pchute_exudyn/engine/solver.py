@@ -1,13 +1,15 @@
 """Run Exudyn's integrators on a built model and collect the sampled histories.
 
-* ``rk4``: Exudyn's explicit RK44 with a fixed step and Lie-group rotation updates (what the thesis used).
+* ``rk4``: Exudyn's explicit RK44 with Lie-group rotation updates (what the thesis used), at a fixed step or at
+  adaptive steps (``control``: ``run.step_control``, which sets the engine's step after every step).
 * ``implicit``: Exudyn's generalized-alpha (Lie group, Newton per step), fixed nominal step; Exudyn halves a step
   whose Newton iteration fails and the summary counts the steps actually taken.
 
-A pre-step hook counts steps, runs the method's own pre-step work (the RK4 step monitor) and checks the state for
-NaN/inf so a diverging run stops early with the time (Exudyn itself reports success in some diverged runs, so results
-are checked too); a post-step hook runs the method's post-step work (SP's v0 update) and samples the outputs. Exudyn
-calls the post-step hook once before the first step too, at t = 0.
+A post-step hook runs the model's post-step work (SP's end-of-step solve, the RK4 step monitor, sensed triggers),
+its stop conditions and the sampling of the outputs, and for an explicit run without pre-step work also counts the
+steps and checks the state for NaN/inf, so that a diverging run stops early with the time (Exudyn itself reports
+success in some diverged runs, so results are checked too); otherwise a pre-step hook does that counting and
+checking, with the model's pre-step work. Exudyn calls the post-step hook once before the first step too.
 """
 
 from __future__ import annotations

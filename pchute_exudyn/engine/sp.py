@@ -23,18 +23,19 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.compiled import has_machine_code, machine_code
-from ..physics.kinematics import POINT_COLUMNS
 from ..physics.lines import pack_tables
 from ..physics.singular_perturbation import (
     END_TENSION,
+    LAYOUT_DAMPING,
     STAGE_COLUMNS,
     WORK_DIRECTION,
-    WORK_SCRATCH,
+    WORK_ELASTIC,
     WORK_TAUT,
     WORK_TENSION,
     relaxed_damping,
 )
 from ..physics.sp_stepping import (
+    DUE_TIME,
     MEMORY_ACCELERATION,
     MEMORY_CLOCK,
     MEMORY_DUE,
@@ -50,6 +51,20 @@ from ..physics.sp_stepping import (
     MEMORY_SETTINGS,
     MEMORY_TIMES,
     MEMORY_V0,
+    ORDER_RECORDED,
+    RECORD_DAMPING,
+    RECORD_KAPPA,
+    RECORD_POSITION,
+    RECORD_TAUT,
+    RECORD_TENSIONS,
+    RECORD_VELOCITY,
+    RUN_STEP,
+    SOLVED_DAMPING,
+    SOLVED_KAPPA,
+    SOLVED_TAUT,
+    SOLVED_VELOCITY,
+    TIME_NEWER,
+    TIME_OLDER,
     record_size,
     sp_settle,
     sp_settle_with_bodies,
@@ -111,10 +126,12 @@ class SPConfluence(ReducedConfluence):
     the deferred work fills. Otherwise ``advance`` settles at once. The kernels are called through their compiled
     code (``physics.compiled.machine_code``)."""
 
-    OUTPUTS = {"confluence_damping": ("N s/m", lambda c: c.settled().end_of_step[3]),
-               "condition_number": ("-", lambda c: c.settled().end_of_step[4]),
-               "taut_lines": ("-", lambda c: c.settled().end_of_step[5])}
-    """The method's channels: entries 3, 4 and 5 of the end-of-step tuple, in this order (``add_channels``)."""
+    OUTPUTS = {"confluence_damping": ("N s/m", lambda c: c.settled().end_of_step[SOLVED_DAMPING]),
+               "condition_number": ("-", lambda c: c.settled().end_of_step[SOLVED_KAPPA]),
+               "taut_lines": ("-", lambda c: c.settled().end_of_step[SOLVED_TAUT])}
+    """The method's channels: C_c, kappa and the lines counted taut of the end-of-step solve."""
+    OUTPUT_RECORD = {"confluence_damping": RECORD_DAMPING, "condition_number": RECORD_KAPPA, "taut_lines": RECORD_TAUT}
+    """Where each of OUTPUTS is in the end-of-step record (``physics.sp_stepping._record``)."""
     PRE_STEP = False
     DEFER = True
     """Whether the fused confluence defers its end-of-step work to the next stage (False: settle in ``advance``; the
@@ -204,9 +221,9 @@ class SPConfluence(ReducedConfluence):
             kernels[sp_settle_with_bodies](stage.coordinates(), stage.velocities(), stage.global_layout,
                                            stage.states, self.layout, self.table_points, self.work, self.part,
                                            memory, self.record)
-            stage.refreshed_now(float(memory[MEMORY_DUE, 1]))
+            stage.refreshed_now(float(memory[MEMORY_DUE, DUE_TIME]))
         else:
-            stage.refresh(float(memory[MEMORY_DUE, 1]))
+            stage.refresh(float(memory[MEMORY_DUE, DUE_TIME]))
             kernels[sp_settle](stage.states, self.layout, self.table_points, self.work, self.part, memory,
                                self.record)
         self._settled()
@@ -226,7 +243,7 @@ class SPConfluence(ReducedConfluence):
         """The run's step into the bookkeeping, the solve at the phase start, and each kernel's compiled code for
         the argument types the solver passes (``machine_code``; Exudyn passes the time as a float)."""
         stage, start = self.stage, float(self.model.phase.start)
-        self.memory[MEMORY_RUN, 0] = self.model.step if self.model.step is not None else 0.0
+        self.memory[MEMORY_RUN, RUN_STEP] = self.model.step if self.model.step is not None else 0.0
         arguments = (stage.states, self.layout, self.table_points, self.work, self.part, self.memory)
         kernels = self._kernels
         kernels[sp_step_stage] = machine_code(sp_step_stage, *arguments, start)
@@ -255,9 +272,9 @@ class SPConfluence(ReducedConfluence):
         RATE_MEMORY s (a rate that swings through zero counts at its swing's size), de/dt from the last solve's
         damping force (T - T_el) / C; inf where nothing stretches (a steady descent). ``t``: the time now (s)."""
         work = self.settled().work
-        tension, elastic = work[:, WORK_TENSION].tolist(), work[:, WORK_SCRATCH + 5].tolist()
-        built = self.layout[:, POINT_COLUMNS + 2] if self._built_damping is None else self._built_damping
-        damping = self.layout[:, POINT_COLUMNS + 2].tolist()
+        tension, elastic = work[:, WORK_TENSION].tolist(), work[:, WORK_ELASTIC].tolist()
+        built = self.layout[:, LAYOUT_DAMPING] if self._built_damping is None else self._built_damping
+        damping = self.layout[:, LAYOUT_DAMPING].tolist()
         fade = math.exp(-(t - self._rates_at) / RATE_MEMORY) if self._rates else 0.0
         self._rates_at = t
         rates, allowed = [], math.inf
@@ -277,8 +294,8 @@ class SPConfluence(ReducedConfluence):
         if len(self.system.lines) == 2:   # a pair in series: nothing to relax (``solve_series``)
             return
         if self._built_damping is None:
-            self._built_damping = self.layout[:, POINT_COLUMNS + 2].copy()
-        self.layout[:, POINT_COLUMNS + 2] = relaxed_damping(self.stiffness, self._built_damping.tolist(),
+            self._built_damping = self.layout[:, LAYOUT_DAMPING].copy()
+        self.layout[:, LAYOUT_DAMPING] = relaxed_damping(self.stiffness, self._built_damping.tolist(),
                                                             relaxation_time)
 
     # -- what it reports ----------------------------------------------------------------------------------------------
@@ -293,12 +310,14 @@ class SPConfluence(ReducedConfluence):
         """The end-of-step solve as a ``StageSolution`` (made when first asked for after each step)."""
         self.settle()
         if self._solution_of != self._settles:
-            end = self.end_of_step
-            self.solution, self._solution_of = StageSolution(end[:3], *end[3:], self.work), self._settles
+            end, v = self.end_of_step, SOLVED_VELOCITY
+            self.solution = StageSolution(end[v:v + 3], end[SOLVED_DAMPING], end[SOLVED_KAPPA], end[SOLVED_TAUT],
+                                          self.work)
+            self._solution_of = self._settles
         return self.solution
 
     def velocity(self):
-        return self.settled().end_of_step[:3]
+        return self.settled().end_of_step[SOLVED_VELOCITY:SOLVED_VELOCITY + 3]
 
     def tension_reader(self, i: int):
         def tension():
@@ -323,21 +342,22 @@ class SPConfluence(ReducedConfluence):
         keys += [MethodChannel(name, output, unit) for output, (unit, _) in self.OUTPUTS.items()]
         keys += [TensionChannel(name, line.name) for line in self.system.lines]
 
-        first = self.stage.states.size   # the record after the body states: position, end-of-step tuple, tensions
+        first = self.stage.states.size   # the record after the body states (``physics.sp_stepping._record``)
+        p, v, t = first + RECORD_POSITION, first + RECORD_VELOCITY, first + RECORD_TENSIONS
+        outputs = [first + self.OUTPUT_RECORD[output] for output in self.OUTPUTS]
 
         def split(records):
-            return ([records[:, first:first + 3], records[:, first + 3:first + 6]]
-                    + [records[:, first + 6 + k] for k in range(len(self.OUTPUTS))]
-                    + [records[:, first + 9 + i] for i in range(len(self.system.lines))])
+            return ([records[:, p:p + 3], records[:, v:v + 3]] + [records[:, k] for k in outputs]
+                    + [records[:, t + i] for i in range(len(self.system.lines))])
         self.model.add_channel_group(keys, self.sample, split)
 
     def acceleration(self):
         """Mean confluence acceleration over the last step (m/s^2), or None before the first step ends."""
         memory = self.settled().memory
-        if memory[MEMORY_ORDER, 2] < 2:
+        if memory[MEMORY_ORDER, ORDER_RECORDED] < 2:
             return None
         return ((memory[MEMORY_NEWER] - memory[MEMORY_OLDER])
-                / (memory[MEMORY_TIMES, 0] - memory[MEMORY_TIMES, 1])).tolist()
+                / (memory[MEMORY_TIMES, TIME_NEWER] - memory[MEMORY_TIMES, TIME_OLDER])).tolist()
 
     def position(self) -> list:
         """The confluence position (m) at the end of the last step: the SP state; with a reduced canopy the state is

@@ -22,8 +22,13 @@ import numpy as np
 from ..case.model import Case
 from ..physics.compiled import bound
 from ..physics.kinematics import (
+    BODY_COORDINATE_AT,
     BODY_MASS_AT,
+    BODY_REFERENCE_AT,
+    POINT_BODY_AT,
     POINT_COLUMNS,
+    POINT_FORCE_AT,
+    POINT_LOCAL_AT,
     ROW_BODY_RATE,
     ROW_POSITION,
     ROW_ROTATION,
@@ -32,6 +37,7 @@ from ..physics.kinematics import (
     add_gravity_forces,
     body_states,
 )
+from ..physics.sp_stepping import STAGE_AERODYNAMICS_FAILED
 from .aerodynamics import AerodynamicLoads
 from .model import Model
 from .state import BodyChannel, initial_body_state
@@ -93,15 +99,16 @@ class Stage:
             self.states[row, ROW_POSITION], self.states[row, ROW_ROTATION] = state.position, state.attitude.ravel()
             return
         reference = self.model.mbs.GetNodeParameter(items.node, "referenceCoordinates")
-        self.layout[row, 0] = 6 * self.free.index(name)
-        self.layout[row, 1:7] = np.asarray(reference, float)[:6]
+        self.layout[row, BODY_COORDINATE_AT] = 6 * self.free.index(name)
+        self.layout[row, BODY_REFERENCE_AT:BODY_REFERENCE_AT + 6] = np.asarray(reference, float)[:6]
 
     def points(self, bodies_and_points) -> np.ndarray:
         """A point layout (``physics.kinematics.POINT_COLUMNS``) of (body name, point in body axes) pairs."""
         layout = np.zeros((len(bodies_and_points), POINT_COLUMNS))
         for j, (name, local) in enumerate(bodies_and_points):
             row = self.row[name]
-            layout[j, 0], layout[j, 1:4], layout[j, 4] = row, local, self.layout[row, 0]
+            layout[j, POINT_BODY_AT], layout[j, POINT_LOCAL_AT:POINT_LOCAL_AT + 3] = row, local
+            layout[j, POINT_FORCE_AT] = self.layout[row, BODY_COORDINATE_AT]
         return layout
 
     def add_aerodynamics(self, body, schedule=None, deployed_at: float = 0.0, efficiency: float = 1.0):
@@ -236,10 +243,10 @@ class Stage:
                     schedule(t)
                 kernel, arguments, form = fused.stage_call
                 code = kernel(form(q), form(q_t), t, *arguments)
-                if code:
-                    if code != 2.0:      # it did the last step's deferred end-of-step work
+                if code:   # a sum of the stage kernel's flags
+                    if code != STAGE_AERODYNAMICS_FAILED:   # STAGE_SETTLED: it did the deferred end-of-step work
                         fused.settled_by_stage()
-                    if code >= 2.0:      # the aerodynamics met a problem and added nothing: mend, add them,
+                    if code >= STAGE_AERODYNAMICS_FAILED:   # it added nothing: mend the aerodynamics, add them,
                         loads.apply_after(t)   # then the gravity the kernel left out
                         add_gravity(layout, states, *gravity, generalized)
                         fused.bind_stage_call()   # the turbulence field may be a new array

@@ -231,12 +231,12 @@ def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str
         errors = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     except np.linalg.LinAlgError:
         covariance, errors = np.full((n, n), np.nan), np.full(n, np.nan)
-    records = problem.records([start, u])
+    initial, fitted = problem.records([start, u])
     return {"name": spec.name, "status": status, "message": message, "keys": [f.key for f in spec.free],
             "initial": problem.values(start), "fitted": problem.values(u), "standard_error": errors.tolist(),
             "covariance": covariance.tolist(), "covariance_scaled_by_residuals": weighted and m > n,
             "bounds": [[f.low, f.high] for f in spec.free],
             "at_bound": [bool(v <= 1e-9 or v >= 1 - 1e-9) for v in u],
             "cost": 0.5 * float(residuals @ residuals), "residuals": residuals.tolist(),
-            "predictions_initial": records[0]["predictions"], "predictions_fitted": records[1]["predictions"],
+            "predictions_initial": initial["predictions"], "predictions_fitted": fitted["predictions"],
             "runs": len(problem.store.records), "runs_this_time": problem.ran, "reused": problem.reused}

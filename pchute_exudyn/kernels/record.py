@@ -117,25 +117,39 @@ def record(cases=()) -> dict:
         path = Path(folder) / "warm.toml"
         base = CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc"))
         path.write_text(base)
-        case = pc.load_case(path)
-        for options in ({"order": 0}, {"order": 1}, {"slack_rule": "force"}):
-            pc.simulate(case, "sp", "rk4", 1e-2, 0.05, **options)
-        pc.simulate(case, "equilibrium", "rk4", 1e-2, 0.05)
-        pc.simulate(case, "sp", "rk4", None, 0.05)   # adaptive steps (physics.step_control)
-        pc.simulate(case, "full", "rk4", 1e-4, 0.002)
-        pc.simulate(case, "full", "implicit", 1e-2, 0.05)
+        every_method(pc.load_case(path))
         path.write_text(base + CLUSTER)
-        pc.simulate(pc.load_case(path), "sp", "rk4", 1e-2, 0.05)
+        every_method(pc.load_case(path), variants=False)
     pc.simulate(pc.load_case(ROCKET), "sp")   # reduced canopies (physics.reduced_canopy), adaptive steps, triggers
     confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [1.0], [1e4],
                         [1e2])
     table_text(["a", "b"], [np.zeros(2), np.ones(2)])
     for path in cases:
         case = pc.load_case(path)
-        pc.simulate(case, "sp", "rk4", 1e-2)
-        pc.simulate(case, "equilibrium", "rk4", 1e-2)
-        pc.simulate(case, "full", "implicit", 1e-2)
+        every_method(case, duration=None, variants=False)
     return signatures_in_use()
+
+
+def every_method(case, duration: float | None = 0.05, variants: bool = True) -> None:
+    """Run ``case`` with every method of the method table, each of its integrators and (``variants``) each of its
+    option sets (``Method.record_variants``): at a fixed step from the stability limit and with the step the run
+    chooses itself (adaptive for RK4), for ``duration`` (s) or, None, for the case's duration up to STEPS steps of
+    that fixed step (full mass RK4 at its limit would take hours on a whole descent)."""
+    import pchute_exudyn as pc
+    from pchute_exudyn.case.method_table import METHODS
+    from pchute_exudyn.run.simulation import stability_step
+
+    for name, method_class in METHODS.items():
+        for options in method_class.record_variants if variants else ({},):
+            for integrator in method_class.integrators:
+                step, _ = stability_step(case, method_class.configure(case, options), integrator)
+                span = duration if duration is not None else min(case.simulation.duration, STEPS * step)
+                for chosen in (step, None):
+                    pc.simulate(case, name, integrator, chosen, span, **options)
+
+
+STEPS = 2000
+"""Steps of its stability step a case file runs for with each method (``every_method``)."""
 
 
 def merged(old: dict, new: dict) -> dict:

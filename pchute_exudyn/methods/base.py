@@ -63,6 +63,8 @@ class Method:
     """Per-system quantities the method reports: name -> unit (columns ``<name>`` or ``<system>_<name>``)."""
     integrator_note: ClassVar[str] = ""
     """Why the method runs with its integrators only (for the message refusing another)."""
+    record_variants: ClassVar[tuple] = ({},)
+    """Option sets under which ``kernels.record`` runs the method (each option set a different kernel path)."""
     step_limited: ClassVar[bool] = False
     """Whether the method's confluences have dynamics that limit an explicit step (``step_limit``)."""
     implicit_hint: ClassVar[str] = ""

@@ -13,9 +13,9 @@ class EquilibriumPoint(Method):
 
     name = "equilibrium"
     summary = "the confluence at the balance of the line stiffness forces (Raiszadeh, thesis Eq. 2.9)"
-    integrator_note = ("it couples first-order (ODE1) user-function states to the bodies, and Exudyn's implicit "
-                       "solvers drop the ODE1/ODE2 coupling from their Jacobian (first-order accurate, slow); use "
-                       "rk4, or --method full with implicit")
+    integrator_note = ("its balance is solved in the bodies' force item at every RK stage, from the last solve "
+                       "(``engine.equilibrium``), and an implicit solver's Newton iterations and Jacobian would "
+                       "each need a converged balance; use rk4, or --method full with implicit")
     outputs = {name: unit for name, (unit, _) in EquilibriumConfluence.OUTPUTS.items()}
 
     def build(self, case, phase):

@@ -58,8 +58,9 @@ class SPOptions:
         order; None: the preset's.
     """
 
-    preset: str = option_field("accurate", "--sp-preset", str, "kappa_max and order unless given: thesis = 5 and 0 "
-                               "(the thesis's settings), accurate = 10 and 1 (the default)", tuple(PRESETS))
+    preset: str = option_field("accurate", "--sp-preset", str, "kappa_max, order and relaxation time unless given: "
+                               "thesis = 5, 0, 0 (the thesis's settings), accurate = 10, 1, 0 (the default), "
+                               "any_damping = 10, 1, 5 ms (any line damping, none included)", tuple(PRESETS))
     kappa_max: float | None = option_field(None, "--kappa-max", float, "largest condition number of alpha (thesis "
                                            "Eq. 3.13) while a line is slack, > 3 (default: the preset's)")
     slack_rule: str = option_field("stretch", "--slack-rule", str, "when a line counts as slack: stretch = L <= L0 "
@@ -117,16 +118,17 @@ class SPOptions:
 
 
 class SingularPerturbation(Method):
-    """The confluence as three first-order states whose derivative is the SP velocity (an Exudyn user-function
-    object); RK4 only: Exudyn's implicit solvers drop the coupling of first-order states to the bodies from their
-    Jacobian (first-order accurate, slow)."""
+    """The confluence's position integrated in step with the engine's RK4 stages (``physics.sp_stepping``) inside the
+    bodies' force item; RK4 only: an implicit solver evaluates the forces at Newton iterates and for its Jacobian,
+    not at RK stages."""
 
     name = "sp"
     summary = "singular perturbation: the confluence velocity from the line-force balance (thesis ch. 3)"
     step_limited = True
-    integrator_note = ("it couples first-order (ODE1) user-function states to the bodies, and Exudyn's implicit "
-                       "solvers drop the ODE1/ODE2 coupling from their Jacobian (first-order accurate, slow); use "
-                       "rk4, or --method full with implicit")
+    record_variants = ({"order": 0}, {"order": 1}, {"slack_rule": "force"})
+    integrator_note = ("its confluence is integrated in step with RK4's four stages, which an implicit solver's "
+                       "Newton iterations do not follow; use rk4 (--dt auto for adaptive steps), or --method full "
+                       "with implicit")
     Options = SPOptions
     outputs = {name: unit for name, (unit, _) in SPConfluence.OUTPUTS.items()}
 

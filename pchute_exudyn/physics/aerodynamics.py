@@ -320,8 +320,11 @@ def _part(data, index):
     return data[int(data[2 + index]):int(data[3 + index])]
 
 
-WORK_FRACTIONS = 2
-"""Where the drag-area fractions start in ``aerodynamics_stage``'s work array, after the status (code, value)."""
+WORK_STATUS, WORK_STATUS_VALUE, WORK_FRACTIONS = 0, 1, 2
+"""Where the status code and its value are in ``aerodynamics_stage``'s work array, and where the drag-area fractions
+start after them."""
+HEADER_BODY_COUNT = 0
+"""Where the body count is in ``pack_stage``'s array (0: no aerodynamics)."""
 
 
 def work_size(count: int) -> int:

@@ -35,6 +35,10 @@ ROW_BODY_RATE = slice(BODY_RATE_AT, BODY_RATE_AT + 3)
 POINT_COLUMNS = 5
 """Columns of a point layout row: body (index into the states), point in body axes (m), and the body's first
 generalized-force index (-1: a fixed body, which takes none)."""
+LAYOUT_FREE_LENGTH, LAYOUT_STIFFNESS, LAYOUT_DAMPING, LAYOUT_TABLE = (POINT_COLUMNS, POINT_COLUMNS + 1,
+                                                                      POINT_COLUMNS + 2, POINT_COLUMNS + 3)
+"""The columns of a line's layout row after its attach point's (an SP confluence's, a reduced canopy's): L0 (m),
+K (N/m), C (N s/m) and its load-elongation table (index, -1: none)."""
 
 
 @kernel
@@ -111,9 +115,13 @@ def add_point_forces(states, points, forces, generalized):
                             forces[j, 1], forces[j, 2], generalized, k)
 
 
-BODY_MASS_AT = 7
-"""The column of a stage's body layout (``body_states``' ``bodies``) holding the mass (kg) whose gravity
+BODY_COORDINATE_AT, BODY_REFERENCE_AT, BODY_MASS_AT = 0, 1, 7
+"""The columns of a stage's body layout (``body_states``' ``bodies``): the node's first coordinate (-1: a fixed
+body), its reference coordinates (6: position in m, rotation vector in rad) and the mass (kg) whose gravity
 ``add_gravity_forces`` adds, 0 where the engine adds it."""
+POINT_BODY_AT, POINT_LOCAL_AT, POINT_FORCE_AT = 0, 1, 4
+"""The columns of a point layout row (POINT_COLUMNS): its body's row in the states, the point in body axes (3, m),
+and the body's first generalized-force index (-1: a fixed body)."""
 
 
 @kernel

@@ -27,6 +27,9 @@ from .compiled import kernel
 from .kinematics import (
     ANGULAR_VELOCITY_AT,
     BODY_RATE_AT,
+    LAYOUT_DAMPING,
+    LAYOUT_FREE_LENGTH,
+    LAYOUT_TABLE,
     POINT_COLUMNS,
     POSITION_AT,
     ROTATION_AT,
@@ -37,6 +40,9 @@ from .kinematics import (
 from .lines import series_constants
 from .small_linalg import solve_symmetric_kernel
 
+BRIDLE_ROW, RISER_ROW = 0, 1
+"""The pair's rows in the work array: the bridle (from the vehicle; its scratch holds the confluence's fraction of
+AP) and the riser (whose end is P)."""
 NEWTON_ITERATIONS = 30
 """Most Newton iterations of one solve (3 to 6 in practice from the last end-of-step velocity)."""
 
@@ -106,8 +112,8 @@ def canopy_stage(states, layout, tables, work, generalized, px, py, pz, gx, gy, 
     dx, dy, dz = px - ax, py - ay, pz - az
     length = math.sqrt(dx * dx + dy * dy + dz * dz)
     ux, uy, uz = dx / length, dy / length, dz / length
-    lines = layout[:, POINT_COLUMNS:POINT_COLUMNS + 3]
-    elastic, damping, first = series_constants(lines, tables, layout[:, POINT_COLUMNS + 3], length, 0.0)
+    lines = layout[:, LAYOUT_FREE_LENGTH:LAYOUT_DAMPING + 1]
+    elastic, damping, first = series_constants(lines, tables, layout[:, LAYOUT_TABLE], length, 0.0)
     rest = damping * (ux * avx + uy * avy + uz * avz)
     vx, vy, vz, tension = canopy_velocity(drag, wx, wy, wz, rate, bx, by, bz, ux, uy, uz, elastic, damping, rest,
                                           gx, gy, gz)

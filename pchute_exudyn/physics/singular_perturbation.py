@@ -47,7 +47,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .compiled import kernel
-from .kinematics import POINT_COLUMNS, add_point_forces, point_motions
+from .kinematics import LAYOUT_DAMPING, LAYOUT_FREE_LENGTH, LAYOUT_TABLE, POINT_COLUMNS, add_point_forces, point_motions
 from .lines import pack_tables, series_pair, table_tension
 from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
 
@@ -418,6 +418,8 @@ end-of-step solve (N, column END_TENSION: ``sp_end_of_step``; a later stage's so
 (WORK_TENSION, WORK_DIRECTION, WORK_TAUT, WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_FORCE,
  WORK_SCRATCH) = 0, 1, 4, 5, 8, 11, 14
 """Where each part of a work row starts (three columns each for n, the attach motion and the force; six of scratch)."""
+WORK_ELASTIC = WORK_SCRATCH + 5
+"""The solve's elastic tension K (L - L0) of each line (N; the last of its scratch columns)."""
 END_TENSION = 20
 WORK_COLUMNS = (WORK_TENSION, WORK_DIRECTION, WORK_TAUT, WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_FORCE,
                 WORK_SCRATCH)
@@ -445,8 +447,8 @@ def sp_stage(states, layout, tables, work, generalized, cx, cy, cz, v0x, v0y, v0
     if n == 2:   # a pair in series: b0 is then the confluence's weight, shared by the two ends by its place on AB
         return _series_stage(states, layout, tables, work, generalized, active, b0x, b0y, b0z)
     vx, vy, vz, c_c, kappa = solve_confluence(
-        work[:, p:p + 3], work[:, v:v + 3], cx, cy, cz, v0x, v0y, v0z, layout[:, POINT_COLUMNS:POINT_COLUMNS + 3],
-        tables, layout[:, POINT_COLUMNS + 3], kappa_max, force_rule > 0.0, rate, b0x, b0y, b0z, work[:, WORK_TENSION],
+        work[:, p:p + 3], work[:, v:v + 3], cx, cy, cz, v0x, v0y, v0z, layout[:, LAYOUT_FREE_LENGTH:LAYOUT_DAMPING + 1],
+        tables, layout[:, LAYOUT_TABLE], kappa_max, force_rule > 0.0, rate, b0x, b0y, b0z, work[:, WORK_TENSION],
         work[:, d:d + 3], active, work[:, WORK_SCRATCH:WORK_SCRATCH + 6])
     taut = 0
     for i in range(n):
@@ -468,8 +470,8 @@ def _series_stage(states, layout, tables, work, generalized, active, wx, wy, wz)
     points = layout[:, :POINT_COLUMNS]
     p, v, d, f = WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_DIRECTION, WORK_FORCE
     vx, vy, vz, fraction = solve_series(work[:, p:p + 3], work[:, v:v + 3],
-                                        layout[:, POINT_COLUMNS:POINT_COLUMNS + 3], tables,
-                                        layout[:, POINT_COLUMNS + 3], work[:, WORK_TENSION], work[:, d:d + 3], active,
+                                        layout[:, LAYOUT_FREE_LENGTH:LAYOUT_DAMPING + 1], tables,
+                                        layout[:, LAYOUT_TABLE], work[:, WORK_TENSION], work[:, d:d + 3], active,
                                         wx, wy, wz)
     work[0, WORK_SCRATCH] = fraction   # for the end-of-step position (``sp_stepping.sp_end_of_step``)
     ux, uy, uz = work[1, d], work[1, d + 1], work[1, d + 2]

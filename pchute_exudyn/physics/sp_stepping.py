@@ -6,7 +6,7 @@ kernels of a model whose only confluence is SP's. The SP solve itself, one stage
 
 from __future__ import annotations
 
-from .aerodynamics import aerodynamics_stage
+from .aerodynamics import HEADER_BODY_COUNT, WORK_STATUS, aerodynamics_stage
 from .compiled import kernel
 from .kinematics import add_gravity_forces, body_states
 from .planet import gravity_acceleration
@@ -46,6 +46,29 @@ A reduced canopy (``physics.reduced_canopy``; the confluence's state is then its
 the distance from P back to its centre of mass in m); 19 the air's velocity at it (m/s). The air is the one at the
 start of the step, set before each step (``engine.sp``)."""
 
+# The columns of the memory rows that hold three different things (the other rows hold x, y, z):
+SETTING_MASS, SETTING_KAPPA, SETTING_FORCE_SLACK = 0, 1, 2      # MEMORY_SETTINGS: m_c (kg), kappa_max, force rule
+ORDER_FIRST, ORDER_MU, ORDER_RECORDED = 0, 1, 2                 # MEMORY_ORDER: order 1?, mu, end velocities kept
+TIME_NEWER, TIME_OLDER = 0, 1                                   # MEMORY_TIMES: their times (s)
+CLOCK_STAGE, CLOCK_START, CLOCK_STEP = 0, 1, 2                  # MEMORY_CLOCK: coming stage, t_n (s), h (s)
+DUE_PENDING, DUE_TIME, DUE_COMPLETED = 0, 1, 2                  # MEMORY_DUE: work due?, its step's end (s), 4 stages?
+RUN_STEP, RUN_START = 0, 1                                      # MEMORY_RUN: the engine's step (s), the phase start
+SOLVE_DAMPING, SOLVE_KAPPA, SOLVE_TAUT = 0, 1, 2                # MEMORY_END_SOLVE: C_c (N s/m), kappa, taut lines
+CANOPY_STATE_ROW, CANOPY_DRAG, CANOPY_OFFSET = 0, 1, 2          # MEMORY_CANOPY: row + 1, 1/2 rho S C_A, P to CG (m)
+
+# A solve's tuple (``sp_rk_stage``): (vx, vy, vz, C_c, kappa, lines counted taut)
+SOLVED_VELOCITY, SOLVED_DAMPING, SOLVED_KAPPA, SOLVED_TAUT = 0, 3, 4, 5
+
+# The end-of-step record (``_record``) after the body states: the confluence position (3), the solve's velocity (3),
+# C_c, kappa and taut lines, then one tension per line.
+RECORD_POSITION, RECORD_VELOCITY, RECORD_DAMPING, RECORD_KAPPA, RECORD_TAUT, RECORD_TENSIONS = 0, 3, 6, 7, 8, 9
+
+# What ``sp_step_stage_with_bodies`` returns: the sum of these flags (0: neither)
+STAGE_SETTLED = 1.0
+"""It did the last step's deferred end-of-step work."""
+STAGE_AERODYNAMICS_FAILED = 2.0
+"""The aerodynamics met a problem and added nothing (nor the gravity): the caller mends and adds them."""
+
 RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
 """a_k of the classical RK4 tableau (Exudyn's RK44): stage k's state is q_n + h a_k k_(k-1) (stage 1: q_n)."""
 RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
@@ -55,13 +78,14 @@ RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 def _mass_term(memory, t, qx, qy, qz):
     """The order-1 mass term (``MassTerm``) as (rate, b0 x, y, z): the reference velocity is the latest recorded
     end-of-step velocity from before ``t``; with none, the carried acceleration enters as a force."""
-    if memory[MEMORY_ORDER, 0] < 0.5:
+    if memory[MEMORY_ORDER, ORDER_FIRST] < 0.5:
         return 0.0, 0.0, 0.0, 0.0
-    m = memory[MEMORY_SETTINGS, 0]
+    m = memory[MEMORY_SETTINGS, SETTING_MASS]
     g = MEMORY_GRAVITY
-    gx, gy, gz = gravity_acceleration(memory[MEMORY_ORDER, 1], memory[g, 0], memory[g, 1], memory[g, 2], qx, qy, qz)
-    for j in range(int(memory[MEMORY_ORDER, 2])):   # the newer first
-        time = memory[MEMORY_TIMES, j]
+    mu = memory[MEMORY_ORDER, ORDER_MU]
+    gx, gy, gz = gravity_acceleration(mu, memory[g, 0], memory[g, 1], memory[g, 2], qx, qy, qz)
+    for j in range(int(memory[MEMORY_ORDER, ORDER_RECORDED])):   # the newer first
+        time = memory[MEMORY_TIMES, TIME_NEWER + j]
         if time < t:
             rate, row = m / (t - time), MEMORY_NEWER + j
             return rate, m * gx + rate * memory[row, 0], m * gy + rate * memory[row, 1], m * gz + rate * memory[row, 2]
@@ -80,28 +104,30 @@ def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
         k = MEMORY_STAGE_VELOCITIES + index - 1   # k_(index), the previous stage's velocity
         qx, qy, qz = qx + step * memory[k, 0], qy + step * memory[k, 1], qz + step * memory[k, 2]
     canopy = MEMORY_CANOPY
-    if memory[canopy, 0] > 0.5:   # a reduced canopy: the state is its drag point, solved with its drag
+    if memory[canopy, CANOPY_STATE_ROW] > 0.5:   # a reduced canopy: the state is its drag point, solved with its drag
         rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
         air, v0 = MEMORY_AIR, MEMORY_V0
         vx, vy, vz, c_c, kappa, taut = canopy_stage(
             states, layout, tables, work, part, qx, qy, qz, memory[v0, 0], memory[v0, 1], memory[v0, 2],
-            memory[canopy, 1], memory[air, 0], memory[air, 1], memory[air, 2], rate, bx, by, bz,
-            int(memory[canopy, 0]) - 1, memory[canopy, 2], WORK_COLUMNS)
+            memory[canopy, CANOPY_DRAG], memory[air, 0], memory[air, 1], memory[air, 2], rate, bx, by, bz,
+            int(memory[canopy, CANOPY_STATE_ROW]) - 1, memory[canopy, CANOPY_OFFSET], WORK_COLUMNS)
         k = MEMORY_STAGE_VELOCITIES + index
         memory[k, 0], memory[k, 1], memory[k, 2] = vx, vy, vz
         return vx, vy, vz, c_c, kappa, taut
     if layout.shape[0] == 2:   # a pair in series: no mass term in a solve; order 1 keeps the confluence's weight
         rate, bx, by, bz = 0.0, 0.0, 0.0, 0.0
-        if memory[MEMORY_ORDER, 0] > 0.5:
-            m, g = memory[MEMORY_SETTINGS, 0], MEMORY_GRAVITY
-            gx, gy, gz = gravity_acceleration(memory[MEMORY_ORDER, 1], memory[g, 0], memory[g, 1], memory[g, 2], qx,
+        if memory[MEMORY_ORDER, ORDER_FIRST] > 0.5:
+            m, g = memory[MEMORY_SETTINGS, SETTING_MASS], MEMORY_GRAVITY
+            gx, gy, gz = gravity_acceleration(memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2],
+                                              qx,
                                               qy, qz)
             bx, by, bz = m * gx, m * gy, m * gz
     else:
         rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
     v0, settings = MEMORY_V0, MEMORY_SETTINGS
     vx, vy, vz, c_c, kappa, taut = sp_stage(states, layout, tables, work, part, qx, qy, qz, memory[v0, 0],
-                                            memory[v0, 1], memory[v0, 2], memory[settings, 1], memory[settings, 2],
+                                            memory[v0, 1], memory[v0, 2], memory[settings, SETTING_KAPPA],
+                                            memory[settings, SETTING_FORCE_SLACK],
                                             rate, bx, by, bz)
     k = MEMORY_STAGE_VELOCITIES + index
     memory[k, 0], memory[k, 1], memory[k, 2] = vx, vy, vz
@@ -129,28 +155,28 @@ def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, 
         rk4_update(memory, h)
     vx, vy, vz, c_c, kappa, taut = sp_rk_stage(states, layout, tables, work, part, memory, t, 0, 0.0)
     work[:, END_TENSION] = work[:, WORK_TENSION]
-    if layout.shape[0] == 2 and memory[MEMORY_CANOPY, 0] < 0.5:   # a pair in series: the confluence is where the
-        # solve put it on AB, not a state
+    if layout.shape[0] == 2 and memory[MEMORY_CANOPY, CANOPY_STATE_ROW] < 0.5:   # a pair in series: the confluence
+        # is where the solve put it on AB, not a state
         fraction, a = work[0, WORK_SCRATCH], WORK_ATTACH_POSITION
         for i in range(3):
             memory[MEMORY_POSITION, i] = work[0, a + i] + fraction * (work[1, a + i] - work[0, a + i])
     if t > start_time:
         memory[MEMORY_V0, 0], memory[MEMORY_V0, 1], memory[MEMORY_V0, 2] = vx, vy, vz
-    count = int(memory[MEMORY_ORDER, 2])
-    if memory[MEMORY_ORDER, 0] > 0.5 and (count == 0 or t > memory[MEMORY_TIMES, 0]):
-        memory[MEMORY_TIMES, 1] = memory[MEMORY_TIMES, 0]   # the newer becomes the older
+    count = int(memory[MEMORY_ORDER, ORDER_RECORDED])
+    if memory[MEMORY_ORDER, ORDER_FIRST] > 0.5 and (count == 0 or t > memory[MEMORY_TIMES, TIME_NEWER]):
+        memory[MEMORY_TIMES, TIME_OLDER] = memory[MEMORY_TIMES, TIME_NEWER]   # the newer becomes the older
         for i in range(3):
             memory[MEMORY_OLDER, i] = memory[MEMORY_NEWER, i]
-        memory[MEMORY_TIMES, 0] = t
+        memory[MEMORY_TIMES, TIME_NEWER] = t
         memory[MEMORY_NEWER, 0], memory[MEMORY_NEWER, 1], memory[MEMORY_NEWER, 2] = vx, vy, vz
-        memory[MEMORY_ORDER, 2] = min(count + 1, 2)
+        memory[MEMORY_ORDER, ORDER_RECORDED] = min(count + 1, 2)
     _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record)
     return vx, vy, vz, c_c, kappa, taut
 
 
 def record_size(states, lines: int) -> int:
     """Length of an SP confluence's end-of-step record (``_record``) for ``states`` and ``lines`` lines."""
-    return states.size + 9 + lines
+    return states.size + RECORD_TENSIONS + lines
 
 
 @kernel
@@ -163,17 +189,18 @@ def _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record):
         for column in range(states.shape[1]):
             record[k] = states[row, column]
             k += 1
+    p, v = k + RECORD_POSITION, k + RECORD_VELOCITY
     if work.shape[0] == 2:   # two lines in series (a reduced canopy's too): on AB where the solve put it
         fraction, a = work[0, WORK_SCRATCH], WORK_ATTACH_POSITION
         for i in range(3):
-            record[k + i] = work[0, a + i] + fraction * (work[1, a + i] - work[0, a + i])
+            record[p + i] = work[0, a + i] + fraction * (work[1, a + i] - work[0, a + i])
     else:
         for i in range(3):
-            record[k + i] = memory[MEMORY_POSITION, i]
-    record[k + 3], record[k + 4], record[k + 5] = vx, vy, vz
-    record[k + 6], record[k + 7], record[k + 8] = c_c, kappa, taut
+            record[p + i] = memory[MEMORY_POSITION, i]
+    record[v], record[v + 1], record[v + 2] = vx, vy, vz
+    record[k + RECORD_DAMPING], record[k + RECORD_KAPPA], record[k + RECORD_TAUT] = c_c, kappa, taut
     for i in range(work.shape[0]):
-        record[k + 9 + i] = work[i, END_TENSION]
+        record[k + RECORD_TENSIONS + i] = work[i, END_TENSION]
 
 
 @kernel
@@ -188,7 +215,7 @@ def sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, 
     if solve:
         sp_rk_stage(states, layout, tables, work, part, memory, t, index, h)
     generalized[:] = part
-    if aerodynamics[0] > 0.0:
+    if aerodynamics[HEADER_BODY_COUNT] > 0.0:
         aerodynamics_stage(t, states, aerodynamics, field, aerodynamic_work, generalized)
 
 
@@ -220,10 +247,10 @@ def sp_first_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, par
     ``sp_rk_stage_with_bodies``. Returns ``sp_end_of_step``'s tuple."""
     end = sp_end_of_step_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t_end, h,
                                      completed, start_time, record)
-    if not holds_after_v0_update(end[3], end[5]):
+    if not holds_after_v0_update(end[SOLVED_DAMPING], end[SOLVED_TAUT]):
         sp_rk_stage(states, layout, tables, work, part, memory, t, 0, h)
     generalized[:] = part
-    if aerodynamics[0] > 0.0:
+    if aerodynamics[HEADER_BODY_COUNT] > 0.0:
         aerodynamics_stage(t, states, aerodynamics, field, aerodynamic_work, generalized)
     return end
 
@@ -235,14 +262,15 @@ def count_stage(memory, t):
     when the span 2 (t - t_n) is within 1e-6 of it, else the span (a short last step). The first stage's state is
     the end-of-step state already solved: that solve stands when it holds after the v0 update
     (``holds_after_v0_update``); a fifth call or more solves nothing."""
-    index = int(memory[MEMORY_CLOCK, 0])
-    memory[MEMORY_CLOCK, 0] = index + 1
+    index = int(memory[MEMORY_CLOCK, CLOCK_STAGE])
+    memory[MEMORY_CLOCK, CLOCK_STAGE] = index + 1
     if index == 1:
-        span = 2.0 * (t - memory[MEMORY_CLOCK, 1])
-        step = memory[MEMORY_RUN, 0]
-        memory[MEMORY_CLOCK, 2] = step if step > 0.0 and abs(span - step) <= 1e-6 * step else span
+        span = 2.0 * (t - memory[MEMORY_CLOCK, CLOCK_START])
+        step = memory[MEMORY_RUN, RUN_STEP]
+        memory[MEMORY_CLOCK, CLOCK_STEP] = step if step > 0.0 and abs(span - step) <= 1e-6 * step else span
     if index == 0:
-        return index, not holds_after_v0_update(memory[MEMORY_END_SOLVE, 0], memory[MEMORY_END_SOLVE, 2])
+        solve = MEMORY_END_SOLVE
+        return index, not holds_after_v0_update(memory[solve, SOLVE_DAMPING], memory[solve, SOLVE_TAUT])
     return index, index < 4
 
 
@@ -250,20 +278,21 @@ def count_stage(memory, t):
 def step_done(memory, t):
     """After a step ending at ``t`` (s): the step's end-of-step work becomes due (MEMORY_DUE) and, when the step
     completed its four stages, t is the next step's start; the stage count starts again."""
-    completed = memory[MEMORY_CLOCK, 0] == 4.0
+    completed = memory[MEMORY_CLOCK, CLOCK_STAGE] == 4.0
     if completed:
-        memory[MEMORY_CLOCK, 1] = t
-    memory[MEMORY_CLOCK, 0] = 0.0
-    memory[MEMORY_DUE, 0], memory[MEMORY_DUE, 1] = 1.0, t
-    memory[MEMORY_DUE, 2] = 1.0 if completed else 0.0
+        memory[MEMORY_CLOCK, CLOCK_START] = t
+    memory[MEMORY_CLOCK, CLOCK_STAGE] = 0.0
+    memory[MEMORY_DUE, DUE_PENDING], memory[MEMORY_DUE, DUE_TIME] = 1.0, t
+    memory[MEMORY_DUE, DUE_COMPLETED] = 1.0 if completed else 0.0
 
 
 @kernel
 def _keep_end(memory, vx, vy, vz, c_c, kappa, taut):
     """Keep the end-of-step solve (MEMORY_END, MEMORY_END_SOLVE); the due work is done."""
     memory[MEMORY_END, 0], memory[MEMORY_END, 1], memory[MEMORY_END, 2] = vx, vy, vz
-    memory[MEMORY_END_SOLVE, 0], memory[MEMORY_END_SOLVE, 1], memory[MEMORY_END_SOLVE, 2] = c_c, kappa, taut
-    memory[MEMORY_DUE, 0] = 0.0
+    solve = MEMORY_END_SOLVE
+    memory[solve, SOLVE_DAMPING], memory[solve, SOLVE_KAPPA], memory[solve, SOLVE_TAUT] = c_c, kappa, taut
+    memory[MEMORY_DUE, DUE_PENDING] = 0.0
 
 
 @kernel
@@ -272,7 +301,7 @@ def sp_step_stage(states, layout, tables, work, part, memory, t):
     when it needs a solve (the body states already set)."""
     index, solve = count_stage(memory, t)
     if solve:
-        sp_rk_stage(states, layout, tables, work, part, memory, t, index, memory[MEMORY_CLOCK, 2])
+        sp_rk_stage(states, layout, tables, work, part, memory, t, index, memory[MEMORY_CLOCK, CLOCK_STEP])
 
 
 @kernel
@@ -280,9 +309,9 @@ def sp_settle(states, layout, tables, work, part, memory, record):
     """The due end-of-step work (``sp_end_of_step`` with the bookkeeping's time, step and completion), the body
     states already set at the end of the step; the solve kept in memory."""
     due = MEMORY_DUE
-    vx, vy, vz, c_c, kappa, taut = sp_end_of_step(states, layout, tables, work, part, memory, memory[due, 1],
-                                                  memory[MEMORY_CLOCK, 2], memory[due, 2] > 0.5,
-                                                  memory[MEMORY_RUN, 1], record)
+    vx, vy, vz, c_c, kappa, taut = sp_end_of_step(states, layout, tables, work, part, memory, memory[due, DUE_TIME],
+                                                  memory[MEMORY_CLOCK, CLOCK_STEP], memory[due, DUE_COMPLETED] > 0.5,
+                                                  memory[MEMORY_RUN, RUN_START], record)
     _keep_end(memory, vx, vy, vz, c_c, kappa, taut)
 
 
@@ -301,24 +330,28 @@ def sp_step_stage_with_bodies(q, q_t, t, bodies, states, layout, tables, work, p
     added (as ``sp_rk_stage_with_bodies``). At a step's first stage with the last step's end-of-step work due, that
     work first (``sp_first_stage_with_bodies``). Last, the gravity of the bodies whose layout rows carry their mass
     (``kinematics.add_gravity_forces``), added after everything else as the engine's gravity connectors would add
-    it. Returns 1 when it did the end-of-step work, plus 2 when the aerodynamics reported a problem and added nothing
-    (their status in ``aerodynamic_work``; the gravity is then left to the caller too)."""
+    it. Returns the sum of its flags: STAGE_SETTLED when it did the end-of-step work, STAGE_AERODYNAMICS_FAILED when
+    the aerodynamics reported a problem and added nothing (their status in ``aerodynamic_work``; the gravity is then
+    left to the caller too)."""
     done = 0.0
-    if memory[MEMORY_CLOCK, 0] == 0.0 and memory[MEMORY_DUE, 0] > 0.5:
-        memory[MEMORY_CLOCK, 0] = 1.0
+    if memory[MEMORY_CLOCK, CLOCK_STAGE] == 0.0 and memory[MEMORY_DUE, DUE_PENDING] > 0.5:
+        memory[MEMORY_CLOCK, CLOCK_STAGE] = 1.0
         due = MEMORY_DUE
         vx, vy, vz, c_c, kappa, taut = sp_first_stage_with_bodies(
-            q, q_t, bodies, states, layout, tables, work, part, memory, memory[due, 1], memory[MEMORY_CLOCK, 2],
-            memory[due, 2] > 0.5, memory[MEMORY_RUN, 1], record, t, generalized, aerodynamics, field,
+            q, q_t, bodies, states, layout, tables, work, part, memory, memory[due, DUE_TIME],
+            memory[MEMORY_CLOCK, CLOCK_STEP], memory[due, DUE_COMPLETED] > 0.5, memory[MEMORY_RUN, RUN_START], record,
+            t, generalized, aerodynamics, field,
             aerodynamic_work)
         _keep_end(memory, vx, vy, vz, c_c, kappa, taut)
-        done = 1.0
+        done = STAGE_SETTLED
     else:
         index, solve = count_stage(memory, t)
         sp_rk_stage_with_bodies(q, q_t, bodies, states, layout, tables, work, part, memory, t, index,
-                                memory[MEMORY_CLOCK, 2], solve, generalized, aerodynamics, field, aerodynamic_work)
-    if aerodynamic_work[0] != 0.0:   # the aerodynamics added nothing: the caller adds them, then the gravity
-        return done + 2.0
+                                memory[MEMORY_CLOCK, CLOCK_STEP], solve, generalized, aerodynamics, field,
+                                aerodynamic_work)
+    if aerodynamic_work[WORK_STATUS] != 0.0:   # the aerodynamics added nothing: the caller adds them, then the gravity
+        return done + STAGE_AERODYNAMICS_FAILED
     g = MEMORY_GRAVITY
-    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, 1], memory[g, 0], memory[g, 1], memory[g, 2], generalized)
+    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2],
+                       generalized)
     return done

@@ -87,7 +87,7 @@ class AdaptiveSteps:
         self.relaxation: dict = {}   # system -> the relaxation time its lines have now (s)
         self.unrelaxed: dict = {}    # relaxing system -> the step cap (s) of its lines' own damping
         self.allowance, self.since_allowance = None, 0   # the relaxation's step cap (s), looked at every few steps
-        self.taken: list = []   # (smallest, largest, count, sum) of the steps taken
+        self.smallest, self.largest, self.steps, self.total = math.inf, 0.0, 0, 0.0   # of the steps taken (s)
         self._limits: dict = {}    # (system, relaxation time) -> its confluence's StepLimit, this check's
         self._remedies: dict = {}  # a confluence limit's description -> the layout or setting its method names
 
@@ -117,12 +117,9 @@ class AdaptiveSteps:
         return coming
 
     def _count(self, taken: float) -> None:
-        if not self.taken:
-            self.taken = [taken, taken, 0, 0.0]
-        record = self.taken
-        record[0], record[1] = min(record[0], taken), max(record[1], taken)
-        record[2] += 1
-        record[3] += taken
+        self.smallest, self.largest = min(self.smallest, taken), max(self.largest, taken)
+        self.steps += 1
+        self.total += taken
 
     def _relaxation_cap(self, t: float) -> float:
         if self.unrelaxed and (self.since_allowance >= ALLOWANCE_STEPS or self.allowance is None):
@@ -312,10 +309,10 @@ class AdaptiveSteps:
 
     def summary(self) -> dict:
         """The steps taken: smallest, largest and mean (s), and their count."""
-        if not self.taken:
+        if not self.steps:
             return {}
-        smallest, largest, count, total = self.taken
-        return {"smallest": smallest, "largest": largest, "mean": total / count, "count": count}
+        return {"smallest": self.smallest, "largest": self.largest, "mean": self.total / self.steps,
+                "count": self.steps}
 
 
 IMAGINARY_LIMIT = 2.828
