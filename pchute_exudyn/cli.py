@@ -14,6 +14,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from . import __version__
+from .case import columns
 from .case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
 from .kernels import lock, selection
@@ -280,7 +281,8 @@ def _compare(args) -> int:
                                  f"of {ours}: nothing to compare")
     print(comparison.table(), end="")
     if args.out is not None:
-        shown = mapped or [f"{vehicle}_altitude", f"{vehicle}_velocity_down"]
+        shown = mapped or [columns.column("{owner}_altitude", vehicle),
+                           columns.column("{owner}_velocity_down", vehicle)]
         written = _write_comparison(comparison, {f"A: {args.a}": a, f"B: {args.b}": b}, args.out, vehicle, shown)
         print(f"wrote {', '.join(path.name for path in written)} in {args.out}")
     return 0
@@ -313,7 +315,7 @@ def _write_comparison(comparison, labelled: dict, folder, vehicle: str, shown: l
         written.append(out / "descent_rate.png")
         profiles = {label: descent_profile(result, vehicle)[1:] for label, result in labelled.items()}
         save_figure(plot_descent_rates(profiles, vehicle), written[-1])
-    shown = [n for n in shown if n in comparison.columns and not n.startswith("tension_")
+    shown = [n for n in shown if n in comparison.columns and columns.owner(n, "tension_{owner}") is None
              and "confluence_velocity" not in n]
     for name in shown[:FIGURE_COLUMNS]:
         written.append(out / f"{name}.png")

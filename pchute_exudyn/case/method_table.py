@@ -15,6 +15,8 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
+from .columns import method_outputs, register
+
 
 @dataclass(frozen=True)
 class Integrator:
@@ -99,6 +101,7 @@ class MethodTable(Mapping):
             raise ValueError(f"method {name!r} names unknown integrator(s) {unknown}; "
                              f"integrators are {tuple(INTEGRATORS)}")
         self._classes[name] = method_class
+        register(*method_outputs(getattr(method_class, "outputs", {})))   # its columns (``case.columns``)
         return method_class
 
     def unregister(self, name: str) -> None:

@@ -23,6 +23,7 @@ from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
 from ..physics.step_control import StepRule
+from .columns import column
 from .method_table import INTEGRATORS
 from .start import Release
 
@@ -595,7 +596,7 @@ class Case:
         system = self.canopy_system(body_name)
         if system is not None and system.cluster:   # drawn as its envelope: projected diameter times sqrt(f)
             drawing["envelope"] = {"diameter": 2.0 * (system.contact or Contact()).projected_radius(
-                body.aerodynamics.reference_area), "fraction": f"{body_name}_drag_area_fraction"}
+                body.aerodynamics.reference_area), "fraction": column("{owner}_drag_area_fraction", body_name)}
         return drawing
 
     def canopy_system(self, body_name: str):

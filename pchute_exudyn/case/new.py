@@ -35,6 +35,7 @@ from ..physics.atmosphere import US76, MarsGRC
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency, spread_directions, touching_spread
 from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
+from .columns import column
 from .model import Contact
 
 CANOPY_TYPES = {   # C_D0 on S0, subsonic: the middle of the published ranges (DRAG_SOURCE; docs/models/sources.md)
@@ -479,6 +480,7 @@ class _Writer:
     def header(self) -> list:
         c, p = self.c, self.plan
         planet_lines, atmosphere = PLANETS[c.planet][:2]
+        canopy_altitude = column("{owner}_altitude", self.canopy_names()[0])
         return [f"# {c.name}: written by `pchute new` (pchute_exudyn.case.new; docs/tutorial.md). Units SI;",
                 "# angles in degrees only where named _deg. " + self.start_words()[0], *self.start_words()[1:],
                 f"# Suspended mass {_n(p.total_mass)} kg; steady rate of descent sqrt(2 m g / (rho n C_V S0)) = "
@@ -489,7 +491,7 @@ class _Writer:
                    f"{math.degrees(p.spread):.2f} deg off the vertical (where their envelopes touch)") + ".",
                 "# Reported altitudes are each body's centre of mass (`vehicle_altitude`: the vehicle's); the canopy's",
                 f"# drag acts {_n(self.plan.canopy_height)} m higher in steady descent, at its aerodynamic centre "
-                f"(`{self.canopy_names()[0]}_altitude`).", "",
+                f"(`{canopy_altitude}`).", "",
                 "[case]", f"name = {json.dumps(c.name)}",
                 f'description = "{c.mass:g} kg vehicle under {self.canopy_words()} ({c.planet})"',
                 'vehicle = "vehicle"', "", "[planet]", *planet_lines, "",

@@ -15,6 +15,7 @@ import math
 import exudyn.itemInterface as eii
 import numpy as np
 
+from ..case.columns import column, unit
 from ..case.model import Body, Case
 from ..physics.apparent_mass import kirchhoff_terms, translational_mass_matrix
 from .model import CURRENT, OV, Model
@@ -82,9 +83,9 @@ def add_apparent_mass(model: Model, case: Case, body: Body, node: int) -> None:
     model.mbs.AddObject(eii.ObjectGenericODE2(
         nodeNumbers=[node], massMatrix=np.zeros((6, 6)), massMatrixUserFunction=terms.mass_matrix,
         forceUserFunction=terms.force, visualization=eii.VObjectGenericODE2(show=False)))
-    for index, name, unit in ((0, "apparent_mass_axial", "kg"), (1, "apparent_mass_lateral", "kg")):
-        model.add_channel(ColumnChannel(f"{body.name}_{name}", unit), lambda i=index: terms.masses()[2][i])
-    model.add_channel(ColumnChannel(f"{body.name}_apparent_inertia", "kg m^2"), lambda: terms.masses()[3][1])
+    for index, template in ((0, "{owner}_apparent_mass_axial"), (1, "{owner}_apparent_mass_lateral")):
+        model.add_channel(_channel(template, body.name), lambda i=index: terms.masses()[2][i])
+    model.add_channel(_channel("{owner}_apparent_inertia", body.name), lambda: terms.masses()[3][1])
 
 
 def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, aerodynamic_load) -> None:
@@ -106,13 +107,13 @@ def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, a
 
     model.add_pre_step(before_step)
     model.add_post_step(after_step, first=True)
-    model.add_channel(ColumnChannel(f"{system_name}_drag_area_fraction", "-"),
+    model.add_channel(_channel("{owner}_drag_area_fraction", system_name),
                       lambda: progress(get_time() - progress.line_stretch))
 
     def force_magnitude():
         fx, fy, fz = aerodynamic_load(model.mbs, get_time(), None)
         return math.sqrt(fx * fx + fy * fy + fz * fz)
-    model.add_channel(ColumnChannel(f"{canopy}_aerodynamic_force", "N"), force_magnitude)
+    model.add_channel(_channel("{owner}_aerodynamic_force", canopy), force_magnitude)
 
 
 def add_fraction_channel(model: Model, label: str, schedule, deployed_at: float) -> None:
@@ -120,6 +121,12 @@ def add_fraction_channel(model: Model, label: str, schedule, deployed_at: float)
     ``<label>_drag_area_fraction`` (an opening's own channel comes with ``add_inflation_hooks``)."""
     get_time = model.mbs.systemData.GetTime
     if schedule is None:
-        model.add_channel(ColumnChannel(f"{label}_drag_area_fraction", "-"), lambda: 1.0)
+        model.add_channel(_channel("{owner}_drag_area_fraction", label), lambda: 1.0)
         return
-    model.add_channel(ColumnChannel(f"{label}_drag_area_fraction", "-"), lambda: schedule(get_time() - deployed_at))
+    model.add_channel(_channel("{owner}_drag_area_fraction", label), lambda: schedule(get_time() - deployed_at))
+
+
+def _channel(template: str, owner: str) -> ColumnChannel:
+    """A channel that is an output column of its own (``case.columns``), with the registry's unit."""
+    name = column(template, owner)
+    return ColumnChannel(name, unit(name))

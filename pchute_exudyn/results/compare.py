@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..case.columns import column, owner
 from ..errors import InputError
 from .csv_dialects import time_problem
 from .result import Result
@@ -166,9 +167,9 @@ def column_differences(a: Result, b: Result, names, time) -> dict:
 def descent_profile(result: Result, vehicle: str = "vehicle") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(time s, altitude m, rate of descent m/s) of a side: its ``<vehicle>_velocity_down`` where it has one, else
     -d(altitude)/dt; samples without an altitude left out."""
-    time, altitude = result.time, result[f"{vehicle}_altitude"]
+    time, altitude = result.time, result[column("{owner}_altitude", vehicle)]
     keep = np.isfinite(altitude)
-    velocity = f"{vehicle}_velocity_down"
+    velocity = column("{owner}_velocity_down", vehicle)
     rate = result[velocity][keep] if velocity in result else -np.gradient(altitude[keep], time[keep])
     return time[keep], altitude[keep], rate
 
@@ -198,7 +199,7 @@ def descent_side(result: Result, vehicle: str, altitudes, ground: float) -> dict
 def descent_metrics(a: Result, b: Result, vehicle: str = "vehicle", altitudes=None, ground: float = 0.0) -> dict:
     """Both sides' descent figures (``descent_side``) at ``altitudes`` (m; default: a quarter, half and three
     quarters of the way down the altitudes both sides cover, above the ground); {} when a side has no altitude."""
-    name = f"{vehicle}_altitude"
+    name = column("{owner}_altitude", vehicle)
     if name not in a or name not in b:
         return {}
     if altitudes is None:
@@ -246,7 +247,7 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
                        if _finite_number(r.summary.get("ground_altitude"))), 0.0)
     comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)
     for suffix in ("altitude", "east", "north"):
-        name = f"{vehicle}_{suffix}"
+        name = column("{owner}_" + suffix, vehicle)
         if name in common:
             va, vb = aligned(a, b, name, time[-1:])   # at the end of the common span
             comparison.final[f"{vehicle} {suffix}"] = float(vb[0] - va[0])
@@ -255,13 +256,14 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
                                                                      comparison.final[f"{vehicle} north"])
     settled = time >= settle_time
     for name in common:
-        if name.startswith("tension_"):
+        line = owner(name, "tension_{owner}")
+        if line is not None:
             va, vb = aligned(a, b, name, time)
             diff = np.abs(vb - va)   # NaN where either run lacks the line (a system not deployed): left out
-            comparison.lines[name.removeprefix("tension_")] = {
+            comparison.lines[line] = {
                 "max": _max(diff), "rms": _rms(diff), "max_settled": _max(diff[settled]),
                 "rms_settled": _rms(diff[settled])}
-    east, north = f"{confluence}_velocity_east", f"{confluence}_velocity_north"
+    east, north = column("{owner}_velocity_east", confluence), column("{owner}_velocity_north", confluence)
     if east in common and north in common:
         ea, eb = aligned(a, b, east, time)
         na, nb = aligned(a, b, north, time)

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..case.columns import owner
 from ..errors import InputError
 from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
 from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
@@ -164,7 +165,12 @@ class Result:
 
     def tension_names(self) -> list:
         """Names of the line tension columns."""
-        return [n for n in self.columns if n.startswith("tension_")]
+        return list(self.tensions().values())
+
+    def tensions(self) -> dict:
+        """{line label: its tension column} (``case.columns``)."""
+        found = {name: owner(name, "tension_{owner}") for name in self.columns}
+        return {label: name for name, label in found.items() if label is not None}
 
     def to_pandas(self):
         """The time histories as a pandas DataFrame indexed by time (pandas is imported only here)."""

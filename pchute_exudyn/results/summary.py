@@ -24,6 +24,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ..case.columns import column
 from ..case.events import DISREEF
 
 
@@ -168,7 +169,7 @@ def opening_loads(case, openings: dict, columns: dict) -> dict:
             inside = (time >= start - 1e-9) & (time < stop)
             peaks = {}
             for line in lines:
-                values = columns[f"tension_{case.line_label(system, line)}"][inside]
+                values = columns[column("tension_{owner}", case.line_label(system, line))][inside]
                 if len(values) and np.isfinite(values).any():
                     k = int(np.nanargmax(values))
                     peaks[line.name] = {"tension": float(values[k]), "time": float(time[inside][k])}

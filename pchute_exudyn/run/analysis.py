@@ -18,12 +18,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..case.columns import column
 from ..case.model import Case
 from ..engine.state import RawHistory
 from ..physics.cluster import flyout_angles, load_share, present_mean
 from ..physics.contact import envelope_radius, overlaps
 from ..physics.kinematics import body_point
 from ..results.summary import ContactEndEvent, ContactStartEvent
+from .outputs import units_of
 
 LOAD_SHARE_FLOOR = 0.1
 """The summary's peak load share counts only samples whose mean riser tension is at least this fraction of its
@@ -40,8 +42,8 @@ def clusters(case: Case) -> list:
 
 def riser_tensions(case: Case, system, columns: dict) -> np.ndarray:
     """(n, k) tension (N) of each of ``system``'s k canopies, summed over its risers; NaN where it is absent."""
-    return np.stack([sum(columns[f"tension_{case.line_label(system, line)}"] for line in system.risers(canopy))
-                     for canopy in system.canopies], axis=1)
+    return np.stack([sum(columns[column("tension_{owner}", case.line_label(system, line))]
+                         for line in system.risers(canopy)) for canopy in system.canopies], axis=1)
 
 
 def envelope_centres(case: Case, raw: RawHistory, system) -> np.ndarray:
@@ -54,25 +56,28 @@ def envelope_centres(case: Case, raw: RawHistory, system) -> np.ndarray:
 def cluster_columns(case: Case, raw: RawHistory, columns: dict, units: dict) -> list:
     """Add each cluster's load share, flyout and overlap columns (see the module doc) to ``columns``/``units``;
     returns the contact events."""
-    events = []
+    events, added = [], []
     for system in clusters(case):
-        columns[f"{system.name}_load_share"] = load_share(riser_tensions(case, system, columns))
-        units[f"{system.name}_load_share"] = "-"
+        share = column("{owner}_load_share", system.name)
+        columns[share] = load_share(riser_tensions(case, system, columns))
         centres = envelope_centres(case, raw, system)
         flyout = flyout_angles(raw.confluences[system.name]["position"], centres)
+        added.append(share)
         for k, canopy in enumerate(system.canopies):
-            columns[f"{canopy}_flyout_deg"], units[f"{canopy}_flyout_deg"] = flyout[:, k], "deg"
+            added.append(column("{owner}_flyout_deg", canopy))
+            columns[added[-1]] = flyout[:, k]
         if system.contact is None:
             continue
         radii = [envelope_radius(system.contact.projected_radius(case.bodies[c].aerodynamics.reference_area),
-                                 columns.get(f"{c}_drag_area_fraction", np.ones(len(raw.time))))
+                                 columns.get(column("{owner}_drag_area_fraction", c), np.ones(len(raw.time))))
                  for c in system.canopies]
         for a, first in enumerate(system.canopies):
             for b in range(a + 1, len(system.canopies)):
-                key = f"{first}_{system.canopies[b]}_overlap"
+                key = column("{owner}_{other}_overlap", first, system.canopies[b])
                 columns[key] = overlaps(centres[:, a], centres[:, b], radii[a], radii[b])
-                units[key] = "m"
+                added.append(key)
                 events += contact_events(raw.time, columns[key], (first, system.canopies[b]))
+    units.update(units_of(added))
     return events
 
 
@@ -112,12 +117,13 @@ def pendulum_columns(case: Case, raw: RawHistory, columns: dict, units: dict) ->
     body = raw.bodies[name]
     axis = body["rotation"][:, :, 0]
     down = case.start.down(body["position"])
-    columns[f"{name}_pendulum_deg"] = _angle_deg(axis, down)
+    vertical, airspeed = column("{owner}_pendulum_deg", name), column("{owner}_pendulum_airspeed_deg", name)
+    columns[vertical] = _angle_deg(axis, down)
     air = case.air_motion()
     relative = body["velocity"] if air.still else air.relative(body["position"], body["velocity"],
                                                               case.start.altitude(body["position"]), raw.time)
-    columns[f"{name}_pendulum_airspeed_deg"] = _angle_deg(axis, relative)
-    units[f"{name}_pendulum_deg"] = units[f"{name}_pendulum_airspeed_deg"] = "deg"
+    columns[airspeed] = _angle_deg(axis, relative)
+    units.update(units_of((vertical, airspeed)))
 
 
 def _angle_deg(a, b) -> np.ndarray:
@@ -141,7 +147,7 @@ def cluster_summary(case: Case, columns: dict, events: list) -> dict:
     tension (N) over the whole run and when, and each pair's largest overlap (m)."""
     time, out = columns["time"], {}
     for system in clusters(case):
-        share = columns[f"{system.name}_load_share"]
+        share = columns[column("{owner}_load_share", system.name)]
         tensions = riser_tensions(case, system, columns)
         mean = present_mean(tensions)
         strong = np.isfinite(share) & (mean >= LOAD_SHARE_FLOOR * mean.max())
@@ -155,7 +161,7 @@ def cluster_summary(case: Case, columns: dict, events: list) -> dict:
         entry["open_from"] = float(start)
         entry["flyout_deg"], entry["riser_peak"] = {}, {}
         for k, canopy in enumerate(system.canopies):
-            flyout = columns[f"{canopy}_flyout_deg"][window]
+            flyout = columns[column("{owner}_flyout_deg", canopy)][window]
             flyout = flyout[np.isfinite(flyout)]
             entry["flyout_deg"][canopy] = ({"max": float(flyout.max()), "mean": float(flyout.mean())} if len(flyout)
                                            else None)
@@ -169,7 +175,7 @@ def cluster_summary(case: Case, columns: dict, events: list) -> dict:
             entry["max_overlap"] = {}
             for a, first in enumerate(system.canopies):
                 for second in system.canopies[a + 1:]:
-                    overlap = columns[f"{first}_{second}_overlap"]
+                    overlap = columns[column("{owner}_{other}_overlap", first, second)]
                     largest = float(np.nanmax(overlap)) if np.isfinite(overlap).any() else None
                     entry["max_overlap"][f"{first}_{second}"] = largest if largest is None else max(largest, 0.0)
         out[system.name] = entry
@@ -201,13 +207,14 @@ def pendulum_summary(case: Case, columns: dict, events: list) -> dict:
     """The vehicle's largest and RMS pendulum angles (deg) and their swing amplitude (``swing_amplitude``) to
     gravity and to its airspeed once the last configuration flies (``settled_after``); {} for a fixed vehicle."""
     name = case.vehicle
-    if f"{name}_pendulum_deg" not in columns:
+    vertical = column("{owner}_pendulum_deg", name)
+    if vertical not in columns:
         return {}
     start = settled_after(events, case)
     window = columns["time"] >= start
     out = {"from": float(start)}
-    for key, column in (("vertical", f"{name}_pendulum_deg"), ("airspeed", f"{name}_pendulum_airspeed_deg")):
-        values = columns[column][window]
+    for key, angle in (("vertical", vertical), ("airspeed", column("{owner}_pendulum_airspeed_deg", name))):
+        values = columns[angle][window]
         values = values[np.isfinite(values)]
         out[f"max_{key}_deg"] = float(values.max()) if len(values) else None
         out[f"rms_{key}_deg"] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
@@ -218,7 +225,7 @@ def pendulum_summary(case: Case, columns: dict, events: list) -> dict:
 def descent_summary(case: Case, columns: dict) -> dict:
     """The vehicle's rate of descent (m/s, relative to the ground, downward positive) averaged over the last
     DESCENT_WINDOW s of the run, and at its end."""
-    time, rate = columns["time"], columns[f"{case.vehicle}_velocity_down"]
+    time, rate = columns["time"], columns[column("{owner}_velocity_down", case.vehicle)]
     window = time >= time[-1] - DESCENT_WINDOW
     values = rate[window][np.isfinite(rate[window])]
     return {"mean_rate": float(values.mean()) if len(values) else None, "window": DESCENT_WINDOW,

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..case.columns import POINT_QUANTITIES, column, derived, method_column, unit
 from ..case.model import Case
 from ..engine.state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, ColumnChannel, RawHistory
 from ..errors import SimulationError
@@ -106,7 +107,8 @@ def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
         lines = []
         for i, line in enumerate(system.lines):
             arrays[f"{system.name}/{line.name}"] = positions[:, i]
-            lines.append({"name": line.name, "body": line.body, "tension": f"tension_{case.line_label(system, line)}",
+            lines.append({"name": line.name, "body": line.body,
+                          "tension": column("tension_{owner}", case.line_label(system, line)),
                           "point": list(map(float, case.bodies[line.body].points[line.point]))})
         systems[system.name] = {"confluence": case.confluence_label(system), "canopies": list(system.canopies),
                                 "lines": lines}
@@ -161,73 +163,80 @@ def check_runaway(case: Case, raw: RawHistory, rows: int) -> None:
         raise SimulationError(limits.message(name, quantity, value, float(raw.time[row])), float(raw.time[row]))
 
 
-def _point_columns(case: Case, prefix: str, time, position, velocity, columns: dict, units: dict) -> None:
+def _point_columns(case: Case, owner: str, time, position, velocity, columns: dict) -> None:
     fixed = case.start.to_planet_fixed(position, time)
     ground_velocity = case.start.velocity_to_planet_fixed(position, velocity, time)
-    for name, value, unit in (
-            ("altitude", case.start.altitude(position), "m"),
-            ("east", fixed[:, 0], "m"), ("north", fixed[:, 1], "m"),
-            ("velocity_north", ground_velocity[:, 1], "m/s"), ("velocity_east", ground_velocity[:, 0], "m/s"),
-            ("velocity_down", -ground_velocity[:, 2], "m/s")):
-        columns[f"{prefix}_{name}"] = value
-        units[f"{prefix}_{name}"] = unit
+    values = (case.start.altitude(position), fixed[:, 0], fixed[:, 1], ground_velocity[:, 1], ground_velocity[:, 0],
+              -ground_velocity[:, 2])
+    for quantity, value in zip(POINT_QUANTITIES, values):
+        columns[column("{owner}_" + quantity, owner)] = value
 
 
 def derive_columns(case: Case, raw: RawHistory, history: bool = True) -> tuple[dict, dict]:
-    """Named time histories and their units from an engine run; see the module docstring for the names.
-    ``history=False`` (a run whose history nobody keeps: a study's) leaves out what the summary never reads: each
-    aerodynamic body's air-relative columns (angles of attack, dynamic pressure, Mach number, wind and turbulence at
-    its centre), the bodies' attitude angles, the other bodies' point columns and every relative column."""
-    columns: dict = {"time": raw.time}
-    units: dict = {"time": "s"}
+    """Named time histories and their units (``case.columns``) from an engine run; see the module docstring for the
+    names. ``history=False`` (a run whose history nobody keeps: a study's) leaves out what the summary never reads:
+    each aerodynamic body's air-relative columns (angles of attack, dynamic pressure, Mach number, wind and
+    turbulence at its centre), the bodies' attitude angles, the other bodies' point columns and every relative
+    column."""
+    columns: dict = {column("time"): raw.time}
     order = [case.vehicle] + [name for name in case.bodies if name != case.vehicle]
     for name in order if history else [case.vehicle]:
         body = raw.bodies[name]
-        _point_columns(case, name, raw.time, body["position"], body["velocity"], columns, units)
-        if not history:
-            continue
-        yaw, pitch, roll = attitude_angles_deg(body["rotation"])
-        for key, value in (("yaw_deg", yaw), ("pitch_deg", pitch), ("roll_deg", roll),
-                           ("tilt_deg", tilt_deg(body["rotation"]))):
-            columns[f"{name}_{key}"] = value
-            units[f"{name}_{key}"] = "deg"
-        for i, axis in enumerate("xyz"):
-            columns[f"{name}_rate_{axis}"] = body["angular_velocity"][:, i]
-            units[f"{name}_rate_{axis}"] = "rad/s"
-        aero = case.bodies[name].aerodynamics
-        if aero is not None and aero.enabled:
-            total, alpha, beta, pressure, mach, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
-            for key, value, unit in (("angle_of_attack_deg", total, "deg"), ("alpha_deg", alpha, "deg"),
-                                     ("beta_deg", beta, "deg"), ("dynamic_pressure", pressure, "Pa"),
-                                     ("mach", mach, "-")):
-                if value is not None:
-                    columns[f"{name}_{key}"], units[f"{name}_{key}"] = value, unit
-            if wind is not None:   # the air's motion at the aerodynamic centre, relative to the ground
-                for kind, value in (("wind", wind), ("turbulence", turbulence)):
-                    for i, axis in enumerate(("east", "north", "up")):
-                        columns[f"{name}_{kind}_{axis}"], units[f"{name}_{kind}_{axis}"] = value[:, i], "m/s"
-        if name != case.vehicle and not case.bodies[name].fixed and not case.bodies[case.vehicle].fixed:
-            _relative_columns(name, raw.bodies[case.vehicle], body["position"], body["velocity"], columns, units)
+        _point_columns(case, name, raw.time, body["position"], body["velocity"], columns)
+        if history:
+            _attitude_columns(case, name, raw, columns)
     for system in case.systems.values():
         if system.name in raw.confluences:
             point = raw.confluences[system.name]
             label = case.confluence_label(system)
-            _point_columns(case, label, raw.time, point["position"], point["velocity"], columns, units)
+            _point_columns(case, label, raw.time, point["position"], point["velocity"], columns)
             if history and not case.bodies[case.vehicle].fixed:
-                _relative_columns(label, raw.bodies[case.vehicle], point["position"], point["velocity"], columns,
-                                  units)
+                _relative_columns(label, raw.bodies[case.vehicle], point["position"], point["velocity"], columns)
     for system in case.systems.values():
         for line in system.lines:
-            key = f"tension_{case.line_label(system, line)}"
-            columns[key] = raw.tensions[(system.name, line.name)]
-            units[key] = "N"
+            columns[column("tension_{owner}", case.line_label(system, line))] = raw.tensions[(system.name, line.name)]
     for key, value in raw.method.items():
-        if isinstance(key, ColumnChannel):
-            columns[key.column], units[key.column] = value, key.unit
-            continue
-        column = key.name if len(case.systems) == 1 else f"{key.system}_{key.name}"
-        columns[column], units[column] = value, key.unit
-    return columns, units
+        name = key.column if isinstance(key, ColumnChannel) else method_column(key.name, key.system,
+                                                                                len(case.systems))
+        columns[name] = value
+    return columns, units_of(columns)
+
+
+def units_of(columns) -> dict:
+    """The unit of each column (``case.columns``); a column the registry does not know is a programming error."""
+    units = {}
+    for name in columns:
+        units[name] = unit(name)
+        if units[name] is None:
+            raise KeyError(f"output column {name!r} has no record in pchute_exudyn.case.columns")
+    return units
+
+
+def _attitude_columns(case: Case, name: str, raw: RawHistory, columns: dict) -> None:
+    """A body's attitude angles and rates, its air-relative columns (an aerodynamic body) and its position and
+    velocity relative to the vehicle (a moving body other than the vehicle)."""
+    body = raw.bodies[name]
+    yaw, pitch, roll = attitude_angles_deg(body["rotation"])
+    for key, value in (("yaw_deg", yaw), ("pitch_deg", pitch), ("roll_deg", roll),
+                       ("tilt_deg", tilt_deg(body["rotation"]))):
+        columns[column("{owner}_" + key, name)] = value
+    for i, axis in enumerate("xyz"):
+        columns[column("{owner}_rate_" + axis, name)] = body["angular_velocity"][:, i]
+    aero = case.bodies[name].aerodynamics
+    if aero is not None and aero.enabled:
+        total, alpha, beta, pressure, mach, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
+        for key, value in (("angle_of_attack_deg", total), ("alpha_deg", alpha), ("beta_deg", beta),
+                           ("dynamic_pressure", pressure), ("mach", mach)):
+            if value is not None:
+                columns[column("{owner}_" + key, name)] = value
+        if wind is not None:   # the air's motion at the aerodynamic centre, relative to the ground
+            for kind, value in (("wind", wind), ("turbulence", turbulence)):
+                for i, axis in enumerate(("east", "north", "up")):
+                    columns[column("{owner}_" + kind + "_" + axis, name)] = value[:, i]
+    if name != case.vehicle and not case.bodies[name].fixed and not case.bodies[case.vehicle].fixed:
+        _relative_columns(name, raw.bodies[case.vehicle], body["position"], body["velocity"], columns)
+    for entry in derived("body"):   # the registry's columns that say how they are computed
+        columns[entry.name(name)] = entry.derive(body)
 
 
 def _aero_columns(case: Case, body: dict, center, time):
@@ -262,15 +271,14 @@ def _aero_columns(case: Case, body: dict, center, time):
     return total, alpha, beta, pressure, mach, wind, turbulence
 
 
-def _relative_columns(prefix: str, vehicle: dict, position, velocity, columns: dict, units: dict) -> None:
+def _relative_columns(owner: str, vehicle: dict, position, velocity, columns: dict) -> None:
     """Position and velocity of a point relative to the vehicle, in vehicle body axes (m, m/s): the velocity as
     seen from the vehicle, its rotation included."""
     body_arm, body_velocity = relative_to_body(vehicle["position"], vehicle["rotation"], vehicle["velocity"],
                                                vehicle["angular_velocity"], position, velocity)
     for i, axis in enumerate("xyz"):
-        columns[f"{prefix}_relative_position_{axis}"], units[f"{prefix}_relative_position_{axis}"] = body_arm[:, i], "m"
-        columns[f"{prefix}_relative_velocity_{axis}"] = body_velocity[:, i]
-        units[f"{prefix}_relative_velocity_{axis}"] = "m/s"
+        columns[column("{owner}_relative_position_" + axis, owner)] = body_arm[:, i]
+        columns[column("{owner}_relative_velocity_" + axis, owner)] = body_velocity[:, i]
 
 
 def line_tensions_from_states(case: Case, raw: RawHistory, system) -> np.ndarray:

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..boundary import check_callable, check_case, check_flag
 from ..case.carried import case_at
+from ..case.columns import column, owner
 from ..case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
 from ..case.model import Case
 from ..case.plausible import check_time_scales
@@ -360,12 +361,11 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
 def _final_values(case: Case, columns: dict) -> dict:
     vehicle = case.vehicle
     labels = [case.confluence_label(system) for system in case.systems.values()]
+    where = [column("{owner}_" + key, label) for label in labels for key in ("altitude", "east", "north")]
     return {"time": float(columns["time"][-1]),
-            "vehicle_altitude": float(columns[f"{vehicle}_altitude"][-1]),
-            "vehicle_east": float(columns[f"{vehicle}_east"][-1]),
-            "vehicle_north": float(columns[f"{vehicle}_north"][-1]),
-            **{f"{label}_{key}": float(columns[f"{label}_{key}"][-1])
-               for label in labels for key in ("altitude", "east", "north") if f"{label}_{key}" in columns}}
+            **{f"vehicle_{key}": float(columns[column("{owner}_" + key, vehicle)][-1])
+               for key in ("altitude", "east", "north")},
+            **{name: float(columns[name][-1]) for name in where if name in columns}}
 
 
 def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns: dict, units: dict,
@@ -373,10 +373,12 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
     """The typed summary of a finished run."""
     last_deployment = max([e.time for e in events if e.kind == "deploy"], default=0.0)
     events = sorted(events + descent_rate_events(case.simulation.descent_rate_events, columns["time"],
-                                                 columns[f"{case.vehicle}_velocity_down"], last_deployment),
+                                                 columns[column("{owner}_velocity_down", case.vehicle)],
+                                                 last_deployment),
                     key=lambda e: e.time)
-    peaks = {k.removeprefix("tension_"): float(np.nanmax(v)) if np.isfinite(v).any() else None
-             for k, v in columns.items() if k.startswith("tension_")}
+    lines = {k: owner(k, "tension_{owner}") for k in columns}
+    peaks = {line: float(np.nanmax(columns[k])) if np.isfinite(columns[k]).any() else None
+             for k, line in lines.items() if line is not None}
     return RunSummary(
         case=case.name, case_file=case.source, description=case.description, vehicle=case.vehicle,
         method=plan.method.name, integrator=plan.integrator, step=plan.step, duration=plan.duration,

@@ -14,6 +14,8 @@ import math
 
 import numpy as np
 
+from ..case.columns import owner
+
 ELLIPSES = (("1 sigma", 1.0), ("3 sigma", 3.0), ("99 %", math.sqrt(-2.0 * math.log(0.01))))
 """(label, k): dispersion ellipses drawn and tabulated, k in standard deviations along the principal axes."""
 MINIMUM_RUNS = 3
@@ -63,7 +65,8 @@ def touchdown_histogram_panels(rows: list, loads: list) -> list:
         if name == "touchdown_speed":
             label, scale = "touchdown speed, relative to the ground (m/s)", 1.0
         else:
-            label, scale = f"{name.removeprefix('peak_tension_').replace('_', ' ')}: peak load (kN)", 1e-3
+            line = owner(name, "peak_tension_{owner}") or name
+            label, scale = f"{line.replace('_', ' ')}: peak load (kN)", 1e-3
         panels.append((values * scale, label, {p: np.percentile(values, p) * scale for p in (1, 50, 99)}))
     return panels
 

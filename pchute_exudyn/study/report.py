@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_path
+from ..case.columns import owner as column_owner
+from ..case.columns import unit as column_unit
 from ..case.method_table import METHODS, option_names
 from ..errors import InputError
 from ..results.compare import compare_results
@@ -59,19 +61,14 @@ else:  # pragma: no cover
 
 PERCENTILES = (1, 50, 99)
 BOOTSTRAP_NOTE = "2000 resamples, fixed seed"
-OUTPUT_UNITS = {"final_east": "m", "final_north": "m", "final_lateral": "m", "final_altitude": "m", "final_time": "s",
-                "touchdown_time": "s", "touchdown_speed": "m/s", "wall_time": "s", "steps": "count",
-                "descent_rate": "m/s", "pendulum_max_deg": "deg", "pendulum_rms_deg": "deg",
-                "pendulum_amplitude_deg": "deg"}
-PREFIX_UNITS = {"peak_tension_": "N", "rms_tension_": "N", "peak_load_share_": "-", "max_flyout_": "deg",
-                "mean_flyout_": "deg", "deploy_mach_": "-", "deploy_dynamic_pressure_": "Pa", "deploy_altitude_": "m",
-                "deploy_time_": "s", "separation_time_": "s", "separation_clearance_": "m"}
+def _is_peak_tension(name: str) -> bool:
+    return column_owner(name, "peak_tension_{owner}") is not None
 
 
 def output_label(name: str) -> str:
-    """An output column with its unit: 'peak_tension_riser (N)'."""
-    unit = next((u for prefix, u in PREFIX_UNITS.items() if name.startswith(prefix)), OUTPUT_UNITS.get(name))
-    return f"{name} ({unit})" if unit else name
+    """An output column with its unit (``case.columns``): 'peak_tension_riser (N)'."""
+    found = column_unit(name)
+    return f"{name} ({found})" if found else name
 
 
 def parameter_label(key: str, units: dict, relative: bool) -> str:
@@ -285,7 +282,7 @@ def _outputs(ok: list) -> list:
     separated = [f"{prefix}{body}" for body in _in_time_order(ok, "separation_time_") for prefix in SEPARATION_OUTPUTS]
     return [o for o in MAIN_OUTPUTS + tuple(deployed + separated + clustered)
             if any(isinstance(r.get(o), float) for r in ok)] + \
-        sorted({k for r in ok for k in r if k.startswith("peak_tension_") and isinstance(r[k], float)})
+        sorted({k for r in ok for k in r if _is_peak_tension(k) and isinstance(r[k], float)})
 
 
 def _in_time_order(ok: list, prefix: str) -> list:
@@ -332,7 +329,7 @@ def _deployment_boxes(ok: list, stats: dict, title: str, out: Path, paths: dict,
 def _input_figures(ok: list, failed: list, drawn: list, grid: list, outputs: list, labels: dict, out: Path,
                    paths: dict) -> None:
     """Outputs against each drawn input (failed runs marked at their drawn value) and each grid parameter."""
-    tensions = [o for o in outputs if o.startswith("peak_tension_")][:2]
+    tensions = [o for o in outputs if _is_peak_tension(o)][:2]
     for key in drawn:
         targets = [o for o in ("final_lateral", "final_altitude", "touchdown_speed") if o in outputs] + tensions
         path = out / f"scatter_{_safe(key)}.png"
@@ -373,13 +370,13 @@ def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict, fail
     if len(points) < MINIMUM_RUNS:
         return []
     stats = footprint_statistics(points)
-    loads = [o for o in outputs if o.startswith("peak_tension_")]
+    loads = [o for o in outputs if _is_peak_tension(o)]
     landed = [r for r in ok if isinstance(r.get("touchdown_time"), float)]
     rows = []
     for name in ["touchdown_speed", "touchdown_time"] + loads:
         values = np.array([r[name] for r in landed if isinstance(r.get(name), float)])
         if len(values):
-            unit = {"touchdown_speed": "m/s", "touchdown_time": "s"}.get(name, "N")
+            unit = column_unit(name)
             rows.append((name, unit, {**{f"p{q}": float(np.percentile(values, q)) for q in (1, 5, 50, 95, 99)},
                                       "max": float(values.max())}))
     stats["percentiles"] = {name: {"unit": unit, **p} for name, unit, p in rows}

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
+from ..case.columns import column
 from ..errors import InputError, PchuteError
 from ..results.io import ensure_writable_dir
 from ..results.journal import WriteFailed
@@ -35,11 +36,10 @@ def scalar_outputs(result) -> dict:
     if touchdown:
         out["touchdown_time"] = touchdown[0]["time"]
         out["touchdown_speed"] = touchdown[0]["speed"]
-    for name in result.tension_names():
+    for label, name in result.tensions().items():
         values = result[name][np.isfinite(result[name])]
-        label = name.removeprefix("tension_")
-        out[f"peak_tension_{label}"] = float(values.max()) if len(values) else None
-        out[f"rms_tension_{label}"] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
+        out[column("peak_tension_{owner}", label)] = float(values.max()) if len(values) else None
+        out[column("rms_tension_{owner}", label)] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
     out.update(cluster_outputs(s))
     out.update(sequence_outputs(s))
     return out
@@ -55,15 +55,15 @@ def sequence_outputs(summary: dict) -> dict:
     for event in summary.get("events", []):
         conditions = (event.get("trigger") or {}).get("conditions") if event.get("event") == "deploy" else None
         system = event.get("system")
-        if not conditions or not system or f"deploy_time_{system}" in out:
+        if not conditions or not system or column("deploy_time_{owner}", system) in out:
             continue
-        out[f"deploy_mach_{system}"] = _finite(conditions.get("mach"))
-        out[f"deploy_dynamic_pressure_{system}"] = _finite(conditions.get("dynamic_pressure"))
-        out[f"deploy_altitude_{system}"] = _finite(conditions.get("altitude"))
-        out[f"deploy_time_{system}"] = _finite(event.get("time"))
+        out[column("deploy_mach_{owner}", system)] = _finite(conditions.get("mach"))
+        out[column("deploy_dynamic_pressure_{owner}", system)] = _finite(conditions.get("dynamic_pressure"))
+        out[column("deploy_altitude_{owner}", system)] = _finite(conditions.get("altitude"))
+        out[column("deploy_time_{owner}", system)] = _finite(event.get("time"))
     for body, entry in (summary.get("separations") or {}).items():
-        out[f"separation_time_{body}"] = _finite(entry.get("time"))
-        out[f"separation_clearance_{body}"] = _finite(entry.get("clearance"))
+        out[column("separation_time_{owner}", body)] = _finite(entry.get("time"))
+        out[column("separation_clearance_{owner}", body)] = _finite(entry.get("clearance"))
     return out
 
 
@@ -83,12 +83,13 @@ def cluster_outputs(summary: dict) -> dict:
     system flies, and its rate of descent over the run's last seconds (``analysis``)."""
     out = {}
     for system, entry in summary.get("cluster", {}).items():
-        out[f"peak_load_share_{system}"] = entry["peak_load_share"]
+        out[column("peak_load_share_{owner}", system)] = entry["peak_load_share"]
         flyout = {canopy: value for canopy, value in entry["flyout_deg"].items() if value is not None}
-        out[f"max_flyout_{system}"] = max((v["max"] for v in flyout.values()), default=None)
-        out[f"mean_flyout_{system}"] = float(np.mean([v["mean"] for v in flyout.values()])) if flyout else None
+        out[column("max_flyout_{owner}", system)] = max((v["max"] for v in flyout.values()), default=None)
+        out[column("mean_flyout_{owner}", system)] = (float(np.mean([v["mean"] for v in flyout.values()])) if flyout
+                                                      else None)
         for canopy, value in entry["flyout_deg"].items():
-            out[f"max_flyout_{canopy}"] = None if value is None else value["max"]
+            out[column("max_flyout_{owner}", canopy)] = None if value is None else value["max"]
     pendulum = summary.get("pendulum", {})
     if pendulum:
         out["pendulum_max_deg"], out["pendulum_rms_deg"] = pendulum["max_vertical_deg"], pendulum["rms_vertical_deg"]

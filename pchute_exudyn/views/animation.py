@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..case.columns import owner
 from ..errors import InputError
 from ..results.io import atomic_writer
 from ..results.result import Result, load_scene
@@ -204,7 +205,7 @@ class Animation:
             text.remove()
         figure.text(0.02, 0.96, self.run.label, fontsize=8)
         figure.text(0.98, 0.96, f"t = {t:6.2f} s", fontsize=10, ha="right", family="monospace")
-        shown = [(name.removeprefix("tension_"), float(v[i])) for name, v in self.run.tensions.items()]
+        shown = [(owner(name, "tension_{owner}"), float(v[i])) for name, v in self.run.tensions.items()]
         lines = [f"{name}: {_force(value)}" for name, value in shown if np.isfinite(value)][:8]
         figure.text(0.02, 0.90, "\n".join(lines), fontsize=7, va="top", family="monospace")
         if self.compare is not None:

@@ -14,6 +14,8 @@ import pickle
 import subprocess
 import sys
 
+from ..case.columns import column
+
 SUMMARY_KEYS = ("vehicle", "case", "method", "integrator", "step")
 """What the figure reads of the summary (its title and the vehicle's name)."""
 
@@ -46,7 +48,8 @@ class FigureProcess:
             return False
         names = ["time", *result.tension_names()]
         vehicle = result.summary.get("vehicle", "vehicle")
-        names += [name for name in (f"{vehicle}_altitude", f"{vehicle}_velocity_down") if name in result]
+        names += [name for name in (column("{owner}_altitude", vehicle), column("{owner}_velocity_down", vehicle))
+                  if name in result]
         message = {"columns": {name: result[name] for name in names},
                    "summary": {key: result.summary[key] for key in SUMMARY_KEYS if key in result.summary},
                    "path": str(path)}

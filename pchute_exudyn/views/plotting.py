@@ -12,6 +12,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from ..case.columns import column
 from ..results.io import atomic_writer
 
 
@@ -35,14 +36,15 @@ def plot_overview(result, title: str | None = None) -> Figure:
     bottom = figure.add_subplot(grid[1, 0], sharex=top)
     top.tick_params(labelbottom=False)
     time = result.time
-    draw_curves(top, [(name.removeprefix("tension_"), time, result[name]) for name in result.tension_names()])
+    draw_curves(top, [(line, time, result[name]) for line, name in result.tensions().items()])
     top.set_ylabel("line tension (N)")
     if result.tension_names():
         top.legend(loc="best", fontsize="small")
     top.grid(True, alpha=0.3)
     vehicle = result.summary.get("vehicle", "vehicle")
-    if f"{vehicle}_altitude" in result:
-        bottom.plot(time, result[f"{vehicle}_altitude"], color="k")
+    altitude = column("{owner}_altitude", vehicle)
+    if altitude in result:
+        bottom.plot(time, result[altitude], color="k")
     bottom.set_ylabel(f"{vehicle} altitude (m)")
     bottom.set_xlabel("time (s)")
     bottom.grid(True, alpha=0.3)
@@ -55,7 +57,7 @@ def plot_overview(result, title: str | None = None) -> Figure:
 
 def _descent_panel(ax, result, vehicle: str) -> None:
     """The vehicle's rate of descent (m/s, its downward velocity in the start frame) against its altitude (m)."""
-    altitude, down = f"{vehicle}_altitude", f"{vehicle}_velocity_down"
+    altitude, down = column("{owner}_altitude", vehicle), column("{owner}_velocity_down", vehicle)
     if altitude in result and down in result:
         ax.plot(result[down], result[altitude], color="tab:blue", linewidth=0.9)
     ax.set_xlabel("rate of descent (m/s)")
@@ -73,15 +75,16 @@ def save_figure(figure: Figure, path, dpi: int = 120) -> None:
 def plot_tension_overlay(results: dict, lines=None, title: str = "", t_max: float | None = None) -> Figure:
     """One panel per line, the tension of each labelled result overlaid (``results``: label -> Result)."""
     first = next(iter(results.values()))
-    lines = lines or [n.removeprefix("tension_") for n in first.tension_names()]
-    return _overlay(results, [(f"tension_{line}", f"{line} (N)") for line in lines], title or "line tensions",
+    lines = lines or list(first.tensions())
+    return _overlay(results, [(column("tension_{owner}", line), f"{line} (N)") for line in lines],
+                    title or "line tensions",
                     (9.0, 2.2 * len(lines) + 0.8), t_max)
 
 
 def plot_confluence_velocity_overlay(results: dict, prefix: str = "confluence", title: str = "",
                                      t_max: float | None = None) -> Figure:
     """Confluence east and north (lateral) velocity of each labelled result overlaid."""
-    panels = [(f"{prefix}_velocity_{c}", f"{c} velocity (m/s)") for c in ("east", "north")]
+    panels = [(column("{owner}_velocity_" + c, prefix), f"{c} velocity (m/s)") for c in ("east", "north")]
     return _overlay(results, panels, title or "confluence lateral velocity", (9.0, 5.5), t_max)
 
 
