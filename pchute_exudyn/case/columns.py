@@ -18,6 +18,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
 
+from ..physics.triggers import QUANTITIES
+
 
 @dataclass(frozen=True)
 class Column:
@@ -123,12 +125,11 @@ COLUMNS = (
         ("peak_load_share_{owner}", "-", "a cluster's peak load share", "system"),
         ("max_flyout_{owner}", "deg", "a canopy's largest flyout", "canopy"),
         ("mean_flyout_{owner}", "deg", "a canopy's mean flyout", "canopy"),
-        ("deploy_mach_{owner}", "-", "Mach number at a system's deployment", "system"),
-        ("deploy_dynamic_pressure_{owner}", "Pa", "dynamic pressure at a system's deployment", "system"),
-        ("deploy_altitude_{owner}", "m", "altitude at a system's deployment", "system"),
         ("deploy_time_{owner}", "s", "time of a system's deployment", "system"),
         ("separation_time_{owner}", "s", "time of a separation", "run"),
         ("separation_clearance_{owner}", "m", "clearance after a separation", "run"))],
+    *[Column(f"deploy_{q.name}_{{owner}}", q.unit, f"the vehicle's {q.meaning} at a system's triggered deployment",
+             "system") for q in QUANTITIES if q.studied],
 )
 """Every kind of column (a method's own: ``register``)."""
 

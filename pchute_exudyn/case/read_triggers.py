@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..physics.triggers import (
+    QUANTITY,
     THRESHOLD_QUANTITIES,
     After,
     AllOf,
@@ -207,8 +208,8 @@ def check_triggers(top: Table, triggers: dict, systems: dict, failures, separati
     fixed = set(known_times(systems, failures, separations))
     check_events(triggers, fixed, lambda event, message, value: top.error(triggers[event].key, message, value))
     for trigger in triggers.values():
-        needs = {c.quantity for c in leaves(trigger.condition) if isinstance(c, Threshold)} & {"mach",
-                                                                                             "dynamic_pressure"}
+        needs = {c.quantity for c in leaves(trigger.condition) if isinstance(c, Threshold)
+                 and QUANTITY[c.quantity].needs_speed_of_sound}
         if trigger.sensor.pressure_noise or trigger.sensor.pressure_bias:
             needs.add("barometric altitude")
         if needs and (atmosphere is None or not atmosphere.has_speed_of_sound):

@@ -6,47 +6,13 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from ..case.model import Case
+from ..case.sensing import pressure_function, true_values
 from ..errors import SimulationError
-from ..physics.atmosphere import pressure_of
 from ..physics.triggers import TIME_TOLERANCE, TriggerFailed
 from .bodies import MAX_DESCENT_ACCELERATION
 from .model import Model
 from .state import BodyChannel
-
-
-def true_values(case: Case, position, velocity, time: float, air_motion=None) -> dict:
-    """The true values a sensor reads (``physics.triggers.SENSED``, plus density in kg/m^3, speed of sound in m/s,
-    gravity in m/s^2, position and velocity) of a body at start-frame ``position`` (m) and ``velocity`` (m/s) at
-    ``time`` (s); ``air_motion``: the case's (``Case.air_motion``), made once by a caller that samples often."""
-    x, y, z = (float(v) for v in position)
-    altitude = case.start.altitude_scalar(x, y, z)
-    velocity = np.asarray(velocity, float)
-    ground = case.start.velocity_to_planet_fixed(np.array([x, y, z]), velocity, time)
-    air_motion = case.air_motion() if air_motion is None else air_motion
-    air = velocity - np.array(air_motion(x, y, z, altitude, time))
-    airspeed = float(np.linalg.norm(air))
-    density, sound = case.atmosphere.state(altitude) if case.atmosphere is not None else (0.0, math.nan)
-    gamma = case.atmosphere.kernel_parameters()[2] if case.atmosphere is not None else 1.4
-    return {"altitude": altitude, "altitude_ground": altitude - (case.simulation.ground_altitude or 0.0),
-            "pressure": pressure_of(density, sound, gamma), "density": density, "speed_of_sound": sound,
-            "vertical_velocity": -float(np.dot(case.start.down(np.array([x, y, z])), velocity)),
-            "speed": float(np.linalg.norm(ground)), "airspeed": airspeed, "mach": airspeed / sound,
-            "dynamic_pressure": 0.5 * density * airspeed * airspeed,
-            "gravity": math.hypot(*case.start.gravity_scalar(x, y, z)),
-            "position": np.array([x, y, z]), "velocity": velocity}
-
-
-def pressure_function(case: Case):
-    """h (m) -> (pressure in Pa, density in kg/m^3) of the case's atmosphere (``physics.atmosphere.pressure_of``)."""
-    gamma = case.atmosphere.kernel_parameters()[2]
-
-    def pressure_at(altitude: float) -> tuple:
-        density, sound = case.atmosphere.state(altitude)
-        return pressure_of(density, sound, gamma), density
-    return pressure_at
 
 
 class TriggerMonitor:

@@ -208,12 +208,12 @@ def aerodynamic_load(tables, body, vx, vy, vz, rotation, rates, density, sound, 
     speed2 = vx * vx + vy * vy + vz * vz
     if speed2 == 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    qs = 0.5 * density * speed2 * body[AREA] * fraction
+    qs = dynamic_pressure(density, speed2) * body[AREA] * fraction
     along = vx * ex + vy * ey + vz * ez
     px, py, pz = vx - along * ex, vy - along * ey, vz - along * ez
     perp = math.sqrt(px * px + py * py + pz * pz)
     alpha = math.degrees(math.atan2(perp, along))
-    mach = math.sqrt(speed2) / sound if body[USES_MACH] > 0.0 else math.nan
+    mach = math.sqrt(speed2) / sound if body[USES_MACH] > 0.0 else math.nan   # ``mach_number`` (kernel form)
     look_up = 0.0 if body[USES_MACH] == 0.0 else mach
     axial = coefficient(tables, int(body[AXIAL]), look_up, alpha)
     if body[EFFICIENCY] != 1.0:
@@ -246,6 +246,24 @@ def aerodynamic_load(tables, body, vx, vy, vz, rotation, rates, density, sound, 
             my += pitch * rates[1]
             mz += pitch * rates[2]
     return fx, fy, fz, mx, my, mz, mach, alpha
+
+
+@kernel
+def dynamic_pressure(density, speed_squared):
+    """q = 1/2 rho V^2 (Pa) from the air's ``density`` (kg/m^3) and the air-relative speed squared (m^2/s^2): the
+    one formula of every dynamic pressure (``dynamic_pressure_of_speed`` from a speed)."""
+    return 0.5 * density * speed_squared
+
+
+def dynamic_pressure_of_speed(density, speed):
+    """q = 1/2 rho V V (Pa) from the air-relative ``speed`` (m/s; a float or an array), as the sensed values and the
+    output columns have always rounded it (the half density times V, times V)."""
+    return 0.5 * density * speed * speed
+
+
+def mach_number(speed, sound):
+    """M = V / a (-) from the air-relative ``speed`` and the speed of ``sound`` (m/s; floats or arrays)."""
+    return speed / sound
 
 
 OUTSIDE, FIELD = 1.0, 2.0
@@ -295,7 +313,7 @@ def centre_load(t, x, y, z, vx, vy, vz, rotation, rates, body, tables, fraction,
     vx, vy, vz = vx - ux, vy - uy, vz - uz
     fx, fy, fz, mx, my, mz, mach, alpha = aerodynamic_load(tables, body, vx, vy, vz, rotation, rates, density, sound,
                                                            fraction)
-    return 0.0, 0.0, fx, fy, fz, mx, my, mz, 0.5 * density * (vx * vx + vy * vy + vz * vz), mach, alpha
+    return 0.0, 0.0, fx, fy, fz, mx, my, mz, dynamic_pressure(density, vx * vx + vy * vy + vz * vz), mach, alpha
 
 
 STAGE_PARTS = ("points", "bodies", "tables", "frame", "atmosphere", "air", "wind", "gusts", "turbulence")
@@ -364,7 +382,7 @@ def aerodynamics_stage(t, states, data, field, work, generalized):
         v = WORK_FRACTIONS + count + j * VALUE_COLUMNS
         for c in range(6):
             work[v + c] = load[c]
-        pressure = 0.5 * density * (vx * vx + vy * vy + vz * vz)
+        pressure = dynamic_pressure(density, vx * vx + vy * vy + vz * vz)
         work[v + VALUE_PRESSURE], work[v + VALUE_MACH], work[v + VALUE_ALPHA] = pressure, load[6], load[7]
     work[0] = 0.0
     for j in range(count):   # after every body, so that a problem adds nothing

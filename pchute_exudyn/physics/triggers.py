@@ -17,15 +17,79 @@ from __future__ import annotations
 
 import math
 import zlib
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-THRESHOLD_QUANTITIES = {"altitude": "m", "speed": "m/s", "airspeed": "m/s", "mach": "-", "dynamic_pressure": "Pa"}
+from .aerodynamics import dynamic_pressure_of_speed, mach_number
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A quantity a trigger's sensor reads.
+
+    Attributes
+    ----------
+    name, unit : str
+        Its name in a case file's trigger and in a user function's ``sensed`` and ``state``; its SI unit.
+    meaning : str
+        One line (the docs' table).
+    error : {"pressure", "speed", "none"}
+        The sensor error that reaches it directly: the barometric pressure error (the altitudes), the navigated speed
+        error (the speeds), none (a value derived from others).
+    derive : callable, optional
+        ``derive(values, truth)``: its value from the other ``values`` (true or sensed) and the ``truth`` (density,
+        speed of sound); None for a value the sampling supplies (``case.sensing.true_values``).
+    needs_speed_of_sound : bool
+        Whether it needs an atmosphere with a temperature.
+    threshold : bool
+        Whether a ``Threshold`` may watch it.
+    recorded : bool
+        Whether a triggered deployment's record keeps the vehicle's true value (``run.sequence``).
+    studied : bool
+        Whether a study keeps that recorded value as a column (``deploy_<name>_<system>``, ``case.columns``).
+    """
+
+    name: str
+    unit: str
+    meaning: str
+    error: str = "none"
+    derive: Callable | None = None
+    needs_speed_of_sound: bool = False
+    threshold: bool = False
+    recorded: bool = False
+    studied: bool = False
+
+
+QUANTITIES = (
+    Quantity("altitude", "m", "geodetic altitude (barometric when the sensor has a pressure error)", "pressure",
+             threshold=True, recorded=True, studied=True),
+    Quantity("altitude_ground", "m", "the same above the case's ground", "pressure"),
+    Quantity("pressure", "Pa", "static pressure", "pressure"),
+    Quantity("vertical_velocity", "m/s", "up-positive vertical velocity", "speed"),
+    Quantity("speed", "m/s", "speed relative to the ground", "speed", threshold=True),
+    Quantity("airspeed", "m/s", "speed relative to the air", "speed", threshold=True, recorded=True),
+    Quantity("mach", "-", "airspeed over the speed of sound", derive=lambda v, t: mach_number(
+        v["airspeed"], t["speed_of_sound"]), needs_speed_of_sound=True, threshold=True, recorded=True, studied=True),
+    Quantity("dynamic_pressure", "Pa", "1/2 rho airspeed^2", derive=lambda v, t: dynamic_pressure_of_speed(
+        t["density"], v["airspeed"]), needs_speed_of_sound=True, threshold=True, recorded=True, studied=True),
+)
+"""Every quantity a sensor reads, in the order a user function's ``sensed`` lists them."""
+QUANTITY = {quantity.name: quantity for quantity in QUANTITIES}
+THRESHOLD_QUANTITIES = {q.name: q.unit for q in QUANTITIES if q.threshold}
 """What a ``Threshold`` can watch, with units."""
-SENSED = ("altitude", "altitude_ground", "pressure", "vertical_velocity", "speed", "airspeed", "mach",
-          "dynamic_pressure")
+SENSED = tuple(QUANTITY)
 """The values a sensor gives a user function (``sensed``), each also in ``state`` as its true value."""
+RECORDED = tuple(q.name for q in QUANTITIES if q.recorded)
+"""The vehicle's true values a triggered deployment's record keeps (``run.sequence``)."""
+
+
+def derive_quantities(values: dict, truth: dict) -> None:
+    """Fill the derived quantities (those with ``derive``) of ``values`` from its others and ``truth``."""
+    for quantity in QUANTITIES:
+        if quantity.derive is not None:
+            values[quantity.name] = quantity.derive(values, truth)
 TIME_TOLERANCE = 1e-9
 """s: a sample is due at the first step end no earlier than its time minus half a step, less this round-off."""
 
@@ -238,10 +302,10 @@ def sense(truth: dict, sensor: Sensor, pressure_error: float, speed_error: float
         sensed["altitude_ground"] += altitude - truth["altitude"]
         sensed["altitude"] = altitude
     if speed_error != 0.0:
-        for name in ("speed", "airspeed", "vertical_velocity"):
-            sensed[name] = truth[name] + speed_error
-        sensed["mach"] = sensed["airspeed"] / truth["speed_of_sound"]
-        sensed["dynamic_pressure"] = 0.5 * truth["density"] * sensed["airspeed"] ** 2
+        for quantity in QUANTITIES:
+            if quantity.error == "speed":
+                sensed[quantity.name] = truth[quantity.name] + speed_error
+        derive_quantities(sensed, truth)
     return sensed
 
 

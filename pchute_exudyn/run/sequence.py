@@ -16,9 +16,9 @@ from dataclasses import replace
 
 from ..case.events import armed_by, known_times, with_event_times
 from ..case.model import Case
-from ..engine.triggers import true_values
+from ..case.sensing import true_values
 from ..errors import SimulationError
-from ..physics.triggers import After, Watch
+from ..physics.triggers import RECORDED, After, Watch
 
 
 class Sequence:
@@ -105,9 +105,7 @@ class Sequence:
         for event, record in self.records.items():
             if self.times.get(event) == time and "conditions" not in record:
                 truth = true_values(self.case, state.position, state.velocity, time)
-                record["conditions"] = {key: float(truth[key]) for key in ("altitude", "mach", "dynamic_pressure",
-                                                                           "airspeed")
-                                        if math.isfinite(truth[key])}
+                record["conditions"] = {key: float(truth[key]) for key in RECORDED if math.isfinite(truth[key])}
 
     def attach(self, events: list) -> list:
         """``events`` with each triggered one's record (``trigger``)."""

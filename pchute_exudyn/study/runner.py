@@ -21,6 +21,7 @@ import numpy as np
 from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
 from ..case.columns import column
 from ..errors import InputError, PchuteError
+from ..physics.triggers import QUANTITIES
 from ..results.io import ensure_writable_dir
 from ..results.journal import WriteFailed
 from .spec import RunSpec, StudySpec
@@ -45,6 +46,10 @@ def scalar_outputs(result) -> dict:
     return out
 
 
+STUDIED = tuple(q.name for q in QUANTITIES if q.studied)
+"""The recorded quantities a study keeps of each triggered deployment (``physics.triggers.Quantity.studied``)."""
+
+
 def sequence_outputs(summary: dict) -> dict:
     """The outputs of a run's triggered sequence (-, Pa, m, s): per system whose deployment a trigger fired (its
     event carries ``trigger.conditions``), the vehicle's Mach number, dynamic pressure and altitude at the deployment
@@ -57,9 +62,8 @@ def sequence_outputs(summary: dict) -> dict:
         system = event.get("system")
         if not conditions or not system or column("deploy_time_{owner}", system) in out:
             continue
-        out[column("deploy_mach_{owner}", system)] = _finite(conditions.get("mach"))
-        out[column("deploy_dynamic_pressure_{owner}", system)] = _finite(conditions.get("dynamic_pressure"))
-        out[column("deploy_altitude_{owner}", system)] = _finite(conditions.get("altitude"))
+        for quantity in STUDIED:
+            out[column(f"deploy_{quantity}_{{owner}}", system)] = _finite(conditions.get(quantity))
         out[column("deploy_time_{owner}", system)] = _finite(event.get("time"))
     for body, entry in (summary.get("separations") or {}).items():
         out[column("separation_time_{owner}", body)] = _finite(entry.get("time"))
