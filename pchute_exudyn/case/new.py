@@ -38,17 +38,57 @@ from ..physics.rotations import attitude_angles_deg, attitude_matrix
 from .columns import column
 from .model import Contact
 
-CANOPY_TYPES = {   # C_D0 on S0, subsonic: the middle of the published ranges (DRAG_SOURCE; docs/models/sources.md)
-    "disk_gap_band": 0.55,   # Maydew, AGARD-AG-319: 0.53-0.58
-    "ringsail": 0.80,        # Table 5-2: 0.75-0.85
-    "ribbon": 0.50,          # Table 5-2: where flat ribbon (0.45-0.50) meets conical ribbon (0.50-0.55)
-    "flat_circular": 0.77,   # Table 5-1 (solid textile): 0.75-0.80
-    "cross": 0.72,           # Table 5-1: 0.60-0.85
-}
-DRAG_SOURCE = {"disk_gap_band": "Maydew, AGARD-AG-319", "ringsail": "Knacke, Table 5-2", "ribbon": "Knacke, Table 5-2",
-               "flat_circular": "Knacke, Table 5-1", "cross": "Knacke, Table 5-1"}
-"""Where each type's C_D0 range comes from: Knacke's type tables (NWC TP 6575, March 1991: 5-1 solid textile, 5-2
-slotted canopies); for the disk-gap-band, whose row there we have not seen, Maydew and Peterson, AGARD-AG-319."""
+
+@dataclass(frozen=True)
+class CanopyType:
+    """A canopy type ``pchute new`` writes (docs/tutorial.md; docs/models/sources.md gives the sources).
+
+    Attributes
+    ----------
+    name : str
+        Its ``--canopy-type`` value.
+    drag_coefficient : float
+        C_D0 on S0 (-), subsonic: the middle of the published range.
+    drag_source : str
+        Where that range comes from (the written case's comment names it).
+    drag_range : str
+        The published range.
+    fill_constant, opening_exponent, overinflation : float
+        How a released vehicle's canopy opens (``physics.inflation``): the fill time n D0 / V (n, -), the drag area
+        growing as (t / t_fill)^exponent (-) and overshooting to C_x times the full drag area (-).
+    opening_source : str
+        Where those come from, or what is assumed.
+    """
+
+    name: str
+    drag_coefficient: float
+    drag_source: str
+    drag_range: str
+    fill_constant: float
+    opening_exponent: float
+    overinflation: float
+    opening_source: str
+
+
+CANOPY_TYPE_LIST = (
+    CanopyType("disk_gap_band", 0.55, "Maydew, AGARD-AG-319", "0.53-0.58", 8.0, 2.0, 1.0,
+               "assumed: no handbook value found (the solid flat canopy's n and exponent)"),
+    CanopyType("ringsail", 0.80, "Knacke, Table 5-2", "0.75-0.85", 7.0, 2.0, 1.10,
+               "n, C_x: Knacke; exponent assumed (solid cloth's, as the PA1 mains)"),
+    CanopyType("ribbon", 0.50, "Knacke, Table 5-2", "where flat ribbon (0.45-0.50) meets conical ribbon (0.50-0.55)",
+               14.0, 1.0, 1.05, "Knacke: n, linear growth of a slotted canopy, C_x"),
+    CanopyType("flat_circular", 0.77, "Knacke, Table 5-1", "0.75-0.80 (solid textile)", 8.0, 2.0, 1.7,
+               "Knacke: n, quadratic growth of solid cloth, C_x"),
+    CanopyType("cross", 0.72, "Knacke, Table 5-1", "0.60-0.85", 11.7, 2.0, 1.15,
+               "Knacke: n, C_x (1.1-1.2); exponent assumed (solid cloth's)"),
+)
+"""The canopy types, one record each. C_D0 sources: Knacke's type tables (NWC TP 6575, March 1991: 5-1 solid
+textile, 5-2 slotted canopies); for the disk-gap-band, whose row there we have not seen, Maydew and Peterson,
+AGARD-AG-319. Openings: n from Knacke's Table 5-6 unreefed column (p. 5-43), Pflanz's exponents (Knacke Fig. 5-51: 2
+for solid cloth, 1 for slotted canopies), C_x the opening-force coefficient at infinite mass (Knacke Tables 5-1 and
+5-2), read from secondary transcriptions of the manual: typical, not a design's."""
+CANOPY_TYPES = {canopy.name: canopy for canopy in CANOPY_TYPE_LIST}
+"""Canopy type name -> CanopyType."""
 PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2, density model, radius m)
     "mars": (['name = "Mars"', "gravitational_parameter = 4.282828685e13   # m^3/s^2 (MER's, thesis Table 3.3)",
               "equatorial_radius = 3393940.0              # m", "polar_radius = 3376780.0                   # m",
@@ -82,19 +122,6 @@ COMMENT_COLUMN = 44
 """Column at which the written file's comments start (the hand-written case files' layout)."""
 ATTACH_RADIUS = 0.35
 """Bridle attach circle / vehicle diameter (-)."""
-OPENINGS = {   # canopy type -> (fill constant n, opening exponent, overinflation C_x) of an unreefed canopy
-    "disk_gap_band": (8.0, 2.0, 1.0),   # assumed: no handbook value found (the solid flat canopy's n and exponent)
-    "ringsail": (7.0, 2.0, 1.10),       # n, C_x: Knacke; exponent assumed (solid cloth's, as the PA1 mains)
-    "ribbon": (14.0, 1.0, 1.05),        # Knacke: n, linear growth of a slotted canopy, C_x
-    "flat_circular": (8.0, 2.0, 1.7),   # Knacke: n, quadratic growth of solid cloth, C_x
-    "cross": (11.7, 2.0, 1.15),         # Knacke: n, C_x (1.1-1.2); exponent assumed (solid cloth's)
-}
-"""How ``pchute new`` opens a released vehicle's canopies (``physics.inflation``; docs/tutorial.md): the fill time
-n D0 / V (Knacke, Parachute Recovery Systems Design Manual, NWC TP 6575, March 1991, p. 5-43, n from Table 5-6's
-unreefed column), the drag area growing as (t / t_fill)^exponent (Pflanz's exponents, Knacke Fig. 5-51: 2 for solid
-cloth, 1 for slotted canopies) and overshooting to C_x times the full drag area at the end of the fill (C_x, the
-opening-force coefficient at infinite mass, Knacke Tables 5-1 and 5-2), falling back over OVERINFLATION_DECAY fill
-times. The handbook values were read from secondary transcriptions of the manual and are typical, not a design's."""
 OVERINFLATION_DECAY = 0.25
 """The overshoot's fall (``overinflation_decay``) as a fraction of the fill time at the release airspeed (assumed)."""
 AXIAL_FLAT_TO_DEG = 60.0
@@ -155,7 +182,7 @@ class NewCase:
     release_airspeed : float or None
         Release the vehicle from an aircraft flying at this airspeed (m/s) instead of starting in steady descent:
         its canopies deploy at line stretch after ``static_line_time`` and open by the fill-constant law of their
-        type (OPENINGS).
+        type (CANOPY_TYPES).
     release_heading_deg, release_flight_path_deg : float
         The aircraft's heading (deg, clockwise from north) and flight-path angle (deg, climbing > 0, -90 to 90).
     static_line_time : float
@@ -229,7 +256,8 @@ class NewCase:
     @property
     def canopy_drag_coefficient(self) -> float:
         """Each canopy's C_D0 on S0 (-): the one given, else its type's."""
-        return CANOPY_TYPES[self.canopy_type] if self.drag_coefficient is None else float(self.drag_coefficient)
+        return (CANOPY_TYPES[self.canopy_type].drag_coefficient if self.drag_coefficient is None
+                else float(self.drag_coefficient))
 
     @property
     def reference_area(self) -> float:
@@ -613,7 +641,7 @@ class _Writer:
                 f"{nominal_diameter(p.reference_area):.4f} m",
                 f"axial_coefficient = {{ alpha_deg = [0.0, {AXIAL_FLAT_TO_DEG}, 90.0], value = "
                 f"[{_n(c.canopy_drag_coefficient)}, {_n(c.canopy_drag_coefficient)}, 0.0] }}",
-                "# C_A: C_D0 " + (f"of a {c.canopy_type} ({DRAG_SOURCE[c.canopy_type]}, mid-range)"
+                "# C_A: C_D0 " + (f"of a {c.canopy_type} ({CANOPY_TYPES[c.canopy_type].drag_source}, mid-range)"
                                   if c.drag_coefficient is None
                                   else "as given") + f" to {AXIAL_FLAT_TO_DEG:g} deg, then to 0 edge-on (assumed)",
                 "center = [0.0, 0.0, 0.0]                   # m: at the centre of mass",
@@ -658,17 +686,18 @@ class _Writer:
 
     def deployment(self) -> list:
         """A released vehicle's system: deployed at line stretch after the static line's time, opening by its type's
-        fill constant (OPENINGS)."""
+        fill constant (CANOPY_TYPES)."""
         c = self.c
         if not c.released:
             return []
-        fill, exponent, overinflation = OPENINGS[c.canopy_type]
+        canopy = CANOPY_TYPES[c.canopy_type]
+        fill, exponent, overinflation = canopy.fill_constant, canopy.opening_exponent, canopy.overinflation
         fill_time = fill * nominal_diameter(self.plan.reference_area) / max(c.release_airspeed, 1.0)
         decay = OVERINFLATION_DECAY * fill_time if overinflation > 1.0 else 0.0
         return [f"deploy_time = {_n(c.static_line_time)}   # s: the static line's time from the release to line "
                 "stretch", 'deploy_point = "vehicle.line_stretch"',
                 f"[systems.main.inflation]                   # one stage from line stretch; {c.canopy_type} values "
-                "(OPENINGS in pchute_exudyn/case/new.py, docs/tutorial.md)",
+                "(CANOPY_TYPES in pchute_exudyn/case/new.py, docs/tutorial.md)",
                 "stage_start = [0.0]                        # s after line stretch", "fraction = [1.0]",
                 f"fill_constant = [{_n(fill)}]   # -: fill time n D0 / V, V the canopy's speed at line stretch",
                 f"exponent = [{_n(exponent)}]   # -: the drag area grows as (t / t_fill)^exponent",

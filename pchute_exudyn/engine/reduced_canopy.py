@@ -13,6 +13,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..case.model import Case, ParachuteSystem
+from ..physics.aerodynamics import mach_number
 from ..physics.linearization import max_stable_step_rk4
 from ..physics.reduced_canopy import BRIDLE_ROW, RISER_ROW
 from ..physics.singular_perturbation import WORK_ATTACH_POSITION, WORK_SCRATCH, WORK_TENSION
@@ -82,7 +83,7 @@ class ReducedCanopy:
         mach = 0.0
         if self.coefficient.uses_mach:
             vx, vy, vz = memory[MEMORY_V0].tolist()
-            mach = math.dist((vx, vy, vz), wind) / sound
+            mach = mach_number(math.dist((vx, vy, vz), wind), sound)
         memory[MEMORY_CANOPY, CANOPY_DRAG] = 0.5 * density * self.area * self.coefficient(0.0, mach)
         memory[MEMORY_AIR] = wind
 

@@ -24,7 +24,7 @@ from ..case.columns import POINT_QUANTITIES, column, derived, method_column, uni
 from ..case.model import Case
 from ..engine.state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, ColumnChannel, RawHistory
 from ..errors import SimulationError
-from ..physics.aerodynamics import angles_of_attack_deg
+from ..physics.aerodynamics import angles_of_attack_deg, dynamic_pressure_of_speed, mach_number
 from ..physics.kinematics import body_point, relative_to_body
 from ..physics.lines import line_states
 from ..physics.rotations import attitude_angles_deg, tilt_deg
@@ -265,9 +265,9 @@ def _aero_columns(case: Case, body: dict, center, time):
     with np.errstate(invalid="ignore", divide="ignore"):
         beta[present] = np.where(speed > 0, np.degrees(np.arcsin(np.clip(v / speed, -1.0, 1.0))), 0.0)
     density, sound = atmosphere.states(altitudes[present])   # one kernel call for all samples
-    pressure[present] = 0.5 * density * speed * speed
+    pressure[present] = dynamic_pressure_of_speed(density, speed)
     if mach is not None:
-        mach[present] = speed / sound
+        mach[present] = mach_number(speed, sound)
     return total, alpha, beta, pressure, mach, wind, turbulence
 
 
