@@ -284,7 +284,7 @@ def _columns(case, **options) -> dict:
 def test_deferring_the_end_of_step_work_to_the_next_stage_changes_nothing(monkeypatch, case_path, options):
     """The end-of-step solve done at the next step's first stage (the default) against the same work done in the
     post-step call: every output column bitwise equal, touchdown and phase changes included."""
-    from pchute_exudyn.engine.sp import SPConfluence
+    from pchute_exudyn.methods.sp import SPConfluence
 
     case = pc.load_case(case_path)
     deferred = _columns(case, **options)

@@ -8,7 +8,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.engine.full import build_full_model
 from pchute_exudyn.engine.solver import integrate
 from pchute_exudyn.engine.state import initial_confluence_state, initial_point
-from pchute_exudyn.methods import FullMass
+from pchute_exudyn.methods.full import FullMass
 from pchute_exudyn.run.outputs import attach_points, line_tensions_from_states
 from pchute_exudyn.run.phases import initial_phase
 

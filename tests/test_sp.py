@@ -98,8 +98,7 @@ def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
     """The end-of-phase state carries the confluence acceleration (the mean over the last step), and the next
     phase's first solve uses it as the inertial force m (g - a) while it has no earlier velocity."""
     from pchute_exudyn.engine.solver import integrate
-    from pchute_exudyn.engine.sp import build_sp_model
-    from pchute_exudyn.methods.sp import SPOptions
+    from pchute_exudyn.methods.sp import SPOptions, build_sp_model
     from pchute_exudyn.run.phases import initial_phase, next_phase
 
     phase = initial_phase(mer_case1)

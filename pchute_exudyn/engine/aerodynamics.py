@@ -153,7 +153,7 @@ class AerodynamicLoads:
         """Fix the kernel's arguments after the stage time: the stage's body ``states`` and its ``generalized``
         forces (the same arrays at every stage), and the turbulence field as generated so far."""
         self._arguments = (states, self.data, self.air.field(), self.work, generalized)
-        self.parts = self._arguments[1:4]   # for a fused stage kernel (``engine.sp``): ``apply_after`` completes it
+        self.parts = self._arguments[1:4]   # for a fused stage kernel (``methods.sp``): ``apply_after`` completes it
 
     def warm_up(self, states, generalized) -> None:
         """Compile (or load) the kernel for the solver's argument types and call it through its machine code from

@@ -90,7 +90,7 @@ class Model:
             bodyNumber=self.ground, localPosition=case.start.planet_center.tolist()))
         self.systems = [case.systems[name].with_bodies(phase.bodies) for name in phase.systems]   # present lines
         self.bodies: dict = {}
-        self.massless: set = set()   # bodies of the phase that are no engine body: reduced canopies (``engine.sp``)
+        self.massless: set = set()   # bodies of the phase that are no engine body: reduced canopies (``methods.sp``)
         self.gravity_connectors: dict = {}   # body name -> (its gravity connector, its mass in kg): the bodies on
         #                                      which no other item than the stage's adds a force
         self.confluences: dict = {}
@@ -115,7 +115,7 @@ class Model:
     def add_channel_group(self, keys, reader: Reader, split) -> None:
         """Sample the channels ``keys`` (each also added alone) with one call of ``reader`` per sample instead of
         one call per channel. ``reader`` returns a list holding one 1-D array (which may be filled after the step:
-        ``engine.sp``); ``split`` turns the samples, rows of one 2-D array, into one array per key, in order, equal
+        ``methods.sp``); ``split`` turns the samples, rows of one 2-D array, into one array per key, in order, equal
         to what each channel's own reader would have given."""
         self.channel_groups.append((tuple(keys), reader, split))
 

@@ -230,7 +230,7 @@ class Stage:
 
     def _fused_force(self):
         """The force user function of a model whose only confluence solves with the kinematics and the
-        aerodynamics in one kernel call (``engine.sp.SPConfluence.stage_call``): that call and nothing else in
+        aerodynamics in one kernel call (``methods.sp.SPConfluence.stage_call``): that call and nothing else in
         Python at most stages, every name it needs bound here (a stage of an MER SP run is about 5 us in all)."""
         fused, loads, states, generalized = self.fused, self.loads, self.states, self.generalized
         contacts, record_failure = self.contacts, self.model.record_failure
@@ -261,7 +261,7 @@ class Stage:
 
     def settled_rows(self) -> list:
         """The states at the end of the last step, as lists (a fused confluence may owe its end-of-step work:
-        ``engine.sp.SPConfluence``)."""
+        ``methods.sp.SPConfluence``)."""
         if self.fused is not None:
             self.fused.settle()
         return self.rows

@@ -129,7 +129,7 @@ BODY_VALUES = 18
 3)."""
 CONFLUENCE_VALUES = 9
 """Values a sample holds for one confluence besides one tension per line, at most: its CONFLUENCE_QUANTITIES (3 + 3)
-and a method's three outputs (``engine.sp.SPConfluence.OUTPUTS``)."""
+and a method's three outputs (``methods.sp.SPConfluence.OUTPUTS``)."""
 
 
 @dataclass

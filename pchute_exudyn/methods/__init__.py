@@ -1,18 +1,31 @@
-"""The confluence methods, one class each, registered in the method table (``case.method_table.METHODS``).
+"""The confluence methods, one module each, registered in the method table (``case.method_table.METHODS``).
 
-Adding a method: write its class (a ``base.Method`` subclass with a name, its integrators, its Options type, a
-``build`` and, if it has confluence dynamics, a ``step_limit``) and add it to ``_BUILT_IN`` below.
+Adding a method: a module in this package with its class (a ``base.Method`` subclass with a name, its integrators,
+its Options type, a ``build`` of its model and, if it has confluence dynamics, a ``step_limit``), its model's
+confluence, and its kernels in ``physics/``. Every ``Method`` subclass defined in a module of this package is
+registered when the table is first read, in the order of ``ORDER`` and then by module name.
 """
+
+import importlib
+import pkgutil
 
 from ..case.method_table import METHODS
 from .base import Method, StepLimit, unstable_step_message
-from .equilibrium import EquilibriumPoint
-from .full import FullMass
-from .sp import SingularPerturbation
 
-_BUILT_IN = (FullMass, SingularPerturbation, EquilibriumPoint)
-for _method in _BUILT_IN:
+ORDER = ("full", "sp", "equilibrium")
+"""The built-in methods' order in the table (the command line's choices and the docs' tables list them so)."""
+
+
+def _discovered() -> list:
+    found = []
+    for module in pkgutil.iter_modules(__path__):
+        loaded = importlib.import_module(f"{__name__}.{module.name}")
+        found += [value for value in vars(loaded).values() if isinstance(value, type) and issubclass(value, Method)
+                  and value is not Method and value.__module__ == loaded.__name__ and value.name]
+    return sorted(found, key=lambda m: (ORDER.index(m.name) if m.name in ORDER else len(ORDER), m.__module__))
+
+
+for _method in _discovered():
     METHODS.register(_method)
 
-__all__ = ["METHODS", "EquilibriumPoint", "FullMass", "Method", "SingularPerturbation", "StepLimit",
-           "unstable_step_message"]
+__all__ = ["METHODS", "Method", "StepLimit", "unstable_step_message"]

@@ -1,4 +1,4 @@
-"""SP's confluence integrated in step with the engine's RK4 stages (``engine.sp``, ``docs/architecture.md``, "One
+"""SP's confluence integrated in step with the engine's RK4 stages (``methods.sp``, ``docs/architecture.md``, "One
 crossing per solver stage"): the confluence's memory (its position, the stage velocities, v0, the order-1 record, the
 step's bookkeeping) by named rows, the stage count, the RK4 update and the end-of-step work, and the one-call stage
 kernels of a model whose only confluence is SP's. The SP solve itself, one stage's lines and forces, is
@@ -44,7 +44,7 @@ stages); 15 (the run's step as the engine holds it in s, 0 until the solver sets
 A reduced canopy (``physics.reduced_canopy``; the confluence's state is then its drag point P at the riser's end):
 18 (its state row in the stage's states + 1, 0 without a reduced canopy; its drag coefficient 1/2 rho S C_A in kg/m;
 the distance from P back to its centre of mass in m); 19 the air's velocity at it (m/s). The air is the one at the
-start of the step, set before each step (``engine.sp``)."""
+start of the step, set before each step (``methods.sp``)."""
 
 # The columns of the memory rows that hold three different things (the other rows hold x, y, z):
 SETTING_MASS, SETTING_KAPPA, SETTING_FORCE_SLACK = 0, 1, 2      # MEMORY_SETTINGS: m_c (kg), kappa_max, force rule

@@ -24,11 +24,10 @@ import numpy as np
 
 from ..case.model import Case
 from ..engine.model import Model
-from ..engine.sp import RATE_MEMORY
 from ..engine.state import TensionChannel
 from ..errors import SimulationError
 from ..methods.base import Method, line_constants
-from ..methods.sp import RELAXED_STEPS
+from ..methods.sp import RATE_MEMORY, RELAXED_STEPS
 from ..physics.compiled import machine_code
 from ..physics.kinematics import ROW_POSITION, ROW_VELOCITY
 from ..physics.linearization import body_line_step_limit
