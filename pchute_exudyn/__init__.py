@@ -8,7 +8,7 @@ Quick use::
     result.save("out/case1")
 
 The confluence methods are classes in one table, ``pc.METHODS`` (name -> class), filled by
-:mod:`pchute_exudyn.methods`; ``simulate`` takes a name or a class.
+``pchute_exudyn.methods``; ``simulate`` takes a name or a class.
 
 The names below are imported when first used (PEP 562), so that a command imports what it needs and no more
 (``import pchute_exudyn.physics.atmosphere`` needs neither Exudyn nor the method table).

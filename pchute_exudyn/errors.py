@@ -1,7 +1,7 @@
 """User-facing errors.
 
 Every mistake a user can make (a bad case file, an unknown method, a step that makes the solver diverge) raises a
-subclass of :class:`PchuteError` whose message is one line that names what is wrong and what is allowed. The command
+subclass of ``PchuteError`` whose message is one line that names what is wrong and what is allowed. The command
 line prints that line and exits non-zero; it never shows a traceback for these.
 """
 

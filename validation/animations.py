@@ -6,9 +6,10 @@ Run:  python validation/animations.py
 Runs each case (result folders in a temporary directory), animates it with `pchute animate`'s code and writes into
 validation/output/animations/: ``mer_case3_sp.gif``, ``pa1_full_and_sp.gif``, ``pa1_cluster_sp.gif``, two still
 frames of each
-(``*_frame_<t>s.png``, for the README) and ``frames.md``, which lists what the frames can be checked against: at
-three times the bodies' attitudes (their body x axes in east/north/up, from the scene the animation draws, against
-the same axes rebuilt from the result's yaw/pitch/roll columns), each line's tension and whether it is drawn slack.
+(``*_frame_<t>s.png``, shown in docs/commands.md) and ``frames.md``, which lists what the frames can be checked
+against: at three times the bodies' attitudes (their body x axes in east/north/up, from the scene the animation
+draws, against the same axes rebuilt from the result's yaw/pitch/roll columns), each line's tension and whether it is
+drawn slack.
 """
 
 from __future__ import annotations

@@ -1,11 +1,16 @@
-"""The README's figures, regenerated from the test suite and the committed validation outputs (never typed by hand).
+"""The figures of the README and the documentation, regenerated from the test suite and the committed validation
+outputs (never typed by hand).
 
-Run:  python validation/readme_figures.py            # print each README line these figures belong in
-      python validation/readme_figures.py --check    # exit 1 and name every line the README does not hold
-      python validation/readme_figures.py --write    # put the lines into README.md (each replaces the line
+Run:  python validation/readme_figures.py            # print each line these figures belong in
+      python validation/readme_figures.py --check    # exit 1 and name every line no page holds
+      python validation/readme_figures.py --write    # put the lines into the pages (each replaces the line
                                                      # that starts the same way, up to its first figure)
 
-Each figure comes from the output of the script named beside it in the README, which writes the file read here:
+The pages are README.md and the Markdown files under docs/ (``pages()``): most figures stand in docs/validation.md,
+the test count in the README, a few beside what they measure (docs/methods.md). Each line goes to the page that holds
+a line starting the same way; --write refuses a line with no single such place among all the pages.
+
+Each figure comes from the output of the script named beside it on its page, which writes the file read here:
 `validation/benchmark_sp.py` (benchmark_sp.md), `validation/benchmark_full.py` (benchmark_full.md),
 `validation/cev_pa1.py` (cev_pa1/pa1.md), `validation/benchmark_study.py` (benchmark_study.md),
 `validation/run_studies.py` (studies/step_method/report/errors.csv, studies/pa1_footprint/report/footprint.json),
@@ -17,7 +22,7 @@ Each figure comes from the output of the script named beside it in the README, w
 (winds/envelope.md), `validation/release.py` (release/release.md), `validation/benchmark_steps.py`
 (benchmark_steps.md), `validation/benchmark_rocketpy.py` (rocketpy/benchmark.json); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
-the check (tests/test_architecture.py), so a README that disagrees with the committed outputs fails CI.
+the check (tests/test_architecture.py), so a page that disagrees with the committed outputs fails CI.
 """
 
 from __future__ import annotations
@@ -78,7 +83,7 @@ def sp_lines() -> list:
                  f"{size} MB to the environment.")
     implicit = float(rows["mer full implicit 0.01"][1])
     lines.append(f"  RK4 1e-4 s result within 1 cm in altitude and 1.2 N in tension at "
-                 f"1/{float(rows['mer full rk4 0.0001'][1]) / implicit:.0f} of the cost (table below).")
+                 f"1/{float(rows['mer full rk4 0.0001'][1]) / implicit:.0f} of the cost ([full-mass model](validation.md#full-mass-model)).")
     speed = table(path, "")
     lines.append(f"Against the code before the last cut of the stage cost ({commit}), each code in its own process, "
                  "medians of the same interleaved rounds:")
@@ -107,7 +112,7 @@ def full_lines() -> list:
 
 PA1_FLIGHT_TOUCHDOWN = ("74-76 or about 114 (95-97 s or about 135 s after ignition: the sources disagree), 7.2-7.3 "
                         "(16 mph, 24 ft/s)")
-"""The README's PA1 table: the flown test's public touchdown figures (docs/models/cev_pa1.md quotes the sources)."""
+"""The PA1 table (docs/validation.md): the flown test's public touchdown figures (docs/models/cev_pa1.md quotes the sources)."""
 
 
 def pa1_lines() -> list:
@@ -180,8 +185,8 @@ def step_method_lines() -> list:
     def cells(configuration):
         return " | ".join(f"{float(rows[(c, configuration)]['wall_time']):.3g} / "
                           f"{float(rows[(c, configuration)]['max_tension_error']):.3g}" for c in STEP_CASES)
-    lines = [f"  | full RK4 3e-4 s | {cells('full rk4 0.0003')} |"]
-    return lines + [f"  | {label} | {cells(configuration)} |" for label, configuration in STEP_METHOD.items()]
+    lines = [f"    | full RK4 3e-4 s | {cells('full rk4 0.0003')} |"]   # a table inside a list item: 4 spaces
+    return lines + [f"    | {label} | {cells(configuration)} |" for label, configuration in STEP_METHOD.items()]
 
 
 PRESET_ROWS = {"thesis's settings (massless, kappa_max 5)": "sp 0.01 thesis",
@@ -239,7 +244,7 @@ def footprint_lines() -> list:
 
     stats = json.loads((OUT / "studies" / "pa1_footprint" / "report" / "footprint.json").read_text())
     speed, riser = stats["percentiles"]["touchdown_speed"], stats["percentiles"]["peak_tension_main_riser"]
-    return [f"  [report](validation/output/studies/pa1_footprint/report/report.md)): mean touchdown point "
+    return [f"  report `validation/output/studies/pa1_footprint/report/report.md`): mean touchdown point "
             f"{stats['mean_east']:.0f} m east and {stats['mean_north']:.0f} m north of the start, principal standard "
             f"deviations {stats['sigma_major']:.0f} m and {stats['sigma_minor']:.0f} m, CEP "
             f"{stats['miss_distance']['p50']:.0f} m; touchdown speed {speed['p50']:.1f} / {speed['p99']:.1f} m/s "
@@ -357,7 +362,7 @@ def new_case_lines() -> list:
             f"500 m (SP); against RocketPy's export of the same descent its rate differs by {rocketpy[0][1].strip()} "
             f"and its time to ground by {ground(rocketpy[0])} s as written, by {rocketpy[1][1].strip()} and "
             f"{ground(rocketpy[1])} s on a rotating Earth (`python validation/new_case_checks.py`, "
-            "[table](validation/output/new_case/checks.md))."]
+            "table `validation/output/new_case/checks.md`)."]
 
 
 def study_overhead_lines() -> list:
@@ -368,7 +373,7 @@ def study_overhead_lines() -> list:
     before, now, large, fixed = rows
     inside = re.search(r"Every percentile inside its interval: (\w+)", text).group(1)
     return [f"Around the solves (`python validation/study_overhead.py --before DIR --runs 200 --large 2000 "
-            f"--compare-fixed`, [table](validation/output/study_overhead.md)): the 200-run PA1 footprint study on 2 "
+            f"--compare-fixed`, table `validation/output/study_overhead.md`): the 200-run PA1 footprint study on 2 "
             f"workers takes {now[3]} s against {before[3]} s before (wall time x workers / sum of solve times "
             f"{now[5]}, was {before[5]}); {large[1]} runs take {large[3]} s at adaptive steps ({large[5]}), "
             f"{fixed[3]} s at a fixed 1e-2 s, every footprint percentile (1 to 99 %) of the one inside the other's "
@@ -384,7 +389,7 @@ def steps_lines() -> list:
     rounds = re.search(r"--repeat (\d+)", text).group(1)
     return [f"  cases set theirs. The 440-s descent takes {now[1]} steps instead of {before[1]} and solves "
             f"{now[4].rstrip('x')} times faster side by side (median of {rounds}), touchdown {change} % "
-            "([table](validation/output/benchmark_steps.md), `python validation/benchmark_steps.py --before DIR`)."]
+            "(table `validation/output/benchmark_steps.md`, `python validation/benchmark_steps.py --before DIR`)."]
 
 
 def rocketpy_lines() -> list:
@@ -395,7 +400,7 @@ def rocketpy_lines() -> list:
     rates = [abs(r["percent"]) for r in data["descent_rates"]]
     touchdown = next(r for r in data["touchdown"] if r["quantity"] == "time")
     medians = data["medians"]
-    return [f"  [table](validation/output/rocketpy/benchmark.md)): descent rates under each canopy within "
+    return [f"table `validation/output/rocketpy/benchmark.md`): descent rates under each canopy within "
             f"{max(rates):.2f} %, touchdown within {abs(touchdown['percent']):.2f} %, the differences explained "
             "(RocketPy's normal gravity, our canopies' drag in the air 7-10 m above the rocket); solve "
             f"{medians['ours_solve']:.3f} s against RocketPy's {medians['rocketpy_flight']:.3f} s "
@@ -417,7 +422,7 @@ def startup_lines() -> list:
     long, mer = "440-s descent (descent_440s.toml), with the figure", "MER case 1 SP, with the figure"
     commit = re.search(r"\| before \((\w+)", text).group(1)
     return [f"Around the solve (`python validation/startup_budget.py --repeat 5 --before DIR`, "
-            f"[table](validation/output/startup_budget.md), DIR a checkout of {commit}): a warm `pchute run "
+            f"table `validation/output/startup_budget.md`, DIR a checkout of {commit}): a warm `pchute run "
             f"cases/mer/case1.toml --method sp --no-plot` takes {now[1]} s for its {now[2]} s solve ({now[3]}; "
             f"before: {before[1]} s, {before[3]}) and the overview figure adds {now[5]} s (before: {before[5]} s); "
             f"after a fresh install the first run of the 440-s descent takes {first('now', long)}, before "
@@ -426,7 +431,7 @@ def startup_lines() -> list:
 
 def attitude_lines() -> list:
     """Every attitude in real winds (wind_envelope.py: its summary table) and the release (release.py: opening loads
-    and the swing), as README table rows."""
+    and the swing), as table rows of docs/validation.md."""
     lines = [f"| {cells[0]} | {cells[1]} |" for cells in table(OUT / "winds" / "envelope.md", "").values()
              if len(cells) == 2 and cells[0] not in ("summary", "---")]
     release = OUT / "release" / "release.md"
@@ -443,7 +448,7 @@ def attitude_lines() -> list:
 
 
 def figures() -> list:
-    """Every README line these figures belong in."""
+    """Every line of the pages these figures belong in."""
     count = f"3. runs the test suite ({test_count()} tests, about"
     return [count, *sp_lines(), *preset_lines(), *full_lines(), *pa1_lines(), *study_lines(), *step_method_lines(),
             *canopy_lines(), *footprint_lines(), *cluster_lines(), *aero_lines(), *new_case_lines(), *startup_lines(),
@@ -466,28 +471,36 @@ def _pattern(line: str) -> str:
     return re.escape(key) + "".join(re.escape(part) if i % 2 == 0 else _NUMBER for i, part in enumerate(parts))
 
 
+def pages() -> list:
+    """The files that hold figures: README.md, then every Markdown page under docs/."""
+    return [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
 def write(lines: list) -> int:
-    """Put each line into README.md where the same text with other figures stands; exit 1 when one has no single
-    place."""
-    path = ROOT / "README.md"
-    readme = path.read_text()
+    """Put each line into the page where the same text with other figures stands; exit 1 when one has no single
+    place among all the pages."""
+    texts = {path: path.read_text() for path in pages()}
     homeless = []
     for line in lines:
-        places = list(re.finditer(_pattern(line), readme))
+        pattern = _pattern(line)
+        places = [(path, found) for path, text in texts.items() for found in re.finditer(pattern, text)]
         if len(places) != 1:
             homeless.append(line)
             continue
-        readme = readme[:places[0].start()] + line + readme[places[0].end():]
-    path.write_text(readme)
+        path, found = places[0]
+        texts[path] = texts[path][:found.start()] + line + texts[path][found.end():]
+    for path, text in texts.items():
+        if text != path.read_text():
+            path.write_text(text)
     for line in homeless:
-        print(f"no single place in README.md for: {line}", file=sys.stderr)
+        print(f"no single place in README.md or docs/ for: {line}", file=sys.stderr)
     return 1 if homeless else 0
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true", help="exit 1 when the README lacks one of the lines")
-    parser.add_argument("--write", action="store_true", help="put the lines into README.md")
+    parser.add_argument("--check", action="store_true", help="exit 1 when no page holds one of the lines")
+    parser.add_argument("--write", action="store_true", help="put the lines into README.md and the docs/ pages")
     args = parser.parse_args(argv)
     lines = figures()
     if args.write:
@@ -495,10 +508,10 @@ def main(argv=None) -> int:
     if not args.check:
         print("\n".join(lines))
         return 0
-    readme = (ROOT / "README.md").read_text()
-    missing = [line for line in lines if line not in readme]
+    texts = [path.read_text() for path in pages()]
+    missing = [line for line in lines if not any(line in text for text in texts)]
     for line in missing:
-        print(f"README.md lacks: {line}", file=sys.stderr)
+        print(f"neither README.md nor a page under docs/ holds: {line}", file=sys.stderr)
     return 1 if missing else 0
 
 

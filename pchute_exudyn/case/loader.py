@@ -41,8 +41,9 @@ def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:
     ----------
     path : str or Path
         The case TOML file.
-    overrides : mapping of dotted key to value, or iterable of ``"key=value"`` strings
-        Applied after the file (and its ``extends`` chain) is merged; see ``case.overrides`` for the key syntax.
+    overrides : mapping or iterable of str
+        Dotted keys to values, or ``"key=value"`` strings. Applied after the file (and its ``extends`` chain) is
+        merged; see ``case.overrides`` for the key syntax.
 
     Returns
     -------

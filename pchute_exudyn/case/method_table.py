@@ -1,12 +1,12 @@
 """The table of confluence methods, as scipy's ``solve_ivp`` keeps ``METHODS``: name -> method class.
 
-The classes themselves live in :mod:`pchute_exudyn.methods` (they build Exudyn models, so they sit above the engine)
+The classes themselves live in ``pchute_exudyn.methods`` (they build Exudyn models, so they sit above the engine)
 and register here when the package is imported; the case loader, the Python API, the command line and study files
 all resolve a method and validate its options through this one table. Nothing else compares method names.
 
 A method class has a ``name``, the ``integrators`` it supports (a subset of INTEGRATORS), a one-line ``summary`` and
 an ``Options`` type: a frozen dataclass whose fields are the method's options with their defaults, validated in
-``__post_init__`` by raising :class:`OptionError`.
+``__post_init__`` by raising ``OptionError``.
 """
 
 from __future__ import annotations
@@ -129,4 +129,4 @@ class MethodTable(Mapping):
 
 
 METHODS = MethodTable()
-"""The method table (filled by :mod:`pchute_exudyn.methods`)."""
+"""The method table (filled by ``pchute_exudyn.methods``)."""

@@ -1,7 +1,7 @@
-"""The case: everything about a run, as frozen data (built and validated by :mod:`pchute_exudyn.case.loader`).
+"""The case: everything about a run, as frozen data (built and validated by ``pchute_exudyn.case.loader``).
 
 Units are SI; angles are in degrees only where a name ends in ``_deg``. Body points are in body axes, relative to
-the body's centre of mass. Attitude angles follow :mod:`pchute_exudyn.physics.rotations`.
+the body's centre of mass. Attitude angles follow ``pchute_exudyn.physics.rotations``.
 """
 
 from __future__ import annotations

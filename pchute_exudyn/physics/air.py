@@ -29,6 +29,8 @@ class AirMotion:
     turbulence : physics.wind.DrydenTurbulence or None
     gusts : tuple of physics.wind.Gust
 
+    Notes
+    -----
     The kernels take ``parameters`` (AIR_COLUMNS), ``wind`` (the steady wind's kernel parameters), ``gusts`` (rows of
     ``physics.wind.GUST_COLUMNS``), ``turbulence`` (its kernel parameters) and ``field()`` (its frozen field, which
     grows as higher air is asked for: a kernel reports the cells it needs and ``extend`` generates them).

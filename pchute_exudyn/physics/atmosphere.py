@@ -2,7 +2,7 @@
 
 Each model's formulas are compiled kernels (``atmosphere_state`` for the per-stage aerodynamics, which takes the model
 as ``kernel_parameters``); its Python methods (``density``, ``temperature``, ``speed_of_sound``) call the same
-kernels, so there is one home per formula. A model with a validity range raises :class:`OutsideAtmosphereError`
+kernels, so there is one home per formula. A model with a validity range raises ``OutsideAtmosphereError``
 outside it (the kernels report it as a status the caller turns into the error). This module reads no files and imports
 nothing from the rest of the package: ``case.tables`` reads atmosphere tables, the engine turns the exception into
 the user's message.
@@ -173,7 +173,7 @@ class TabulatedAtmosphere(Atmosphere):
     """Density tabulated against altitude, interpolated linearly in log(density).
 
     Log-linear interpolation is exact for an exponential atmosphere between the points, which linear interpolation
-    is not. Outside the table the model refuses to extrapolate: ``density`` raises :class:`OutsideAtmosphereError`.
+    is not. Outside the table the model refuses to extrapolate: ``density`` raises ``OutsideAtmosphereError``.
     ``case.tables.read_atmosphere_table`` builds one from a CSV file.
 
     Parameters
@@ -298,7 +298,7 @@ class US76(Atmosphere):
     p0 = 101 325 Pa, g0 = 9.80665 m/s^2, R* = 8 314.32 J/(kmol K), M0 = 28.9644 kg/kmol (R*/M0 = 287.0531 J/(kg K)).
     The layer base values are computed once, at import; ``density`` uses plain floats.
 
-    Outside -5 000 to 86 000 m geometric altitude the methods raise :class:`OutsideAtmosphereError`.
+    Outside -5 000 to 86 000 m geometric altitude the methods raise ``OutsideAtmosphereError``.
     """
 
     name = "us76"

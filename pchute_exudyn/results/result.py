@@ -1,6 +1,6 @@
 """The result of a run: named time histories with units, a summary, and the files they are saved to.
 
-Files written by :meth:`Result.save` (each atomically):
+Files written by ``Result.save`` (each atomically):
 
 * ``timeseries.csv``: a header row of column names, first column ``time`` (s), then one row per sample;
 * ``result.npz``: the same arrays plus ``units`` and ``summary`` (JSON strings), and the scene an animation draws

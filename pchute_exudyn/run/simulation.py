@@ -425,12 +425,12 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     Parameters
     ----------
     case : Case
-        From :func:`pchute_exudyn.load_case`.
+        From ``pchute_exudyn.load_case``.
     method : str or Method class, optional
         Confluence method: a name in ``pchute_exudyn.METHODS`` ("full", "sp", "equilibrium") or a method class;
         default from the case.
-    integrator : {"rk4", "implicit"}, optional
-        Default from the case; each method lists the integrators it supports.
+    integrator : str, optional
+        "rk4" or "implicit"; default from the case; each method lists the integrators it supports.
     step : float, optional
         Integration step (s); default from the case's ``simulation.steps``, else from the stability limit
         (``stability_step``).
@@ -457,7 +457,8 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
 
     Raises
     ------
-    InputError, SimulationError
+    InputError
+    SimulationError
     Interrupted
         On Ctrl-C (a KeyboardInterrupt saying the time reached); nothing of the run is returned.
     """
