@@ -164,7 +164,8 @@ def _run_case(args, figure) -> int:
 
 
 def _add_new(subparsers) -> None:
-    from .case.new import CANOPY_TYPES, COMMAND_HELP, PLANETS, choice_fields
+    from .case.canopy_types import CANOPY_TYPES
+    from .case.new import COMMAND_HELP, PLANETS, choice_fields
 
     new = subparsers.add_parser(
         "new", help="write a new, runnable case file from a few choices",

@@ -1,4 +1,4 @@
-"""The canopy types of ``pchute new`` (``case.new.CANOPY_TYPES``, issue 47): one record each, complete and within
+"""The canopy types of ``pchute new`` (``case.canopy_types.CANOPY_TYPES``, issue 47): one record each, complete and within
 the published ranges it cites, documented in the tutorial and the sources, and written by ``pchute new``."""
 
 import re
@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.new import CANOPY_TYPES
+from pchute_exudyn.case.canopy_types import CANOPY_TYPES
 
 ROOT = Path(__file__).resolve().parents[1]
 

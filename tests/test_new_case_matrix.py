@@ -9,8 +9,8 @@ import re
 
 import pytest
 
+from pchute_exudyn.case.canopy_types import CANOPY_TYPES
 from pchute_exudyn.case.files import tomllib
-from pchute_exudyn.case.new import CANOPY_TYPES
 from pchute_exudyn.cli import main
 
 VEHICLES = {1: 0.1, 20: 0.3, 800: 2.6, 5000: 4.0}   # mass (kg) -> diameter (m)
