@@ -34,11 +34,11 @@ METHODS.fill_with(lambda: import_module(".methods", __name__))   # registers the
 _HOMES = {"Case": "case", "load_case": "boundary", "NewCase": "case.new",
           "new_case": "boundary", "new_case_text": "boundary", "CaseError": "errors", "InputError": "errors",
           "PchuteError": "errors", "SimulationError": "errors", "Result": "results.result",
-          "simulate": "run.simulation"}
+          "simulate": "run.simulation", "compare_results": "results.compare"}
 """Where each public name lives."""
 
 __all__ = ["METHODS", "Case", "CaseError", "InputError", "NewCase", "PchuteError", "Result", "SimulationError",
-           "__version__", "load_case", "new_case", "new_case_text", "simulate"]
+           "__version__", "compare_results", "load_case", "new_case", "new_case_text", "simulate"]
 
 
 def __getattr__(name: str):

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from . import __version__
 from .case import columns
-from .case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS
+from .case.method_table import INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
 from .kernels import lock, selection
 
@@ -132,13 +132,13 @@ def _run_case(args, figure) -> int:
     from .boundary import load_case
     from .results.io import check_result_folder
     from .results.summary import run_line
-    from .run.simulation import resolve_method, resolve_run, simulate
+    from .run.simulation import method_class_of, resolve_run, simulate
     from .views.progress import TerminalProgress
 
     case = load_case(args.case, args.overrides)
-    method_class = type(resolve_method(case, args.method))
+    method_class = method_class_of(case, args.method)
     plan = resolve_run(case, method_class, args.integrator, args.dt, args.t_end, _method_options(args, method_class))
-    method, integrator, step = method_class.name, plan.integrator, plan.step
+    method, integrator = method_class.name, plan.integrator
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     check_result_folder(out, args.overwrite)  # fail before a long run, not after it; nothing is created yet
     for warning in case.warnings:   # implausible but possible values (case.plausible): the run goes on
@@ -150,9 +150,7 @@ def _run_case(args, figure) -> int:
     if lock.start_background_build() and not args.quiet:
         print(lock.BACKGROUND_NOTE, file=sys.stderr)
     try:
-        step = ADAPTIVE_STEP if plan.control is not None else step
-        result = simulate(case, method_class, integrator, step, plan.duration, options=plan.method.options,
-                          progress=progress, engine_solution=args.exudyn_solution)
+        result = simulate(case, plan=plan, progress=progress, engine_solution=args.exudyn_solution)
     finally:
         if progress is not None:
             progress.close()
@@ -165,7 +163,7 @@ def _run_case(args, figure) -> int:
 
 def _add_new(subparsers) -> None:
     from .case.canopy_types import CANOPY_TYPES
-    from .case.new import COMMAND_HELP, PLANETS, choice_fields
+    from .case.new import PLANETS, choice_fields, command_help
 
     new = subparsers.add_parser(
         "new", help="write a new, runnable case file from a few choices",
@@ -175,8 +173,9 @@ def _add_new(subparsers) -> None:
                     "it or run it as it is (`pchute run FILE`). The same from Python: pchute_exudyn.new_case(...).")
     new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
     choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES)}
+    helps = command_help()
     for name, default in choice_fields():
-        metavar, text = COMMAND_HELP[name]
+        metavar, text = helps[name]
         kind = str if name in ("planet", "canopy_type", "name") else int if isinstance(default, int) else float
         new.add_argument("--" + name.replace("_", "-"), dest=f"new_{name}", type=kind, default=None,
                          choices=choices.get(name), metavar=metavar,

@@ -102,13 +102,13 @@ class NewCase:
     diameter : float
         Vehicle diameter (m).
     drag_area : float or None
-        Each canopy's drag area C_D0 S0 (m^2); give this or ``canopy_diameter``.
+        Each canopy's drag area C_D0 S0 (m^2); give this or ``canopy_diameter``; neither: MER's, 82.1 m^2.
     canopy_diameter : float or None
         Each canopy's nominal diameter D0 (m).
     canopy_type : str
-        A key of CANOPY_TYPES: its C_D0.
+        The canopy type (``case.canopy_types``): its drag coefficient C_D0 and how it opens.
     canopy_mass : float or None
-        Each canopy's mass (kg); None: CANOPY_AREAL_MASS x S0.
+        Each canopy's mass (kg); None: 0.15 kg per m^2 of S0 (CANOPY_AREAL_MASS).
     canopies : int
         1, or 2 to 8 for a cluster (each canopy its own body and riser, on the cone where they just touch).
     bridles : int
@@ -397,33 +397,32 @@ def new_case(choices: NewCase | None = None, **kwargs):
     return build_case(tomllib.loads(new_case_text(choices)), {}, f"new_case({choices.name!r})")
 
 
-COMMAND_HELP = {   # NewCase field -> (metavar, help) of `pchute new`; the defaults come from NewCase
-    "planet": (None, "mars (MER's ellipsoid, NASA GRC atmosphere), earth (WGS-84, US76) or flat (9.80665 m/s^2, US76)"),
-    "mass": ("KG", "vehicle mass in kg"),
-    "diameter": ("M", "vehicle diameter in m (a cylinder half as tall)"),
-    "drag_area": ("M2", "each canopy's drag area C_D0 S0 in m^2 (or --canopy-diameter); default MER's 82.1"),
-    "canopy_diameter": ("M", "each canopy's nominal diameter D0 in m (instead of --drag-area)"),
-    "canopy_type": (None, "canopy type: its drag coefficient C_D0"),
-    "canopy_mass": ("KG", "each canopy's mass in kg; default 0.15 kg per m^2 of S0"),
-    "canopies": ("N", "canopies: 1, or 2 to 8 for a cluster"),
-    "bridles": ("N", "bridles from the vehicle to the confluence, 1 to 12 (2: on opposite sides of the attach "
-                     "circle; 1 under one light canopy: the canopy reduced, canopy_model = \"reduced\")"),
-    "bridle_length": ("M", "bridle free length in m; default the vehicle's diameter"),
-    "riser_length": ("M", "riser free length in m; default half the canopy's nominal diameter"),
-    "suspension_line_length": ("M", "canopy suspension-line length in m; default the nominal diameter"),
-    "altitude": ("M", "start altitude of the vehicle's centre of mass in m"),
-    "speed": ("M/S", "start descent speed in m/s; default the steady rate of descent there"),
-    "name": ("TEXT", "the case's name"),
-    "drag_coefficient": ("C", "each canopy's drag coefficient C_D0 on its nominal area S0; default its type's"),
-    "wind_speed": ("M/S", "a constant wind's speed in m/s (the descent starts moving with the air)"),
-    "wind_from_deg": ("DEG", "where the wind comes from, deg clockwise from north"),
-    "release_airspeed": ("M/S", "release the vehicle from an aircraft at this airspeed in m/s: its canopies deploy "
-                                "at line stretch after --static-line-time and open by their type's fill constant"),
-    "release_heading_deg": ("DEG", "the aircraft's heading at the release, deg clockwise from north"),
-    "release_flight_path_deg": ("DEG", "the aircraft's flight-path angle at the release, deg (-90 to 90, climbing "
-                                       "> 0)"),
-    "static_line_time": ("S", "time from the release to line stretch in s"),
-}
+UNIT_METAVARS = (("(kg", "KG"), ("(m^2", "M2"), ("(m/s", "M/S"), ("(m)", "M"), ("(m,", "M"), ("(deg", "DEG"),
+                 ("(s,", "S"), ("(s)", "S"), ("(-)", "C"))
+"""A command-line metavar from the unit a NewCase attribute's description names first."""
+
+
+def command_help() -> dict:
+    """NewCase field -> (metavar, help) of `pchute new`, from the class docstring's Attributes (their one home):
+    the description with ``code`` marks and the module's constant names left out; the defaults come from NewCase."""
+    text = NewCase.__doc__.split("Attributes\n    ----------\n", 1)[1]
+    found, names = {}, []
+    for line in text.splitlines():
+        if line.startswith("    ") and not line.startswith("        ") and " : " in line:
+            names, spec = line.strip().split(" : ", 1)
+            names = [name.strip() for name in names.split(",")]
+            for name in names:
+                found[name] = [spec, ""]
+        elif line.startswith("        ") and names:
+            for name in names:
+                found[name][1] += (" " if found[name][1] else "") + line.strip()
+    out = {}
+    for name, (spec, description) in found.items():
+        description = description.replace("``", "")
+        metavar = next((m for unit, m in UNIT_METAVARS if unit in description), None)
+        metavar = "N" if spec.startswith("int") else "TEXT" if spec == "str" and name == "name" else metavar
+        out[name] = (metavar, description[0].lower() + description[1:].rstrip("."))
+    return out
 
 
 def choice_fields() -> list:

@@ -100,7 +100,9 @@ class Model:
         self.post_step_hooks: list = []   # (mbs, t) after every step and once at the start
         self.stop_conditions: list = []   # (t) -> True ends the run after this step
         self.post_step_count = [0]        # bumped by the solver at every post-step call
-        self.step = None                  # s: the step the engine takes (set by the solver before it runs)
+        self.step = None   # s: the phase's fixed step, None for adaptive steps: set once by ``engine.solver.integrate``
+        #                    from the run plan and read from here by everything in the phase (SP's memory keeps a
+        #                    copy for its kernels, which read no Python object)
         self.stage = None                 # engine.stage.Stage: body states and the Python-computed loads
         self.aerodynamic_loads: dict = {}  # body -> its engine.bodies.BodyAerodynamics (to evaluate it alone)
         self.failure: Exception | None = None

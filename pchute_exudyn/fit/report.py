@@ -15,12 +15,13 @@ from ..views.plotting import save_figure
 from .spec import FitSpec
 
 
-def write_report(spec: FitSpec, result: dict, folder) -> dict:
+def write_report(spec: FitSpec, result, folder) -> dict:
     """Write the report files of ``result`` (``fit.solve.run_fit``) into ``folder``; returns their paths."""
     folder = Path(folder)
     paths = {"json": folder / "fit.json", "report": folder / "fit_report.md", "plot": folder / "targets.png",
              "case": folder / "calibrated.toml"}
-    atomic_write_text(paths["json"], json_text(result, indent=2) + "\n")
+    data = result.to_dict() if hasattr(result, "to_dict") else result   # a FitOutcome, or fit.json read back
+    atomic_write_text(paths["json"], json_text(data, indent=2) + "\n")
     atomic_write_text(paths["case"], calibrated_case(spec, result["fitted"], folder))
     _plot_targets(spec, result, paths["plot"])
     atomic_write_text(paths["report"], _markdown(spec, result, paths))

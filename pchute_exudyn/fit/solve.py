@@ -13,6 +13,7 @@ import difflib
 import os
 import sys
 from concurrent.futures import Executor
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -163,9 +164,9 @@ class _Budget(Exception):
     """More runs than the fit's budget (``FitSpec.max_runs``)."""
 
 
-def run_fit(spec: FitSpec, out, executor: Executor | None = None, workers: int | None = None) -> dict:
+def run_fit(spec: FitSpec, out, executor: Executor | None = None, workers: int | None = None) -> FitOutcome:
     """Fit ``spec`` into folder ``out`` (resuming what it holds; locked while the fit runs); returns the fit's
-    outcome (see ``fit.report``)."""
+    ``FitOutcome`` (``fit.report`` writes it)."""
     check_loaded(spec, FitSpec, "spec", "pchute_exudyn.fit.load_fit")
     check_path(out, "out", "fit folder")
     check_executor(executor)
@@ -188,7 +189,7 @@ def run_fit(spec: FitSpec, out, executor: Executor | None = None, workers: int |
     return result
 
 
-def _solve(spec: FitSpec, problem: Problem) -> dict:
+def _solve(spec: FitSpec, problem: Problem) -> FitOutcome:
     start = (np.array([f.initial for f in spec.free]) - problem.low) / problem.span
     base = problem.records([start])[0]
     _check_base_run(spec, base)
@@ -219,7 +220,7 @@ def _check_base_run(spec: FitSpec, record: dict) -> None:
                          f"has no such column{'; similar: ' + ', '.join(similar) if similar else ''}")
 
 
-def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str) -> dict:
+def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str) -> FitOutcome:
     """The fitted values with standard errors (from the Jacobian at the solution), the residuals and the runs."""
     residuals = problem.residuals(u)
     jacobian = problem.jacobian(u) / problem.span          # per unit of each key
@@ -232,11 +233,47 @@ def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str
     except np.linalg.LinAlgError:
         covariance, errors = np.full((n, n), np.nan), np.full(n, np.nan)
     initial, fitted = problem.records([start, u])
-    return {"name": spec.name, "status": status, "message": message, "keys": [f.key for f in spec.free],
-            "initial": problem.values(start), "fitted": problem.values(u), "standard_error": errors.tolist(),
-            "covariance": covariance.tolist(), "covariance_scaled_by_residuals": weighted and m > n,
-            "bounds": [[f.low, f.high] for f in spec.free],
-            "at_bound": [bool(v <= 1e-9 or v >= 1 - 1e-9) for v in u],
-            "cost": 0.5 * float(residuals @ residuals), "residuals": residuals.tolist(),
-            "predictions_initial": initial["predictions"], "predictions_fitted": fitted["predictions"],
-            "runs": len(problem.store.records), "runs_this_time": problem.ran, "reused": problem.reused}
+    return FitOutcome(
+        name=spec.name, status=status, message=message, keys=[f.key for f in spec.free],
+        initial=problem.values(start), fitted=problem.values(u), standard_error=errors.tolist(),
+        covariance=covariance.tolist(), covariance_scaled_by_residuals=weighted and m > n,
+        bounds=[[f.low, f.high] for f in spec.free], at_bound=[bool(v <= 1e-9 or v >= 1 - 1e-9) for v in u],
+        cost=0.5 * float(residuals @ residuals), residuals=residuals.tolist(),
+        predictions_initial=initial["predictions"], predictions_fitted=fitted["predictions"],
+        runs=len(problem.store.records), runs_this_time=problem.ran, reused=problem.reused)
+
+
+@dataclass(frozen=True)
+class FitOutcome:
+    """What ``run_fit`` found (``fit.report`` writes it): the fitted values of ``keys`` (their units the case keys'),
+    their standard errors and covariance (from the Jacobian at the solution, scaled by the residuals when the
+    targets are weighted), the bounds and which were reached, the cost and residuals, the targets' predictions at
+    the start and at the fit, and the runs made (this time, read back). ``to_dict`` is ``fit.json``; its entries
+    are also read by name (``outcome["fitted"]``)."""
+
+    name: str
+    status: int
+    message: str
+    keys: list
+    initial: list
+    fitted: list
+    standard_error: list
+    covariance: list
+    covariance_scaled_by_residuals: bool
+    bounds: list
+    at_bound: list
+    cost: float
+    residuals: list
+    predictions_initial: list
+    predictions_fitted: list
+    runs: int
+    runs_this_time: int
+    reused: int
+
+    def __getitem__(self, key):
+        if key not in self.__dataclass_fields__:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def to_dict(self) -> dict:
+        return {name: getattr(self, name) for name in self.__dataclass_fields__}

@@ -26,6 +26,7 @@ from ..errors import InputError
 from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
 from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 from .number_text import table_text
+from .summary import RunSummary
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
 SCENE = "scene"
@@ -243,7 +244,8 @@ class Result:
                 units = _units(data, path / NPZ_NAME)
                 if "time" not in columns:
                     raise InputError(f"{path / NPZ_NAME}: holds no time array: not a {NPZ_NAME} written by pchute run")
-                return cls(map_columns(columns, column_map or {}, path)[0], units, summary)
+                return cls(map_columns(columns, column_map or {}, path)[0], units, summary,
+                           run_summary=typed_summary(summary))
             if not (path / CSV_NAME).is_file():
                 raise InputError(f"{path}: a folder without {CSV_NAME} or {NPZ_NAME}: not a result folder of "
                                  "`pchute run` (a study folder is read by `pchute study-report`)")
@@ -255,7 +257,18 @@ class Result:
         if "time" not in columns:
             raise InputError(f"{path}: no 'time' column (name it with a column map, e.g. --map t=time); columns "
                              f"are: {', '.join(columns)}")
-        return cls(columns, summary.get("units") or {n: u for n, u in units.items() if u}, summary)
+        return cls(columns, summary.get("units") or {n: u for n, u in units.items() if u}, summary,
+                   run_summary=typed_summary(summary))
+
+
+def typed_summary(summary: dict):
+    """The ``summary.RunSummary`` of a result folder's ``summary.json`` (None for none, or one another tool wrote)."""
+    if not summary or "method" not in summary or "final" not in summary:
+        return None
+    try:
+        return RunSummary.from_dict(summary)
+    except (TypeError, ValueError):   # a summary from another version: the dict stands alone
+        return None
 
 
 def _units(data: dict, path: Path) -> dict:

@@ -19,7 +19,7 @@ Events, in time order in the summary (times in s from the start of the run):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields
 from typing import ClassVar
 
 import numpy as np
@@ -40,6 +40,32 @@ class Event:
         return {"event": self.kind, "time": self.time,
                 **{f.name: getattr(self, f.name) for f in fields(self)
                    if f.name != "time" and not (f.metadata.get("optional") and getattr(self, f.name) is None)}}
+
+
+@dataclass(frozen=True)
+class RecordedEvent(Event):
+    """An event read back from a ``summary.json`` whose entries no Event class holds (a kind of a later version):
+    its kind and entries as written."""
+
+    name: str = ""
+    entries: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {"event": self.name, "time": self.time, **self.entries}
+
+
+def event_from_dict(data: dict) -> Event:
+    """The Event of a ``summary.json`` event entry: its class by ``kind``, else a ``RecordedEvent``."""
+    kinds = {c.kind: c for c in _subclasses(Event) if c.kind}
+    entries = {k: v for k, v in data.items() if k not in ("event", "time")}
+    kind = kinds.get(data.get("event"))
+    if kind is not None and set(entries) <= {f.name for f in fields(kind)}:
+        return kind(data.get("time"), **entries)
+    return RecordedEvent(data.get("time"), data.get("event", ""), entries)
+
+
+def _subclasses(cls) -> list:
+    return [c for sub in cls.__subclasses__() for c in (sub, *_subclasses(sub))]
 
 
 OPTIONAL = {"optional": True}
@@ -328,6 +354,18 @@ class RunSummary:
     @property
     def steps_per_second(self) -> float | None:
         return self.steps / self.wall_time if self.wall_time > 0 else None
+
+    @classmethod
+    def from_dict(cls, data: dict) -> RunSummary:
+        """The typed summary of a ``summary.json`` (``to_dict``'s inverse): each event as its Event class
+        (``event_from_dict``), the method's settings and facts (top-level keys of no field) in ``method_settings``."""
+        names = {f.name for f in fields(cls)}
+        known = {k: v for k, v in data.items() if k in names}
+        extra = {k: v for k, v in data.items() if k not in names and k != "steps_per_second"}
+        known["events"] = tuple(event_from_dict(event) for event in data.get("events", []))
+        known["warnings"] = tuple(data.get("warnings", ()))
+        defaults = {f.name: None for f in fields(cls) if f.default is MISSING and f.default_factory is MISSING}
+        return cls(**{**defaults, **known, "method_settings": extra})
 
     def to_dict(self) -> dict:
         return {"case": self.case, "case_file": self.case_file, "description": self.description,

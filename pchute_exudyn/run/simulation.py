@@ -86,13 +86,18 @@ def option_error(exc: OptionError, method_class=None) -> InputError:
     return InputError(f"{name} = {exc.value!r}: {exc.allowed}")
 
 
+def method_class_of(case: Case, method=None) -> type:
+    """The method class of a name or a class (default: the case's), unconfigured."""
+    try:
+        return METHODS.resolve(case.simulation.method if method is None else method)
+    except OptionError as exc:
+        raise InputError(str(exc)) from None
+
+
 def resolve_method(case: Case, method=None, options=None) -> Method:
     """The method (a name or a Method class; default: the case's) with the case's options for it, overridden by
     ``options`` (a mapping of option names to values, or an Options object)."""
-    try:
-        method_class = METHODS.resolve(case.simulation.method if method is None else method)
-    except OptionError as exc:
-        raise InputError(str(exc)) from None
+    method_class = method_class_of(case, method)
     if options is not None and not isinstance(options, dict):
         if not isinstance(options, method_class.Options):
             raise InputError(f"options of type {type(options).__name__} do not belong to the {method_class.name} "
@@ -418,8 +423,8 @@ def _options(options, option_values: dict):
 
 
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
-             duration: float | None = None, *, options=None, progress=None, engine_solution: bool = False,
-             history: bool = True, **option_values) -> Result:
+             duration: float | None = None, *, plan: RunPlan | None = None, options=None, progress=None,
+             engine_solution: bool = False, history: bool = True, **option_values) -> Result:
     """Simulate ``case``.
 
     Parameters
@@ -436,6 +441,9 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         (``stability_step``).
     duration : float, optional
         Simulated time (s); default from the case.
+    plan : RunPlan, optional
+        A run already resolved (``resolve_run``: the command line resolves once, to name its folder and check it
+        before the run); then give neither method, integrator, step, duration nor options.
     options : Options object of the method, optional
         The method's options as a whole (e.g. ``SPOptions(kappa_max=10)``).
     progress : callable, optional
@@ -463,7 +471,11 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         On Ctrl-C (a KeyboardInterrupt saying the time reached); nothing of the run is returned.
     """
     _check_arguments(case, progress, engine_solution, history)
-    plan = resolve_run(case, method, integrator, step, duration, _options(options, option_values))
+    if plan is None:
+        plan = resolve_run(case, method, integrator, step, duration, _options(options, option_values))
+    elif not isinstance(plan, RunPlan) or any(v is not None for v in (method, integrator, step, duration, options)) \
+            or any(v is not None for v in option_values.values()):
+        raise InputError("plan: a RunPlan (resolve_run) alone, without method, integrator, step, duration or options")
     with tempfile.TemporaryDirectory() as folder:
         raw, facts, events, openings, sequence = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
@@ -474,4 +486,4 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
                         opening_loads(flown, openings, columns), sequence)
     return Result(columns, units, summary.to_dict(), run_summary=summary,
-                  scene=scene(case, raw) if history else None, attachments=attachments)
+                  scene=scene(flown, raw) if history else None, attachments=attachments)

@@ -13,7 +13,9 @@ import signal
 import sys
 import threading
 import time
+from collections.abc import Mapping
 from concurrent.futures import Executor, InvalidStateError, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -253,8 +255,39 @@ def _check_arguments(spec, out, executor, workers, progress, retry_failed) -> No
     check_flag(retry_failed, "retry_failed")
 
 
+@dataclass(frozen=True)
+class StudyOutcome(Mapping):
+    """What ``run_study`` did: the counts of runs (planned, skipped because already done, executed, failed), its
+    wall time (s), the study folder, its table (``runs.csv``, every run's inputs, status and outputs, units in
+    ``case.columns``), the failed runs with their errors ({run index: error text}) and the report folder
+    (``report/``, once ``study_report`` has written it, else None). Read as a mapping, it is its counts."""
+
+    planned: int
+    skipped: int
+    executed: int
+    failed: int
+    wall_time: float
+    folder: str
+    table: Path
+    failures: dict
+    report: Path | None
+
+    _COUNTS = ("planned", "skipped", "executed", "failed", "wall_time", "folder")
+
+    def __getitem__(self, key):
+        if key not in self._COUNTS:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __iter__(self):
+        return iter(self._COUNTS)
+
+    def __len__(self) -> int:
+        return len(self._COUNTS)
+
+
 def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: int | None = None,
-              progress: bool = True, retry_failed: bool = False) -> dict:
+              progress: bool = True, retry_failed: bool = False) -> StudyOutcome:
     """Run (or resume) ``spec`` into folder ``out``.
 
     Parameters
@@ -272,8 +305,9 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
 
     Returns
     -------
-    dict
-        Counts: planned, skipped (already done), executed, failed, and the wall time (s).
+    StudyOutcome
+        The counts (planned, skipped: already done, executed, failed), the wall time (s), the table, the failed runs'
+        errors and the report folder.
     """
     _check_arguments(spec, out, executor, workers, progress, retry_failed)
     out = Path(out)
@@ -294,7 +328,8 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
     return counts
 
 
-def _open_and_run(spec: StudySpec, out: Path, executor: Executor, progress: bool, retry_failed: bool) -> dict:
+def _open_and_run(spec: StudySpec, out: Path, executor: Executor, progress: bool,
+                  retry_failed: bool) -> StudyOutcome:
     """Draw the runs, open (and lock) the study folder, run what it lacks, release it."""
     threading.Thread(target=_load_table_libraries, daemon=True).start()   # for the table written at the end
     runs = spec.expand(out.resolve() / "histories")   # absolute: workers may run elsewhere
@@ -306,7 +341,8 @@ def _open_and_run(spec: StudySpec, out: Path, executor: Executor, progress: bool
         store.close()
 
 
-def _run_pending(executor: Executor, store: StudyStore, progress: bool, retry_failed: bool, out: Path) -> dict:
+def _run_pending(executor: Executor, store: StudyStore, progress: bool, retry_failed: bool,
+                 out: Path) -> StudyOutcome:
     done = store.done(retry_failed)
     pending = [r for r in store.runs if r.index not in done]
     failed = sum(1 for i in done if store.records[i].get("status") != "ok")
@@ -324,8 +360,10 @@ def _run_pending(executor: Executor, store: StudyStore, progress: bool, retry_fa
         if bar is not None:
             bar.close()
     store.write_table(final=True)
-    return {"planned": len(store.runs), "skipped": len(done), "executed": executed, "failed": failed,
-            "wall_time": time.perf_counter() - started, "folder": str(out)}
+    failures = {i: str(r.get("error", "")) for i, r in sorted(store.records.items()) if r.get("status") != "ok"}
+    report = out / "report"
+    return StudyOutcome(len(store.runs), len(done), executed, failed, time.perf_counter() - started, str(out),
+                        out / "runs.csv", failures, report if report.is_dir() else None)
 
 
 def _record_as_they_finish(executor: Executor, pending: list, store: StudyStore, bar, failed: int) -> tuple:
