@@ -16,6 +16,13 @@ SPELLED = re.compile(r'''f["'][^"']*\{[^}]*\}_(altitude|east|north|velocity_|ten
                      r'''load_share|flyout|overlap|pendulum|drag_area_fraction)|f["']tension_\{''')
 
 
+def test_the_docs_table_of_columns_is_the_registry():
+    from pchute_exudyn.case.columns import markdown_table
+
+    text = (ROOT / "docs" / "results.md").read_text()
+    assert text.split("<!-- columns:begin -->\n", 1)[1].split("\n<!-- columns:end -->", 1)[0] == markdown_table()
+
+
 def test_templates_are_unique_and_match_their_own_names():
     templates = [entry.template for entry in COLUMNS]
     assert len(templates) == len(set(templates))

@@ -191,6 +191,13 @@ def owner(name: str, template: str) -> str | None:
     return entry.pattern.match(name).group(1)
 
 
+def markdown_table() -> str:
+    """The registry as the Markdown table docs/results.md holds (a test checks that it is this one)."""
+    rows = ["| column | unit | of | meaning |", "|---|---|---|---|"]
+    rows += [f"| `{entry.template}` | {entry.unit} | {entry.of} | {entry.meaning} |" for entry in COLUMNS]
+    return "\n".join(rows)
+
+
 def unit(name: str) -> str | None:
     """The unit of column ``name`` (None for a column the registry does not know)."""
     entry = describe(name)
