@@ -1,4 +1,5 @@
-"""Shared fixtures: paths, and the expensive MER runs computed once per test session.
+"""Shared fixtures: the MER case, and the full-mass runs computed once per test session. The shared paths and the
+command-line helpers are in tests/helpers.py (``ROOT``, ``MER``, ``run_cli``), importable by name from every tier.
 
 The suite runs the kernels compiled: the module the install built (rebuilt here first when a kernel's source changed
 since; its subprocesses inherit the setting); tests/test_fast_path.py runs the jit and Python forms and the automatic
@@ -8,19 +9,17 @@ choice on purpose.
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+
+from tests.helpers import MER, ROOT, cli_environment, run_cli  # noqa: F401  (ROOT, run_cli: shared, see helpers)
 
 os.environ.setdefault("PCHUTE_KERNELS", "compiled")
 if os.environ["PCHUTE_KERNELS"] == "compiled":   # a source edited since the install: rebuild the module first
     subprocess.run([sys.executable, "-m", "pchute_exudyn.kernels.build", "--if-missing"], check=True,
-                   stdout=subprocess.DEVNULL)
+                   stdout=subprocess.DEVNULL, env=cli_environment())   # the checkout's own package
 
 import pchute_exudyn as pc  # noqa: E402
-
-ROOT = Path(__file__).resolve().parents[1]
-MER = ROOT / "cases" / "mer"
 
 
 @pytest.fixture(scope="session")

@@ -11,7 +11,10 @@ import math
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+if __name__ == "__main__":   # run as a script (python tests/reference_runs.py OUT.json): the repository root on sys.path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from tests.helpers import ROOT  # noqa: E402
 
 RUNS = [(f"mer{c}_{method}_{integrator}", f"cases/mer/case{c}.toml", method, integrator, 10.0)
         for c in range(1, 7) for method, integrator in (("sp", "rk4"), ("equilibrium", "rk4"), ("full", "implicit"))]

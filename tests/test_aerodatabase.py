@@ -13,10 +13,10 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.physics.aerodynamics import CoefficientTable, CoefficientTableError
 from pchute_exudyn.physics.atmosphere import MARS_GAMMA, MARS_R, US76, US76_R, MarsGRC
+from tests.helpers import ROOT
 
 CASES = Path(__file__).parent / "cases"
 PIVOT = CASES / "pivot_wind.toml"
-ROOT = Path(__file__).resolve().parents[1]
 
 # the pivot case's numbers (tests/cases/pivot_wind.toml)
 DENSITY, WIND, AREA, LENGTH, INERTIA, ROLL_INERTIA, SOUND = 0.02, 20.0, 2.0, 1.5, 10.0, 5.0, 300.0

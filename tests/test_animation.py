@@ -8,8 +8,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.cli import main
 from pchute_exudyn.results.result import load_scene
 from pchute_exudyn.views.animation import Animation, Run
-
-from .conftest import MER, ROOT
+from tests.helpers import MER, ROOT
 
 
 @pytest.fixture(scope="module")

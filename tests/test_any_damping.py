@@ -12,8 +12,8 @@ import pytest
 
 from pchute_exudyn import load_case, simulate
 from pchute_exudyn.physics.equilibrium import equilibrium_point
+from tests.helpers import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 SIMPLE = ROOT / "cases" / "simple" / "simple.toml"
 MER1 = ROOT / "cases" / "mer" / "case1.toml"
 NAMES = ("bridle1", "bridle2", "bridle3", "riser")
@@ -94,7 +94,7 @@ BATTERY = [
 
 @pytest.mark.parametrize("name, extra, expected", BATTERY, ids=[entry[0] for entry in BATTERY])
 def test_bad_relaxation_input_gives_one_line(tmp_path, name, extra, expected):
-    from .bad_input_harness import assert_one_line, run_bad_input
+    from tests.bad_input_harness import assert_one_line, run_bad_input
     code, err, seconds, touched = run_bad_input(
         lambda t: ["run", str(MER1), "--method", "sp", "--quiet", "--out", str(t / "out"), *extra], tmp_path)
     assert_one_line(code, err, expected, touched, seconds)

@@ -9,8 +9,7 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.cli import main
 from pchute_exudyn.physics.step_control import StepRule
-
-from .conftest import MER
+from tests.helpers import MER
 
 TWIN = """
 [bodies.canopy2]

@@ -4,16 +4,17 @@ names the problem, a non-zero exit, no traceback, and returns within 10 s.
 `python tests/test_bad_inputs.py` prints the inputs and the messages as a Markdown table.
 """
 
+import sys
 from pathlib import Path
 
 import pytest
 
-try:
-    from .bad_input_harness import assert_one_line, print_table, run_bad_input
-except ImportError:   # run as a script: python tests/test_bad_inputs.py
-    from bad_input_harness import assert_one_line, print_table, run_bad_input
+if __name__ == "__main__":   # run as a script (python tests/test_bad_inputs.py): the repository root on sys.path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-ROOT = Path(__file__).resolve().parents[1]
+from tests.bad_input_harness import assert_one_line, print_table, run_bad_input  # noqa: E402
+from tests.helpers import ROOT  # noqa: E402
+
 CASE1 = str(ROOT / "cases" / "mer" / "case1.toml")
 PA1 = str(ROOT / "cases" / "cev_pa1.toml")
 PA1_INFLATION = str(ROOT / "cases" / "cev_pa1_inflation.toml")

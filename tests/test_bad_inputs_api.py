@@ -19,12 +19,12 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.errors import PchuteError
 
-try:
-    from .bad_input_harness import assert_one_line, print_table, run_bad_input
-except ImportError:   # run as a script: python tests/test_bad_inputs_api.py
-    from bad_input_harness import assert_one_line, print_table, run_bad_input
+if __name__ == "__main__":   # run as a script (python tests/test_bad_inputs_api.py): the repository root on sys.path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-ROOT = Path(__file__).resolve().parents[1]
+from tests.bad_input_harness import assert_one_line, print_table, run_bad_input  # noqa: E402
+from tests.helpers import ROOT, run_cli  # noqa: E402
+
 CASE1 = str(ROOT / "cases" / "mer" / "case1.toml")
 HUGE = "9" * 400
 """A 400-digit integer: no float holds it."""
@@ -254,8 +254,7 @@ def test_a_disk_filling_up_while_saving_leaves_nothing_and_keeps_the_earlier_res
     assert done.returncode == 1 and "File too large" in done.stderr, done.stderr
     assert {p.name: p.read_bytes() for p in earlier.iterdir()} == before
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]   # no staging folder left
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", *RUN, "--overwrite", "--out", str(earlier)],
-                          capture_output=True, text=True, timeout=120)
+    done = run_cli(*RUN, "--overwrite", "--out", earlier, timeout=120)
     assert done.returncode == 0, done.stderr                                # with space again, it goes through
 
 

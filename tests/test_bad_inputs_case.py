@@ -11,10 +11,9 @@ import pytest
 
 from pchute_exudyn.case.plausible import RANGES, check_value, markdown_table
 from pchute_exudyn.errors import CaseError, PchuteError
+from tests.bad_input_harness import assert_one_line, run_bad_input
+from tests.helpers import ROOT
 
-from .bad_input_harness import assert_one_line, run_bad_input
-
-ROOT = Path(__file__).resolve().parents[1]
 CASE1 = str(ROOT / "cases" / "mer" / "case1.toml")
 PA1 = str(ROOT / "cases" / "cev_pa1.toml")
 PA1_WINDS = str(ROOT / "cases" / "cev_pa1_winds.toml")

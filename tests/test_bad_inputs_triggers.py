@@ -5,9 +5,9 @@ from pathlib import Path
 
 import pytest
 
-from .bad_input_harness import assert_one_line, run_bad_input
+from tests.bad_input_harness import assert_one_line, run_bad_input
+from tests.helpers import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 TRIGGERS = (ROOT / "cases" / "cev_pa1_triggers.toml").as_posix()
 PA1 = (ROOT / "cases" / "cev_pa1.toml").as_posix()
 SEPARATION = '[separations.{body}]\ntrigger = {{ time = 2.0 }}\npoint = "capsule.bridle1"\nspeed = 1.0\n' \

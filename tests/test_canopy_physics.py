@@ -8,7 +8,6 @@ import json
 import math
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,12 +19,12 @@ from pchute_exudyn.physics.apparent_mass import ApparentMass, kirchhoff_terms, t
 from pchute_exudyn.physics.inflation import Inflation, InflationProgress, InflationStage
 from pchute_exudyn.physics.lines import LoadElongation, elastic_tensions
 from pchute_exudyn.run.simulation import resolve_run, run
+from tests.helpers import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "validation"))
-sys.path.insert(0, str(ROOT / "tests"))
 import canopy_checks  # noqa: E402
-import reference_runs  # noqa: E402
+
+from tests import reference_runs  # noqa: E402
 
 RUNS = canopy_checks.RUNS
 

@@ -6,8 +6,7 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.errors import CaseError
 from pchute_exudyn.physics.rotations import attitude_matrix
-
-from .conftest import MER
+from tests.helpers import MER
 
 
 @pytest.mark.parametrize("number", range(1, 7))

@@ -14,8 +14,7 @@ from pchute_exudyn.physics.analytic import analytic_response
 from pchute_exudyn.physics.equilibrium import equilibrium_point
 from pchute_exudyn.physics.linearization import linearize, modes
 from pchute_exudyn.run.phases import initial_phase
-
-from .conftest import MER, ROOT
+from tests.helpers import MER, ROOT
 
 SIMPLE = ROOT / "cases" / "simple" / "simple.toml"
 

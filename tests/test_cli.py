@@ -2,21 +2,18 @@
 
 import csv
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 from pchute_exudyn.cli import main
-
-from .conftest import MER, ROOT
+from tests.helpers import MER, ROOT, run_cli
 
 PA1 = str(ROOT / "cases" / "cev_pa1.toml")
 CASE1 = str(MER / "case1.toml")
 
 
-def run_cli(capsys, *args):
+def run_in_process(capsys, *args):
     code = main(list(args))
     captured = capsys.readouterr()
     return code, captured.out, captured.err
@@ -24,7 +21,7 @@ def run_cli(capsys, *args):
 
 def test_run_writes_files_with_named_columns(capsys, tmp_path):
     out = tmp_path / "case3"
-    code, stdout, stderr = run_cli(capsys, "run", str(MER / "case3.toml"), "--method", "full", "--integrator", "rk4",
+    code, stdout, stderr = run_in_process(capsys, "run", str(MER / "case3.toml"), "--method", "full", "--integrator", "rk4",
                                    "--dt", "1e-4", "--t-end", "0.5", "--out", str(out))
     assert code == 0, stderr
     assert len(stdout.strip().splitlines()) == 1 and "MER case 3" in stdout and str(out) in stdout
@@ -112,7 +109,7 @@ def _bad_case(tmp_path, text):
 def test_user_mistakes_give_one_line_and_nonzero_exit(capsys, tmp_path, make_args, expected):
     args = make_args(tmp_path)
     try:
-        code, _, stderr = run_cli(capsys, *args)
+        code, _, stderr = run_in_process(capsys, *args)
     except SystemExit as exc:   # argparse's own errors
         code, stderr = exc.code, capsys.readouterr().err
     assert code != 0
@@ -128,25 +125,24 @@ def _write(tmp, name, text):
 
 
 def test_console_script_entry_point():
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "--version"], capture_output=True, text=True,
-                          cwd=ROOT)
+    done = run_cli("--version", cwd=ROOT)
     assert done.returncode == 0 and "pchute-exudyn" in done.stdout
 
 
 def test_a_result_folder_holds_exactly_one_runs_files(capsys, tmp_path):
     out = tmp_path / "run"
     first = ["run", CASE1, "--method", "sp", "--t-end", "1", "--out", str(out)]
-    assert run_cli(capsys, *first)[0] == 0
+    assert run_in_process(capsys, *first)[0] == 0
     assert (out / "overview.png").is_file()
-    code, _, stderr = run_cli(capsys, *first[:-2], "--no-plot", "--out", str(out))
+    code, _, stderr = run_in_process(capsys, *first[:-2], "--no-plot", "--out", str(out))
     assert code == 1 and "holds an earlier result; pass --overwrite" in stderr
     assert (out / "overview.png").is_file()                               # refused: the earlier result is intact
-    code, _, _ = run_cli(capsys, *first[:-2], "--no-plot", "--overwrite", "--out", str(out))
+    code, _, _ = run_in_process(capsys, *first[:-2], "--no-plot", "--overwrite", "--out", str(out))
     assert code == 0
     assert sorted(p.name for p in out.iterdir()) == ["result.npz", "summary.json", "timeseries.csv"]
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]    # no staging folder left beside it
     other = tmp_path / "notes"
     other.mkdir()
     (other / "todo.txt").write_text("mine")
-    code, _, stderr = run_cli(capsys, *first[:-2], "--overwrite", "--out", str(other))
+    code, _, stderr = run_in_process(capsys, *first[:-2], "--overwrite", "--out", str(other))
     assert code == 1 and "is not empty and holds no result" in stderr and (other / "todo.txt").is_file()

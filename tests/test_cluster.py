@@ -3,7 +3,6 @@ drag efficiency and the failures a parachute system is qualified against. Closed
 method, the kernels against direct formulas, and the PA1 cluster's SP run against full mass."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,8 +19,8 @@ from pchute_exudyn.physics.cluster import (
 from pchute_exudyn.physics.contact import contact_forces, default_stiffness_damping, envelope_radius, overlaps
 from pchute_exudyn.physics.deployment import cluster_placement
 from pchute_exudyn.physics.inflation import Inflation, InflationStage, skipping, with_disreef_delays
+from tests.helpers import ROOT, study_runs
 
-ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "tests" / "cases"
 PAIR, SINGLE, TRIO, BUMP = (CASES / f"{name}.toml" for name in ("cluster_pair", "cluster_pair_as_one",
                                                                  "cluster_trio", "canopy_bump"))
@@ -289,7 +288,6 @@ def test_a_cluster_study_draws_the_failed_canopy_and_reports_load_share_flyout_a
     from pchute_exudyn.study import dask_executor, load_study, run_study
     from pchute_exudyn.study.report import study_report
 
-    from .test_study import table
     path = tmp_path / "study.toml"
     path.write_text(CLUSTER_STUDY)
     spec = load_study(path)
@@ -301,8 +299,8 @@ def test_a_cluster_study_draws_the_failed_canopy_and_reports_load_share_flyout_a
         run_study(spec, tmp_path / "dask", executor=executor, progress=False)
     finally:
         close()
-    rows = table(tmp_path / "two")
-    assert table(tmp_path / "dask") == rows and all(row["status"] == "ok" for row in rows)
+    rows = study_runs(tmp_path / "two")
+    assert study_runs(tmp_path / "dask") == rows and all(row["status"] == "ok" for row in rows)
     for row in rows:                                           # a failed canopy has no flyout; the others do
         for canopy in ("c1", "c2", "c3"):
             assert (row[f"max_flyout_{canopy}"] == "") == (row["failures.not_inflated"] == canopy)

@@ -7,9 +7,7 @@ import pytest
 from pchute_exudyn.study import dask_executor, load, load_study, run_study
 from pchute_exudyn.study.report import study_report
 from pchute_exudyn.study.statistics import bootstrap_interval, rank_correlations, runs_needed
-
-from .conftest import MER
-from .test_study import table
+from tests.helpers import MER, study_runs
 
 DESIGN = f"""
 [study]
@@ -77,15 +75,15 @@ def test_designs_give_identical_results_with_one_and_two_workers_and_dask(tmp_pa
             run_study(spec, tmp_path / f"{sampling}_dask", executor=executor, progress=False)
         finally:
             close()
-        one = table(tmp_path / f"{sampling}_one")
+        one = study_runs(tmp_path / f"{sampling}_one")
         assert len(one) == 8 and all(row["status"] == "ok" for row in one)
-        assert table(tmp_path / f"{sampling}_two") == one and table(tmp_path / f"{sampling}_dask") == one
+        assert study_runs(tmp_path / f"{sampling}_two") == one and study_runs(tmp_path / f"{sampling}_dask") == one
     # the two designs differ, and the table loads as a DataFrame equal to runs.csv
-    assert table(tmp_path / "latin_hypercube_one") != table(tmp_path / "sobol_one")
+    assert study_runs(tmp_path / "latin_hypercube_one") != study_runs(tmp_path / "sobol_one")
     frame = load(tmp_path / "sobol_one")
     assert (tmp_path / "sobol_one" / "runs.parquet").is_file()
     assert len(frame) == 8 and frame["final_altitude"].tolist() == pytest.approx(
-        [float(row["final_altitude"]) for row in table(tmp_path / "sobol_one")], rel=1e-11)
+        [float(row["final_altitude"]) for row in study_runs(tmp_path / "sobol_one")], rel=1e-11)
     report = study_report(tmp_path / "sobol_one")["report"].read_text()
     assert "## Sensitivity" in report and "[" in report.split("| final_altitude (m) |")[1].splitlines()[0]
 

@@ -8,7 +8,7 @@ import sys
 import pytest
 from PIL import Image
 
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 EXAMPLES = {"run_and_animate.py": ["mer_case3.gif", "mer_case3_frame.png"],
             "compare_methods.py": ["compare_tensions.png"],

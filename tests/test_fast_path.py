@@ -31,9 +31,7 @@ from pchute_exudyn.physics.kinematics import (
 )
 from pchute_exudyn.physics.rotations import rotation_from_vector
 from pchute_exudyn.results.compare import compare_results
-
-ROOT = Path(__file__).resolve().parents[1]
-MER = ROOT / "cases" / "mer"
+from tests.helpers import MER, ROOT, run_cli
 
 
 @pytest.mark.parametrize("vector", [(0.1, 0.2, 0.3), (1e-6, -2e-6, 3e-7), (2.5, -1.0, 0.3), (0.0, 0.0, 0.0),
@@ -214,9 +212,8 @@ def test_numba_compiling_the_kernels_in_the_run_gives_the_compiled_modules_resul
     outputs = []
     for label, form in (("jit", "jit"), ("compiled", "compiled")):
         out = tmp_path / label
-        done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(MER / "case1.toml"), "--method",
-                               "sp", "--t-end", "2", "--no-plot", "--quiet", "--out", str(out)],
-                              env={**env, "PCHUTE_KERNELS": form}, capture_output=True, text=True, timeout=300)
+        done = run_cli("run", MER / "case1.toml", "--method", "sp", "--t-end", "2", "--no-plot", "--quiet", "--out",
+                       out, env={**env, "PCHUTE_KERNELS": form})
         assert done.returncode == 0, done.stderr
         outputs.append(np.load(out / "result.npz"))
     assert any(Path(env["NUMBA_CACHE_DIR"]).rglob("*.nbi"))
@@ -232,9 +229,8 @@ def test_numba_compiling_the_kernels_in_the_run_gives_the_compiled_modules_resul
 
 def _run(tmp_path, label, env, *extra):
     out = tmp_path / label
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(MER / "case3.toml"), "--method", "sp",
-                           "--t-end", "3", "--no-plot", "--quiet", "--out", str(out), *extra], env=env,
-                          capture_output=True, text=True, timeout=300)
+    done = run_cli("run", MER / "case3.toml", "--method", "sp", "--t-end", "3", "--no-plot", "--quiet", "--out", out,
+                   *extra, env=env)
     assert done.returncode == 0, done.stderr
     return json.loads((out / "summary.json").read_text()), np.load(out / "result.npz")
 
@@ -258,9 +254,8 @@ def test_without_the_compiled_module_a_short_run_runs_the_python_form_and_a_long
     env["PCHUTE_KERNEL_DIR"] = str(tmp_path / "kernels")
     first, _ = _run(tmp_path, "first", env)
     assert first["versions"]["kernels"] == "python"
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(ROOT / "cases" / "simple" /
-                           "descent_440s.toml"), "--dt", "0.01", "--no-plot", "--out", str(tmp_path / "long")], env=env,
-                          capture_output=True, text=True, timeout=600)
+    done = run_cli("run", ROOT / "cases" / "simple" / "descent_440s.toml", "--dt", "0.01", "--no-plot", "--out",
+                   tmp_path / "long", env=env, timeout=600)
     assert done.returncode == 0, done.stderr
     assert "building them first" in done.stderr and "Python form" in done.stderr
     long = json.loads((tmp_path / "long" / "summary.json").read_text())

@@ -23,10 +23,9 @@ import pytest
 from pchute_exudyn.cli import main
 from pchute_exudyn.errors import PchuteError
 from pchute_exudyn.results.journal import FolderLock, decode
+from tests.bad_input_harness import assert_one_line, run_bad_input
+from tests.helpers import ROOT, run_cli, start_cli
 
-from .bad_input_harness import assert_one_line, run_bad_input
-
-ROOT = Path(__file__).resolve().parents[1]
 CASE1 = ROOT / "cases" / "mer" / "case1.toml"
 STUDY = """[study]
 name = "faults"
@@ -321,8 +320,8 @@ def test_the_api_refuses_a_locked_folder_in_one_line(tmp_path):
 
 
 def _start(args: list, cwd: Path, **options) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "pchute_exudyn", *map(str, args)], cwd=cwd, start_new_session=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **options)
+    return start_cli(*args, cwd=cwd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                     **options)
 
 
 @pytest.mark.parametrize("kind", ["study", "fit"])
@@ -531,8 +530,7 @@ def test_a_refused_folder_leaves_no_worker_holding_the_output_pipes(tmp_path, ki
         args = out_is_a_file(kind)(tmp_path)
     else:
         locked(kind)(tmp_path)
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", *map(str, args)], cwd=tmp_path, capture_output=True,
-                          text=True, timeout=60)
+    done = run_cli(*args, cwd=tmp_path, timeout=60)
     assert done.returncode == 1 and done.stderr.count("\n") == 1 and "Traceback" not in done.stderr, done.stderr
     assert not _mentioning(str(tmp_path))
 

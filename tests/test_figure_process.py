@@ -3,13 +3,10 @@ process draws, and the command's own drawing when that process cannot."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pchute_exudyn as pc
 from pchute_exudyn.views.figure_process import FigureProcess
 from pchute_exudyn.views.plotting import save_figure
-
-ROOT = Path(__file__).resolve().parents[1]
+from tests.helpers import ROOT
 
 
 def test_the_figure_process_writes_the_figure_the_command_draws(tmp_path):

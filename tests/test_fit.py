@@ -5,7 +5,6 @@ import json
 import os
 import signal
 import subprocess
-import sys
 import time
 
 import numpy as np
@@ -14,8 +13,7 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.fit import load_fit, run_fit
 from pchute_exudyn.fit.report import write_report
-
-from .conftest import MER, ROOT
+from tests.helpers import MER, ROOT, start_cli
 
 TRUTH = {"parachute.aerodynamics.axial_coefficient": 0.5, "main.lines.riser.stiffness": 66000.0}   # case: 0.46, 6e4
 FIT = """
@@ -87,9 +85,8 @@ def test_fit_recovers_known_drag_and_stiffness(fit_file, tmp_path):
 
 def test_a_killed_fit_resumes_without_running_recorded_points_again(fit_file, tmp_path):
     out = tmp_path / "killed"
-    command = [sys.executable, "-m", "pchute_exudyn", "fit", str(fit_file), "--out", str(out), "--workers", "1"]
-    process = subprocess.Popen(command, cwd=ROOT, start_new_session=True, stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE)
+    process = start_cli("fit", fit_file, "--out", out, "--workers", "1", cwd=ROOT, start_new_session=True,
+                        stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     journal = out / "evaluations.jsonl"
     deadline = time.time() + 120
     while time.time() < deadline and process.poll() is None:

@@ -11,8 +11,7 @@ from pchute_exudyn.engine.state import initial_confluence_state, initial_point
 from pchute_exudyn.methods import FullMass
 from pchute_exudyn.run.outputs import attach_points, line_tensions_from_states
 from pchute_exudyn.run.phases import initial_phase
-
-from .conftest import MER
+from tests.helpers import MER
 
 
 def _radial_fall(mu, r0, v0, times):

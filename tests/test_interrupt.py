@@ -9,18 +9,19 @@ import subprocess
 import sys
 import time
 
-from .conftest import MER
+from tests.helpers import MER, run_cli, start_cli
 
-RUN = [sys.executable, "-m", "pchute_exudyn", "run", str(MER / "case1.toml"), "--method", "full", "--t-end", "20",
-       "--no-plot"]
+RUN = ["run", MER / "case1.toml", "--method", "full", "--t-end", "20", "--no-plot"]
+"""The command's arguments (``run_cli``, ``start_cli``): 20 s of full-mass RK4 at the thesis's step, long enough
+to interrupt."""
 
 
 def _start_on_terminal(arguments, cwd):
     """Start ``arguments`` with standard error on a pseudo-terminal; returns the process and the terminal's end."""
     terminal, child = pty.openpty()
     # as from an interactive shell: SIGINT at its default (a test runner may have been started with it ignored)
-    process = subprocess.Popen(arguments, cwd=cwd, stdout=subprocess.PIPE, stderr=child, text=True,
-                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    process = start_cli(*arguments, cwd=cwd, stdout=subprocess.PIPE, stderr=child, text=True,
+                        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     os.close(child)
     return process, terminal
 
@@ -76,16 +77,14 @@ def test_progress_only_on_a_terminal_and_not_with_quiet(tmp_path):
     quiet = _drain(terminal)
     os.close(terminal)
     assert process.returncode == 0 and "s left" not in quiet
-    piped = subprocess.run(short + ["--out", str(tmp_path / "b")], cwd=tmp_path, capture_output=True, text=True,
-                           timeout=120)
+    piped = run_cli(*short, "--out", tmp_path / "b", cwd=tmp_path, timeout=120)
     assert piped.returncode == 0 and piped.stderr == ""             # not a terminal: no progress line
     assert piped.stdout.startswith("MER case 1: full/rk4 step 0.0001 s, ended at 3.00 s")
 
 
 def test_a_failed_run_leaves_no_empty_folder(tmp_path):
     out = tmp_path / "unstable"
-    run = subprocess.run(RUN[:-3] + ["--dt", "1e-3", "--t-end", "2", "--out", str(out)], cwd=tmp_path,
-                         capture_output=True, text=True, timeout=120)
+    run = run_cli(*RUN[:-3], "--dt", "1e-3", "--t-end", "2", "--out", out, cwd=tmp_path, timeout=120)
     assert run.returncode == 1 and "exceeds the stability limit" in run.stderr
     assert not out.exists()
 
@@ -125,8 +124,8 @@ def test_ctrl_c_while_the_command_starts_is_an_interrupt(tmp_path):
     """SIGINT to `pchute run` while it imports numpy, Exudyn and the package (after the interpreter's own start):
     exit 130 and one line, never a traceback, a wrong error or a reported divergence."""
     for delay in (0.3, 0.45, 0.6):
-        process = subprocess.Popen(RUN, cwd=tmp_path, stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
-                                   preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        process = start_cli(*RUN, cwd=tmp_path, stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
         time.sleep(delay)
         process.send_signal(signal.SIGINT)
         _, err = process.communicate(timeout=60)

@@ -18,8 +18,7 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.kernels import lock, selection
 from pchute_exudyn.physics import compiled
-
-ROOT = Path(__file__).resolve().parents[1]
+from tests.helpers import ROOT, run_cli
 
 
 def test_the_suite_runs_the_compiled_module_of_the_current_source():
@@ -39,8 +38,7 @@ def test_a_process_that_runs_the_compiled_module_never_imports_numba():
 
 def test_a_kernel_form_that_does_not_exist_is_one_line_naming_it_and_exit_2(tmp_path):
     environment = {**os.environ, "PCHUTE_KERNELS": "fast"}
-    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", "run", str(ROOT / "cases" / "mer" / "case1.toml"),
-                           "--no-plot", "--out", str(tmp_path / "r")], capture_output=True, text=True, env=environment)
+    done = run_cli("run", ROOT / "cases" / "mer" / "case1.toml", "--no-plot", "--out", tmp_path / "r", env=environment)
     assert done.returncode == 2 and not (tmp_path / "r").exists()
     assert done.stderr.splitlines() == [
         "pchute: error: PCHUTE_KERNELS='fast' in the environment: allowed compiled, jit, python, or unset (automatic)"]

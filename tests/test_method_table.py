@@ -20,8 +20,7 @@ from pchute_exudyn.engine.state import initial_point
 from pchute_exudyn.methods import Method
 from pchute_exudyn.physics.equilibrium import equilibrium_point
 from pchute_exudyn.physics.lines import line_states, line_tensions
-
-from .conftest import MER
+from tests.helpers import MER
 
 
 class PinnedSolution(NamedTuple):

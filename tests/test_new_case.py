@@ -16,8 +16,7 @@ from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.results.compare import compare_results, descent_metrics
 from pchute_exudyn.results.csv_dialects import parse_column_map, read_csv_columns
 from pchute_exudyn.run.simulation import stability_step
-
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 ROCKETPY = ROOT / "validation" / "rocketpy" / "descent.csv"
 PAYLOAD = ["--planet", "earth", "--mass", "100", "--drag-area", "40", "--altitude", "3000"]   # all non-default

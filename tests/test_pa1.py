@@ -10,8 +10,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.engine.full import build_full_model
 from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.run.phases import boundaries, deploy, initial_states, next_phase
-
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 PA1 = ROOT / "cases" / "cev_pa1.toml"
 

@@ -5,8 +5,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 ROCKET = ROOT / "cases" / "rocket" / "dual_deploy.toml"
 

@@ -7,7 +7,6 @@ import io
 import json
 import math
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -22,9 +21,8 @@ from pchute_exudyn.study.footprint import footprint_statistics
 from pchute_exudyn.study.report import load_table, scatter_figure, sensitivity, study_report
 from pchute_exudyn.views.progress import LogProgress, run_progress
 from pchute_exudyn.views.study_figures import footprint_figure
-
-from .bad_input_harness import assert_one_line, run_bad_input
-from .conftest import MER, ROOT
+from tests.bad_input_harness import assert_one_line, run_bad_input
+from tests.helpers import MER, ROOT, run_cli
 
 STIFF = "main.lines.*.stiffness"
 STUDY = f"""
@@ -63,8 +61,8 @@ def study(tmp_path_factory):
     path.write_text(STUDY.format(low=0.5, high=3.5))
     folder = tmp / "out"
     with open(tmp / "log", "w") as log:
-        process = subprocess.run([sys.executable, "-m", "pchute_exudyn", "study", str(path), "--workers", "2",
-                                  "--out", str(folder)], stdout=subprocess.PIPE, stderr=log, text=True, timeout=120)
+        process = run_cli("study", path, "--workers", "2", "--out", folder, stdout=subprocess.PIPE, stderr=log,
+                          timeout=120)
     report = study_report(folder)["report"].read_text()
     return folder, process, (tmp / "log").read_text(), report, load_table(folder)
 

@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-
-from .conftest import MER
+from tests.helpers import MER
 
 
 def test_sp_case1_agrees_with_full_mass_rk4(mer_case1, case1_rk4_reference):

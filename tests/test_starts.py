@@ -11,8 +11,7 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.case.new import NewCase, layout
 from pchute_exudyn.case.overrides import Scale, apply_override, tomllib
-
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 CASE1 = ROOT / "cases" / "mer" / "case1.toml"
 CARGO = dict(planet="earth", mass=2000.0, canopy_diameter=30.5, canopy_type="flat_circular", canopies=3)

@@ -5,7 +5,6 @@ import json
 import os
 import signal
 import subprocess
-import sys
 import time
 
 import numpy as np
@@ -15,8 +14,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.cli import main
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.report import study_report
-
-from .conftest import MER, ROOT
+from tests.helpers import MER, ROOT, run_cli, start_cli, study_runs
 
 MC = f"""
 [study]
@@ -57,11 +55,6 @@ def write_study(tmp_path, runs=20, duration=3.0, name="mc.toml", text=None):
     return path
 
 
-def table(folder, drop=("wall_time", "run_time")):
-    with open(folder / "runs.csv", newline="") as handle:
-        return [{k: v for k, v in row.items() if k not in drop} for row in csv.DictReader(handle)]
-
-
 def test_draws_come_from_the_seed_sequence_by_sample_index(tmp_path):
     spec = load_study(write_study(tmp_path, runs=5))
     runs = spec.expand()
@@ -86,10 +79,10 @@ def test_same_results_with_one_worker_two_workers_and_a_dask_cluster(tmp_path):
         run_study(spec, tmp_path / "dask", executor=executor, progress=False)
     finally:
         close()
-    one = table(tmp_path / "one")
+    one = study_runs(tmp_path / "one")
     assert len(one) == 20 and all(row["status"] == "ok" for row in one)
-    assert table(tmp_path / "two") == one
-    assert table(tmp_path / "dask") == one
+    assert study_runs(tmp_path / "two") == one
+    assert study_runs(tmp_path / "dask") == one
     for name in ("inputs.csv",):
         assert (tmp_path / "two" / name).read_text() == (tmp_path / "one" / name).read_text()
     lateral = np.array([float(row["final_lateral"]) for row in one])
@@ -99,10 +92,8 @@ def test_same_results_with_one_worker_two_workers_and_a_dask_cluster(tmp_path):
 def test_killed_study_resumes_without_losing_or_repeating_runs(tmp_path):
     study = write_study(tmp_path, runs=24, duration=6.0)
     out = tmp_path / "killed"
-    command = [sys.executable, "-m", "pchute_exudyn", "study", str(study), "--workers", "1", "--out", str(out),
-               "--no-progress"]
-    process = subprocess.Popen(command, cwd=ROOT, start_new_session=True, stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE)
+    command = ["study", study, "--workers", "1", "--out", out, "--no-progress"]
+    process = start_cli(*command, cwd=ROOT, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     journal = out / "runs.jsonl"
     deadline = time.time() + 120
     while time.time() < deadline:
@@ -113,14 +104,14 @@ def test_killed_study_resumes_without_losing_or_repeating_runs(tmp_path):
     process.wait()
     before = journal.read_text().splitlines()
     assert 5 <= len(before) < 24
-    done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True)
+    done = run_cli(*command, cwd=ROOT)
     assert done.returncode == 0, done.stderr
     assert f"({len([line for line in before if line.endswith('}')])} already done" in done.stdout
     after = [json.loads(line) for line in journal.read_text().splitlines()]
     indices = [record["run"] for record in after]
     assert sorted(indices) == list(range(24))                     # every run once: none lost, none twice
     assert journal.read_text().splitlines()[:len(before)] == before   # finished runs were not redone
-    assert len(table(out)) == 24
+    assert len(study_runs(out)) == 24
 
 
 def test_failed_runs_are_recorded_and_the_study_goes_on(tmp_path):
@@ -139,7 +130,7 @@ steps = [1e-2, 0.05]
 """
     spec = load_study(write_study(tmp_path, text=text))
     counts = run_study(spec, tmp_path / "steps", workers=2, progress=False)
-    rows = {(r["method"], float(r["step"])): r for r in table(tmp_path / "steps")}
+    rows = {(r["method"], float(r["step"])): r for r in study_runs(tmp_path / "steps")}
     assert counts["failed"] == 2 and counts["executed"] == 4
     assert rows[("full", 1e-3)]["status"] == "failed" and "stability limit" in rows[("full", 1e-3)]["error"]
     assert rows[("sp", 0.05)]["status"] == "failed" and "stability limit" in rows[("sp", 0.05)]["error"]
@@ -149,7 +140,7 @@ steps = [1e-2, 0.05]
     # --retry-failed runs only the failed ones again; the table keeps one row per run, the latest record
     again = run_study(spec, tmp_path / "steps", workers=2, progress=False, retry_failed=True)
     assert again["skipped"] == 2 and again["executed"] == 2 and again["failed"] == 2
-    assert sorted(int(r["run"]) for r in table(tmp_path / "steps")) == [0, 1, 2, 3]
+    assert sorted(int(r["run"]) for r in study_runs(tmp_path / "steps")) == [0, 1, 2, 3]
 
 
 def test_a_retried_run_keeps_its_latest_record(tmp_path):
@@ -255,7 +246,7 @@ def test_study_on_a_running_dask_scheduler_by_address(tmp_path):
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         code = main(["study", str(write_study(tmp_path, runs=2, duration=1.0)), "--dask-scheduler",
                      cluster.scheduler_address, "--no-progress", "--out", str(tmp_path / "remote")])
-    rows = table(tmp_path / "remote")
+    rows = study_runs(tmp_path / "remote")
     assert code == 0 and len(rows) == 2 and all(r["status"] == "ok" for r in rows)
 
 
@@ -295,7 +286,7 @@ def test_a_dask_worker_killed_mid_study_loses_and_duplicates_no_run(tmp_path):
     runs = [json.loads(line)["run"] for line in (out / "runs.jsonl").read_text().splitlines()]
     assert killed and counts["executed"] == 16
     assert sorted(runs) == list(range(16))                    # every run once: none lost, none twice
-    assert all(row["status"] == "ok" for row in table(out))
+    assert all(row["status"] == "ok" for row in study_runs(out))
 
 
 def test_a_run_without_history_skips_only_columns_nothing_reads():

@@ -9,8 +9,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.report import output_label, study_report
 from pchute_exudyn.study.runner import scalar_outputs, sequence_outputs
-
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 # PA1 with the mains deployed on a 20 Hz altitude trigger (m above the geoid) and the drogues cut away with them
 TRIGGERED_PA1 = f"""

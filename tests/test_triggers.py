@@ -13,8 +13,8 @@ import pytest
 from pchute_exudyn import load_case, simulate
 from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.physics.triggers import Sensor, Threshold, Trigger, Watch
+from tests.helpers import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 G = 9.80665
 VACUUM = """
 [case]

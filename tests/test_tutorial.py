@@ -9,8 +9,7 @@ from pathlib import Path
 import pytest
 
 from pchute_exudyn.cli import main
-
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 TUTORIAL = ROOT / "docs" / "tutorial.md"
 BLOCK = re.compile(r"^```(?P<info>[^\n]*)\n(?P<body>.*?)^```", re.S | re.M)

@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 
 from pchute_exudyn.results.compare import compare_results
-
-from .conftest import ROOT
+from tests.helpers import ROOT
 
 sys.path.insert(0, str(ROOT / "validation"))
 import mer_compare  # noqa: E402

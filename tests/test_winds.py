@@ -20,8 +20,7 @@ from pchute_exudyn.physics.wind import (
     wind_from_direction,
 )
 from pchute_exudyn.study.footprint import footprint_statistics
-
-from .conftest import ROOT
+from tests.helpers import ROOT, study_runs
 
 PA1_WINDS = ROOT / "cases" / "cev_pa1_winds.toml"
 SIGMA, LENGTH = (2.0, 1.5, 1.0), (120.0, 120.0, 60.0)
@@ -206,7 +205,6 @@ def test_footprint_study_same_on_one_and_two_workers_and_dask_and_reported(tmp_p
     from pchute_exudyn.study import dask_executor, load_study, run_study
     from pchute_exudyn.study.report import study_report
 
-    from .test_study import table
     path = tmp_path / "footprint.toml"
     path.write_text(FOOTPRINT)
     spec = load_study(path)
@@ -219,9 +217,9 @@ def test_footprint_study_same_on_one_and_two_workers_and_dask_and_reported(tmp_p
         run_study(spec, tmp_path / "dask", executor=executor, progress=False)
     finally:
         close()
-    one = table(tmp_path / "one")
+    one = study_runs(tmp_path / "one")
     assert len(one) == 4 and all(row["status"] == "ok" and row["touchdown_time"] for row in one)
-    assert table(tmp_path / "two") == one and table(tmp_path / "dask") == one
+    assert study_runs(tmp_path / "two") == one and study_runs(tmp_path / "dask") == one
     paths = study_report(tmp_path / "one")
     assert paths["footprint"].is_file() and paths["touchdown"].is_file()
     report = paths["report"].read_text()
