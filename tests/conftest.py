@@ -2,8 +2,8 @@
 command-line helpers are in tests/helpers.py (``ROOT``, ``MER``, ``run_cli``), importable by name from every tier.
 
 The suite runs the kernels compiled: the module the install built (rebuilt here first when a kernel's source changed
-since; its subprocesses inherit the setting); tests/test_fast_path.py runs the jit and Python forms and the automatic
-choice on purpose.
+since; its subprocesses inherit the setting); tests/integration/test_fast_path.py runs the jit and Python forms and
+the automatic choice on purpose.
 """
 
 import os

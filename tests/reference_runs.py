@@ -1,8 +1,8 @@
 """The runs whose results must not change when the canopy physics beyond the thesis is absent or switched off:
 MER cases 1-6 (SP, equilibrium point and implicit full mass over 10 s) and PA1 (SP to touchdown, implicit full mass
 for 20 s). ``python tests/reference_runs.py OUT.json`` records them with the code it imports (run it from a
-checkout of the version to keep as the reference); ``tests/test_canopy_physics.py`` reruns them and asks for the
-same events and numbers within 1e-9 relative (``largest_difference``)."""
+checkout of the version to keep as the reference); ``tests/acceptance/test_canopy_physics.py`` reruns them and asks
+for the same events and numbers within 1e-9 relative (``largest_difference``)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import math
 import sys
 from pathlib import Path
 
-if __name__ == "__main__":   # run as a script (python tests/reference_runs.py OUT.json): the repository root on sys.path
+if __name__ == "__main__":   # run as a script (python tests/reference_runs.py OUT.json): the repository root first
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from tests.helpers import ROOT  # noqa: E402

@@ -27,7 +27,7 @@ from pchute_exudyn.run.simulation import versions
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))
-from tests.test_triggers import VACUUM, G, noise_draws  # noqa: E402  (the closed forms, written once)
+from tests.integration.test_triggers import VACUUM, G, noise_draws  # noqa: E402  (the closed forms, written once)
 
 EVENTS = ("deploy", "cutaway", "touchdown")
 

@@ -2,7 +2,7 @@
 API. Each bad input or fault gives one line naming the input, the value and what is allowed, a non-zero exit (an
 InputError from the API), no traceback, nothing touched outside the output, and no file of the user's lost.
 
-`python tests/test_bad_inputs_api.py` prints the command-line inputs and their messages as a Markdown table.
+`python tests/integration/test_bad_inputs_api.py` prints the command-line inputs and their messages as a Markdown table.
 """
 
 import ctypes.util
@@ -19,8 +19,8 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.errors import PchuteError
 
-if __name__ == "__main__":   # run as a script (python tests/test_bad_inputs_api.py): the repository root on sys.path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+if __name__ == "__main__":   # run as a script (python tests/integration/test_bad_inputs_api.py): the root on sys.path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from tests.bad_input_harness import assert_one_line, print_table, run_bad_input  # noqa: E402
 from tests.helpers import ROOT, run_cli  # noqa: E402

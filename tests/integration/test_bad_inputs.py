@@ -1,7 +1,7 @@
 """A battery of bad inputs across `run`, `compare`, `linearize`, `study` and case files: each gives one line that
 names the problem, a non-zero exit, no traceback, and returns within 10 s.
 
-`python tests/test_bad_inputs.py` prints the inputs and the messages as a Markdown table.
+`python tests/integration/test_bad_inputs.py` prints the inputs and the messages as a Markdown table.
 """
 
 import sys
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-if __name__ == "__main__":   # run as a script (python tests/test_bad_inputs.py): the repository root on sys.path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+if __name__ == "__main__":   # run as a script (python tests/integration/test_bad_inputs.py): the root on sys.path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from tests.bad_input_harness import assert_one_line, print_table, run_bad_input  # noqa: E402
 from tests.helpers import ROOT  # noqa: E402

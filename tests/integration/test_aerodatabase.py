@@ -5,7 +5,6 @@ and total angles), the speed of sound, tables equal to constants, and the bad in
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,9 +12,9 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.physics.aerodynamics import CoefficientTable, CoefficientTableError
 from pchute_exudyn.physics.atmosphere import MARS_GAMMA, MARS_R, US76, US76_R, MarsGRC
-from tests.helpers import ROOT
+from tests.helpers import ROOT, TEST_CASES
 
-CASES = Path(__file__).parent / "cases"
+CASES = TEST_CASES
 PIVOT = CASES / "pivot_wind.toml"
 
 # the pivot case's numbers (tests/cases/pivot_wind.toml)

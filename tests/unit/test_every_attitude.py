@@ -132,7 +132,7 @@ def test_a_model_that_adds_energy_is_stopped_as_a_named_runaway(tmp_path):
 def test_an_implicit_step_across_a_constant_coefficients_jump_names_the_edge_on_canopy(tmp_path):
     """A constant C_A changes sign at 90 deg: the implicit integrator's step has no solution while a canopy slides
     along it, so the run stops naming the canopy and its angle, and what to use instead (`pchute new`'s table, which
-    falls to 0 at 90 deg, runs: tests/test_starts.py and validation/release.py)."""
+    falls to 0 at 90 deg, runs: tests/integration/test_starts.py and validation/release.py)."""
     path = tmp_path / "release.toml"
     path.write_text(pc.new_case_text(planet="earth", mass=2000.0, canopy_diameter=30.5, canopy_type="flat_circular",
                                      canopies=3, altitude=1500.0, release_airspeed=65.0, release_heading_deg=90.0))

@@ -1,9 +1,9 @@
 """Issue 14: the compiled per-stage kernels, the one stage force item, the SP presets and what they cost.
 
-The thesis-settings results of every method against the code before (to 1e-9) are in tests/test_canopy_physics.py
-(the recorded reference runs); here: each kernel against an independent formula, the stage's body states against
-Exudyn's own node outputs, the presets' accuracy against full mass, and the speed claims that must hold on any
-machine.
+The thesis-settings results of every method against the code before (to 1e-9) are in
+tests/acceptance/test_canopy_physics.py (the recorded reference runs); here: each kernel against an independent
+formula, the stage's body states against Exudyn's own node outputs, the presets' accuracy against full mass, and the
+speed claims that must hold on any machine.
 """
 
 from __future__ import annotations
