@@ -161,6 +161,7 @@ def test_the_accurate_preset_removes_the_slack_phase_error_of_case_4():
 
 # -- cost -------------------------------------------------------------------------------------------------------------
 
+@pytest.mark.benchmark
 def test_sp_is_faster_than_the_implicit_full_mass_model_at_the_same_step():
     """Issue 37 measured 3.3x on MER case 1 (validation/benchmark_sp.py); 2.5x leaves room for a noisy machine and
     still fails if the stage cost returns to where it was (2.3x). 60 s of descent, not 20: each run's fixed cost
