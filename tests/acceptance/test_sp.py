@@ -8,6 +8,7 @@ from tests.helpers import MER
 
 
 def test_sp_case1_agrees_with_full_mass_rk4(mer_case1, case1_rk4_reference):
+    """A real SP run against the recorded full-mass RK4 run at 1e-4 s (tests/reference_runs.py)."""
     # issue targets: final altitude within 1 m (thesis: 9.8 m), bridles within 1 N and riser within 6 N after 2 s
     sp = pc.simulate(mer_case1, "sp", "rk4", 1e-2)
     ref = case1_rk4_reference
