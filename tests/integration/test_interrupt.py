@@ -156,5 +156,6 @@ except KeyboardInterrupt:
 def test_a_ctrl_c_python_can_only_print_is_raised_again(tmp_path):
     """An interrupt raised inside a __del__ or an at-fork callback is printed and dropped by Python (a fit went on to
     its end, exit 0, after a Ctrl-C during its pool's start): the command's hook raises it again."""
-    done = subprocess.run([sys.executable, "-c", SWALLOWED], capture_output=True, text=True, timeout=30, cwd=tmp_path)
+    done = subprocess.run([sys.executable, "-c", SWALLOWED], capture_output=True, text=True, timeout=30, cwd=tmp_path,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))   # as the tests above
     assert done.stdout.strip() == "raised again" and "Exception ignored" not in done.stderr, done.stderr
