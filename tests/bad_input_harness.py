@@ -15,7 +15,8 @@ import os
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from tests.helpers import ROOT
+
 WATCHED = [ROOT / "cases", ROOT / "tests" / "cases", ROOT / "examples"]
 """The repository's input folders: a command must never write there."""
 

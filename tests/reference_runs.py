@@ -1,17 +1,34 @@
-"""The runs whose results must not change when the canopy physics beyond the thesis is absent or switched off:
-MER cases 1-6 (SP, equilibrium point and implicit full mass over 10 s) and PA1 (SP to touchdown, implicit full mass
-for 20 s). ``python tests/reference_runs.py OUT.json`` records them with the code it imports (run it from a
-checkout of the version to keep as the reference); ``tests/test_canopy_physics.py`` reruns them and asks for the
-same events and numbers within 1e-9 relative (``largest_difference``)."""
+"""Recorded reference runs: numbers written once from real runs, which the tests compare real runs with.
+
+* The runs whose results must not change when the canopy physics beyond the thesis is absent or switched off:
+  MER cases 1-6 (SP, equilibrium point and implicit full mass over 10 s) and PA1 (SP to touchdown, implicit full mass
+  for 20 s), in tests/data/reference_runs.json. ``python tests/reference_runs.py OUT.json`` records them with the
+  code it imports (run it from a checkout of the version to keep as the reference);
+  ``tests/acceptance/test_canopy_physics.py`` reruns them and asks for the same events and numbers within 1e-9
+  relative (``largest_difference``).
+* MER case 1 over 60 s, full mass, RK4 at the thesis's step 1e-4 s (``CASE1_RK4``): the reference SP, the
+  equilibrium point, implicit full mass and RK4 at twice the step are compared with (tests/acceptance/test_sp.py,
+  test_full_model.py, test_chapter2_engine.py; the ``case1_rk4_reference`` fixture). Its time series are read back,
+  not rerun (the run takes 20-40 s). ``python tests/reference_runs.py --case1-rk4`` records it again with the code it
+  imports; the slow test ``test_the_recorded_case1_reference_is_what_the_code_computes`` (tests/acceptance/
+  test_full_model.py, ``python -m pytest -m slow``) reruns it and asks for the recorded numbers within 1e-9.
+"""
 
 from __future__ import annotations
 
 import json
 import math
+import subprocess
 import sys
+from functools import lru_cache
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+import numpy as np
+
+if __name__ == "__main__":   # run as a script (python tests/reference_runs.py OUT.json): the repository root first
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from tests.helpers import ROOT  # noqa: E402
 
 RUNS = [(f"mer{c}_{method}_{integrator}", f"cases/mer/case{c}.toml", method, integrator, 10.0)
         for c in range(1, 7) for method, integrator in (("sp", "rk4"), ("equilibrium", "rk4"), ("full", "implicit"))]
@@ -36,12 +53,16 @@ PINNED = {"pa1_sp": ["simulation.sp.kappa_max=5.0"]}
 def record(name, case_file, method, integrator, duration, overrides=()) -> dict:
     """The run's final values, peak tensions and events, as plain JSON values."""
     from pchute_exudyn import load_case, simulate
-    from pchute_exudyn.results.io import _finite
     overrides = [*PINNED.get(name, []), *overrides]
     result = simulate(load_case(ROOT / case_file, list(overrides)), method, integrator, duration=duration)
-    summary = result.summary
+    return summary_record(result.summary)
+
+
+def summary_record(summary: dict, keys=("final", "peak_tension", "events")) -> dict:
+    """``keys`` of a run's summary as plain JSON values."""
+    from pchute_exudyn.results.io import _finite
     # NaN (a quantity absent at the end, e.g. a cut-away system) as None: strict JSON, as the result files write it
-    return _finite({"final": summary["final"], "peak_tension": summary["peak_tension"], "events": summary["events"]})
+    return _finite({key: summary[key] for key in keys})
 
 
 def _leaves(value, path=""):
@@ -71,6 +92,77 @@ def largest_difference(got: dict, want: dict) -> tuple[float, str]:
     return worst
 
 
+CASE1_RK4 = ROOT / "tests" / "data" / "mer1_full_rk4_1e-4_60s.npz"
+"""MER case 1, 60 s, full mass, RK4 at 1e-4 s: time, vehicle altitude and every line tension on the 0.01 s output grid
+(float64, as the run computed them), and in ``recorded`` (JSON) the summary's final values, peak tensions, events,
+steps, versions, and the commit whose package code wrote it."""
+CASE1_RK4_RUN = ("cases/mer/case1.toml", "full", "rk4", 1e-4)
+CASE1_RK4_COLUMNS = ("time", "vehicle_altitude", "tension_bridle1", "tension_bridle2", "tension_bridle3",
+                     "tension_riser")
+
+
+def case1_rk4_run():
+    """The real run the recording holds (20-40 s of wall time), with the code imported."""
+    from pchute_exudyn import load_case, simulate
+    case_file, method, integrator, step = CASE1_RK4_RUN
+    return simulate(load_case(ROOT / case_file), method, integrator, step)
+
+
+def _package_commit() -> str:
+    """The last commit of pchute_exudyn/ in this checkout, '+modified' when its files differ from it."""
+    def git(*args):
+        return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True).stdout.strip()
+    commit = git("log", "-1", "--format=%h", "--", "pchute_exudyn") or "unknown"
+    return commit + ("+modified" if git("status", "--porcelain", "--", "pchute_exudyn") else "")
+
+
+def record_case1_rk4(path=CASE1_RK4) -> None:
+    """Run MER case 1 (``case1_rk4_run``) and write its columns and summary to ``path``."""
+    result = case1_rk4_run()
+    recorded = summary_record(result.summary, ("final", "peak_tension", "events", "steps", "versions"))
+    recorded["package_commit"] = _package_commit()
+    recorded["command"] = "python tests/reference_runs.py --case1-rk4"
+    np.savez_compressed(path, **{name: np.asarray(result[name], dtype=float) for name in CASE1_RK4_COLUMNS},
+                        recorded=np.array(json.dumps(recorded, allow_nan=False)))
+
+
+class RecordedRun:
+    """A recorded run read back with the part of ``Result``'s interface the tests use: ``time``, ``run[name]``,
+    ``final(name)``, ``tension_names()``; ``recorded`` holds its summary."""
+
+    def __init__(self, path):
+        with np.load(path) as data:
+            self.columns = {name: data[name] for name in data.files if name != "recorded"}
+            self.recorded = json.loads(str(data["recorded"]))
+        for column in self.columns.values():
+            column.flags.writeable = False   # shared by the whole session: no test may change it
+
+    @property
+    def time(self) -> np.ndarray:
+        return self.columns["time"]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.columns[name]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.columns
+
+    def final(self, name: str) -> float:
+        return float(self.columns[name][-1])
+
+    def tension_names(self) -> list:
+        return [name for name in self.columns if name.startswith("tension_")]
+
+
+@lru_cache(maxsize=1)
+def case1_rk4_reference() -> RecordedRun:
+    """The recorded MER case 1 full-mass RK4 1e-4 s run (``CASE1_RK4``)."""
+    return RecordedRun(CASE1_RK4)
+
+
 if __name__ == "__main__":
-    out = {name: record(name, *rest) for name, *rest in RUNS}
-    Path(sys.argv[1]).write_text(json.dumps(out, indent=1, allow_nan=False) + "\n")
+    if sys.argv[1:2] == ["--case1-rk4"]:
+        record_case1_rk4(Path(sys.argv[2]) if len(sys.argv) > 2 else CASE1_RK4)
+    else:
+        out = {name: record(name, *rest) for name, *rest in RUNS}
+        Path(sys.argv[1]).write_text(json.dumps(out, indent=1, allow_nan=False) + "\n")

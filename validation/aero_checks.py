@@ -2,7 +2,7 @@
 
 Run:  python validation/aero_checks.py
 
-The case is the test suite's tests/cases/pivot_wind.toml (tests/test_aerodatabase.py asserts the same checks): a
+The case is the test suite's tests/cases/pivot_wind.toml (tests/integration/test_aerodatabase.py asserts the same checks): a
 body pivoted at its centre of mass (1e12 kg, no gravity) in a uniform steady wind of V = 20 m/s, q = 4 Pa, S = 2 m^2,
 d = 1.5 m, I = 10 kg m^2 (transverse), I_xx = 5 kg m^2. Writes validation/output/aero/closed_forms.md:
 
@@ -127,7 +127,7 @@ def main(argv=None) -> int:
     rows = [*frequency_rows(), damping_row(), roll_row(), *mach_rows(), table_row()]
     v = versions()
     lines = ["# Aerodynamic databases: closed forms through the engine", "",
-             f"`python validation/aero_checks.py`; case tests/cases/pivot_wind.toml (tests/test_aerodatabase.py "
+             f"`python validation/aero_checks.py`; case tests/cases/pivot_wind.toml (tests/integration/test_aerodatabase.py "
              f"asserts the same). Exudyn {v['exudyn']}, pchute-exudyn {v['pchute_exudyn']}, {v['kernels']} kernels.", "",
              "| check | measured | closed form | relative difference | tolerance |", "|---|---|---|---|---|"]
     lines += ["| " + " | ".join(row) + " |" for row in rows]

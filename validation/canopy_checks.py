@@ -2,7 +2,7 @@
 
 Run:  python validation/canopy_checks.py            # writes validation/output/canopy/closed_forms.{md,json}
 
-Each check returns rows (check, method, expected, got, relative error, tolerance); ``tests/test_canopy_physics.py``
+Each check returns rows (check, method, expected, got, relative error, tolerance); ``tests/acceptance/test_canopy_physics.py``
 asserts them. The checks:
 
 * apparent mass, one canopy body without lines in air of constant density (``tests/cases/constant_air.csv``):

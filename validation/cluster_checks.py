@@ -3,7 +3,7 @@
 Run:  python validation/cluster_checks.py
 
 The cases are the test suite's (tests/cases/cluster_pair.toml, cluster_pair_as_one.toml, cluster_trio.toml,
-canopy_bump.toml; tests/test_cluster.py asserts the same checks). Writes validation/output/cluster/closed_forms.md:
+canopy_bump.toml; tests/integration/test_cluster.py asserts the same checks). Writes validation/output/cluster/closed_forms.md:
 
 * two identical canopies, mirror-symmetric start: the largest riser tension difference over the peak;
 * the pair against one canopy of twice the mass and drag area, and against sqrt(2 W / (rho C_A S)): the steady rate;
@@ -63,7 +63,7 @@ def main(argv=None) -> int:
     text = "\n".join([
         "# Cluster closed forms through the engine",
         "",
-        "`python validation/cluster_checks.py`; cases in tests/cases/ (tests/test_cluster.py asserts the same). "
+        "`python validation/cluster_checks.py`; cases in tests/cases/ (tests/integration/test_cluster.py asserts the same). "
         f"Exudyn {v['exudyn']}, pchute-exudyn {v['pchute_exudyn']}.",
         "",
         "| method | pair: largest riser tension difference / peak | pair against one canopy of twice the size: steady "

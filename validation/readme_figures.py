@@ -22,7 +22,7 @@ Each figure comes from the output of the script named beside it on its page, whi
 (winds/envelope.md), `validation/release.py` (release/release.md), `validation/benchmark_steps.py`
 (benchmark_steps.md), `validation/benchmark_rocketpy.py` (rocketpy/benchmark.json); the test count
 from `python -m pytest --collect-only`. Refresh a figure by rerunning its script, then this one. The test suite runs
-the check (tests/test_architecture.py), so a page that disagrees with the committed outputs fails CI.
+the check (tests/acceptance/test_architecture.py), so a page that disagrees with the committed outputs fails CI.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ Run:  python validation/triggers.py
 * a user trigger function equal to the built-in one: the runs compared column by column;
 * MER EDL (cases/mer/edl.toml) with SP, full mass RK4 and full mass implicit: touchdown, deployment conditions, peak
   loads, heat shield clearance and wall time, side by side;
-* the closed forms of tests/test_triggers.py with their errors.
+* the closed forms of tests/integration/test_triggers.py with their errors.
 Writes validation/output/triggers/triggers.md.
 """
 
@@ -27,7 +27,7 @@ from pchute_exudyn.run.simulation import versions
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))
-from tests.test_triggers import VACUUM, G, noise_draws  # noqa: E402  (the closed forms, written once)
+from tests.integration.test_triggers import VACUUM, G, noise_draws  # noqa: E402  (the closed forms, written once)
 
 EVENTS = ("deploy", "cutaway", "touchdown")
 

@@ -5,7 +5,7 @@ to the translational block of the system mass matrix and A_r to the rotational o
 velocity coordinates are the body-axis angular velocity), and the Kirchhoff velocity terms as its generalized force.
 The engine then solves (M + A) a = f at every stage with the current state: the apparent mass enters the equations
 exactly, with no acceleration carried from an earlier stage. Measured against closed forms and an independent
-integration of the body-axis equations in ``tests/test_canopy_physics.py``.
+integration of the body-axis equations in ``tests/acceptance/test_canopy_physics.py``.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ load-elongation line, SP of either order and slack rule, equilibrium point, full
 the rocket case (reduced canopies at adaptive steps), then each CASE file with each method, and formats a table
 (``number_text``), with numba compiling each kernel on first call, and adds the argument types each kernel was called
 with from Python to ``kernels/signatures.json`` (what ``python -m pchute_exudyn.kernels.build`` compiles). Rerun it
-when a kernel's arguments change (``tests/test_kernels.py`` fails until then). It runs the whole package: a
+when a kernel's arguments change (``tests/integration/test_kernels.py`` fails until then). It runs the whole package: a
 top-layer module.
 """
 

@@ -424,7 +424,7 @@ stable on the real mode -1/tau up to 2.785 tau: 1.86 such steps, a margin for th
 lines (the mode of a loaded MER or pchute new confluence runs up to 1.5 times faster than -1/tau) and the grid of
 tau (9 %). More relaxation (a smaller ratio) makes a light body's mode on its damped lines faster (tau K / m) and
 changes the lines' tensions more: at 1.35 a canopy under a 100 kg vehicle on three bridles was left bouncing by
-7.5 % of its riser's load in a steady descent (``tests/test_step_control.py``)."""
+7.5 % of its riser's load in a steady descent (``tests/integration/test_step_control.py``)."""
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,7 @@ COMPILED = MODE != "python"
 JIT = MODE == "jit"
 FALLBACKS: dict = {}
 """Compiled form: calls that ran a kernel's Python form because no compiled code takes their argument types, by
-(kernel name, argument types). Empty in every run the package makes (``tests/test_kernels.py``)."""
+(kernel name, argument types). Empty in every run the package makes (``tests/integration/test_kernels.py``)."""
 
 _SCALARS = {float: "f8", int: "i8", bool: "b1", np.float64: "f8", np.int64: "i8", np.bool_: "b1"}
 

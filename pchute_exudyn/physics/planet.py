@@ -390,7 +390,7 @@ def engine_gravity_force(mu, mass, cx, cy, cz, x, y, z):
     """The gravitational force (N) on a mass ``mass`` (kg) at (x, y, z) (m) from a planet of ``mu`` (m^3/s^2)
     centred at (cx, cy, cz) (m), -mu m r / |r|^3, in the order of operations of the engine's own gravity connector
     (Exudyn's ObjectConnectorGravity with masses 1 and m): a kernel that applies it in the connector's stead adds
-    the same bits (``engine.stage.Stage``, tests/test_fast_path.py)."""
+    the same bits (``engine.stage.Stage``, tests/integration/test_fast_path.py)."""
     rx, ry, rz = x - cx, y - cy, z - cz
     length = math.sqrt(rx * rx + ry * ry + rz * rz)
     length2_inverse = 1.0 / (length * length)

@@ -8,7 +8,7 @@ around its solve. The kernel here writes the same characters: the value correctl
 The rounding is exact where it claims to be: x times 10^k is formed in double-double arithmetic (an error below
 2^-100 of the value) from a table of 10^k as pairs of doubles, and a value whose scaled fraction lies within 1e-6 of
 one half (a tie, or too close to one to decide) is left to Python, as is any value outside 1e-280 to 1e290 in
-magnitude; the caller formats those rows with Python (``table_text``). ``tests/test_number_text.py`` compares the
+magnitude; the caller formats those rows with Python (``table_text``). ``tests/unit/test_number_text.py`` compares the
 two on 400 000 random values (any bit pattern, and numbers of every magnitude from 1e-8 to 1e8) and on the cases at
 every boundary.
 """

@@ -422,6 +422,16 @@ def _options(options, option_values: dict):
     return options if options is not None else option_values
 
 
+def _plan(case, plan, method, integrator, step, duration, options, option_values) -> RunPlan:
+    """The run's plan: resolved here from the arguments, or the one given, alone."""
+    if plan is None:
+        return resolve_run(case, method, integrator, step, duration, _options(options, option_values))
+    if not isinstance(plan, RunPlan) or any(v is not None for v in (method, integrator, step, duration, options)) \
+            or any(v is not None for v in option_values.values()):
+        raise InputError("plan: a RunPlan (resolve_run) alone, without method, integrator, step, duration or options")
+    return plan
+
+
 def simulate(case: Case, method=None, integrator: str | None = None, step: float | None = None,
              duration: float | None = None, *, plan: RunPlan | None = None, options=None, progress=None,
              engine_solution: bool = False, history: bool = True, **option_values) -> Result:
@@ -442,15 +452,13 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     duration : float, optional
         Simulated time (s); default from the case.
     plan : RunPlan, optional
-        A run already resolved (``resolve_run``: the command line resolves once, to name its folder and check it
-        before the run); then give neither method, integrator, step, duration nor options.
+        A run already resolved (``resolve_run``), given alone: no method, integrator, step, duration or options.
     options : Options object of the method, optional
         The method's options as a whole (e.g. ``SPOptions(kappa_max=10)``).
     progress : callable, optional
-        Receives the simulation time (s) every few steps (the command line draws ``progress.TerminalProgress``).
+        Receives the simulation time (s) every few steps (as ``progress.TerminalProgress`` draws it).
     engine_solution : bool
-        Also keep Exudyn's own solution file of each phase (``ENGINE_SOLUTION``), saved with the result. Writing it
-        is part of the timed solve.
+        Also keep Exudyn's solution file of each phase (``ENGINE_SOLUTION``) with the result (written in the solve).
     history : bool
         False: a run whose history nobody keeps (a study's): without the columns the summary never reads
         (``outputs.derive_columns``) and without the scene (its files hold no scene to animate).
@@ -471,11 +479,7 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
         On Ctrl-C (a KeyboardInterrupt saying the time reached); nothing of the run is returned.
     """
     _check_arguments(case, progress, engine_solution, history)
-    if plan is None:
-        plan = resolve_run(case, method, integrator, step, duration, _options(options, option_values))
-    elif not isinstance(plan, RunPlan) or any(v is not None for v in (method, integrator, step, duration, options)) \
-            or any(v is not None for v in option_values.values()):
-        raise InputError("plan: a RunPlan (resolve_run) alone, without method, integrator, step, duration or options")
+    plan = _plan(case, plan, method, integrator, step, duration, options, option_values)
     with tempfile.TemporaryDirectory() as folder:
         raw, facts, events, openings, sequence = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}

@@ -1,0 +1,174 @@
+"""The architecture is checked, not promised: import-linter's layer contracts, ruff, short functions, and no method
+name compared outside the method table."""
+
+import ast
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.helpers import ROOT
+
+PACKAGE = ROOT / "pchute_exudyn"
+MAX_FUNCTION_LINES = 60
+
+
+def _tool(name: str) -> str:
+    """A console script of this environment (next to the running Python), else from PATH."""
+    beside = Path(sys.executable).parent / name
+    found = str(beside) if beside.exists() else shutil.which(name)
+    if found is None:
+        pytest.fail(f"{name} is not installed: install the test extra (pip install -e '.[test]')")
+    return found
+
+
+def _lint_imports(root: Path) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    return subprocess.run([_tool("lint-imports"), "--config", str(root / "pyproject.toml"), "--no-cache"],
+                          cwd=root, env=env, capture_output=True, text=True, timeout=300)
+
+
+def test_the_import_contracts_hold():
+    run = _lint_imports(ROOT)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_ruff_finds_nothing():
+    run = subprocess.run([sys.executable, "-m", "ruff", "check", "--no-cache", str(ROOT)], cwd=ROOT,
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+@pytest.mark.parametrize("module, violation", [
+    ("physics/lines.py", "from ..engine import model  # noqa\n"),          # physics reaching up to the engine
+    ("engine/model.py", "from ..run import simulation  # noqa\n"),        # the engine reaching up
+    ("run/simulation.py", "import exudyn  # noqa\n"),                      # Exudyn outside the engine
+])
+def test_a_crossed_layer_breaks_the_contracts(tmp_path, module, violation):
+    shutil.copytree(PACKAGE, tmp_path / "pchute_exudyn", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
+    target = tmp_path / "pchute_exudyn" / module
+    target.write_text(target.read_text() + "\n" + violation)
+    run = _lint_imports(tmp_path)
+    assert run.returncode != 0 and "BROKEN" in run.stdout.upper(), run.stdout + run.stderr
+
+
+def _functions():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                yield path.relative_to(ROOT), node.name, node.end_lineno - node.lineno + 1
+
+
+def test_every_function_reads_at_once():
+    long = sorted(((n, f"{p}:{name}") for p, name, n in _functions() if n >= MAX_FUNCTION_LINES), reverse=True)
+    assert not long, f"functions of {MAX_FUNCTION_LINES} lines or more: {long}"
+
+
+METHOD_COMPARISON = re.compile(r"""(==|!=|\bin\b|\bis\b)\s*\(?\s*["'](full|sp|equilibrium)["']"""
+                               r"""|["'](full|sp|equilibrium)["']\s*(==|!=)""")
+
+
+def test_no_method_name_is_compared_outside_the_method_table():
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for number, line in enumerate(path.read_text().splitlines(), start=1):
+            if METHOD_COMPARISON.search(line):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert not found, "method names compared outside the table:\n" + "\n".join(found)
+
+
+def test_default_output_folders_are_ignored_by_git():
+    if not (ROOT / ".git").exists() or shutil.which("git") is None:
+        pytest.skip("not a git checkout")
+    paths = ["results/case1_full_rk4/summary.json", "studies/mer/runs.csv"]
+    run = subprocess.run(["git", "check-ignore", *paths], cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert run.stdout.split() == paths
+
+
+@pytest.mark.parametrize("outcome", [0, 3])
+def test_ci_script_removes_its_environment_whether_it_passes_or_fails(tmp_path, outcome):
+    """.ci/run with stand-ins for python3 and the environment's python (no install, no test run): the temporary
+    folder it makes is gone when it ends, passed or failed (before, each run left its 0.4 GB environment)."""
+    if shutil.which("bash") is None:
+        pytest.skip("no bash")
+    stubs, scratch = tmp_path / "bin", tmp_path / "tmp"
+    stubs.mkdir()
+    scratch.mkdir()
+    (stubs / "python3").write_text(   # `python3 -m venv DIR` makes DIR/bin/activate put a stand-in python first
+        '#!/bin/sh\nmkdir -p "$3/bin"\nprintf \'#!/bin/sh\\nexit %s\\n\' "$STUB_EXIT" > "$3/bin/python"\n'
+        'chmod +x "$3/bin/python"\nprintf \'PATH="%s/bin:$PATH"\\n\' "$3" > "$3/bin/activate"\n')
+    (stubs / "python3").chmod(0o755)
+    env = {**os.environ, "PATH": f"{stubs}:{os.environ['PATH']}", "TMPDIR": str(scratch), "STUB_EXIT": str(outcome)}
+    run = subprocess.run(["bash", str(ROOT / ".ci" / "run")], cwd=ROOT, env=env, capture_output=True, text=True,
+                         timeout=60)
+    assert run.returncode == outcome, run.stdout + run.stderr
+    assert list(scratch.iterdir()) == []
+
+
+def test_readme_figures_match_the_committed_outputs():
+    """The README's test count, wall times and speed-ups are those `validation/readme_figures.py` derives from the
+    test suite and the committed validation outputs (rerun the validation script, then fix the README)."""
+    run = subprocess.run([sys.executable, str(ROOT / "validation" / "readme_figures.py"), "--check"], cwd=ROOT,
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+
+
+# -- the house a newcomer reads (issue 35) ---------------------------------------------------------------------
+
+ROOT_MODULES_MAX = 8
+MAX_MODULE_LINES = 700
+
+
+def test_the_package_root_holds_only_the_public_api_shared_types_and_errors():
+    root = sorted(path.name for path in PACKAGE.glob("*.py"))
+    assert len(root) <= ROOT_MODULES_MAX, root
+
+
+def test_no_module_exceeds_its_limit():
+    long = sorted((len(path.read_text().splitlines()), str(path.relative_to(ROOT))) for path in PACKAGE.rglob("*.py"))
+    assert not [entry for entry in long if entry[0] > MAX_MODULE_LINES], long[-3:]
+
+
+PACKED_READ = re.compile(r"row\[[0-9]+(:[0-9]+)?\]|memory\[[0-9]+\]")
+LAYOUT_HOMES = {"pchute_exudyn/physics/kinematics.py", "pchute_exudyn/physics/singular_perturbation.py",
+                "pchute_exudyn/physics/sp_stepping.py", "pchute_exudyn/physics/aerodynamics.py"}
+"""The modules that define a packed layout (the body state row, SP's memory, the aerodynamics row): the only
+places a position in one may be written as a number."""
+INTEGRATOR_COMPARISON = re.compile(r"""(==|!=)\s*["'](rk4|implicit)["']|["'](rk4|implicit)["']\s*(==|!=)""")
+
+
+def _lines_matching(pattern):
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for number, line in enumerate(path.read_text().splitlines(), start=1):
+            if pattern.search(line):
+                yield str(path.relative_to(ROOT)), f"{path.relative_to(ROOT)}:{number}: {line.strip()}"
+
+
+def test_packed_layouts_are_read_by_name_outside_their_home():
+    found = [text for path, text in _lines_matching(PACKED_READ) if path not in LAYOUT_HOMES]
+    assert not found, "positions of a packed layout written as numbers:\n" + "\n".join(found)
+
+
+def test_integrators_are_compared_only_in_their_table():
+    found = [text for path, text in _lines_matching(INTEGRATOR_COMPARISON)
+             if path != "pchute_exudyn/case/method_table.py"]
+    assert not found, "integrator names compared outside the table:\n" + "\n".join(found)
+
+
+def test_study_and_fit_import_no_private_name_of_the_case_layer():
+    found = []
+    for folder in ("study", "fit"):
+        for path in sorted((PACKAGE / folder).rglob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if not isinstance(node, ast.ImportFrom):
+                    continue
+                module = node.module or ""
+                if (node.level, module.split(".")[0]) in ((2, "case"), (0, "pchute_exudyn")) and ".case" in f".{module}":
+                    found += [f"{path.name}: {alias.name}" for alias in node.names if alias.name.startswith("_")]
+    assert not found, found
