@@ -63,12 +63,15 @@ MACHINE = ("wall_time", "created", "versions", "steps_per_second", "case_file")
 
 
 def record(out: Path) -> None:
-    """Run RUNS with the pchute_exudyn this process imports; each run's columns (.npz) and summary (.json)."""
+    """Run RUNS with the pchute_exudyn this process imports, on the case files of the checkout it runs in (its
+    working folder: each side flies its own files, so a case that names a new key to keep its model, such as
+    ``packed = false``, is compared with its file before the key existed); each run's columns (.npz) and summary
+    (.json)."""
     import pchute_exudyn as pc
 
     out.mkdir(parents=True, exist_ok=True)
     for i, (label, case_file, options) in enumerate(RUNS):
-        result = pc.simulate(pc.load_case(ROOT / case_file), **options)
+        result = pc.simulate(pc.load_case(Path.cwd() / case_file), **options)
         np.savez(out / f"{i:02d}.npz", **{k: np.asarray(v) for k, v in result.columns.items()})
         summary = {k: v for k, v in result.summary.items() if k not in MACHINE}
         (out / f"{i:02d}.json").write_text(json.dumps(summary, default=str))

@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..physics.separation import composite
+from ..physics.separation import composite, shifted_inertia
 from .model import Case, ParachuteSystem
 
 
@@ -83,11 +83,7 @@ def vehicle_with(case: Case, riders: list) -> tuple:
     parts = [(vehicle.mass, vehicle.inertia, np.zeros(3))]
     parts += [(rider.mass, rider.inertia, rider.position) for rider in riders]
     mass, center, inertia = composite(parts)
-    points = {name: tuple((np.asarray(p, float) - center).tolist()) for name, p in vehicle.points.items()}
-    aerodynamics = vehicle.aerodynamics
-    if aerodynamics is not None:
-        aerodynamics = replace(aerodynamics, center=tuple((np.asarray(aerodynamics.center, float) - center).tolist()))
-    return replace(vehicle, mass=mass, inertia=inertia, points=points, aerodynamics=aerodynamics), center
+    return replace(_measured_from(vehicle, center), mass=mass, inertia=inertia), center
 
 
 def case_at(case: Case, time: float) -> Case:
@@ -98,3 +94,69 @@ def case_at(case: Case, time: float) -> Case:
         return case
     vehicle, _ = vehicle_with(case, riding)
     return replace(case, bodies={**case.bodies, case.vehicle: vehicle})
+
+
+def packed_by_default(system: ParachuteSystem, vehicle: str) -> ParachuteSystem:
+    """``system`` with ``packed`` decided where the case does not say: a system that deploys after the start from a
+    point of the vehicle rides in it until then, so the suspended mass is the same before and after its deployment;
+    any other has no packed gear."""
+    if system.packed is not None:
+        return system
+    packs = system.deploy_time is not None and system.deploy_point is not None and system.deploy_point[0] == vehicle
+    return replace(system, packed=packs)
+
+
+def stated_center(case: Case) -> np.ndarray:
+    """Where the vehicle's stated centre of mass lies, in its own axes from its own centre of mass (m): that of the
+    vehicle with its packed gear at the start for a vehicle whose mass includes it (``mass_includes_packed``), else
+    its own (zero)."""
+    if not case.bodies[case.vehicle].mass_includes_packed:
+        return np.zeros(3)
+    gear = [rider for system in case.systems.values() for rider in packed_gear(case, system, 0.0, before=True)]
+    return vehicle_with(case, gear)[1]
+
+
+def own_vehicle(case: Case, error) -> Case:
+    """``case`` whose vehicle's stated mass, inertia and points include its packed gear (``mass_includes_packed``)
+    with the vehicle as its own body: the gear's mass and inertia (parallel axes) taken out, points measured from
+    the vehicle's own centre of mass. ``error(key, message, value)`` makes the CaseError of an impossible remainder."""
+    vehicle = case.bodies[case.vehicle]
+    gear = [rider for system in case.systems.values() for rider in packed_gear(case, system, 0.0, before=True)]
+    if not gear:
+        raise error("mass_includes_packed", "the vehicle carries no packed system: remove it, or give a system "
+                                            "that deploys from the vehicle packed = true", True)
+    gear_mass = sum(rider.mass for rider in gear)
+    own_mass = vehicle.mass - gear_mass
+    if own_mass <= 0.0:
+        raise error("mass", f"with mass_includes_packed must exceed the packed gear's {gear_mass:g} kg",
+                    vehicle.mass)
+    own_center = -sum(rider.mass * np.asarray(rider.position, float) for rider in gear) / own_mass
+    inertia = vehicle.inertia - shifted_inertia(np.zeros((3, 3)), own_mass, own_center)
+    inertia = inertia - sum(shifted_inertia(rider.inertia, rider.mass, np.asarray(rider.position, float))
+                            for rider in gear)
+    if np.any(np.linalg.eigvalsh(0.5 * (inertia + inertia.T)) <= 0.0):
+        raise error("inertia", "with mass_includes_packed must exceed the packed gear's own inertia and its "
+                               "parallel-axis part (the remainder is not positive definite)",
+                    np.diag(vehicle.inertia).tolist())
+    own = _measured_from(vehicle, own_center)
+    return replace(case, bodies={**case.bodies, case.vehicle: replace(own, mass=own_mass, inertia=inertia)})
+
+
+def _measured_from(body, center) -> object:
+    """``body`` with its points and aerodynamic centre measured from ``center`` (m, in its axes) instead."""
+    points = {name: tuple((np.asarray(p, float) - center).tolist()) for name, p in body.points.items()}
+    aerodynamics = body.aerodynamics
+    if aerodynamics is not None:
+        aerodynamics = replace(aerodynamics, center=tuple((np.asarray(aerodynamics.center, float) - center).tolist()))
+    return replace(body, points=points, aerodynamics=aerodynamics)
+
+
+def suspended_mass(case: Case, time: float) -> float:
+    """Everything the run flies at ``time`` (s), in kg: the vehicle with what rides in it, every other body present
+    and the confluence of every acting system (whether its method gives it mass or not). Constant through a
+    deployment when its gear was packed (``packed``); it changes only where a part is cut away or separates."""
+    vehicle = case.mass_of(case.vehicle, time) + sum(rider.mass for rider in carried(case, time))
+    others = sum(case.mass_of(name, time) for name in case.active_bodies(time) if name != case.vehicle)
+    return vehicle + others + sum(system.confluence.mass for system in case.systems.values()
+                                  if case.acting(system, time))
+

@@ -24,6 +24,14 @@ def check_vehicle(info: Table, vehicle: str, systems: dict) -> None:
                                         "parachutes hang from", vehicle)
 
 
+def check_packed_mass(body_tables: dict, bodies: dict, vehicle: str) -> None:
+    """Only the vehicle carries packed gear, so only its stated mass can include it."""
+    for name, body in bodies.items():
+        if body.mass_includes_packed and name != vehicle:
+            raise body_tables[name].error("mass_includes_packed", f"only the vehicle ('{vehicle}') carries packed "
+                                                                  "gear", True)
+
+
 def check_grounds(atmosphere_table: Table, wind, turbulence, start_altitude: float | None) -> None:
     """A power-law wind or a turbulence field whose ground is at or above the vehicle's start would do nothing
     (no wind below its ground, a field frozen at its ground value)."""

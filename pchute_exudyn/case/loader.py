@@ -13,12 +13,14 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from .carried import own_vehicle, packed_by_default
 from .checks import (
     check_connections,
     check_escape,
     check_events,
     check_grounds,
     check_mach,
+    check_packed_mass,
     check_plausible,
     check_release,
     check_vehicle,
@@ -32,6 +34,7 @@ from .read_systems import read_failures, read_system
 from .read_triggers import check_triggers, read_separations
 from .read_world import read_atmosphere, read_planet, read_simulation, read_start
 from .start import Release, ground_relative
+from .trigger_reach import unreachable_triggers
 
 
 def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:
@@ -95,6 +98,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     triggers: dict = {}
     systems = {sys_name: read_system(sys_name, st, bodies, triggers) for sys_name, st in system_tables.items()}
     check_vehicle(info, vehicle, systems)
+    check_packed_mass(body_tables, bodies, vehicle)
+    systems = {name: packed_by_default(system, vehicle) for name, system in systems.items()}
     simulation_table = top.table("simulation")
     simulation = read_simulation(simulation_table)
     atmosphere, wind, turbulence, gusts = None, None, None, ()
@@ -116,13 +121,15 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     check_triggers(top, triggers, systems, failures, separations, atmosphere)
     top.allowed.extend(("extends", "remove"))
     top.finish()
-    warnings = check_plausible(data, ctx)
+    warnings = check_plausible(data, ctx) + unreachable_triggers(
+        triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude)
     check_escape(body_tables, bodies, planet)
-    return Case(name=name, description=description, source=source, planet=planet, start=start,
+    case = Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
                 wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units), failures=failures,
                 velocities_relative_to=frame, release=release, warnings=warnings, triggers=triggers,
                 separations=separations)
+    return own_vehicle(case, body_tables[vehicle].error) if bodies[vehicle].mass_includes_packed else case
 
 
 def _heading(vehicle: Body, release: Release | None) -> tuple:

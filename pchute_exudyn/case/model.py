@@ -139,6 +139,10 @@ class Body:
         True for a body fixed to the ground (its points are anchors; thesis chapter 2's attach points).
     apparent_mass : ApparentMass or None
         The air the body carries (``physics.apparent_mass``); None: none.
+    mass_includes_packed : bool
+        The vehicle only: its stated mass (kg), inertia (kg m^2), centre of mass, points and initial state are those
+        of the vehicle with the gear of its packed systems aboard, as one weighs and measures it
+        (``case.carried.own_vehicle`` takes the gear out at load).
     """
 
     name: str
@@ -149,6 +153,7 @@ class Body:
     aerodynamics: Aerodynamics | None = None
     fixed: bool = False
     apparent_mass: ApparentMass | None = None
+    mass_includes_packed: bool = False
 
 
 @dataclass(frozen=True)
@@ -282,7 +287,9 @@ class ParachuteSystem:
     packed : bool
         True: until it deploys, the system's gear rides in the vehicle (``case.carried``): each canopy that leaves it
         (its own inertia about its own centre of mass) and the confluence as a point mass, at the deploy point, so
-        the suspended mass is the same before and after the deployment; False: it is absent until then.
+        the suspended mass is the same before and after the deployment; False: it is absent until then. A case
+        that does not say gets True for a system deployed during the run from a point of the vehicle
+        (``case.carried.packed_by_default``).
     """
 
     name: str

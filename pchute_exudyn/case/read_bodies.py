@@ -95,6 +95,7 @@ def _read_coefficient(t: Table, key: str, default=REQUIRED, minimum: float | Non
 
 def read_body(name: str, t: Table) -> Body:
     fixed = t.boolean("fixed", default_of(Body, "fixed"))
+    includes_packed = t.boolean("mass_includes_packed", default_of(Body, "mass_includes_packed"))
     if fixed:
         for key in ("mass", "inertia", "aerodynamics"):
             t.allowed.append(key)
@@ -124,7 +125,7 @@ def read_body(name: str, t: Table) -> Body:
     if apparent is not None and (aero is None or not aero.enabled):
         raise t.error("apparent_mass", "needs the body's aerodynamics (its centre gives the air density)")
     t.finish()
-    return Body(name, mass, inertia, points, initial, aero, fixed, apparent)
+    return Body(name, mass, inertia, points, initial, aero, fixed, apparent, includes_packed)
 
 
 def _read_apparent_mass(t: Table) -> ApparentMass | None:

@@ -119,10 +119,13 @@ class _Spelled(str):
         return str(self)
 
 
-def _read_packed(t: Table, deploy_time) -> bool:
+def _read_packed(t: Table, deploy_time) -> bool | None:
     """``packed``: the system's gear rides in the vehicle until it deploys (``case.carried``); a system present
-    from the start has none."""
-    packed = t.boolean("packed", default_of(ParachuteSystem, "packed"))
+    from the start has none. None when the case does not say: decided once the vehicle is known
+    (``case.carried.packed_by_default``)."""
+    if "packed" not in t.data:
+        return None
+    packed = t.boolean("packed")
     if packed and deploy_time is None:
         raise t.error("packed", "a system present from the start (no deploy_time or deploy_trigger) has no packed "
                                 "gear: give it a deploy_time or deploy_trigger, or remove packed", _Spelled("true"))

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..case.carried import carried, case_at, vehicle_with
+from ..case.carried import carried, case_at, stated_center, vehicle_with
 from ..case.model import Case, Contact, ParachuteSystem
 from ..engine.state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
 from ..errors import SimulationError
@@ -36,7 +36,8 @@ def boundaries(case: Case, duration: float) -> list:
 
 def initial_states(case: Case) -> tuple[dict, dict]:
     """States at t = 0 of the bodies and confluences that have an initial state in the case (a vehicle carrying
-    bodies or packed gear: of its composite's centre of mass, ``case.carried``)."""
+    bodies or packed gear: of its composite's centre of mass, ``case.carried``; the case gives the vehicle's at its
+    own centre of mass, or with ``mass_includes_packed`` at that of the vehicle with its gear)."""
     bodies = {body.name: initial_body_state(case, body) for body in case.free_bodies() if body.initial is not None}
     confluences = {system.name: initial_confluence_state(case, system) for system in case.systems.values()
                    if system.confluence.initial is not None}
@@ -44,7 +45,8 @@ def initial_states(case: Case) -> tuple[dict, dict]:
     if riding:
         own = bodies[case.vehicle]
         _, center = vehicle_with(case, riding)
-        position, velocity = rigid_point_state(own.position, own.attitude, own.velocity, own.angular_velocity, center)
+        offset = center - stated_center(case)   # the initial state is given at the stated centre of mass
+        position, velocity = rigid_point_state(own.position, own.attitude, own.velocity, own.angular_velocity, offset)
         bodies[case.vehicle] = BodyState(position, own.attitude, velocity, own.angular_velocity)
     return bodies, confluences
 

@@ -119,3 +119,15 @@ class Sequence:
         return [f"{trigger.key} never fired ({trigger.describe()}) in the {end:g} s run"
                 for event, trigger in self.base.triggers.items()
                 if self.times.get(event, math.inf) > end]
+
+    def with_unfired(self, error: SimulationError) -> SimulationError:
+        """``error`` (the run died at ``error.time``) with the triggers that had not fired by then named: a vehicle
+        whose drogue never deployed fails later for a reason its message alone would not show."""
+        time = math.inf if error.time is None else error.time
+        waiting = [f"{trigger.key} ({trigger.describe()})" for event, trigger in self.base.triggers.items()
+                   if self.times.get(event, math.inf) > time]
+        if not waiting:
+            return error
+        note = f"; by then {'this trigger had' if len(waiting) == 1 else 'these triggers had'} not fired: "
+        return SimulationError(str(error) + note + ", ".join(waiting), error.time)
+

@@ -326,38 +326,41 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
     sequence = Sequence(case)
     state = _Run(*initial_states(case), inflation_progress(sequence.case), [StartEvent.of(case)])
     start, number = 0.0, 0
-    while start < plan.duration:
-        current = sequence.case
-        end = next(t for t in sorted(set(boundaries(current, plan.duration)) | sequence.boundaries(plan.duration))
-                   if t > start)
-        # what a phase integrated again to a firing time needs (only a run with sensed triggers has one)
-        saved, watches = (state.saved(), sequence.snapshot()) if sequence.triggered else (None, None)
-        if sequence.triggered:
-            retime_openings(current, state.openings)
-        phase = next_phase(current, start, end, state.body_states, state.confluence_states)
-        sequence.note_conditions(start, phase.body_states)
-        phase.inflation = state.openings
-        state.events.extend(phase.events)
-        solution_file = None if solution_folder is None else Path(solution_folder) / ENGINE_SOLUTION.format(number)
-        model, raw, touchdown, monitor = _run_phase(case_at(current, start), plan, phase, output_step, report,
-                                                    solution_file, sequence)
-        try:
-            stopped = raw.stopped_at
-            landed = touchdown.crossing[0] if touchdown is not None and touchdown.crossing is not None else math.inf
-            firings = [f for f in monitor.firings if f.time < landed] if monitor is not None else []
-            if firings and sequence.fire(firings, start) < stopped:   # inside the step just taken: again to t_f
-                state, _ = saved, sequence.restore(watches)
-                continue
-            state.histories.append(raw)
-            number += 1
-            merge_facts(state.facts, model.facts())
-            if touchdown is not None and touchdown.crossing is not None:
-                state.events.append(TouchdownEvent.from_crossing(*touchdown.crossing))
-                break
-            state.body_states, state.confluence_states = model.end_state()
-            start = stopped if stopped is not None else end
-        finally:
-            model.release()   # every phase model's engine system freed as soon as it is read
+    try:
+        while start < plan.duration:
+            current = sequence.case
+            end = next(t for t in sorted(set(boundaries(current, plan.duration)) | sequence.boundaries(plan.duration))
+                       if t > start)
+            # what a phase integrated again to a firing time needs (only a run with sensed triggers has one)
+            saved, watches = (state.saved(), sequence.snapshot()) if sequence.triggered else (None, None)
+            if sequence.triggered:
+                retime_openings(current, state.openings)
+            phase = next_phase(current, start, end, state.body_states, state.confluence_states)
+            sequence.note_conditions(start, phase.body_states)
+            phase.inflation = state.openings
+            state.events.extend(phase.events)
+            solution_file = None if solution_folder is None else Path(solution_folder) / ENGINE_SOLUTION.format(number)
+            model, raw, touchdown, monitor = _run_phase(case_at(current, start), plan, phase, output_step, report,
+                                                        solution_file, sequence)
+            try:
+                stopped = raw.stopped_at
+                landed = touchdown.crossing[0] if touchdown is not None and touchdown.crossing is not None else math.inf
+                firings = [f for f in monitor.firings if f.time < landed] if monitor is not None else []
+                if firings and sequence.fire(firings, start) < stopped:   # inside the step just taken: again to t_f
+                    state, _ = saved, sequence.restore(watches)
+                    continue
+                state.histories.append(raw)
+                number += 1
+                merge_facts(state.facts, model.facts())
+                if touchdown is not None and touchdown.crossing is not None:
+                    state.events.append(TouchdownEvent.from_crossing(*touchdown.crossing))
+                    break
+                state.body_states, state.confluence_states = model.end_state()
+                start = stopped if stopped is not None else end
+            finally:
+                model.release()   # every phase model's engine system freed as soon as it is read
+    except SimulationError as error:   # a run that dies with a trigger still waiting says which
+        raise sequence.with_unfired(error) from None
     raw = concatenate(case, state.histories)
     events = state.events + opening_events(sequence.case, state.openings, float(raw.time[-1]))
     return raw, state.facts, sequence.attach(events), state.openings, sequence

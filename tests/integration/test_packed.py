@@ -163,13 +163,14 @@ def test_in_vacuum_the_pair_falls_freely_and_keeps_its_momentum_through_the_depl
     assert np.linalg.norm(after - before) <= 1e-9 * np.linalg.norm(before)
 
 
-def test_packed_false_is_the_run_without_the_key_bit_for_bit(tmp_path):
+def test_a_system_deployed_from_the_vehicle_is_packed_unless_the_case_says_otherwise(tmp_path):
     plain = simulate(_case(tmp_path, packed=""))
-    unpacked = simulate(_case(tmp_path, packed="packed = false"))
-    assert list(unpacked.columns) == list(plain.columns)
+    packed = simulate(_case(tmp_path, packed="packed = true"))
+    assert list(packed.columns) == list(plain.columns)
     for name in plain.columns:
-        assert np.array_equal(unpacked[name], plain[name], equal_nan=True), name
-    assert case_at(_case(tmp_path, packed=""), 0.0).bodies["vehicle"].mass == 20.0   # absent before deploying
+        assert np.array_equal(packed[name], plain[name], equal_nan=True), name
+    assert case_at(_case(tmp_path, packed=""), 0.0).bodies["vehicle"].mass == SUSPENDED   # the gear aboard
+    assert case_at(_case(tmp_path, packed="packed = false"), 0.0).bodies["vehicle"].mass == 20.0   # absent
 
 
 def test_packed_on_a_system_present_from_the_start_is_an_error_of_the_case(tmp_path):

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pchute_exudyn import load_case, simulate
+from pchute_exudyn import SimulationError, load_case, simulate
 from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.physics.triggers import Sensor, Threshold, Trigger, Watch
 from tests.helpers import ROOT
@@ -279,7 +279,8 @@ def test_the_run_line_names_a_trigger_that_never_fired(tmp_path, capsys):
     assert "pchute run: warning: systems.main.deploy_trigger never fired (altitude above the ground below -5)" \
         in captured.err
     assert "systems.drogue.cutaway_trigger never fired (0 s after main.deploy)" in captured.err
-    assert "(2 warning(s): see summary.json)" in captured.out
+    assert "pchute run: warning: systems.main.deploy_trigger cannot fire: the run ends at touchdown" in captured.err
+    assert "(3 warning(s): see summary.json)" in captured.out
 
 
 def test_a_cut_away_trigger_senses_only_once_its_system_is_out(tmp_path):
@@ -324,3 +325,39 @@ def test_the_disreef_of_a_system_present_from_the_start_has_its_time_known():
     times = known_times(present, case.failures, case.separations)
     assert times["main.disreef2"] == 8.0 and times["main.disreef3"] == 16.0
     assert known_times(case.systems, case.failures, case.separations)["main.disreef2"] == 9.5 + 8.0
+
+
+@pytest.mark.parametrize("down", [0.0, 4.0])
+def test_an_apogee_trigger_fires_at_the_first_sample_from_a_start_at_or_past_apogee(tmp_path, down):
+    """The state another tool hands over (vertical speed 0) or a start already descending: the first sample (taken
+    at the end of the first step, 0.01 s here) fires, the event comes the lag later."""
+    case = _vacuum(tmp_path, '{ quantity = "apogee", rate = 20.0, lag = 0.5 }', down=down, duration=1.0)
+    assert not case.warnings
+    event = _separation(simulate(case))
+    assert event["trigger"]["time"] == pytest.approx(0.01, abs=1e-12)
+    assert event["time"] == pytest.approx(0.01 + 0.5, abs=1e-12)
+
+
+ROCKET = ROOT / "cases" / "rocket" / "dual_deploy.toml"
+
+
+def test_a_trigger_that_cannot_fire_from_the_start_state_is_a_warning_when_the_case_loads():
+    above = load_case(ROCKET, overrides={"systems.drogue.deploy_trigger": {"quantity": "altitude", "above": 5000.0}})
+    assert above.warnings == ("systems.drogue.deploy_trigger cannot fire from the start state: the vehicle starts "
+                              "at 3900 m, below 5000 m, and does not climb (vertical speed 0 m/s)",)
+    below = load_case(ROCKET, overrides={"systems.main.deploy_trigger.below": -5.0})   # under the ground
+    assert below.warnings == ("systems.main.deploy_trigger cannot fire: the run ends at touchdown on the ground at "
+                              "1400 m before the altitude falls to 1395 m",)
+    shipped = [path for path in sorted((ROOT / "cases").rglob("*.toml")) if path.name != "base.toml"]
+    assert not [(path.name, w) for path in shipped for w in load_case(path).warnings if "cannot fire" in w]
+
+
+def test_a_run_that_dies_names_the_trigger_that_never_fired():
+    """The drogue's trigger waits for an altitude the rocket never climbs to: the main opens in free fall and a line
+    over-stretches; the message says the drogue never deployed."""
+    case = load_case(ROCKET, overrides={"systems.drogue.deploy_trigger": {"quantity": "altitude", "above": 5000.0,
+                                                                          "rate": 100.0}})
+    with pytest.raises(SimulationError) as failure:
+        simulate(case)
+    assert str(failure.value).endswith("; by then this trigger had not fired: systems.drogue.deploy_trigger "
+                                       "(altitude above 5000)")
