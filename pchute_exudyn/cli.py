@@ -269,6 +269,9 @@ def _compare(args) -> int:
     mapped = [ours for mapping in maps.values() for ours, _, _ in mapping.values() if ours != "time"]
     vehicle = next((str(r.summary["vehicle"]) for r in (a, b) if isinstance(r.summary.get("vehicle"), str)),
                    "vehicle")
+    if vehicle != "vehicle":   # a RocketPy export read without a map: its columns as the named vehicle's
+        a, b = (Result.load(path, mapping, vehicle) if not mapping and not Path(path).is_dir() else result
+                for path, mapping, result in ((args.a, maps["--map-a"], a), (args.b, maps["--map"], b)))
     comparison = compare_results(a, b, args.a, args.b, settle, vehicle=vehicle, columns=mapped or None,
                                  altitudes=altitudes, ground=args.ground)
     if args.settle is not None and not settle < comparison.time[-1]:   # no settled sample: nothing to report
