@@ -146,6 +146,8 @@ def apogee_state(path) -> RocketPyStart:
     """The start state of a RocketPy export (module docstring): its apogee, interpolated between the two rows
     where Vz changes sign (every column linearly, the altitude by the trapezoid of that Vz), or its first row if it
     never climbs. InputError, naming the field, for a missing column, a NaN or a file that never reaches apogee."""
+    if not Path(path).is_file():
+        raise InputError(f"from_rocketpy = {str(path)!r}: no such file (a RocketPy flight export, CSV)")
     columns, _, texts = read_columns(path)
     missing = [name for name in REQUIRED if name not in columns]
     if missing:
