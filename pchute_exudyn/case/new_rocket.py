@@ -156,7 +156,7 @@ def nose_attitude_deg(nose) -> tuple:
     symmetric about its axis)."""
     east, north, up = (float(v) for v in nose)
     yaw, pitch = math.degrees(math.atan2(east, -up)), math.degrees(math.asin(max(-1.0, min(1.0, north))))
-    return yaw + 0.0, pitch + 0.0, 0.0
+    return round(yaw, 9) + 0.0, round(pitch, 9) + 0.0, 0.0   # no float noise (1e-15 deg) in the file
 
 
 def steady_rate(c, drag_area: float, altitude: float) -> float:
