@@ -169,7 +169,8 @@ def _add_new(subparsers) -> None:
         "new", help="write a new, runnable case file from a few choices",
         description="Write a complete, commented case file: a vehicle under one canopy (or a cluster) on bridles "
                     "and a riser per canopy, in steady descent (every line stretched by its steady load, moving with "
-                    "the air and down at the steady rate) or released from an aircraft (--release-airspeed). Edit "
+                    "the air and down at the steady rate) or released from an aircraft (--release-airspeed); or a "
+                    "rocket's dual deploy from a state over the ground (--dual-deploy, --from-rocketpy). Edit "
                     "it or run it as it is (`pchute run FILE`). The same from Python: pchute_exudyn.new_case(...).")
     new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
     choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES)}

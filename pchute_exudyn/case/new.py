@@ -143,19 +143,19 @@ class NewCase:
         A rocket's dual deploy instead (case.new_rocket): a slender cylinder of ``mass`` (kg, its packed recovery gear
         included), ``diameter`` and ``length``, a drogue on an apogee trigger and a main at ``main_height``.
     length : float or None
-        The rocket's length (m; dual deploy).
+        The rocket's length (m, dual deploy).
     drogue_drag_area, main_drag_area : float or None
         The drogue's and the main's C_D0 S0 (m^2; dual deploy).
     drogue_mass, main_mass : float or None
         The drogue's and the main's canopy mass (kg); None: 0.15 kg per m^2 of S0.
     main_height : float or None
-        The main's deployment height above the ground (m; dual deploy), below the start's.
+        The main's deployment height above the ground (m, dual deploy), below the start's.
     apogee_lag : float
         The drogue's delay after the first trigger sample past apogee (s, >= 0).
     latitude, longitude : float or None
         The start point (deg; dual deploy); None: 0.
     ground_elevation : float or None
-        The ground's altitude (m; dual deploy); None: 0, or the RocketPy export's.
+        The ground's altitude (m, dual deploy); None: 0, or the RocketPy export's.
     height : float or None
         Start height above the ground (m), instead of ``altitude`` (dual deploy).
     velocity_east, velocity_north, velocity_up : float or None
