@@ -10,7 +10,7 @@ import re
 import signal
 import sys
 import threading
-from dataclasses import fields
+from dataclasses import fields, replace
 from pathlib import Path
 
 from . import __version__
@@ -169,16 +169,22 @@ def _add_new(subparsers) -> None:
         "new", help="write a new, runnable case file from a few choices",
         description="Write a complete, commented case file: a vehicle under one canopy (or a cluster) on bridles "
                     "and a riser per canopy, in steady descent (every line stretched by its steady load, moving with "
-                    "the air and down at the steady rate) or released from an aircraft (--release-airspeed). Edit "
+                    "the air and down at the steady rate) or released from an aircraft (--release-airspeed); or a "
+                    "rocket's dual deploy from a state over the ground (--dual-deploy, --from-rocketpy). Edit "
                     "it or run it as it is (`pchute run FILE`). The same from Python: pchute_exudyn.new_case(...).")
     new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
     choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES)}
     helps = command_help()
     for name, default in choice_fields():
         metavar, text = helps[name]
+        if isinstance(default, bool):
+            new.add_argument("--" + name.replace("_", "-"), dest=f"new_{name}", action="store_true", default=None,
+                             help=text)
+            continue
         kind = str if name in ("planet", "canopy_type", "name") else int if isinstance(default, int) else float
+        kind = str if name == "from_rocketpy" else kind
         new.add_argument("--" + name.replace("_", "-"), dest=f"new_{name}", type=kind, default=None,
-                         choices=choices.get(name), metavar=metavar,
+                         choices=choices.get(name), metavar="CSV" if name == "from_rocketpy" else metavar,
                          help=text + ("" if default is None else f" (default {default})"))
     new.add_argument("--overwrite", action="store_true", help="replace an existing file")
     new.set_defaults(func=_new)
@@ -192,6 +198,16 @@ def _new(args) -> int:
              if key.startswith("new_") and value is not None}
     given.setdefault("name", Path(args.file).stem)
     choices = NewCase(**given)
+    if choices.from_rocketpy is not None:
+        from .case.new_rocket import started_from
+        from .results.rocketpy_export import apogee_state
+
+        source = choices.from_rocketpy
+        state = apogee_state(source)
+        choices = started_from(replace(choices, from_rocketpy=None), state, source)
+        print(f"{source}: start at t = {state.time:.3f} s, "
+              + ("its apogee" if state.at_apogee else "its first row (it only descends)")
+              + f", {state.altitude:.2f} m")
     path = Path(args.file)
     if path.exists() and not args.overwrite:
         raise InputError(f"{path} exists; pass --overwrite to replace it")
@@ -199,6 +215,11 @@ def _new(args) -> int:
         raise InputError(f"{path}: the folder {path.parent} does not exist")
     text = new_case_text(choices)
     atomic_write_text(path, text)
+    if choices.dual_deploy:
+        from .case.new_rocket import start_height
+        print(f"wrote {path}: {choices.mass:g} kg rocket, dual deploy from {start_height(choices):.1f} m above the "
+              f"ground, main at {choices.main_height:g} m; run it with `pchute run {path}`")
+        return 0
     plan = layout(choices)
     print(f"wrote {path}: {choices.mass:g} kg vehicle on {choices.planet}, suspended mass {plan.total_mass:.2f} kg, "
           f"steady descent {plan.steady_rate(choices.altitude):.2f} m/s at {choices.altitude:g} m; run it with "
@@ -269,6 +290,9 @@ def _compare(args) -> int:
     mapped = [ours for mapping in maps.values() for ours, _, _ in mapping.values() if ours != "time"]
     vehicle = next((str(r.summary["vehicle"]) for r in (a, b) if isinstance(r.summary.get("vehicle"), str)),
                    "vehicle")
+    if vehicle != "vehicle":   # a RocketPy export read without a map: its columns as the named vehicle's
+        a, b = (Result.load(path, mapping, vehicle) if not mapping and not Path(path).is_dir() else result
+                for path, mapping, result in ((args.a, maps["--map-a"], a), (args.b, maps["--map"], b)))
     comparison = compare_results(a, b, args.a, args.b, settle, vehicle=vehicle, columns=mapped or None,
                                  altitudes=altitudes, ground=args.ground)
     if args.settle is not None and not settle < comparison.time[-1]:   # no settled sample: nothing to report

@@ -30,14 +30,16 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from ..errors import InputError, short_repr
+from ..errors import InputError
 from ..physics.atmosphere import US76, MarsGRC
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency, spread_directions, touching_spread
 from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
+from ..physics.shapes import hemispherical_shell_inertia, solid_cylinder_inertia
 from .canopy_types import CANOPY_TYPES
 from .columns import column
 from .model import Contact
+from .new_checks import check_choice, check_integer, check_number, check_positive
 
 PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2, density model, radius m)
     "mars": (['name = "Mars"', "gravitational_parameter = 4.282828685e13   # m^3/s^2 (MER's, thesis Table 3.3)",
@@ -137,6 +139,33 @@ class NewCase:
         The aircraft's heading (deg, clockwise from north) and flight-path angle (deg, climbing > 0, -90 to 90).
     static_line_time : float
         Time (s, >= 0) from the release to line stretch.
+    dual_deploy : bool
+        A rocket's dual deploy instead (case.new_rocket): a slender cylinder of ``mass`` (kg, its packed recovery gear
+        included), ``diameter`` and ``length``, a drogue on an apogee trigger and a main at ``main_height``.
+    length : float or None
+        The rocket's length (m, dual deploy).
+    drogue_drag_area, main_drag_area : float or None
+        The drogue's and the main's C_D0 S0 (m^2; dual deploy).
+    drogue_mass, main_mass : float or None
+        The drogue's and the main's canopy mass (kg); None: 0.15 kg per m^2 of S0.
+    main_height : float or None
+        The main's deployment height above the ground (m, dual deploy), below the start's.
+    apogee_lag : float
+        The drogue's delay after the first trigger sample past apogee (s, >= 0).
+    latitude, longitude : float or None
+        The start point (deg; dual deploy); None: 0.
+    ground_elevation : float or None
+        The ground's altitude (m, dual deploy); None: 0, or the RocketPy export's.
+    height : float or None
+        Start height above the ground (m), instead of ``altitude`` (dual deploy).
+    velocity_east, velocity_north, velocity_up : float or None
+        Start velocity over the ground (m/s, east, north, up; dual deploy); None: 0.
+    nose_pitch_deg, nose_heading_deg : float or None
+        The nose above the horizontal (deg, -90 to 90; None: 0, level) and clockwise from north (deg; None: along
+        the horizontal velocity, north at none) (dual deploy).
+    from_rocketpy : str or None
+        A RocketPy flight export (CSV, FlightDataExporter) whose apogee (its first row if it only descends) is the
+        start: position, velocity over the ground, nose (dual deploy; read by the command line).
     """
 
     planet: str = "mars"
@@ -161,38 +190,59 @@ class NewCase:
     release_heading_deg: float = 0.0
     release_flight_path_deg: float = 0.0
     static_line_time: float = 1.0
+    dual_deploy: bool = False
+    length: float | None = None
+    drogue_drag_area: float | None = None
+    main_drag_area: float | None = None
+    drogue_mass: float | None = None
+    main_mass: float | None = None
+    main_height: float | None = None
+    apogee_lag: float = 1.0
+    latitude: float | None = None
+    longitude: float | None = None
+    ground_elevation: float | None = None
+    height: float | None = None
+    velocity_east: float | None = None
+    velocity_north: float | None = None
+    velocity_up: float | None = None
+    nose_pitch_deg: float | None = None
+    nose_heading_deg: float | None = None
+    from_rocketpy: str | None = None
 
     def __post_init__(self):
-        _choice("planet", self.planet, PLANETS)
-        _choice("canopy_type", self.canopy_type, CANOPY_TYPES)
+        check_choice("planet", self.planet, PLANETS)
+        check_choice("canopy_type", self.canopy_type, CANOPY_TYPES)
         for key in ("mass", "diameter", "drag_area", "canopy_diameter", "canopy_mass", "bridle_length",
                     "riser_length", "suspension_line_length", "altitude"):
-            _positive(key, getattr(self, key), optional=key not in ("mass", "diameter", "altitude"),
-                      unit=_UNITS.get(key, "m"))
+            check_positive(key, getattr(self, key), optional=key not in ("mass", "diameter", "altitude"),
+                           unit={"mass": "kg", "canopy_mass": "kg", "drag_area": "m^2"}.get(key, "m"))
         if self.speed is not None:
-            _number("speed", self.speed, self.speed >= 0.0, "must be >= 0 (m/s, downward)")
-        _positive("drag_coefficient", self.drag_coefficient, optional=True, unit="-")
-        _number("wind_speed", self.wind_speed, self.wind_speed >= 0.0, "must be >= 0 (m/s)")
-        _number("wind_from_deg", self.wind_from_deg, -360.0 <= self.wind_from_deg <= 360.0,
+            check_number("speed", self.speed, self.speed >= 0.0, "must be >= 0 (m/s, downward)")
+        check_positive("drag_coefficient", self.drag_coefficient, optional=True, unit="-")
+        check_number("wind_speed", self.wind_speed, self.wind_speed >= 0.0, "must be >= 0 (m/s)")
+        check_number("wind_from_deg", self.wind_from_deg, -360.0 <= self.wind_from_deg <= 360.0,
                 "must be within -360..360 (deg, clockwise from north)")
         self._check_release()
         if self.drag_area is not None and self.canopy_diameter is not None:
             raise InputError(f"drag_area = {self.drag_area!r} and canopy_diameter = {self.canopy_diameter!r}: give "
                              "one of them, not both")
-        _integer("canopies", self.canopies, 1, 8)
-        _integer("bridles", self.bridles, 1, 12)
+        check_integer("canopies", self.canopies, 1, 8)
+        check_integer("bridles", self.bridles, 1, 12)
         if self.bridle_length is not None and self.bridle_length <= ATTACH_RADIUS * self.diameter:
             raise InputError(f"bridle_length = {self.bridle_length!r}: must exceed the attach circle's radius, "
                              f"{ATTACH_RADIUS * self.diameter:g} m (0.35 x diameter)")
+        from . import new_rocket  # it builds on this module
+
+        new_rocket.check_choices(self)
 
     def _check_release(self) -> None:
         if self.release_airspeed is not None:
-            _number("release_airspeed", self.release_airspeed, self.release_airspeed >= 0.0, "must be >= 0 (m/s)")
-        _number("release_heading_deg", self.release_heading_deg, -360.0 <= self.release_heading_deg <= 360.0,
+            check_number("release_airspeed", self.release_airspeed, self.release_airspeed >= 0.0, "must be >= 0 (m/s)")
+        check_number("release_heading_deg", self.release_heading_deg, -360.0 <= self.release_heading_deg <= 360.0,
                 "must be within -360..360 (deg, clockwise from north)")
-        _number("release_flight_path_deg", self.release_flight_path_deg,
+        check_number("release_flight_path_deg", self.release_flight_path_deg,
                 -90.0 <= self.release_flight_path_deg <= 90.0, "must be within -90..90 (deg, climbing > 0)")
-        _number("static_line_time", self.static_line_time, self.static_line_time >= 0.0,
+        check_number("static_line_time", self.static_line_time, self.static_line_time >= 0.0,
                 "must be >= 0 (s from the release to line stretch)")
         if self.release_airspeed is not None and self.speed is not None:
             raise InputError(f"speed = {self.speed!r} and release_airspeed = {self.release_airspeed!r}: a released "
@@ -216,40 +266,6 @@ class NewCase:
             return math.pi * self.canopy_diameter**2 / 4.0
         drag_area = MER_DRAG_AREA if self.drag_area is None else self.drag_area
         return drag_area / self.canopy_drag_coefficient
-
-
-def _finite(value) -> bool:
-    """Whether ``value`` is a finite int or float (an integer no float holds is not)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return False
-    try:
-        return math.isfinite(value)
-    except OverflowError:   # an integer of hundreds of digits
-        return False
-
-
-def _number(key, value, ok, allowed):
-    if not _finite(value) or not ok:
-        raise InputError(f"{key} = {short_repr(value)}: {allowed}")
-
-
-_UNITS = {"mass": "kg", "canopy_mass": "kg", "drag_area": "m^2"}
-
-
-def _positive(key, value, optional, unit):
-    if value is None and optional:
-        return
-    _number(key, value, isinstance(value, (int, float)) and value > 0.0, f"must be a number > 0 ({unit})")
-
-
-def _integer(key, value, low, high):
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise InputError(f"{key} = {short_repr(value)}: must be a whole number from {low} to {high}")
-
-
-def _choice(key, value, table):
-    if value not in table:
-        raise InputError(f"{key} = {value!r}: must be one of: {', '.join(table)}")
 
 
 @dataclass(frozen=True)
@@ -376,6 +392,12 @@ def _choices(choices: NewCase | None, kwargs: dict) -> NewCase:
 def new_case_text(choices: NewCase | None = None, **kwargs) -> str:
     """The case file (TOML text) for ``choices`` (a NewCase, or its fields as keywords)."""
     choices = _choices(choices, kwargs)
+    if choices.from_rocketpy is not None:
+        raise InputError(f"from_rocketpy = {choices.from_rocketpy!r}: read by `pchute new`; from Python, start from "
+                         "case.new_rocket.started_from(choices, results.rocketpy_export.apogee_state(path), path)")
+    if choices.dual_deploy:
+        from .new_rocket import dual_deploy_lines
+        return "\n".join(_aligned(row) for row in dual_deploy_lines(choices)) + "\n"
     return "\n".join(_aligned(row) for row in _Writer(layout(choices)).lines()) + "\n"
 
 
@@ -515,11 +537,10 @@ class _Writer:
 
     def vehicle(self) -> list:
         c = self.c
-        radius = 0.5 * c.diameter
-        axial, lateral = c.mass * radius**2 / 2.0, c.mass * (3.0 * radius**2 + self.height**2) / 12.0
         rows = ["[bodies.vehicle]                           # a solid cylinder, half as tall as its diameter",
                 f"mass = {_n(c.mass)}                             # kg",
-                f"inertia = {_vector([axial, lateral, lateral])}   # kg m^2, principal, body axes",
+                f"inertia = {_vector(solid_cylinder_inertia(c.mass, c.diameter, self.height))}   # kg m^2, "
+                "principal, body axes",
                 "[bodies.vehicle.points]                    # m, body axes from the centre of mass (+x down): "
                 "the bridles' attach points"]
         for i, point in enumerate(self.attach_points(), start=1):
@@ -546,8 +567,6 @@ class _Writer:
 
     def canopies(self) -> list:
         c, p = self.c, self.plan
-        axial = 2.0 / 3.0 * p.canopy_mass * p.projected_radius**2
-        lateral = 5.0 / 12.0 * p.canopy_mass * p.projected_radius**2
         up = np.array([-1.0, 0.0, 0.0])    # descent frame (x down, y east, z south)
         directions = spread_directions(-up, np.array([0.0, 1.0, 0.0]), self.plan.spread, c.canopies)
         confluence = np.array([-self.confluence_altitude, 0.0, 0.0])
@@ -559,7 +578,7 @@ class _Writer:
                      "projected radius",
                      f"mass = {_n(p.canopy_mass)}                           # kg"
                      + (" (0.15 kg per m^2 of S0, assumed)" if c.canopy_mass is None else ""),
-                     f"inertia = {_vector([axial, lateral, lateral])}   # kg m^2",
+                     f"inertia = {_vector(hemispherical_shell_inertia(p.canopy_mass, p.projected_radius))}   # kg m^2",
                      f"points.riser = [{_n(p.apex_distance)}, 0.0, 0.0]   # m: the suspension lines' apex, "
                      f"{_n(c.suspension_line_length or nominal_diameter(p.reference_area))} m lines to the "
                      "skirt", *([] if c.released else self.canopy_initial(name, centre, yaw, pitch, roll)),

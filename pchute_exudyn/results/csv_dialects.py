@@ -3,7 +3,8 @@
 Dialects read (docs/tutorial.md, "Cross-checking against another tool"):
 
 * this package's ``timeseries.csv`` and any CSV with one header row of names, then numeric rows;
-* a header row that starts with ``#`` (RocketPy's ``Flight`` export: ``# Time (s),Z (m),Vz (m/s)``), after any
+* a header row that starts with ``#`` (RocketPy's ``Flight`` export: ``# Time (s),Z (m),Vz (m/s)``; its other form
+  and its column map: ``rocketpy_export``), after any
   ``#`` comment lines (OpenRocket's export: comment lines, then ``# Time (s),Altitude (m),...``, with
   ``# Event ... occurred at t=...`` lines between the data rows, which are skipped);
 * units in parentheses or brackets after a name (``Z (m)``, ``alt [ft]``): the column is named without them

@@ -23,7 +23,8 @@ import numpy as np
 
 from ..case.columns import owner
 from ..errors import InputError
-from .csv_dialects import map_columns, parse_column_map, read_csv_columns  # noqa: F401  (parse_column_map: API)
+from . import rocketpy_export
+from .csv_dialects import map_columns, parse_column_map  # noqa: F401  (parse_column_map: API)
 from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 from .number_text import table_text
 from .summary import RunSummary
@@ -227,11 +228,12 @@ class Result:
         return paths
 
     @classmethod
-    def load(cls, path, column_map: dict | None = None) -> Result:
+    def load(cls, path, column_map: dict | None = None, vehicle: str = "vehicle") -> Result:
         """Read a result folder (its ``timeseries.csv`` and ``summary.json``) or any CSV file.
 
         ``column_map`` (``csv_dialects.parse_column_map``) renames and rescales another tool's columns to this
         package's names before the ``time`` column (s) is required; ``csv_dialects`` lists the CSV dialects read.
+        A RocketPy export read without a column map is mapped as ``rocketpy_export.column_map(vehicle)`` does.
         """
         path = _checked_path(path, "path")
         summary: dict = {}
@@ -252,7 +254,9 @@ class Result:
             path = path / CSV_NAME
         if not path.is_file():
             raise InputError(f"result not found: {str(path)!r} is neither a result folder nor a CSV file")
-        raw, raw_units, headers = read_csv_columns(path)
+        raw, raw_units, headers = rocketpy_export.read_columns(path)
+        if not column_map and rocketpy_export.is_rocketpy(headers):
+            column_map = rocketpy_export.column_map(vehicle, raw)
         columns, units = map_columns(raw, column_map or {}, path, headers, raw_units)
         if "time" not in columns:
             raise InputError(f"{path}: no 'time' column (name it with a column map, e.g. --map t=time); columns "

@@ -1,0 +1,188 @@
+"""RocketPy's flight export, read as it comes: its one home in this package.
+
+RocketPy 1.13 writes a flight with ``FlightDataExporter(flight).export_data(path, *variables, time_step=...)``
+(``numpy.savetxt``: one header line starting with ``#``, then numeric rows, ``,`` between cells). Its frame is the
+launch site's: X east, Y north, Z up; ``Z (m)`` is the altitude above sea level, ``Vx``, ``Vy``, ``Vz`` (m/s) the
+velocity over the ground (the frame turns with the Earth), ``e0`` to ``e3`` the attitude quaternion (body to
+launch frame; body z is the rocket's axis, nose forward), ``Latitude (°)``, ``Longitude (°)`` and ``Altitude AGL
+(m)`` where exported. Two header forms:
+
+* with variables named: ``# Time (s),Z (m),Vz (m/s),...``, one column per variable (RocketPy's own labels);
+* with none (``export_data(path)``): the solver's whole state, 14 values a row (time, x, y, z, vx, vy, vz, e0..e3,
+  w1..w3), under a header that names 11 (``# Time (s),X (m),Y (m),Z (m),E0,...,W3 (rad/s)``: RocketPy's label
+  omits the velocities); read by position as that state.
+
+A file is RocketPy's when its header holds ``Time (s)``, ``Z (m)`` and ``Vz (m/s)`` (``is_rocketpy``), or the
+solver-state header. ``pchute compare`` then reads it without a column map (``column_map``); ``pchute new
+--from-rocketpy`` starts a descent from its apogee (``apogee_state``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .csv_dialects import read_csv_columns
+
+SOLVER_HEADER = ("Time (s),X (m),Y (m),Z (m),E0,E1,E2,E3,W1 (rad/s),W2 (rad/s),W3 (rad/s)")
+"""The header ``export_data(path)`` writes over its 14-value rows (the velocities unnamed)."""
+SOLVER_COLUMNS = ("time", "X", "Y", "Z", "Vx", "Vy", "Vz", "e0", "e1", "e2", "e3", "ω1", "ω2", "ω3")
+"""What the 14 values of such a row are (RocketPy's ``Flight.solution``)."""
+REQUIRED = ("time", "Z", "Vz")
+"""The columns a start state needs: time (s), altitude above sea level (m), vertical velocity (m/s, up)."""
+
+
+def _header_line(path: Path) -> str:
+    """The last ``#`` line before the first numeric row, without its ``#``."""
+    header = ""
+    for line in path.read_text(encoding="utf-8-sig", errors="replace").splitlines():
+        if line.lstrip().startswith("#"):
+            header = line.lstrip().lstrip("#").strip()
+        elif line.strip():
+            break
+    return header
+
+
+def read_columns(path) -> tuple[dict, dict, dict]:
+    """Columns of any CSV ``csv_dialects`` reads, and of RocketPy's solver-state export: (columns by name, units
+    by name, header text by name); a RocketPy export's ``e0`` to ``e3`` are named in lower case either way."""
+    path = Path(path)
+    if path.is_file() and _header_line(path) == SOLVER_HEADER:
+        try:
+            data = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
+        except ValueError as error:
+            raise InputError(f"{path}: RocketPy's solver-state export with a row that is not 14 numbers ({error})") \
+                from None
+        if data.shape[1] != len(SOLVER_COLUMNS) or not len(data):
+            raise InputError(f"{path}: RocketPy's solver-state header (export_data with no variables) needs rows of "
+                             f"{len(SOLVER_COLUMNS)} values (time, x, y, z, vx, vy, vz, e0..e3, w1..w3); these have "
+                             f"{data.shape[1]}")
+        units = dict(zip(SOLVER_COLUMNS, ("s", "m", "m", "m", "m/s", "m/s", "m/s", "", "", "", "", "rad/s", "rad/s",
+                                          "rad/s")))
+        return ({name: data[:, i] for i, name in enumerate(SOLVER_COLUMNS)}, units,
+                {name: name for name in SOLVER_COLUMNS})
+    columns, units, texts = read_csv_columns(path)
+    if is_rocketpy(texts):
+        rename = {name: name.lower() for name in columns if name in ("E0", "E1", "E2", "E3")}
+        columns = {rename.get(n, n): v for n, v in columns.items()}
+        units = {rename.get(n, n): u for n, u in units.items()}
+        texts = {rename.get(n, n): t for n, t in texts.items()}
+    return columns, units, texts
+
+
+def is_rocketpy(texts: dict) -> bool:
+    """Whether a header (column name -> header text) is RocketPy's: ``Time (s)``, ``Z (m)`` and ``Vz (m/s)``,
+    or the solver-state export's names."""
+    headers = set(texts.values())
+    return {"Time (s)", "Z (m)", "Vz (m/s)"} <= headers or set(SOLVER_COLUMNS) <= headers
+
+
+def column_map(vehicle: str = "vehicle", names=None) -> dict:
+    """RocketPy's columns as this package's (``csv_dialects.parse_column_map``'s form, theirs -> (ours, factor,
+    offset)): Z the vehicle's altitude (m; both above the reference surface, sea level), Vx, Vy, Vz its velocity
+    east, north and up over the ground (m/s). X and Y (from the launch site; ours run from the start point) are
+    kept under their own names. Only the columns in ``names`` (all four if None)."""
+    mapping = {"Z": (f"{vehicle}_altitude", 1.0, 0.0), "Vx": (f"{vehicle}_velocity_east", 1.0, 0.0),
+               "Vy": (f"{vehicle}_velocity_north", 1.0, 0.0), "Vz": (f"{vehicle}_velocity_down", -1.0, 0.0)}
+    return {theirs: ours for theirs, ours in mapping.items() if names is None or theirs in names}
+
+
+@dataclass(frozen=True)
+class RocketPyStart:
+    """The state a RocketPy flight hands over, at its apogee (or its first row if it never climbs).
+
+    Attributes
+    ----------
+    time : float
+        When, in the export's time (s).
+    altitude : float
+        Altitude above sea level (m).
+    ground_elevation : float or None
+        The ground's altitude (m): Z - AGL where the export has ``Altitude AGL (m)``; None otherwise.
+    latitude_deg, longitude_deg : float or None
+        Where (deg), if exported.
+    velocity_east, velocity_north, velocity_up : float
+        Velocity over the ground (m/s); east and north 0 if not exported.
+    nose_pitch_deg, nose_heading_deg : float or None
+        The rocket's axis (nose) above the horizontal and clockwise from north (deg), from e0..e3 if exported.
+    at_apogee : bool
+        True at an apogee found between two rows; False at the first row of a file that only descends.
+    """
+
+    time: float
+    altitude: float
+    ground_elevation: float | None
+    latitude_deg: float | None
+    longitude_deg: float | None
+    velocity_east: float
+    velocity_north: float
+    velocity_up: float
+    nose_pitch_deg: float | None
+    nose_heading_deg: float | None
+    at_apogee: bool
+
+
+def apogee_index(path, time, vertical) -> tuple[int, float]:
+    """(row i, fraction f in [0, 1]) of the apogee between rows i and i + 1: the first row where the vertical
+    velocity (m/s, up) goes from > 0 to <= 0, interpolated linearly to its zero; (0, 0.0) when it never climbs;
+    InputError when it still climbs at its last row."""
+    climbing = vertical > 0.0
+    if not climbing.any():
+        return 0, 0.0
+    turns = np.flatnonzero(climbing[:-1] & ~climbing[1:])
+    if not len(turns):
+        raise InputError(f"{path}: Vz = {vertical[-1]:g} m/s at its last row (t = {time[-1]:g} s): no apogee; the "
+                         "export must run past apogee (Vz from > 0 to <= 0), or only descend (the first row is the "
+                         "start then)")
+    i = int(turns[0])
+    return i, float(vertical[i] / (vertical[i] - vertical[i + 1]))
+
+
+def apogee_state(path) -> RocketPyStart:
+    """The start state of a RocketPy export (module docstring): its apogee, interpolated between the two rows
+    where Vz changes sign (every column linearly, the altitude by the trapezoid of that Vz), or its first row if it
+    never climbs. InputError, naming the field, for a missing column, a NaN or a file that never reaches apogee."""
+    if not Path(path).is_file():
+        raise InputError(f"from_rocketpy = {str(path)!r}: no such file (a RocketPy flight export, CSV)")
+    columns, _, texts = read_columns(path)
+    missing = [name for name in REQUIRED if name not in columns]
+    if missing:
+        raise InputError(f"{path}: a RocketPy export needs the columns Time (s), Z (m) and Vz (m/s); missing: "
+                         f"{', '.join(missing)} (export them: FlightDataExporter(flight).export_data(path, 'z', "
+                         "'vz', 'vx', 'vy', 'e0', 'e1', 'e2', 'e3', 'latitude', 'longitude', 'altitude'))")
+    for name, values in columns.items():
+        bad = np.flatnonzero(~np.isfinite(values))
+        if len(bad):
+            raise InputError(f"{path}: {texts.get(name, name)} = {values[bad[0]]} at data row {bad[0] + 1}: must be a "
+                             "finite number")
+    if len(columns["time"]) < 1:
+        raise InputError(f"{path}: no data rows")
+    i, f = apogee_index(path, columns["time"], columns["Vz"])
+    at = {name: float(values[i] + f * (values[min(i + 1, len(values) - 1)] - values[i]))
+          for name, values in columns.items()}
+    pitch = heading = None
+    if all(f"e{k}" in at for k in range(4)):
+        pitch, heading = nose_angles_deg([at[f"e{k}"] for k in range(4)])
+    climbed = bool((columns["Vz"] > 0.0).any())
+    if climbed:   # the altitude the interpolated Vz gives (a trapezoid), closer to the top than a chord
+        step = columns["time"][i + 1] - columns["time"][i]
+        at["Z"] = float(columns["Z"][i] + 0.5 * columns["Vz"][i] * f * step)
+    agl = at.get("Altitude AGL")
+    ground = None if agl is None else float(columns["Z"][i] - columns["Altitude AGL"][i])
+    return RocketPyStart(at["time"], at["Z"], ground, at.get("Latitude"),
+                         at.get("Longitude"), at.get("Vx", 0.0), at.get("Vy", 0.0), 0.0 if climbed else at["Vz"],
+                         pitch, heading, climbed)
+
+
+def nose_angles_deg(quaternion) -> tuple[float, float]:
+    """The rocket's axis from RocketPy's attitude quaternion e0..e3 (normalized here): (pitch above the horizontal,
+    heading clockwise from north) (deg); the axis is the body-to-launch-frame rotation's third column."""
+    e0, e1, e2, e3 = np.asarray(quaternion, float) / max(float(np.linalg.norm(quaternion)), 1e-300)
+    east, north, up = 2.0 * (e1 * e3 + e0 * e2), 2.0 * (e2 * e3 - e0 * e1), 1.0 - 2.0 * (e1**2 + e2**2)
+    pitch = math.degrees(math.atan2(up, math.hypot(east, north)))
+    heading = math.degrees(math.atan2(east, north)) % 360.0 if math.hypot(east, north) > 1e-9 else 0.0
+    return pitch, heading
