@@ -7,8 +7,9 @@ centre). The vehicle's own aerodynamics stand for the whole until a part leaves;
 flies alone, a canopy's once it is placed at line stretch. The vehicle's position columns are then the composite's
 centre of mass.
 
-A packed system's gear rides at its deploy point (a vehicle point): each of its canopies that leaves the vehicle,
-with its own inertia about its own centre of mass (its axes the vehicle's), and its confluence as a point mass. A
+A packed system's gear rides at its deploy point (a vehicle point): each of its canopies that leaves the vehicle and
+its confluence, as point masses (a packed canopy is a compact bag; the inertia of the open canopy, which the case
+gives, can exceed a slender rocket's own about its axis). A
 canopy that never leaves the vehicle (``Failures.absent``) rides there throughout, and with it the confluence of a
 system none of whose canopies leaves.
 """
@@ -67,8 +68,9 @@ def packed_gear(case: Case, system: ParachuteSystem, time: float, before: bool =
     staying = [c for c in system.canopies if case.failures.absent(c)]
     body, point = system.deploy_point
     at = tuple(float(x) for x in case.bodies[body].points[point])
-    riders = [Rider(c, case.bodies[c].mass, case.bodies[c].inertia, at)
-              for c in system.canopies if (packed and c in leaving) or c in staying]
+    bundle = np.zeros((3, 3))   # a packed canopy is a compact bag: its open inertia would be orders too large
+    riders = [Rider(c, case.bodies[c].mass, bundle, at) for c in system.canopies if (packed and c in leaving)
+              or c in staying]
     if packed or not leaving:
         riders.append(Rider(f"{system.name}.confluence", system.confluence.mass, np.zeros((3, 3)), at))
     return riders

@@ -286,7 +286,7 @@ class ParachuteSystem:
         point fly it rigid.
     packed : bool
         True: until it deploys, the system's gear rides in the vehicle (``case.carried``): each canopy that leaves it
-        (its own inertia about its own centre of mass) and the confluence as a point mass, at the deploy point, so
+        and the confluence, as point masses (a packed bag), at the deploy point, so
         the suspended mass is the same before and after the deployment; False: it is absent until then. A case
         that does not say gets True for a system deployed during the run from a point of the vehicle
         (``case.carried.packed_by_default``).

@@ -6,7 +6,7 @@ riser to its canopy, the canopies flown reduced (``canopy_model = "reduced"``: a
 point at its riser's end; docs/models/reduced_canopy.md): the drogue deploys on an apogee trigger (sampled at
 TRIGGER_RATE, after ``apogee_lag``), the main on a barometric trigger at ``main_height`` above the ground, and the
 drogue is cut away when the main deploys (as RocketPy, where a second parachute's C_D S replaces the first's). The
-rocket's stated mass, centre of mass and inertia include the packed gear (``[vehicle] mass_includes_packed``).
+rocket's stated mass, centre of mass and inertia include the packed gear (``mass_includes_packed``).
 Sizing rules, each written beside its number:
 
 * rocket: a solid cylinder, uniform (``physics.shapes.solid_cylinder_inertia``; a rocket's mass sits nearer its
@@ -207,8 +207,6 @@ def _header(c) -> list:
             'vehicle = "rocket"', "", "[planet]", *planet_lines, "",
             "[start]", f"latitude_deg = {_n(c.latitude or 0.0)}", f"longitude_deg = {_n(c.longitude or 0.0)}",
             'velocities_relative_to = "ground"          # the initial velocities are over the ground', "",
-            "[vehicle]", "mass_includes_packed = true                # the rocket's mass, centre of mass and "
-            "inertia include its packed recovery gear", "",
             "[atmosphere]", f'model = "{atmosphere}"', *_wind(c), ""]
 
 
@@ -225,7 +223,8 @@ def _rocket(c) -> list:
     bridle = c.bridle_length or BRIDLE_FRACTION * c.length
     yaw, pitch, roll = nose_attitude_deg(nose_direction(c))
     return ["[bodies.rocket]                            # a solid cylinder, body +x its axis toward the nose",
-            f"mass = {_n(c.mass)}   # kg, its packed recovery gear included ([vehicle] mass_includes_packed)",
+            f"mass = {_n(c.mass)}   # kg, its packed recovery gear included",
+            "mass_includes_packed = true                # mass, centre of mass, inertia, points: with the gear aboard",
             f"inertia = {_vector(solid_cylinder_inertia(c.mass, c.diameter, c.length))}   # kg m^2: m r^2 / 2 about "
             f"its axis, m (3 r^2 + L^2) / 12 across ({_n(c.diameter)} m by {_n(c.length)} m)",
             "[bodies.rocket.points]                     # m, body axes from the centre of mass",
