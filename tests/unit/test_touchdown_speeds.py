@@ -51,3 +51,15 @@ def test_the_figures_mark_deployments_separations_cutaways_disreefs_and_the_touc
     assert event_marks({"events": events}) == [(2.75, "main deployment"), (8.0, "main_a disreef 2"),
                                                (22.75, "heat_shield separation"), (30.0, "drogue cut-away"),
                                                (112.3, "touchdown")]
+
+
+def test_a_studys_touchdown_histograms_show_the_total_speed_and_the_descent_rate():
+    from pchute_exudyn.study.footprint import touchdown_histogram_panels
+
+    rows = [{"touchdown_time": 70.0 + i, "touchdown_speed": 7.5 + 0.1 * i, "touchdown_descent_rate": 6.0 + 0.1 * i,
+             "peak_tension_riser": 1e4 + i} for i in range(10)]
+    labels = [label for _, label, _ in touchdown_histogram_panels(rows, ["peak_tension_riser"])]
+    assert labels == ["touchdown speed, total over the ground (m/s)",
+                      "touchdown descent rate, down the local vertical (m/s)", "riser: peak load (kN)"]
+    earlier = [{k: v for k, v in row.items() if k != "touchdown_descent_rate"} for row in rows]   # recorded before
+    assert len(touchdown_histogram_panels(earlier, [])) == 1
