@@ -38,8 +38,8 @@ class _Parser(argparse.ArgumentParser):
 def _add_run(subparsers) -> None:
     run = subparsers.add_parser(
         "run", help="simulate a case and write its result files",
-        description="Simulate a case file and write timeseries.csv, result.npz, summary.json and overview.png "
-                    "into the output folder. Prints a one-line summary.")
+        description="Simulate a case file and write timeseries.csv, result.npz, summary.json, overview.png and "
+                    "ground_track.png into the output folder. Prints a one-line summary.")
     run.add_argument("case", help="case file (TOML), e.g. cases/mer/case1.toml")
     run.add_argument("--method", choices=tuple(METHODS), default=None,
                      help="confluence method: " + "; ".join(f"{name} = {cls.summary}" + (
@@ -61,7 +61,7 @@ def _add_run(subparsers) -> None:
                           "(bodies.vehicle.mass=800); a body or system name may lead (vehicle.mass=800); '*' "
                           "matches every entry (main.lines.*.damping=0); [i] indexes arrays (vehicle.inertia[0]=250)")
     _add_method_options(run)
-    run.add_argument("--no-plot", action="store_true", help="do not write overview.png")
+    run.add_argument("--no-plot", action="store_true", help="do not write overview.png and ground_track.png")
     run.add_argument("--exudyn-solution", action="store_true",
                      help="also write Exudyn's own solution file of each phase (exudyn_solution_phase<k>.txt, every "
                           "output step) for scripts that open Exudyn's viewer on the phase model; `pchute view` and "

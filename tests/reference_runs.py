@@ -76,10 +76,18 @@ def _leaves(value, path=""):
         yield path, value
 
 
+ADDED_SINCE = ("descent_rate", "horizontal_speed_over_ground")
+"""Entries the code added after the recording (issue 48: the touchdown event's split along the local vertical): a
+new record's leaf so named is left out where the recording has none; every recorded entry is still compared."""
+
+
 def largest_difference(got: dict, want: dict) -> tuple[float, str]:
     """The largest relative difference between two records (relative to max(|want|, 1) for numbers; infinite where
-    the structure, a name or a missing value differs) and where it is."""
-    got_leaves, want_leaves = dict(_leaves(got)), dict(_leaves(want))
+    the structure, a name or a missing value differs) and where it is; ``ADDED_SINCE`` entries of ``got`` that
+    ``want`` lacks are not differences."""
+    want_leaves = dict(_leaves(want))
+    got_leaves = {path: value for path, value in _leaves(got)
+                  if path in want_leaves or path.rsplit("/", 1)[-1] not in ADDED_SINCE}
     if got_leaves.keys() != want_leaves.keys():
         return math.inf, f"keys {sorted(got_leaves.keys() ^ want_leaves.keys())}"
     worst = (0.0, "")

@@ -6,7 +6,8 @@ Every column name a run writes, a study records or a report, a comparison or a f
 (``Case.line_label``), as ``of`` says; ``{other}`` the second canopy of a pair. A method adds the columns of its own
 outputs with ``register`` (``methods.base.Method.outputs``); a column it writes is ``method_column``'s.
 
-Conventions: altitudes above the reference surface, east and north along the start point's axes from it (m), velocities
+Conventions: altitudes above the reference surface, heights above the case's ground
+(``SimulationSettings.ground_elevation``), east and north along the start point's axes from it (m), velocities
 relative to the ground (m/s, start-point axes, down positive), attitude angles in degrees (``physics.rotations``),
 rates in body axes (rad/s), tensions positive (N).
 """
@@ -64,13 +65,14 @@ def _each(template: str, unit: str, meaning: str, of: str, axes=("x", "y", "z"))
     return [Column(template.replace("{axis}", axis), unit, meaning.replace("{axis}", axis), of) for axis in axes]
 
 
-POINT_QUANTITIES = ("altitude", "east", "north", "velocity_north", "velocity_east", "velocity_down")
+POINT_QUANTITIES = ("altitude", "height", "east", "north", "velocity_north", "velocity_east", "velocity_down")
 """The columns of every body and confluence (``{owner}_<quantity>``)."""
 
 COLUMNS = (
     Column("time", "s", "run time since the start", "run"),
     # every body and confluence
     Column("{owner}_altitude", "m", "centre of mass (a confluence: its point) above the reference surface", "point"),
+    Column("{owner}_height", "m", "the same above the ground: altitude minus the case's ground altitude", "point"),
     Column("{owner}_east", "m", "east of the start point, along its axes", "point"),
     Column("{owner}_north", "m", "north of the start point, along its axes", "point"),
     *_each("{owner}_velocity_{axis}", "m/s", "velocity {axis} relative to the ground, start-point axes", "point",
@@ -114,7 +116,10 @@ COLUMNS = (
         ("final_time", "s", "end of the run"), ("final_altitude", "m", "the vehicle's altitude at the end"),
         ("final_east", "m", "the vehicle's east at the end"), ("final_north", "m", "the vehicle's north at the end"),
         ("final_lateral", "m", "horizontal distance from the start at the end"),
-        ("touchdown_time", "s", "time of touchdown"), ("touchdown_speed", "m/s", "the vehicle's speed at touchdown"),
+        ("touchdown_time", "s", "time of touchdown"),
+        ("touchdown_speed", "m/s", "the vehicle's total speed over the ground at touchdown (all three components)"),
+        ("touchdown_descent_rate", "m/s", "its vertical speed at touchdown, along the local vertical, down positive"),
+        ("touchdown_horizontal_speed", "m/s", "its horizontal speed over the ground at touchdown"),
         ("wall_time", "s", "the engine's solve"), ("steps", "count", "integration steps"),
         ("descent_rate", "m/s", "the vehicle's steady descent rate"),
         ("pendulum_max_deg", "deg", "largest pendulum angle"), ("pendulum_rms_deg", "deg", "rms pendulum angle"),

@@ -472,6 +472,12 @@ class SimulationSettings:
     seed: int = 0
     step_rule: StepRule = field(default_factory=StepRule)
 
+    @property
+    def ground_elevation(self) -> float:
+        """Geodetic altitude of the ground (m) that heights are measured from: ``ground_altitude``, the reference
+        surface (0 m) when the case flies on below it."""
+        return self.ground_altitude or 0.0
+
     def default_step(self, method: str, integrator: str) -> float | None:
         """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
         return self.steps.get(INTEGRATORS[integrator].step_key(method))
@@ -565,7 +571,7 @@ class Case:
         flies on below it), the air's largest speed up there and the planet's rotation."""
         starting = [body.initial for body in self.free_bodies() if body.initial is not None]
         top = max([state.altitude for state in starting], default=0.0)
-        ground = self.simulation.ground_altitude or 0.0
+        ground = self.simulation.ground_elevation
         gravity = math.hypot(*self.start.gravity_scalar(0.0, 0.0, 0.0))   # at the start point, on the ground
         steady = self.wind.largest_speed(top) if self.wind is not None else 0.0
         sigma = self.turbulence.largest_sigma(top) if self.turbulence is not None else 0.0

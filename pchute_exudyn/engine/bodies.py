@@ -169,7 +169,8 @@ MAX_DESCENT_ACCELERATION = 30.0
 
 class Touchdown:
     """Stop condition: the vehicle's centre of mass reaches the ground altitude (m). Interpolates the crossing;
-    ``crossing`` then holds (time in s, ground-relative velocity in m/s at the step's end).
+    ``crossing`` then holds (time in s, ground-relative velocity in m/s at the step's end, the unit vector down the
+    local vertical there), both in the planet-fixed start-point axes (``StartFrame.velocity_to_planet_fixed``).
 
     Every run has one (the ground is the surface unless the case flies on), so it checks cheaply: after a check at
     height h above the ground descending at v, the vehicle cannot reach the ground before t_min, the root of
@@ -202,7 +203,8 @@ class Touchdown:
         t_prev = self.previous[0] if self.previous is not None else t
         time = t_prev + w * (t - t_prev)
         # the crossing time is interpolated; the velocity changes little within a step and is taken at its end
-        ground_velocity = self.case.start.velocity_to_planet_fixed(np.array([x, y, z]),
-                                                                   np.asarray(self.velocity(), float), time)
-        self.crossing = (float(time), ground_velocity)
+        start, position = self.case.start, np.array([x, y, z])
+        ground_velocity = start.velocity_to_planet_fixed(position, np.asarray(self.velocity(), float), time)
+        down = start.down(start.to_planet_fixed(position, time))   # the local vertical, in the same axes
+        self.crossing = (float(time), ground_velocity, down)
         return True

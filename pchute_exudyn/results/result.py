@@ -10,7 +10,9 @@ Files written by ``Result.save`` (each atomically):
   folder the run wrote (all that a later ``overwrite`` replaces: ``io.result_files``);
 * ``exudyn_solution_phase<k>.txt``: Exudyn's own solution file of each phase, when the run kept them
   (``simulate(engine_solution=True)``, ``pchute run --exudyn-solution``);
-* ``overview.png``: line tensions and vehicle altitude against time, and the rate of descent against altitude.
+* ``overview.png``: line tensions, vehicle altitude and (when the run has them) its Mach number and dynamic pressure
+  against time, with the run's events marked, and the rate of descent against altitude;
+* ``ground_track.png``: the vehicle's track over the ground, north against east of the start point, events marked.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from .number_text import table_text
 from .summary import RunSummary
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
+TRACK_NAME = "ground_track.png"
 SCENE = "scene"
 """Key of the scene description in ``result.npz``; its arrays are ``scene/<name>``."""
 
@@ -188,8 +191,9 @@ class Result:
 
     def save(self, folder, plot: bool = True, csv: bool = True, overwrite: bool = False, draw=None) -> dict:
         """Write the result files into ``folder``; returns their paths. ``csv=False`` keeps the time histories in
-        ``result.npz`` only (a study's many runs); ``draw(result, path)``, when given, writes the overview figure
-        (True when it did: ``figure_process.FigureProcess.draw``), else this process draws it.
+        ``result.npz`` only (a study's many runs); ``draw(result, path, track)``, when given, writes the overview
+        figure and the ground track (True when it did: ``figure_process.FigureProcess.draw``), else this process
+        draws them.
 
         The files are written into a fresh folder beside ``folder``, then put in its place. ``folder`` may be absent
         or empty; an earlier result is replaced only with ``overwrite``, and then only its own files (the user's
@@ -214,17 +218,18 @@ class Result:
         with atomic_writer(paths["npz"], "wb") as handle:
             # not compressed: deflate takes 40 times longer to write a history (0.1 s for MER's 60 s) and saves 20 %
             np.savez(handle, **self.columns, units=json_text(self.units), summary=json_text(self.summary), **scene)
-        written = [p.name for p in paths.values()] + list(self.attachments) + ([PLOT_NAME] if plot else [])
+        written = [p.name for p in paths.values()] + list(self.attachments) + ([PLOT_NAME, TRACK_NAME] if plot else [])
         # the folder's own summary.json lists its files: all that a later --overwrite replaces (io.result_files)
         atomic_write_text(paths["summary"], json_text({**self.summary, FILES_KEY: written}, indent=2) + "\n")
         for name, text in self.attachments.items():
             paths[name] = folder / name
             atomic_write_text(paths[name], text)
         if plot:
-            paths["plot"] = folder / PLOT_NAME
-            if draw is None or not draw(self, paths["plot"]):
-                from ..views.plotting import save_figure
+            paths["plot"], paths["ground_track"] = folder / PLOT_NAME, folder / TRACK_NAME
+            if draw is None or not draw(self, paths["plot"], paths["ground_track"]):
+                from ..views.plotting import plot_ground_track, save_figure
                 save_figure(self.plot(), paths["plot"])
+                save_figure(plot_ground_track(self), paths["ground_track"])
         return paths
 
     @classmethod

@@ -12,8 +12,9 @@ Events, in time order in the summary (times in s from the start of the run):
 * ``contact_start`` / ``contact_end``: two canopies of a cluster (``canopies``) begin / stop touching (their
   envelopes overlap, ``physics.contact``); the end gives the largest ``overlap`` (m) of that contact;
 * ``descent_rate``: the vehicle's descent rate first falls through ``value`` (m/s) after the last deployment;
-* ``touchdown``: the vehicle's centre of mass reaches the ground altitude, with its ``speed``, ``vertical_speed``
-  and ``horizontal_speed`` relative to the ground (m/s).
+* ``touchdown``: the vehicle's centre of mass reaches the ground altitude, with its velocity relative to the ground
+  (m/s): its total ``speed``, its ``descent_rate`` (down the local vertical) and ``horizontal_speed_over_ground``
+  (across it), and ``vertical_speed`` and ``horizontal_speed`` along the start point's axes (``TouchdownEvent``).
 """
 
 from __future__ import annotations
@@ -212,16 +213,28 @@ class DescentRateEvent(Event):
 
 @dataclass(frozen=True)
 class TouchdownEvent(Event):
-    speed: float = 0.0              # m/s, relative to the ground
-    vertical_speed: float = 0.0     # m/s, downward positive
-    horizontal_speed: float = 0.0   # m/s
+    """The vehicle's centre of mass at the ground, with its velocity relative to the ground split two ways: along the
+    start point's axes (``vertical_speed``, ``horizontal_speed``) and along the local vertical at the touchdown point
+    (``descent_rate``, ``horizontal_speed_over_ground``); the two agree on a flat planet and part by the planet's
+    curvature over the drift (a 10 km drift on Earth tilts the vertical by 1.6 mrad). ``descent_rate`` squared plus
+    ``horizontal_speed_over_ground`` squared is ``speed`` squared."""
+
+    speed: float = 0.0              # m/s, total speed relative to the ground (all three components)
+    vertical_speed: float = 0.0     # m/s, along the start point's up axis, downward positive
+    horizontal_speed: float = 0.0   # m/s, across the start point's up axis
+    descent_rate: float | None = field(default=None, metadata=OPTIONAL)   # m/s, along the local vertical, down +
+    horizontal_speed_over_ground: float | None = field(default=None, metadata=OPTIONAL)   # m/s, across it
     kind: ClassVar[str] = "touchdown"
 
     @classmethod
-    def from_crossing(cls, time: float, ground_velocity) -> TouchdownEvent:
-        """From the crossing time (s) and the ground-relative velocity (m/s, east/north/up)."""
+    def from_crossing(cls, time: float, ground_velocity, down) -> TouchdownEvent:
+        """From the crossing time (s), the ground-relative velocity (m/s, east/north/up) and the unit vector down the
+        local vertical there (the same axes)."""
         v = np.asarray(ground_velocity, float)
-        return cls(float(time), float(np.linalg.norm(v)), float(-v[2]), float(np.hypot(v[0], v[1])))
+        descent = float(np.dot(v, down))
+        level = v - descent * np.asarray(down, float)
+        return cls(float(time), float(np.linalg.norm(v)), float(-v[2]), float(np.hypot(v[0], v[1])), descent,
+                   float(np.linalg.norm(level)))
 
 
 def first_fall_through(time, values, level: float, after: float = -math.inf) -> float | None:
@@ -400,5 +413,17 @@ def run_line(summary: dict, out, stability_limit: float | None = None) -> str:
         step = f"step {s['step']:g} s{chosen}"
     return (f"{s['case']}: {s['method']}/{s['integrator']} {step}, {ending} {f['time']:.2f} s in "
             f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
-            f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m -> {out}"
+            f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m"
+            f"{touchdown_text(s.get('events', []))} -> {out}"
             + (f" ({len(s['warnings'])} warning(s): see summary.json)" if s.get("warnings") else ""))
+
+
+def touchdown_text(events: list) -> str:
+    """The run line's account of the touchdown (``summary.json`` events): the descent rate, the horizontal speed over
+    the ground and the total speed (m/s); '' for a run that did not touch down (or a summary from before the split)."""
+    touchdown = next((e for e in events if e.get("event") == "touchdown"), None)
+    if touchdown is None or touchdown.get("descent_rate") is None:
+        return ""
+    return (f"; at touchdown descent rate {touchdown['descent_rate']:.2f} m/s, horizontal speed "
+            f"{touchdown['horizontal_speed_over_ground']:.2f} m/s, total speed {touchdown['speed']:.2f} m/s "
+            "(over the ground)")

@@ -2,8 +2,9 @@
 
 Column names (units in ``units``):
 
-* per body ``<b>``: ``<b>_altitude``, ``<b>_east``, ``<b>_north`` (m; east/north along the start point's axes,
-  relative to the ground); ``<b>_velocity_north|east|down`` (m/s, relative to the ground, start-point axes);
+* per body ``<b>``: ``<b>_altitude``, ``<b>_height`` (above the case's ground), ``<b>_east``, ``<b>_north`` (m;
+  east/north along the start point's axes, relative to the ground); ``<b>_velocity_north|east|down`` (m/s, relative
+  to the ground, start-point axes);
   ``<b>_yaw_deg|pitch_deg|roll_deg`` (attitude angles, ``physics.rotations``), ``<b>_tilt_deg`` (body +x from
   nadir); ``<b>_rate_x|y|z`` (rad/s, body axes); for aerodynamic bodies ``<b>_angle_of_attack_deg`` (total),
   ``<b>_alpha_deg`` and ``<b>_beta_deg`` (atan2(w, u) and asin(v/|V|) of the air-relative velocity (u, v, w) in body
@@ -166,8 +167,9 @@ def check_runaway(case: Case, raw: RawHistory, rows: int) -> None:
 def _point_columns(case: Case, owner: str, time, position, velocity, columns: dict) -> None:
     fixed = case.start.to_planet_fixed(position, time)
     ground_velocity = case.start.velocity_to_planet_fixed(position, velocity, time)
-    values = (case.start.altitude(position), fixed[:, 0], fixed[:, 1], ground_velocity[:, 1], ground_velocity[:, 0],
-              -ground_velocity[:, 2])
+    altitude = case.start.altitude(position)
+    values = (altitude, altitude - case.simulation.ground_elevation, fixed[:, 0], fixed[:, 1], ground_velocity[:, 1],
+              ground_velocity[:, 0], -ground_velocity[:, 2])
     for quantity, value in zip(POINT_QUANTITIES, values):
         columns[column("{owner}_" + quantity, owner)] = value
 

@@ -54,16 +54,24 @@ def footprint_statistics(points: np.ndarray) -> dict:
                               "p99": float(np.percentile(distance, 99)), "max": float(distance.max())}}
 
 
+TOUCHDOWN_PANELS = {"touchdown_speed": "touchdown speed, total over the ground (m/s)",
+                    "touchdown_descent_rate": "touchdown descent rate, down the local vertical (m/s)"}
+"""The touchdown histograms of a study's report (runs.csv columns and their x labels) before its peak loads'."""
+
+
 def touchdown_histogram_panels(rows: list, loads: list) -> list:
-    """``views.study_figures.percentile_histograms_figure``'s panels of touchdown speed (m/s) and of the peak line
-    loads ``loads`` (runs.csv columns, N, drawn in kN) of the ``rows`` that touched down, with their 1st, 50th and
-    99th percentiles."""
+    """``views.study_figures.percentile_histograms_figure``'s panels of the touchdown's total speed and descent rate
+    (m/s; ``TOUCHDOWN_PANELS``, a study recorded before the descent rate has none of it) and of the peak line loads
+    ``loads`` (runs.csv columns, N, drawn in kN) of the ``rows`` that touched down, with their 1st, 50th and 99th
+    percentiles."""
     panels = []
-    for name in ["touchdown_speed"] + list(loads):
+    for name in list(TOUCHDOWN_PANELS) + list(loads):
         values = np.array([r[name] for r in rows if isinstance(r.get(name), float)
                            and isinstance(r.get("touchdown_time"), float)])
-        if name == "touchdown_speed":
-            label, scale = "touchdown speed, relative to the ground (m/s)", 1.0
+        if name in TOUCHDOWN_PANELS:
+            if name != "touchdown_speed" and not len(values):
+                continue
+            label, scale = TOUCHDOWN_PANELS[name], 1.0
         else:
             line = owner(name, "peak_tension_{owner}") or name
             label, scale = f"{line.replace('_', ' ')}: peak load (kN)", 1e-3

@@ -80,7 +80,7 @@ def parameter_label(key: str, units: dict, relative: bool) -> str:
     unit = units.get(key)
     return f"{name} ({unit or '-'})" if unit is not None else name
 MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed",
-                "descent_rate", "pendulum_max_deg")
+                "touchdown_descent_rate", "touchdown_horizontal_speed", "descent_rate", "pendulum_max_deg")
 CLUSTER_OUTPUTS = ("peak_load_share_", "max_flyout_", "mean_flyout_")
 """Per-cluster outputs the report's percentile table shows (``runner.cluster_outputs``), by prefix."""
 DEPLOY_OUTPUTS = ("deploy_mach_", "deploy_dynamic_pressure_", "deploy_altitude_", "deploy_time_")
@@ -373,7 +373,7 @@ def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict, fail
     loads = [o for o in outputs if _is_peak_tension(o)]
     landed = [r for r in ok if isinstance(r.get("touchdown_time"), float)]
     rows = []
-    for name in ["touchdown_speed", "touchdown_time"] + loads:
+    for name in ["touchdown_speed", "touchdown_descent_rate", "touchdown_horizontal_speed", "touchdown_time"] + loads:
         values = np.array([r[name] for r in landed if isinstance(r.get(name), float)])
         if len(values):
             unit = column_unit(name)

@@ -39,6 +39,10 @@ def scalar_outputs(result) -> dict:
     if touchdown:
         out["touchdown_time"] = touchdown[0]["time"]
         out["touchdown_speed"] = touchdown[0]["speed"]
+        for name, key in (("touchdown_descent_rate", "descent_rate"),
+                          ("touchdown_horizontal_speed", "horizontal_speed_over_ground")):
+            if touchdown[0].get(key) is not None:
+                out[name] = touchdown[0][key]
     for label, name in result.tensions().items():
         values = result[name][np.isfinite(result[name])]
         out[column("peak_tension_{owner}", label)] = float(values.max()) if len(values) else None

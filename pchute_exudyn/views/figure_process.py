@@ -1,9 +1,10 @@
-"""The overview figure drawn by a process of its own, started with the command, so that matplotlib's import (0.3 s,
-most of what the figure costs) runs on another core while the case is loaded and run.
+"""The run's figures drawn by a process of its own, started with the command, so that matplotlib's import (0.3 s,
+most of what the figures cost) runs on another core while the case is loaded and run.
 
 ``FigureProcess()`` starts ``python -m pchute_exudyn.views.figure_process``, which imports the plotting module and
-waits; ``draw(result, path)`` sends it the columns and summary entries the figure shows and waits for ``path`` to be
-written (``plotting.plot_overview``, ``plotting.save_figure``: the same figure as drawn in the command's own process).
+waits; ``draw(result, path, track)`` sends it the columns and summary entries the figures show and waits for ``path``
+(the overview) and ``track`` (the ground track, when given) to be written (``plotting.plot_overview``,
+``plotting.plot_ground_track``, ``plotting.save_figure``: the same figures as drawn in the command's own process).
 Where it cannot (one core, the process failed), ``draw`` returns False and the caller draws the figure itself.
 """
 
@@ -16,8 +17,12 @@ import sys
 
 from ..case.columns import column
 
-SUMMARY_KEYS = ("vehicle", "case", "method", "integrator", "step")
-"""What the figure reads of the summary (its title and the vehicle's name)."""
+SUMMARY_KEYS = ("vehicle", "case", "method", "integrator", "step", "events")
+"""What the figures read of the summary (their titles, the vehicle's name and the events they mark)."""
+
+VEHICLE_COLUMNS = ("{owner}_altitude", "{owner}_velocity_down", "{owner}_east", "{owner}_north", "{owner}_mach",
+                   "{owner}_dynamic_pressure")
+"""The vehicle's columns the figures draw (those the run has)."""
 
 
 def cores() -> int:
@@ -29,7 +34,7 @@ def cores() -> int:
 
 
 class FigureProcess:
-    """A process that draws one overview figure (see the module docstring); ``close`` ends it if still running."""
+    """A process that draws one run's figures (see the module docstring); ``close`` ends it if still running."""
 
     def __init__(self):
         self.process = None
@@ -42,22 +47,22 @@ class FigureProcess:
         except OSError:
             self.process = None
 
-    def draw(self, result, path) -> bool:
-        """Have the process draw ``result``'s overview figure into ``path``; True when it did."""
+    def draw(self, result, path, track=None) -> bool:
+        """Have the process draw ``result``'s overview figure into ``path`` and, with ``track``, its ground track
+        there; True when it did."""
         if self.process is None:
             return False
         names = ["time", *result.tension_names()]
         vehicle = result.summary.get("vehicle", "vehicle")
-        names += [name for name in (column("{owner}_altitude", vehicle), column("{owner}_velocity_down", vehicle))
-                  if name in result]
+        names += [name for name in (column(template, vehicle) for template in VEHICLE_COLUMNS) if name in result]
         message = {"columns": {name: result[name] for name in names},
                    "summary": {key: result.summary[key] for key in SUMMARY_KEYS if key in result.summary},
-                   "path": str(path)}
+                   "path": str(path), "track": None if track is None else str(track)}
         try:
             self.process.stdin.write(pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))
             self.process.stdin.close()
-            return self.process.wait() == 0 and os.path.isfile(path)
-        except OSError:   # the process ended early (a broken pipe): the command draws the figure
+            return self.process.wait() == 0 and all(os.path.isfile(p) for p in (path, track) if p is not None)
+        except OSError:   # the process ended early (a broken pipe): the command draws the figures
             return False
         finally:
             self.close()
@@ -71,10 +76,13 @@ class FigureProcess:
 
 def main() -> int:
     from ..results.result import Result
-    from .plotting import plot_overview, save_figure  # the import this process exists for
+    from .plotting import plot_ground_track, plot_overview, save_figure  # the import this process exists for
 
     message = pickle.load(sys.stdin.buffer)
-    save_figure(plot_overview(Result(message["columns"], {}, message["summary"])), message["path"])
+    result = Result(message["columns"], {}, message["summary"])
+    save_figure(plot_overview(result), message["path"])
+    if message.get("track") is not None:
+        save_figure(plot_ground_track(result), message["track"])
     return 0
 
 

@@ -25,33 +25,101 @@ def new_figure(rows: int = 1, cols: int = 1, size=(9.0, 6.0), layout="constraine
 
 
 def plot_overview(result, title: str | None = None) -> Figure:
-    """Line tensions (top left) and vehicle altitude (bottom left) against time, and the vehicle's rate of descent
-    against its altitude (right, altitude up). Fixed margins: every run draws it, and a layout engine would double the
-    time to save it."""
-    figure = Figure(figsize=(12.0, 6.0))
+    """Line tensions (top left), the vehicle's altitude and, when the run has them, its Mach number and dynamic
+    pressure (below) against time, with the run's events (``event_marks``) as vertical lines, and the vehicle's rate
+    of descent against its altitude (right, altitude up). Fixed margins: every run draws it, and a layout engine would
+    double the time to save it."""
+    vehicle = result.summary.get("vehicle", "vehicle")
+    extra = [(name, label) for name, label in ((column("{owner}_mach", vehicle), f"{vehicle} Mach number (-)"),
+                                               (column("{owner}_dynamic_pressure", vehicle),
+                                                f"{vehicle} dynamic pressure (Pa)"))
+             if name in result and np.isfinite(result[name]).any()]
+    rows, height = 2 + len(extra), 6.5 + 1.6 * len(extra)   # in: the events' labels over the top panel
+    figure = Figure(figsize=(12.0, height))
     FigureCanvasAgg(figure)
-    grid = figure.add_gridspec(2, 2, width_ratios=(3.0, 1.0), left=0.075, right=0.985, bottom=0.08, top=0.93,
-                               hspace=0.08, wspace=0.18)
+    grid = figure.add_gridspec(rows, 2, width_ratios=(3.0, 1.0), left=0.075, right=0.985, bottom=0.5 / height,
+                               top=1.0 - 0.85 / height, hspace=0.08, wspace=0.18)
     top = figure.add_subplot(grid[0, 0])
-    bottom = figure.add_subplot(grid[1, 0], sharex=top)
-    top.tick_params(labelbottom=False)
+    panels = [top] + [figure.add_subplot(grid[row, 0], sharex=top) for row in range(1, rows)]
     time = result.time
     draw_curves(top, [(line, time, result[name]) for line, name in result.tensions().items()])
     top.set_ylabel("line tension (N)")
     if result.tension_names():
         top.legend(loc="best", fontsize="small")
-    top.grid(True, alpha=0.3)
-    vehicle = result.summary.get("vehicle", "vehicle")
     altitude = column("{owner}_altitude", vehicle)
     if altitude in result:
-        bottom.plot(time, result[altitude], color="k")
-    bottom.set_ylabel(f"{vehicle} altitude (m)")
-    bottom.set_xlabel("time (s)")
-    bottom.grid(True, alpha=0.3)
+        panels[1].plot(time, result[altitude], color="k")
+    panels[1].set_ylabel(f"{vehicle} altitude (m)")
+    for ax, (name, label) in zip(panels[2:], extra):
+        ax.plot(time, result[name], color="tab:red", linewidth=0.9)
+        ax.set_ylabel(label)
+    for ax in panels:
+        ax.grid(True, alpha=0.3)
+        if ax is not panels[-1]:
+            ax.tick_params(labelbottom=False)
+    panels[-1].set_xlabel("time (s)")
+    mark_events(panels, event_marks(result.summary))
     _descent_panel(figure.add_subplot(grid[:, 1]), result, vehicle)
     s = result.summary
     figure.suptitle(title or f"{s.get('case', '')}: {s.get('method', '')} / {s.get('integrator', '')}, "
                              f"step {s.get('step', '')} s")
+    return figure
+
+
+MARKED_EVENTS = ("deploy", "separation", "cutaway", "disreef", "touchdown")
+"""The events (``summary.json``'s kinds, ``results.summary``) the figures of a run mark."""
+
+
+def event_marks(summary: dict) -> list:
+    """(time in s, label) of each event of a run's summary that its figures mark (``MARKED_EVENTS``)."""
+    marks = []
+    for event in summary.get("events", []):
+        kind = event.get("event")
+        if kind not in MARKED_EVENTS or event.get("time") is None:
+            continue
+        who = event.get("canopy") or event.get("system") or event.get("body") or ""
+        words = {"deploy": "deployment", "separation": "separation", "cutaway": "cut-away",
+                 "disreef": f"disreef {event.get('stage', '')}".strip(), "touchdown": "touchdown"}[kind]
+        marks.append((float(event["time"]), f"{who} {words}".strip()))
+    return marks
+
+
+def mark_events(panels: list, marks: list) -> None:
+    """Each mark (time in s, label) as a vertical line across every time panel, labelled over the first (three rows
+    of labels, so that events close in time stay readable)."""
+    low, high = panels[0].get_xlim()
+    for index, (time, label) in enumerate(marks):
+        for ax in panels:
+            ax.axvline(time, color="0.45", linestyle=":", linewidth=0.8)
+        right = time > low + 0.8 * (high - low)   # a label near the right end goes left of its line
+        panels[0].annotate(label, (time, 1.0), xycoords=("data", "axes fraction"),
+                           xytext=(-2 if right else 2, 2 + 9 * (index % 3)), textcoords="offset points",
+                           fontsize="x-small", color="0.3", va="bottom", ha="right" if right else "left",
+                           arrowprops={"arrowstyle": "-", "color": "0.6", "linewidth": 0.5, "shrinkA": 0,
+                                       "shrinkB": 0})
+
+
+def plot_ground_track(result, title: str | None = None) -> Figure:
+    """The vehicle's track over the ground: north against east (m, relative to the ground, from the start point along
+    its axes), equal scales, with its start and the run's events (``event_marks``) marked."""
+    vehicle = result.summary.get("vehicle", "vehicle")
+    east, north = column("{owner}_east", vehicle), column("{owner}_north", vehicle)
+    figure, axes = new_figure(1, 1, size=(7.0, 6.5))
+    ax = axes[0, 0]
+    if east in result and north in result:
+        ax.plot(result[east], result[north], color="k", linewidth=0.9, label=f"{vehicle} centre of mass")
+        ax.plot(result[east][:1], result[north][:1], "o", color="k", label="start")
+        for index, (time, label) in enumerate(event_marks(result.summary)):
+            x = np.interp(time, result.time, result[east])
+            y = np.interp(time, result.time, result[north])
+            ax.plot([x], [y], "s" if label == "touchdown" else STYLES_OF_MARKS[index % len(STYLES_OF_MARKS)],
+                    color=f"C{index % 10}", label=label)
+        ax.legend(loc="best", fontsize="small")
+    ax.set_xlabel(f"{vehicle} east of the start point (m)")
+    ax.set_ylabel(f"{vehicle} north of the start point (m)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, alpha=0.3)
+    figure.suptitle(title or f"{result.summary.get('case', '')}: ground track")
     return figure
 
 
@@ -145,6 +213,7 @@ def _overlay(results: dict, panels: list, title: str, size, t_max: float | None)
 
 
 STYLES = ("-", "--", "-.", ":")
+STYLES_OF_MARKS = ("x", "^", "v", "D", "+", "*")
 
 
 def draw_curves(ax, curves: list) -> None:

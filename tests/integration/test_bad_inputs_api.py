@@ -214,12 +214,12 @@ def test_overwrite_replaces_only_the_files_of_the_earlier_result(tmp_path):
     out = tmp_path / "out"
     assert main([*RUN[:-2], "--quiet", "--out", str(out)]) == 0           # with the overview figure
     listed = json.loads((out / "summary.json").read_text())["result_files"]
-    assert sorted(listed) == ["overview.png", "result.npz", "summary.json", "timeseries.csv"]
+    assert sorted(listed) == ["ground_track.png", "overview.png", "result.npz", "summary.json", "timeseries.csv"]
     (out / "notes.txt").write_text("my notes")
     (out / "mine").mkdir()
     assert main([*RUN, "--t-end", "0.3", "--overwrite", "--out", str(out)]) == 0
     assert sorted(p.name for p in out.iterdir()) == ["mine", "notes.txt", "result.npz", "summary.json",
-                                                     "timeseries.csv"]   # the old figure went, the user's stayed
+                                                     "timeseries.csv"]   # the old figures went, the user's stayed
     assert (out / "notes.txt").read_text() == "my notes"
     assert pc.Result.load(out).final("time") == pytest.approx(0.3)
     assert "result_files" not in pc.Result.load(out).summary              # the folder's list is not the run's
