@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..case.columns import column
 from ..errors import InputError
 from .csv_dialects import read_csv_columns
 
@@ -86,8 +87,10 @@ def column_map(vehicle: str = "vehicle", names=None) -> dict:
     offset)): Z the vehicle's altitude (m; both above the reference surface, sea level), Vx, Vy, Vz its velocity
     east, north and up over the ground (m/s). X and Y (from the launch site; ours run from the start point) are
     kept under their own names. Only the columns in ``names`` (all four if None)."""
-    mapping = {"Z": (f"{vehicle}_altitude", 1.0, 0.0), "Vx": (f"{vehicle}_velocity_east", 1.0, 0.0),
-               "Vy": (f"{vehicle}_velocity_north", 1.0, 0.0), "Vz": (f"{vehicle}_velocity_down", -1.0, 0.0)}
+    ours = {theirs: column(template, vehicle) for theirs, template in (
+        ("Z", "{owner}_altitude"), ("Vx", "{owner}_velocity_east"), ("Vy", "{owner}_velocity_north"),
+        ("Vz", "{owner}_velocity_down"))}
+    mapping = {theirs: (name, -1.0 if theirs == "Vz" else 1.0, 0.0) for theirs, name in ours.items()}
     return {theirs: ours for theirs, ours in mapping.items() if names is None or theirs in names}
 
 
