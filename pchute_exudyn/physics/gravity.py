@@ -159,10 +159,10 @@ class NormalGravity:
 
 
 NORMAL_COLUMNS = 12
-"""One planet's normal gravity as the kernels take it (``normal_gravity``'s first arguments): the planet centre (3, m) and the unit
-spin axis (3) in start-frame components, a and b (m), gamma_e (m/s^2), Somigliana's k (-), m (-) and the rate (rad/s)
-of the frame's own rotation whose centrifugal term is taken out (0: a frame turning with the planet; the spin rate: an
-inertial frame)."""
+"""One planet's normal gravity as the kernels take it (``normal_gravity``'s first arguments): the planet centre
+(3, m) and the unit spin axis (3) in start-frame components, a and b (m), gamma_e (m/s^2), Somigliana's k (-),
+m (-) and the rate (rad/s) of the frame's own rotation whose centrifugal term is taken out (0: a frame turning with
+the planet; the spin rate: an inertial frame)."""
 
 
 @kernel
