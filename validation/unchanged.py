@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -58,17 +59,28 @@ RUNS = [
     ("MER 5 aero trim, SP, 20 s", "cases/mer/case5_aero_trim.toml", dict(method="sp", duration=20.0)),
     ("MER EDL, SP, to touchdown", "cases/mer/edl.toml", dict(method="sp")),
 ]
+NEWER_KEYS = ("gravity_model",)
+"""Case keys this code added whose shipped values name the older behaviour (``gravity_model = "spherical"``, issue
+48): the older checkout runs a copy of cases/ without those lines (``--strip``)."""
 MACHINE = ("wall_time", "created", "versions", "steps_per_second", "case_file")
 """Summary keys that describe the machine or the moment, not the result."""
 
 
-def record(out: Path) -> None:
-    """Run RUNS with the pchute_exudyn this process imports; each run's columns (.npz) and summary (.json)."""
+def record(out: Path, strip: bool = False) -> None:
+    """Run RUNS with the pchute_exudyn this process imports; each run's columns (.npz) and summary (.json). With
+    ``strip``, from a copy of cases/ without the lines that set NEWER_KEYS (the older code does not know them)."""
     import pchute_exudyn as pc
 
     out.mkdir(parents=True, exist_ok=True)
+    root = ROOT
+    if strip:
+        root = out / "tree"
+        shutil.copytree(ROOT / "cases", root / "cases")
+        for path in (root / "cases").rglob("*.toml"):
+            lines = path.read_text().splitlines(keepends=True)
+            path.write_text("".join(line for line in lines if not line.strip().startswith(NEWER_KEYS)))
     for i, (label, case_file, options) in enumerate(RUNS):
-        result = pc.simulate(pc.load_case(ROOT / case_file), **options)
+        result = pc.simulate(pc.load_case(root / case_file), **options)
         np.savez(out / f"{i:02d}.npz", **{k: np.asarray(v) for k, v in result.columns.items()})
         summary = {k: v for k, v in result.summary.items() if k not in MACHINE}
         (out / f"{i:02d}.json").write_text(json.dumps(summary, default=str))
@@ -114,9 +126,10 @@ def main(argv=None) -> int:
     parser.add_argument("--before", type=Path, help="checkout of the code to compare against")
     parser.add_argument("--out", type=Path, default=HERE / "output" / "cluster" / "bitwise.md")
     parser.add_argument("--record", type=Path, help=argparse.SUPPRESS)   # one side, in its own process
+    parser.add_argument("--strip", action="store_true", help=argparse.SUPPRESS)   # the older side (NEWER_KEYS)
     args = parser.parse_args(argv)
     if args.record is not None:
-        record(args.record)
+        record(args.record, args.strip)
         return 0
     if args.before is None:
         parser.error("--before DIR is required")
@@ -125,8 +138,9 @@ def main(argv=None) -> int:
         for side, checkout in (("before", args.before.resolve()), ("after", ROOT)):
             print(f"{side}: {checkout}", flush=True)
             env = {**os.environ, "PYTHONPATH": str(checkout), "PCHUTE_KERNELS": "compiled"}
-            subprocess.run([sys.executable, __file__, "--record", str(Path(scratch) / side)], env=env, check=True,
-                           cwd=checkout)
+            strip = ["--strip"] if side == "before" else []
+            subprocess.run([sys.executable, __file__, "--record", str(Path(scratch) / side), *strip], env=env,
+                           check=True, cwd=checkout)
             commits[side] = subprocess.run(["git", "-C", str(checkout), "rev-parse", "--short", "HEAD"],
                                            capture_output=True, text=True).stdout.strip()
         rows, compared, differ = compare(Path(scratch) / "before", Path(scratch) / "after")
