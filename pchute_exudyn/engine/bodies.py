@@ -27,14 +27,14 @@ def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -
     """Gravity on the body or point mass ``body`` whose centre of mass is at ``marker``.
 
     Spherical gravity -mu m r/|r|^3 by Exudyn's native gravity connector to the planet centre (exact at every
-    stage), whose number it returns; on a flat planet a uniform mass-proportional load (none when g = 0), and with
-    normal gravity a force load whose user function evaluates ``physics.gravity.normal_gravity`` at the marker's
-    current (stage) position (``add_normal_gravity``); these return None.
+    stage), whose number it returns; with normal gravity a force load whose user function evaluates
+    ``physics.gravity.normal_gravity`` at the marker's current (stage) position (``add_normal_gravity``), whose
+    number it returns (``engine.stage.Stage.take_over_gravity`` tells them apart by the case); on a flat planet a
+    uniform mass-proportional load (none when g = 0), and it returns None.
     """
     mbs = model.mbs
     if case.start.normal_gravity_parameters() is not None:
-        add_normal_gravity(model, case, marker, mass)
-        return None
+        return add_normal_gravity(model, case, marker, mass)
     if isinstance(case.planet, FlatPlanet):
         if case.planet.gravity_acceleration != 0.0:
             mass_marker = mbs.AddMarker(eii.MarkerBodyMass(bodyNumber=body))

@@ -9,7 +9,7 @@ from __future__ import annotations
 from .aerodynamics import HEADER_BODY_COUNT, WORK_STATUS, aerodynamics_stage
 from .compiled import kernel
 from .gravity import normal_gravity
-from .kinematics import add_gravity_forces, body_states
+from .kinematics import add_gravity_forces, add_normal_gravity_forces, body_states
 from .planet import gravity_acceleration
 from .reduced_canopy import canopy_stage
 from .singular_perturbation import (
@@ -91,6 +91,22 @@ def confluence_gravity(memory, x, y, z):
                               memory[n + 3, 0], memory[n + 3, 1], memory[n + 3, 2], x, y, z)
     g = MEMORY_GRAVITY
     return gravity_acceleration(memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2], x, y, z)
+
+
+@kernel
+def add_body_gravity(bodies, states, memory, generalized):
+    """The gravity of the bodies whose layout rows carry their mass, from the planet the memory holds (as
+    ``confluence_gravity``): ``kinematics.add_normal_gravity_forces`` or ``kinematics.add_gravity_forces`` (the
+    same call as before normal gravity existed: the same bits)."""
+    n = MEMORY_NORMAL
+    if memory[n + 2, 0] > 0.0:
+        add_normal_gravity_forces(bodies, states, memory[n, 0], memory[n, 1], memory[n, 2], memory[n + 1, 0],
+                                  memory[n + 1, 1], memory[n + 1, 2], memory[n + 2, 0], memory[n + 2, 1],
+                                  memory[n + 2, 2], memory[n + 3, 0], memory[n + 3, 1], memory[n + 3, 2], generalized)
+        return
+    g = MEMORY_GRAVITY
+    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2],
+                       generalized)
 
 
 @kernel
@@ -344,7 +360,7 @@ def sp_step_stage_with_bodies(q, q_t, t, bodies, states, layout, tables, work, p
     coordinates, the SP solve, the lines' generalized forces into ``generalized`` and the bodies' aerodynamic loads
     added (as ``sp_rk_stage_with_bodies``). At a step's first stage with the last step's end-of-step work due, that
     work first (``sp_first_stage_with_bodies``). Last, the gravity of the bodies whose layout rows carry their mass
-    (``kinematics.add_gravity_forces``), added after everything else as the engine's gravity connectors would add
+    (``add_body_gravity``), added after everything else as the engine's gravity connectors would add
     it. Returns the sum of its flags: STAGE_SETTLED when it did the end-of-step work, STAGE_AERODYNAMICS_FAILED when
     the aerodynamics reported a problem and added nothing (their status in ``aerodynamic_work``; the gravity is then
     left to the caller too)."""
@@ -366,7 +382,5 @@ def sp_step_stage_with_bodies(q, q_t, t, bodies, states, layout, tables, work, p
                                 aerodynamic_work)
     if aerodynamic_work[WORK_STATUS] != 0.0:   # the aerodynamics added nothing: the caller adds them, then the gravity
         return done + STAGE_AERODYNAMICS_FAILED
-    g = MEMORY_GRAVITY
-    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2],
-                       generalized)
+    add_body_gravity(bodies, states, memory, generalized)
     return done
