@@ -246,8 +246,8 @@ def canopy_offsets(case, result, events: dict) -> dict:
 
 
 def gravity_and_air(case, env, levels) -> list:
-    """Per altitude (m above sea level): our gravity (mu / r^2 toward the planet's centre, r from the ellipsoid) and
-    its tilt from the ellipsoid's normal, RocketPy's gravity, both densities."""
+    """Per altitude (m above sea level): our gravity (the case's model: normal gravity, or mu / r^2 toward the
+    planet's centre) and its tilt from the ellipsoid's normal, RocketPy's gravity, both densities."""
     planet, start = case.planet, case.start
     up = planet.enu_axes(start.latitude_deg, start.longitude_deg)[:, 2]
     rows = []
@@ -325,6 +325,7 @@ def comparison(case, inputs: dict, runs: dict) -> dict:
             "ours_steps": result.summary["steps"], "phase_masses": masses,
             "canopy_offsets": canopy_offsets(case, result, ours_events),
             "models": gravity_and_air(case, env, (DROGUE_ALTITUDES[0], case.simulation.ground_altitude)),
+            "gravity_model": case.planet.gravity_model,
             "added_masses": added_masses(flight, env, inputs, rp_events)}
 
 
@@ -441,14 +442,21 @@ def report(args, inputs: dict, runs: dict, c: dict) -> tuple[str, dict]:
            "(rate ~ sqrt(m)), which delays the main trigger and touchdown; `packed = true` carries the gear in the "
            "rocket until it deploys."),
         "",
-        f"*Gravity.* Ours: mu / r^2 toward the planet's centre, r from the WGS-84 ellipsoid, the planet not rotating "
-        f"(this case): {g_top['g_ours']:.4f} m/s^2 at {g_top['altitude']:g} m, tilted {g_top['g_tilt_deg']:.3f} deg "
-        "from the ellipsoid's normal (geocentric, not geodetic, down), which carries our rocket north as it falls "
-        "(the drift north at touchdown, about tan of that tilt x the 2500 m fallen). RocketPy: the Somigliana normal "
-        "gravity of the WGS-84 ellipsoid at the launch latitude with a second-order height correction "
-        "(`Environment.somigliana_gravity`; it includes the centrifugal part), along its local vertical: "
-        f"{g_top['g_rocketpy']:.4f} m/s^2 there ({(g_top['g_ours'] / g_top['g_rocketpy'] - 1) * 100:+.2f} % in g, "
-        f"{(math.sqrt(g_top['g_ours'] / g_top['g_rocketpy']) - 1) * 100:+.2f} % in a steady rate); RocketPy also "
+        "*Gravity.* Ours: " + (
+            "the normal gravity of the WGS-84 level ellipsoid (Somigliana with NIMA TR8350.2's height correction, "
+            "its centrifugal part included; docs/models/gravity.md) along the ellipsoid's normal, the frame turning "
+            f"with the Earth (this case: no Coriolis): {g_top['g_ours']:.4f} m/s^2 at {g_top['altitude']:g} m, "
+            f"tilted {g_top['g_tilt_deg']:.3f} deg from the normal"
+            if c["gravity_model"] == "normal" else
+            "mu / r^2 toward the planet's centre, r from the WGS-84 ellipsoid, the planet not rotating (this case): "
+            f"{g_top['g_ours']:.4f} m/s^2 at {g_top['altitude']:g} m, tilted {g_top['g_tilt_deg']:.3f} deg "
+            "from the ellipsoid's normal (geocentric, not geodetic, down), which carries our rocket north as it "
+            "falls (the drift north at touchdown, about tan of that tilt x the 2500 m fallen)")
+        + ". RocketPy: the Somigliana normal gravity of the WGS-84 ellipsoid at the launch latitude with a "
+        "second-order height correction (`Environment.somigliana_gravity`; it includes the centrifugal part), along "
+        f"its local vertical: {g_top['g_rocketpy']:.4f} m/s^2 there "
+        f"({(g_top['g_ours'] / g_top['g_rocketpy'] - 1) * 100:+.3f} % in g, "
+        f"{(math.sqrt(g_top['g_ours'] / g_top['g_rocketpy']) - 1) * 100:+.3f} % in a steady rate); RocketPy also "
         "adds the Coriolis acceleration of the Earth's rotation (its centimetre of drift north).",
         "",
         "*Geometry.* Our drag acts at each canopy in the air of that canopy's altitude, and each canopy is placed "

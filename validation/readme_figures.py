@@ -402,7 +402,7 @@ def rocketpy_lines() -> list:
     medians = data["medians"]
     return [f"table `validation/output/rocketpy/benchmark.md`): descent rates under each canopy within "
             f"{max(rates):.2f} %, touchdown within {abs(touchdown['percent']):.2f} %, the differences explained "
-            "(RocketPy's normal gravity, our canopies' drag in the air 7-10 m above the rocket); solve "
+            "(our canopies' drag in the air 7-10 m above the rocket; both sides fly WGS-84 normal gravity); solve "
             f"{medians['ours_solve']:.3f} s against RocketPy's {medians['rocketpy_flight']:.3f} s "
             f"(medians of {data['rounds']} rounds in one process)."]
 

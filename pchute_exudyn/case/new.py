@@ -42,14 +42,17 @@ from .model import Contact
 from .new_checks import check_choice, check_integer, check_number, check_positive
 
 PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2, density model, radius m)
-    "mars": (['name = "Mars"', "gravitational_parameter = 4.282828685e13   # m^3/s^2 (MER's, thesis Table 3.3)",
-              "equatorial_radius = 3393940.0              # m", "polar_radius = 3376780.0                   # m",
-              "rotation_rate = 0.0                        # rad/s"], "mars_grc", 4.282828685e13 / 3393940.0**2,
-             MarsGRC, 3393940.0),
+    "mars": (['name = "Mars"', "gravitational_parameter = 4.282837e13      # m^3/s^2 (Konopliv et al. 2006)",
+              "equatorial_radius = 3396190.0              # m (IAU/IAG, Seidelmann et al. 2002)",
+              "polar_radius = 3376200.0                   # m (IAU/IAG)",
+              "rotation_rate = 0.0                        # rad/s: the frame turns with Mars (7.088218e-5: inertial)",
+              'gravity_model = "normal"                   # spin_rate 7.088218e-5 rad/s by default (gravity.md)'],
+             "mars_grc", 4.282837e13 / 3396190.0**2, MarsGRC, 3396190.0),
     "earth": (['name = "Earth"', "gravitational_parameter = 3.986004418e14   # m^3/s^2 (WGS-84)",
-               "equatorial_radius = 6378137.0              # m", "polar_radius = 6356752.314                # m",
-               "rotation_rate = 0.0                        # rad/s (7.292115e-5 for a rotating Earth)"], "us76",
-              3.986004418e14 / 6378137.0**2, US76, 6378137.0),
+               "equatorial_radius = 6378137.0              # m", "polar_radius = 6356752.314245             # m",
+               "rotation_rate = 0.0                        # rad/s: the frame turns with the Earth (7.292115e-5: "
+               "inertial)", 'gravity_model = "normal"                   # spin_rate 7.292115e-5 rad/s by default '
+               "(gravity.md)"], "us76", 3.986004418e14 / 6378137.0**2, US76, 6378137.0),
     "flat": (['model = "flat"', "gravity = 9.80665                          # m/s^2"], "us76", 9.80665, US76,
              math.inf),
 }
@@ -98,7 +101,8 @@ class NewCase:
     Attributes
     ----------
     planet : {"mars", "earth", "flat"}
-        Mars (MER's ellipsoid, NASA GRC atmosphere), Earth (WGS-84, US76) or a flat Earth (9.80665 m/s^2, US76).
+        Mars (IAU ellipsoid, normal gravity, NASA GRC atmosphere), Earth (WGS-84, normal gravity, US76) or a flat
+        Earth (9.80665 m/s^2, US76).
     mass : float
         Vehicle mass (kg).
     diameter : float

@@ -99,6 +99,7 @@ RANGES: tuple = (
     Range("planet.equatorial_radius", "m", (1.0, 1e10), (1e4, 1e8)),
     Range("planet.polar_radius", "m", (1.0, 1e10), (1e4, 1e8)),
     Range("planet.rotation_rate", "rad/s", (-1.0, 1.0), (-1e-3, 1e-3)),
+    Range("planet.spin_rate", "rad/s", (0.0, 1.0), (0.0, 1e-3)),
     Range("atmosphere.speed_of_sound", "m/s", (1.0, 1e5), (100.0, 2e3)),
     Range("atmosphere.gamma", "", (1.0, 10.0), (1.0, 1.7)),
     Range("atmosphere.gas_constant", "J/(kg K)", (1.0, 1e6), (100.0, 5e3)),

@@ -4,10 +4,12 @@ gusts) and ``[simulation]``."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
 from ..physics.atmosphere import US76, MarsGRC, ScaledAtmosphere, Wind
+from ..physics.gravity import PUBLISHED_SPIN, published_spin
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.step_control import StepRule
 from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
@@ -17,9 +19,14 @@ from .model import Case, SimulationSettings
 from .start import VELOCITY_FRAMES, Release
 from .tables import AIR_GAMMA, AIR_GAS_CONSTANT, read_atmosphere_table
 
+GRAVITY_MODELS = ("normal", "spherical")
+"""``[planet] gravity_model``: the level ellipsoid's normal gravity (the default) or the thesis's spherical gravity
+(``docs/models/gravity.md``)."""
+
 
 def read_planet(p: Table):
-    """The [planet] section: an ellipsoid (its gravitational parameter, radii and rotation) or a flat planet."""
+    """The [planet] section: an ellipsoid (its gravitational parameter, radii, frame rotation, spin and gravity
+    model) or a flat planet."""
     if p.string("model", "ellipsoid", ("ellipsoid", "flat")) == "flat":
         planet = FlatPlanet(p.number("gravity", "m/s^2", minimum=0.0), p.string("name", default_of(FlatPlanet, "name")))
     else:
@@ -28,12 +35,41 @@ def read_planet(p: Table):
             equatorial_radius=p.number("equatorial_radius", "m", above=0.0),
             polar_radius=p.number("polar_radius", "m", above=0.0),
             rotation_rate=p.number("rotation_rate", "rad/s", default_of(Planet, "rotation_rate")),
-            name=p.string("name", default_of(Planet, "name")))
+            name=p.string("name", default_of(Planet, "name")),
+            gravity_model=p.string("gravity_model", GRAVITY_MODELS[0], GRAVITY_MODELS))
         if planet.polar_radius > planet.equatorial_radius:
             raise p.error("polar_radius", f"must be <= equatorial_radius ({planet.equatorial_radius:g} m)",
                           planet.polar_radius)
+        if planet.gravity_model == "normal" and planet.polar_radius == planet.equatorial_radius:
+            raise p.error("gravity_model", "normal gravity needs an ellipsoid (polar_radius < equatorial_radius); "
+                          "allowed on a sphere: \"spherical\"", planet.gravity_model)
+        planet = replace(planet, spin_rate=_spin_rate(p, planet))
     p.finish()
     return planet
+
+
+def _spin_rate(p: Table, planet: Planet) -> float:
+    """``[planet] spin_rate`` (rad/s): the planet's own rotation, which normal gravity's centrifugal term needs even
+    when the frame does not rotate. Defaults to |rotation_rate| when that is not 0, else to the published planet's
+    (``physics.gravity.PUBLISHED_SPIN``) when the ellipsoid is its own; required otherwise with normal gravity."""
+    frame = abs(planet.rotation_rate)
+    spin = p.number("spin_rate", "rad/s", None, minimum=0.0)
+    if spin is not None:
+        if frame != 0.0 and spin != frame:
+            raise p.error("spin_rate", f"must equal |rotation_rate| ({frame:g} rad/s) when the frame rotates; "
+                          "set rotation_rate = 0 for a frame turning with the planet", spin)
+        return spin
+    if frame != 0.0:
+        return frame
+    published = published_spin(planet.name, planet.equatorial_radius, planet.polar_radius)
+    if published is not None:
+        return published
+    if planet.gravity_model == "normal":
+        names = ", ".join(n.capitalize() for n in PUBLISHED_SPIN)
+        raise p.error("spin_rate", "required (rad/s, >= 0) for normal gravity: the planet's rotation cannot be "
+                      f"defaulted (name {planet.name!r} with these radii is not a published ellipsoid: {names}); "
+                      "or set gravity_model = \"spherical\"")
+    return 0.0
 
 
 def read_start(s: Table, planet) -> tuple:

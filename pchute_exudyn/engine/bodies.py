@@ -1,4 +1,4 @@
-"""Exudyn items every method shares: rigid bodies, spherical gravity, aerodynamic loads (applied through the model's
+"""Exudyn items every method shares: rigid bodies, gravity, aerodynamic loads (applied through the model's
 ``engine.stage.Stage``), the full-mass confluence point and the touchdown stop condition.
 
 All coordinates are in the start frame (local east/north/up of the start point, origin on the ellipsoid), which is
@@ -27,10 +27,14 @@ def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -
     """Gravity on the body or point mass ``body`` whose centre of mass is at ``marker``.
 
     Spherical gravity -mu m r/|r|^3 by Exudyn's native gravity connector to the planet centre (exact at every
-    stage), whose number it returns; on a flat planet a uniform mass-proportional load (none when g = 0), and it
-    returns None.
+    stage), whose number it returns; with normal gravity a force load whose user function evaluates
+    ``physics.gravity.normal_gravity`` at the marker's current (stage) position (``add_normal_gravity``), whose
+    number it returns (``engine.stage.Stage.take_over_gravity`` tells them apart by the case); on a flat planet a
+    uniform mass-proportional load (none when g = 0), and it returns None.
     """
     mbs = model.mbs
+    if case.start.normal_gravity_parameters() is not None:
+        return add_normal_gravity(model, case, marker, mass)
     if isinstance(case.planet, FlatPlanet):
         if case.planet.gravity_acceleration != 0.0:
             mass_marker = mbs.AddMarker(eii.MarkerBodyMass(bodyNumber=body))
@@ -41,6 +45,22 @@ def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -
     return mbs.AddObject(eii.ObjectConnectorGravity(
         markerNumbers=[model.planet_marker, marker], gravitationalConstant=case.planet.gravitational_parameter,
         mass0=1.0, mass1=mass, visualization=eii.VObjectConnectorGravity(show=False)))
+
+
+def add_normal_gravity(model: Model, case: Case, marker: int, mass: float) -> int:
+    """Normal gravity on the mass ``mass`` (kg) at ``marker``: m g(r) (N) with g from ``StartFrame.gravity_scalar``
+    at the marker's position of the current solver stage (Exudyn serves the stage's state to user functions), one
+    Python call per stage. Returns the load's number."""
+    mbs, gravity = model.mbs, case.start.gravity_scalar
+    read = mbs.GetMarkerOutput
+
+    def weight(mbs_, t, load_vector):
+        x, y, z = read(marker, OV.Position, CURRENT)
+        gx, gy, gz = gravity(x, y, z)
+        return [mass * gx, mass * gy, mass * gz]
+    return mbs.AddLoad(eii.LoadForceVector(markerNumber=marker, loadVector=[0.0, 0.0, 0.0],
+                                           loadVectorUserFunction=weight,
+                                           visualization=eii.VLoadForceVector(show=False)))
 
 
 def _inertia6(inertia: np.ndarray) -> list:

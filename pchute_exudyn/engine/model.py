@@ -91,8 +91,8 @@ class Model:
         self.systems = [case.systems[name].with_bodies(phase.bodies) for name in phase.systems]   # present lines
         self.bodies: dict = {}
         self.massless: set = set()   # bodies of the phase that are no engine body: reduced canopies (``methods.sp``)
-        self.gravity_connectors: dict = {}   # body name -> (its gravity connector, its mass in kg): the bodies on
-        #                                      which no other item than the stage's adds a force
+        self.gravity_connectors: dict = {}   # body name -> (its gravity connector or normal-gravity load, its mass
+        #                                      in kg): the bodies on which no other item than the stage's adds a force
         self.confluences: dict = {}
         self.channels: dict = {}
         self.channel_groups: list = []    # (keys, reader, split): channels sampled together by one call

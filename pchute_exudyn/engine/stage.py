@@ -35,6 +35,7 @@ from ..physics.kinematics import (
     ROW_VELOCITY,
     STATE_COLUMNS,
     add_gravity_forces,
+    add_normal_gravity_forces,
     body_states,
 )
 from ..physics.sp_stepping import STAGE_AERODYNAMICS_FAILED
@@ -81,8 +82,11 @@ class Stage:
         system_data = model.mbs.systemData
         self._read, self._read_t = system_data.GetODE2Coordinates, system_data.GetODE2Coordinates_t
         self._stage_states = bound(body_states)     # from the force function's arguments, at every stage
-        self.gravity = case.start.gravity_parameters()   # (mu, planet centre) or (0, uniform g): for the stage's
-        self._add_gravity = bound(add_gravity_forces)   # own gravity (``take_over_gravity``)
+        self.normal = case.start.normal_gravity_parameters() is not None   # the stage's own gravity
+        if self.normal:   # (``take_over_gravity``): normal gravity's parameters
+            self.gravity, self._add_gravity = case.start.normal_gravity_parameters(), bound(add_normal_gravity_forces)
+        else:             # (mu, planet centre) or (0, uniform g)
+            self.gravity, self._add_gravity = case.start.gravity_parameters(), bound(add_gravity_forces)
         self._step_states = bound(body_states)      # from the engine's state, after a step
         self.has_item = False
 
@@ -155,16 +159,21 @@ class Stage:
         bit for bit what the engine's gravity connectors add) and their connectors are switched off: they cost the
         engine about a microsecond per body and stage. Only on a spherical planet, without canopy contact (added
         after the kernel's forces, it would come after the gravity), and for the bodies on which nothing else adds
-        a force (an apparent mass's item would change the order of the engine's sum, and its rounding)."""
+        a force (an apparent mass's item would change the order of the engine's sum, and its rounding). With
+        normal gravity (``physics.sp_stepping.add_body_gravity``) the bodies' normal-gravity loads lose their user
+        function (a Python call per body and stage)."""
         connectors = self.model.gravity_connectors
-        if self.gravity[0] == 0.0 or self.contacts:
+        if (self.gravity[0] == 0.0 and not self.normal) or self.contacts:
             return
         for name in self.free:
             if name not in connectors:
                 continue
             connector, mass = connectors[name]
             self.layout[self.row[name], BODY_MASS_AT] = mass
-            self.model.mbs.SetObjectParameter(connector, "activeConnector", False)
+            if self.normal:
+                self.model.mbs.SetLoadParameter(connector, "loadVectorUserFunction", 0)
+            else:
+                self.model.mbs.SetObjectParameter(connector, "activeConnector", False)
 
     def assembled(self) -> None:
         """After Exudyn's Assemble: where each free body's coordinates sit in the system's coordinate vector."""

@@ -35,6 +35,7 @@ name = "Mars"
 gravitational_parameter = 4.282828685e13
 equatorial_radius = 3393940.0
 polar_radius = 3376780.0
+gravity_model = "spherical"
 [start]
 latitude_deg = 0.0
 longitude_deg = 0.0

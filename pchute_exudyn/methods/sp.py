@@ -61,6 +61,7 @@ from ..physics.sp_stepping import (
     MEMORY_END_SOLVE,
     MEMORY_GRAVITY,
     MEMORY_NEWER,
+    MEMORY_NORMAL,
     MEMORY_OLDER,
     MEMORY_ORDER,
     MEMORY_POSITION,
@@ -167,6 +168,9 @@ class SPConfluence(ReducedConfluence):
                                    1.0 if options.slack_rule == "force" else 0.0)
         mu, *vector = case.start.gravity_parameters()
         memory[MEMORY_ORDER], memory[MEMORY_GRAVITY] = (float(self.order), mu, 0.0), vector
+        normal = case.start.normal_gravity_parameters()
+        if normal is not None:   # physics.sp_stepping.confluence_gravity
+            memory[MEMORY_NORMAL:MEMORY_NORMAL + 4] = np.reshape(normal, (4, 3))
         memory[MEMORY_ACCELERATION] = (0.0, 0.0, 0.0) if acceleration is None else acceleration
         memory[MEMORY_CLOCK] = (0.0, float(self.step_start), 0.0)   # no stage yet; t_n the phase start; h unknown
         memory[MEMORY_RUN] = (0.0, float(start_time), 0.0)           # the run's step is set by ``warm_up``

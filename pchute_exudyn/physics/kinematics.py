@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .compiled import kernel
+from .gravity import normal_gravity
 from .planet import engine_gravity_force
 from .rotations import rotation_from_vector
 
@@ -138,6 +139,22 @@ def add_gravity_forces(bodies, states, mu, cx, cy, cz, generalized):
             generalized[k] += fx
             generalized[k + 1] += fy
             generalized[k + 2] += fz
+
+
+@kernel
+def add_normal_gravity_forces(bodies, states, cx, cy, cz, ux, uy, uz, a, b, gamma_e, k, m, rate, generalized):
+    """Add the normal gravity (``gravity.normal_gravity`` times the mass, N) of the bodies that carry a mass in
+    their layout row (BODY_MASS_AT) to ``generalized``, at each centre of mass; the arguments between the arrays
+    are ``normal_gravity``'s (``StartFrame.normal_gravity_parameters``)."""
+    for j in range(bodies.shape[0]):
+        mass, i = bodies[j, BODY_MASS_AT], int(bodies[j, 0])
+        if mass > 0.0 and i >= 0:
+            row = states[j]
+            gx, gy, gz = normal_gravity(cx, cy, cz, ux, uy, uz, a, b, gamma_e, k, m, rate, row[POSITION_AT],
+                                        row[POSITION_AT + 1], row[POSITION_AT + 2])
+            generalized[i] += mass * gx
+            generalized[i + 1] += mass * gy
+            generalized[i + 2] += mass * gz
 
 
 def body_point(position, rotation, velocity=None, angular_velocity_local=None, local=(0.0, 0.0, 0.0)):

@@ -1,4 +1,5 @@
-"""Planet: an ellipsoid of revolution with spherical (point-mass) gravity, and the start-point frame.
+"""Planet: an ellipsoid of revolution with normal (level-ellipsoid, ``physics.gravity``) or spherical (point-mass)
+gravity, and the start-point frame.
 
 Frames (``docs/models/conventions.md``, "Frames, altitude and gravity"):
 
@@ -20,6 +21,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from .compiled import JIT, bound, kernel
+from .gravity import NormalGravity, normal_gravity
 
 _MATH = SimpleNamespace(sin=math.sin, cos=math.cos, atan2=math.atan2, hypot=math.hypot, sqrt=math.sqrt)
 _NUMPY = SimpleNamespace(sin=np.sin, cos=np.cos, atan2=np.arctan2, hypot=np.hypot, sqrt=np.sqrt)
@@ -144,7 +146,7 @@ def start_altitude(frame, x, y, z):
 
 @dataclass(frozen=True)
 class Planet:
-    """An ellipsoidal planet with spherical gravity.
+    """An ellipsoidal planet with normal or spherical gravity.
 
     Parameters
     ----------
@@ -155,9 +157,17 @@ class Planet:
     polar_radius : float
         Semi-minor axis Rp (m), 0 < Rp <= Re.
     rotation_rate : float
-        Omega (rad/s) about the +Z (north polar) axis; 0 for a non-rotating planet.
+        Omega (rad/s) about the +Z (north polar) axis of the model frame's rotation: the frame is inertial and the
+        planet turns under it; 0 for a frame that turns with the planet (no Coriolis or centrifugal terms).
     name : str
         Label for output files.
+    spin_rate : float
+        The planet's physical rotation rate (rad/s, >= 0), whose centrifugal term normal gravity includes (whether
+        or not the frame rotates); equal to |rotation_rate| when that is not 0.
+    gravity_model : {"spherical", "normal"}
+        "spherical": -mu r/|r|^3 toward the centre (the thesis's model); "normal": the level ellipsoid's gravity
+        along the ellipsoid normal (``physics.gravity``). The dataclass's default is spherical (the thesis's
+        planets below); a case file's is normal (``docs/models/gravity.md``).
     """
 
     gravitational_parameter: float
@@ -165,6 +175,15 @@ class Planet:
     polar_radius: float
     rotation_rate: float = 0.0
     name: str = "planet"
+    spin_rate: float = 0.0
+    gravity_model: str = "spherical"
+
+    @property
+    def normal(self) -> NormalGravity | None:
+        """The level ellipsoid's normal gravity when ``gravity_model`` is "normal", else None."""
+        if self.gravity_model != "normal":
+            return None
+        return NormalGravity(self.gravitational_parameter, self.equatorial_radius, self.polar_radius, self.spin_rate)
 
     @property
     def eccentricity_squared(self) -> float:
@@ -172,8 +191,16 @@ class Planet:
         return 1.0 - (self.polar_radius / self.equatorial_radius) ** 2
 
     def gravity(self, position) -> np.ndarray:
-        """Gravitational acceleration -mu r / |r|^3 (m/s^2) at planet-centred positions (m), shape (..., 3)."""
+        """Gravitational acceleration (m/s^2) at planet-centred positions (m), shape (..., 3): -mu r / |r|^3, or
+        normal gravity (gravitation plus the spin's centrifugal term: what a body at rest on the planet feels)."""
         r = np.asarray(position, dtype=float)
+        normal = self.normal
+        if normal is not None:
+            gamma_e, k = normal.equator_and_pole[0], normal.k
+            flat = r.reshape(-1, 3)
+            values = [normal_gravity(0.0, 0.0, 0.0, 0.0, 0.0, 1.0, self.equatorial_radius, self.polar_radius,
+                                     gamma_e, k, normal.m, 0.0, *map(float, point)) for point in flat]
+            return np.array(values, dtype=float).reshape(r.shape)
         norm = np.linalg.norm(r, axis=-1, keepdims=True)
         return -self.gravitational_parameter * r / norm**3
 
@@ -277,6 +304,7 @@ class StartFrame:
     axes: np.ndarray = field(init=False, repr=False)
     _plain: tuple = field(init=False, repr=False, compare=False)   # origin and axes as floats, for altitude_scalar
     _gravity_plain: tuple = field(init=False, repr=False, compare=False)  # (mu, centre) or (0, uniform g), floats
+    _normal: tuple | None = field(init=False, repr=False, compare=False)  # normal_gravity_parameters (or None)
     _frame: np.ndarray = field(init=False, repr=False, compare=False)     # kernel_frame
 
     def __post_init__(self):
@@ -287,7 +315,15 @@ class StartFrame:
             gravity = (0.0, (0.0, 0.0, -float(self.planet.gravity_acceleration)))
         else:
             gravity = (float(self.planet.gravitational_parameter), tuple(self.planet_center.tolist()))
+        normal = None if isinstance(self.planet, FlatPlanet) else self.planet.normal
+        if normal is not None:
+            gravity = (0.0, (0.0, 0.0, 0.0))   # no spherical or uniform part
+            axis = self.axes.T @ np.array([0.0, 0.0, 1.0])
+            normal = (*self.planet_center.tolist(), *axis.tolist(), float(normal.equatorial_radius),
+                      float(normal.polar_radius), float(normal.equator_and_pole[0]), float(normal.k), float(normal.m),
+                      abs(float(self.planet.rotation_rate)))
         object.__setattr__(self, "_gravity_plain", gravity)
+        object.__setattr__(self, "_normal", normal)
         flat = isinstance(self.planet, FlatPlanet)
         semi_axes = (1.0, 1.0) if flat else (self.planet.equatorial_radius, self.planet.polar_radius)
         object.__setattr__(self, "_frame", np.array([*self._plain, *semi_axes, 1.0 if flat else 0.0]))
@@ -343,10 +379,15 @@ class StartFrame:
     def down(self, local) -> np.ndarray:
         """Unit vectors along gravity (start-frame axes) at start-frame positions (m), shape (..., 3): the plumb
         line a hanging body settles to (toward the planet centre; straight down on a flat planet). The planet's
-        rotation is left out (0.1 deg on Earth)."""
+        rotation is left out (0.1 deg on Earth); with normal gravity it is the ellipsoid normal, rotation included."""
         local = np.asarray(local, dtype=float)
         if isinstance(self.planet, FlatPlanet):
             return np.broadcast_to(np.array([0.0, 0.0, -1.0]), local.shape).copy()
+        if self._normal is not None:   # along normal gravity: the plumb line of a body at rest on the ground
+            at_rest = (*self._normal[:-1], 0.0)
+            flat = local.reshape(-1, 3)
+            g = np.array([normal_gravity(*at_rest, *map(float, point)) for point in flat]).reshape(local.shape)
+            return g / np.linalg.norm(g, axis=-1, keepdims=True)
         toward = self.planet_center - local
         return toward / np.linalg.norm(toward, axis=-1, keepdims=True)
 
@@ -363,15 +404,23 @@ class StartFrame:
 
     def gravity_scalar(self, x: float, y: float, z: float) -> tuple:
         """Gravitational acceleration (m/s^2, start-frame axes) at one start-frame position (m), in plain floats:
-        -mu r / |r|^3 with r from the planet centre, or the flat planet's uniform g (``gravity_acceleration``)."""
+        -mu r / |r|^3 with r from the planet centre, the flat planet's uniform g (``gravity_acceleration``), or
+        normal gravity (``gravity.normal_gravity``, less the frame's centrifugal term when the frame is inertial)."""
+        if self._normal is not None:
+            return _normal_gravity(*self._normal, float(x), float(y), float(z))
         mu, vector = self._gravity_plain
         return gravity_acceleration(mu, *vector, x, y, z)
 
     def gravity_parameters(self) -> tuple:
         """(mu in m^3/s^2, planet centre in m) or (0, uniform g in m/s^2): ``gravity_acceleration``'s first
-        arguments."""
+        arguments; (0, 0, 0, 0) with normal gravity (``normal_gravity_parameters`` then)."""
         mu, vector = self._gravity_plain
         return mu, *vector
+
+    def normal_gravity_parameters(self) -> tuple | None:
+        """Normal gravity as ``gravity.normal_gravity``'s first arguments (``gravity.NORMAL_COLUMNS`` floats), the
+        frame rotation's rate last; None with spherical or uniform gravity."""
+        return self._normal
 
 
 @kernel
@@ -411,3 +460,4 @@ def _rotate(vectors, axis_rate, time):
 
 
 _start_altitude = bound(start_altitude)   # ``StartFrame.altitude_scalar``: per stage for a canopy's apparent mass
+_normal_gravity = bound(normal_gravity)   # ``StartFrame.gravity_scalar``: the engine's normal-gravity loads per stage

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from .aerodynamics import HEADER_BODY_COUNT, WORK_STATUS, aerodynamics_stage
 from .compiled import kernel
-from .kinematics import add_gravity_forces, body_states
+from .gravity import normal_gravity
+from .kinematics import add_gravity_forces, add_normal_gravity_forces, body_states
 from .planet import gravity_acceleration
 from .reduced_canopy import canopy_stage
 from .singular_perturbation import (
@@ -22,10 +23,11 @@ from .singular_perturbation import (
 
 (MEMORY_POSITION, MEMORY_STAGE_VELOCITIES, MEMORY_V0, MEMORY_SETTINGS, MEMORY_ORDER, MEMORY_GRAVITY, MEMORY_TIMES,
  MEMORY_NEWER, MEMORY_OLDER, MEMORY_ACCELERATION, MEMORY_CLOCK, MEMORY_DUE, MEMORY_RUN, MEMORY_END,
- MEMORY_END_SOLVE, MEMORY_CANOPY, MEMORY_AIR) = 0, 1, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19
+ MEMORY_END_SOLVE, MEMORY_CANOPY, MEMORY_AIR, MEMORY_NORMAL) = (0, 1, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
+                                                                18, 19, 20)
 """The rows of an SP confluence's memory by name (see MEMORY_ROWS; MEMORY_STAGE_VELOCITIES is k_1, the first of
 four)."""
-MEMORY_ROWS = 20
+MEMORY_ROWS = 24
 """Rows (of 3 floats) of an SP confluence's memory for ``sp_rk_stage``:
 
 0 the confluence position q_n at the start of the step under way (m); 1-4 the stage velocities k_1 .. k_4 of the
@@ -44,7 +46,10 @@ stages); 15 (the run's step as the engine holds it in s, 0 until the solver sets
 A reduced canopy (``physics.reduced_canopy``; the confluence's state is then its drag point P at the riser's end):
 18 (its state row in the stage's states + 1, 0 without a reduced canopy; its drag coefficient 1/2 rho S C_A in kg/m;
 the distance from P back to its centre of mass in m); 19 the air's velocity at it (m/s). The air is the one at the
-start of the step, set before each step (``methods.sp``)."""
+start of the step, set before each step (``methods.sp``).
+
+20-23 normal gravity (``gravity.NORMAL_COLUMNS``: planet centre, spin axis, a and b, gamma_e, k, m, the frame's
+rotation rate), all 0 with spherical or uniform gravity (rows 7 and 8 then): ``confluence_gravity``."""
 
 # The columns of the memory rows that hold three different things (the other rows hold x, y, z):
 SETTING_MASS, SETTING_KAPPA, SETTING_FORCE_SLACK = 0, 1, 2      # MEMORY_SETTINGS: m_c (kg), kappa_max, force rule
@@ -75,15 +80,43 @@ RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
 
 @kernel
+def confluence_gravity(memory, x, y, z):
+    """The gravity (m/s^2) at the start-frame point (x, y, z) (m) of the planet the memory holds: normal gravity
+    (``gravity.normal_gravity``) when its rows hold a semi-axis a > 0, else ``planet.gravity_acceleration`` with
+    rows 7 and 8 (the same call as before normal gravity existed: the same bits)."""
+    n = MEMORY_NORMAL
+    if memory[n + 2, 0] > 0.0:
+        return normal_gravity(memory[n, 0], memory[n, 1], memory[n, 2], memory[n + 1, 0], memory[n + 1, 1],
+                              memory[n + 1, 2], memory[n + 2, 0], memory[n + 2, 1], memory[n + 2, 2],
+                              memory[n + 3, 0], memory[n + 3, 1], memory[n + 3, 2], x, y, z)
+    g = MEMORY_GRAVITY
+    return gravity_acceleration(memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2], x, y, z)
+
+
+@kernel
+def add_body_gravity(bodies, states, memory, generalized):
+    """The gravity of the bodies whose layout rows carry their mass, from the planet the memory holds (as
+    ``confluence_gravity``): ``kinematics.add_normal_gravity_forces`` or ``kinematics.add_gravity_forces`` (the
+    same call as before normal gravity existed: the same bits)."""
+    n = MEMORY_NORMAL
+    if memory[n + 2, 0] > 0.0:
+        add_normal_gravity_forces(bodies, states, memory[n, 0], memory[n, 1], memory[n, 2], memory[n + 1, 0],
+                                  memory[n + 1, 1], memory[n + 1, 2], memory[n + 2, 0], memory[n + 2, 1],
+                                  memory[n + 2, 2], memory[n + 3, 0], memory[n + 3, 1], memory[n + 3, 2], generalized)
+        return
+    g = MEMORY_GRAVITY
+    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2],
+                       generalized)
+
+
+@kernel
 def _mass_term(memory, t, qx, qy, qz):
     """The order-1 mass term (``MassTerm``) as (rate, b0 x, y, z): the reference velocity is the latest recorded
     end-of-step velocity from before ``t``; with none, the carried acceleration enters as a force."""
     if memory[MEMORY_ORDER, ORDER_FIRST] < 0.5:
         return 0.0, 0.0, 0.0, 0.0
     m = memory[MEMORY_SETTINGS, SETTING_MASS]
-    g = MEMORY_GRAVITY
-    mu = memory[MEMORY_ORDER, ORDER_MU]
-    gx, gy, gz = gravity_acceleration(mu, memory[g, 0], memory[g, 1], memory[g, 2], qx, qy, qz)
+    gx, gy, gz = confluence_gravity(memory, qx, qy, qz)
     for j in range(int(memory[MEMORY_ORDER, ORDER_RECORDED])):   # the newer first
         time = memory[MEMORY_TIMES, TIME_NEWER + j]
         if time < t:
@@ -117,10 +150,8 @@ def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
     if layout.shape[0] == 2:   # a pair in series: no mass term in a solve; order 1 keeps the confluence's weight
         rate, bx, by, bz = 0.0, 0.0, 0.0, 0.0
         if memory[MEMORY_ORDER, ORDER_FIRST] > 0.5:
-            m, g = memory[MEMORY_SETTINGS, SETTING_MASS], MEMORY_GRAVITY
-            gx, gy, gz = gravity_acceleration(memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2],
-                                              qx,
-                                              qy, qz)
+            m = memory[MEMORY_SETTINGS, SETTING_MASS]
+            gx, gy, gz = confluence_gravity(memory, qx, qy, qz)
             bx, by, bz = m * gx, m * gy, m * gz
     else:
         rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
@@ -329,7 +360,7 @@ def sp_step_stage_with_bodies(q, q_t, t, bodies, states, layout, tables, work, p
     coordinates, the SP solve, the lines' generalized forces into ``generalized`` and the bodies' aerodynamic loads
     added (as ``sp_rk_stage_with_bodies``). At a step's first stage with the last step's end-of-step work due, that
     work first (``sp_first_stage_with_bodies``). Last, the gravity of the bodies whose layout rows carry their mass
-    (``kinematics.add_gravity_forces``), added after everything else as the engine's gravity connectors would add
+    (``add_body_gravity``), added after everything else as the engine's gravity connectors would add
     it. Returns the sum of its flags: STAGE_SETTLED when it did the end-of-step work, STAGE_AERODYNAMICS_FAILED when
     the aerodynamics reported a problem and added nothing (their status in ``aerodynamic_work``; the gravity is then
     left to the caller too)."""
@@ -351,7 +382,5 @@ def sp_step_stage_with_bodies(q, q_t, t, bodies, states, layout, tables, work, p
                                 aerodynamic_work)
     if aerodynamic_work[WORK_STATUS] != 0.0:   # the aerodynamics added nothing: the caller adds them, then the gravity
         return done + STAGE_AERODYNAMICS_FAILED
-    g = MEMORY_GRAVITY
-    add_gravity_forces(bodies, states, memory[MEMORY_ORDER, ORDER_MU], memory[g, 0], memory[g, 1], memory[g, 2],
-                       generalized)
+    add_body_gravity(bodies, states, memory, generalized)
     return done
