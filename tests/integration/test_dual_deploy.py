@@ -59,6 +59,8 @@ def test_the_dual_deploy_runs_from_apogee_to_touchdown(tmp_path, capsys):
     assert events["cutaway", "drogue"]["time"] == main_deploy["time"]
     touchdown = events["touchdown", None]
     assert 120.0 < touchdown["time"] < 180.0 and 5.0 < touchdown["vertical_speed"] < 8.0
+    # still air, no rotation, normal gravity: nothing pushes it north (spherical gravity drifted it 7.7 m there)
+    assert abs(summary["final"]["vehicle_north"]) < 0.01
 
 
 def test_the_start_comes_from_a_rocketpy_export(tmp_path, capsys):
