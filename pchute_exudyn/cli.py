@@ -163,7 +163,8 @@ def _run_case(args, figure) -> int:
 
 def _add_new(subparsers) -> None:
     from .case.canopy_types import CANOPY_TYPES
-    from .case.new import PLANETS, choice_fields, command_help
+    from .case.new import choice_fields, command_help
+    from .case.new_planets import PLANETS
 
     new = subparsers.add_parser(
         "new", help="write a new, runnable case file from a few choices",

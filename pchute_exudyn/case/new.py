@@ -31,7 +31,6 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 
 from ..errors import InputError
-from ..physics.atmosphere import US76, MarsGRC
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency, spread_directions, touching_spread
 from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
@@ -40,22 +39,8 @@ from .canopy_types import CANOPY_TYPES
 from .columns import column
 from .model import Contact
 from .new_checks import check_choice, check_integer, check_number, check_positive
+from .new_planets import PLANETS, gravity_at
 
-PLANETS = {   # name -> (planet table lines, atmosphere model, surface gravity m/s^2, density model, radius m)
-    "mars": (['name = "Mars"', "gravitational_parameter = 4.282837e13      # m^3/s^2 (Konopliv et al. 2006)",
-              "equatorial_radius = 3396190.0              # m (IAU/IAG, Seidelmann et al. 2002)",
-              "polar_radius = 3376200.0                   # m (IAU/IAG)",
-              "rotation_rate = 0.0                        # rad/s: the frame turns with Mars (7.088218e-5: inertial)",
-              'gravity_model = "normal"                   # spin_rate 7.088218e-5 rad/s by default (gravity.md)'],
-             "mars_grc", 4.282837e13 / 3396190.0**2, MarsGRC, 3396190.0),
-    "earth": (['name = "Earth"', "gravitational_parameter = 3.986004418e14   # m^3/s^2 (WGS-84)",
-               "equatorial_radius = 6378137.0              # m", "polar_radius = 6356752.314245             # m",
-               "rotation_rate = 0.0                        # rad/s: the frame turns with the Earth (7.292115e-5: "
-               "inertial)", 'gravity_model = "normal"                   # spin_rate 7.292115e-5 rad/s by default '
-               "(gravity.md)"], "us76", 3.986004418e14 / 6378137.0**2, US76, 6378137.0),
-    "flat": (['model = "flat"', "gravity = 9.80665                          # m/s^2"], "us76", 9.80665, US76,
-             math.inf),
-}
 MER_DRAG_AREA = 178.47 * 0.46
 """The default canopy's drag area (m^2): MER's parachute, S0 178.47 m^2 at C_A 0.46 (cases/mer/base.toml)."""
 CANOPY_AREAL_MASS = 0.15
@@ -353,8 +338,8 @@ class _Layout:
         C_V (``vertical_coefficient``: eta C_D0 for one canopy), rho where their drag acts (``canopy_height`` above
         the vehicle)."""
         c = self.choices
-        _, _, surface, atmosphere, radius = PLANETS[c.planet]
-        gravity = surface * (radius / (radius + altitude)) ** 2 if math.isfinite(radius) else surface
+        atmosphere = PLANETS[c.planet][3]
+        gravity = gravity_at(c.planet, 0.0, altitude)   # the single-system case starts at latitude 0
         density = atmosphere().density(altitude + self.canopy_height)
         drag_area = c.canopies * self.vertical_coefficient * self.reference_area
         return math.sqrt(2.0 * self.total_mass * gravity / (density * drag_area))
@@ -369,7 +354,7 @@ def layout(choices: NewCase) -> _Layout:
     line = choices.suspension_line_length or nominal
     if line <= radius:
         raise InputError(f"suspension_line_length = {line!r}: must exceed the canopy's projected radius, {radius:g} m")
-    plan = _Layout(choices, PLANETS[choices.planet][2], area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
+    plan = _Layout(choices, gravity_at(choices.planet), area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
                    choices.bridle_length or choices.diameter, choices.riser_length or 0.5 * nominal,
                    math.sqrt(line**2 - radius**2), radius)
     circle = radius if choices.canopies == 2 else radius / math.sin(math.pi / max(choices.canopies, 2))

@@ -36,11 +36,11 @@ from .new import (
     LINE_DAMPING_TIME,
     LINE_STRAIN,
     NORMAL_COEFFICIENT,
-    PLANETS,
     _n,
     _vector,
 )
 from .new_checks import check_number, check_positive
+from .new_planets import PLANETS, gravity_at
 
 TRIGGER_RATE = 100.0
 """Both triggers' sampling rate (Hz): RocketPy's usual 100 Hz."""
@@ -162,7 +162,7 @@ def nose_attitude_deg(nose) -> tuple:
 def steady_rate(c, drag_area: float, altitude: float) -> float:
     """The rocket's steady rate of descent (m/s) under a drag area (m^2) at ``altitude`` (m): sqrt(2 m g / (rho
     C_D S)), m the rocket's mass (gear included), g the planet's surface gravity."""
-    _, _, gravity, atmosphere, _ = PLANETS[c.planet]
+    gravity, atmosphere = gravity_at(c.planet, c.latitude or 0.0, altitude), PLANETS[c.planet][3]
     return math.sqrt(2.0 * c.mass * gravity / (atmosphere().density(altitude) * drag_area))
 
 
@@ -266,7 +266,7 @@ def _system(c, which: str) -> list:
                "   # after the first sample past apogee" if which == "drogue" else
                f'deploy_trigger = {{ quantity = "altitude", below = {_n(c.main_height)}, reference = "ground", '
                f"rate = {_n(TRIGGER_RATE)} }}   # m above the ground")
-    weight = c.mass * PLANETS[c.planet][2]
+    weight = c.mass * gravity_at(c.planet, c.latitude or 0.0, ground(c))
     rows = [f"[systems.{which}]", f'canopy = "{which}_canopy"',
             'canopy_model = "reduced"   # a light canopy: a drag point at the riser\'s end (docs/models/'
             "reduced_canopy.md)", "packed = true   # its canopy and confluence ride in the rocket until it deploys",
@@ -287,7 +287,7 @@ def _system(c, which: str) -> list:
 def _simulation(c) -> list:
     drogue_time = (start_height(c) - c.main_height) / steady_rate(c, c.drogue_drag_area, ground(c))
     main_time = c.main_height / steady_rate(c, c.main_drag_area, ground(c))
-    climb = max(c.velocity_up or 0.0, 0.0) / PLANETS[c.planet][2]
+    climb = max(c.velocity_up or 0.0, 0.0) / gravity_at(c.planet, c.latitude or 0.0, ground(c))
     duration = 10.0 * math.ceil((1.25 * (drogue_time + main_time) + 2.0 * climb + c.apogee_lag + 20.0) / 10.0)
     return ["[simulation]", f"duration = {_n(duration)}   # s: an upper bound; the run ends at touchdown",
             "output_step = 0.05                         # s", f"ground_altitude = {_n(ground(c))}   # m",

@@ -34,6 +34,7 @@ import math
 from dataclasses import dataclass
 
 from .compiled import kernel
+from .geodesy import bowring
 
 WGS84_GM = 3.986004418e14
 """WGS-84 GM (m^3/s^2), NIMA TR8350.2 (3rd ed., 2000) table 3.1."""
@@ -171,24 +172,13 @@ def normal_gravity(cx, cy, cz, ux, uy, uz, a, b, gamma_e, k, m, rate, x, y, z):
     the ellipsoid normal, less rate^2 r_perp (the centrifugal part of a frame that does not turn with the planet;
     rate in rad/s, 0 for none). (cx, cy, cz) is the planet centre (m), (ux, uy, uz) the unit spin axis, a and b the
     semi-axes (m), gamma_e (m/s^2), k and m as ``NormalGravity``. Geodetic latitude and height by two Bowring
-    iterations (as ``planet._geodetic``)."""
+    iterations (``geodesy.bowring``, as ``planet._geodetic``)."""
     rx, ry, rz = x - cx, y - cy, z - cz
     along = rx * ux + ry * uy + rz * uz            # distance along the spin axis (m)
     px, py, pz = rx - along * ux, ry - along * uy, rz - along * uz   # r_perp (m)
     p = math.sqrt(px * px + py * py + pz * pz)
+    sl, cl, height = bowring(p, along, a, b, 2)
     e2 = 1.0 - (b * b) / (a * a)
-    ep2 = (a * a) / (b * b) - 1.0
-    sb, cb = a * along, b * p                      # reduced latitude, first guess
-    sl, cl = 0.0, 1.0
-    for _ in range(2):
-        norm = math.sqrt(sb * sb + cb * cb)
-        sb, cb = sb / norm, cb / norm
-        sl = along + ep2 * b * sb * sb * sb
-        cl = p - e2 * a * cb * cb * cb
-        norm = math.sqrt(sl * sl + cl * cl)
-        sl, cl = sl / norm, cl / norm
-        sb, cb = b * sl, a * cl
-    height = p * cl + along * sl - a * math.sqrt(1.0 - e2 * sl * sl)
     s2 = sl * sl
     f = (a - b) / a
     gamma = gamma_e * (1.0 + k * s2) / math.sqrt(1.0 - e2 * s2)                    # Somigliana

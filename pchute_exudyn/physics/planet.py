@@ -21,6 +21,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from .compiled import JIT, bound, kernel
+from .geodesy import bowring
 from .gravity import NormalGravity, normal_gravity
 
 _MATH = SimpleNamespace(sin=math.sin, cos=math.cos, atan2=math.atan2, hypot=math.hypot, sqrt=math.sqrt)
@@ -114,17 +115,7 @@ def geodetic_height(x, y, z, a, b):
     """Geodetic height (m) of the planet-centred point (x, y, z) (m) on the ellipsoid of semi-axes a, b (m): one
     Bowring iteration, the scalar form of ``_geodetic`` (whose array form the histories use; the tests check that
     they agree), compiled for the per-stage kernels."""
-    e2 = 1.0 - (b * b) / (a * a)
-    ep2 = (a * a) / (b * b) - 1.0
-    p = hypot(x, y)
-    sb, cb = a * z, b * p
-    norm = math.sqrt(sb * sb + cb * cb)
-    sb, cb = sb / norm, cb / norm
-    sl = z + ep2 * b * sb * sb * sb
-    cl = p - e2 * a * cb * cb * cb
-    norm = math.sqrt(sl * sl + cl * cl)
-    sl, cl = sl / norm, cl / norm
-    return p * cl + z * sl - a * math.sqrt(1.0 - e2 * sl * sl)
+    return bowring(hypot(x, y), z, a, b, 1)[2]
 
 
 FRAME_COLUMNS = 15
