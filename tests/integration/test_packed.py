@@ -75,10 +75,10 @@ def _case(tmp_path: Path, deploy: str = FIXED, packed: str = "packed = true", ex
     return load_case(path)
 
 
-def _phases(monkeypatch) -> list:
-    """Record (case, phase) of every phase model the full-mass method builds (what the run flies)."""
+def recorded_phases(monkeypatch, method_name: str = "full") -> list:
+    """Record (case, phase) of every phase model the method builds (what the run flies)."""
     built = []
-    method = METHODS.resolve("full")
+    method = METHODS.resolve(method_name)
     build = method.build
 
     def recording(self, case, phase):
@@ -107,7 +107,7 @@ def _deploy_time(result) -> float:
 
 @pytest.mark.parametrize("deploy", [FIXED, TRIGGERED], ids=["fixed", "triggered"])
 def test_the_suspended_mass_is_the_same_before_and_after_the_deployment(tmp_path, monkeypatch, deploy):
-    built = _phases(monkeypatch)
+    built = recorded_phases(monkeypatch)
     result = simulate(_case(tmp_path, deploy))
     deployed = _deploy_time(result)
     assert [p.bodies for _, p in built if p.start < deployed] and all(p.bodies == ["vehicle"] for _, p in built
@@ -143,7 +143,7 @@ def test_the_packed_gear_rides_at_the_deploy_point(tmp_path):
 @pytest.mark.parametrize("deploy", [FIXED, TRIGGERED], ids=["fixed", "triggered"])
 def test_in_vacuum_the_pair_falls_freely_and_keeps_its_momentum_through_the_deployment(tmp_path, monkeypatch,
                                                                                         deploy):
-    built = _phases(monkeypatch)
+    built = recorded_phases(monkeypatch)
     result = simulate(_case(tmp_path, deploy))
     deployed = _deploy_time(result)
     t = result["time"]
@@ -215,7 +215,7 @@ def test_a_canopy_that_never_leaves_the_vehicle_rides_at_the_deploy_point_throug
     path.write_text(text)
     case = load_case(path)
     assert [r.name for r in carried(case, 0.6)] == ["spare"]
-    built = _phases(monkeypatch)
+    built = recorded_phases(monkeypatch)
     simulate(case, duration=0.7)
     assert {p.start for _, p in built} == {0.0, 0.5}
     for flown, phase in built:

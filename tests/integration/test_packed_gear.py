@@ -10,11 +10,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from pchute_exudyn import METHODS, load_case, simulate
+from pchute_exudyn import load_case, simulate
 from pchute_exudyn.case.carried import carried, suspended_mass, vehicle_with
 from pchute_exudyn.case.events import with_event_times
 from pchute_exudyn.errors import CaseError
 from tests.helpers import ROOT
+from tests.integration.test_packed import recorded_phases
 
 SHIPPED = [path for path in sorted((ROOT / "cases").rglob("*.toml")) if path.name != "base.toml"]
 ROCKET = ROOT / "cases" / "rocket" / "dual_deploy.toml"
@@ -53,15 +54,7 @@ def test_the_suspended_mass_is_the_same_before_and_after_every_deployment(path):
 def test_every_phase_a_run_flies_has_the_mass_the_case_accounts(monkeypatch, name, duration):
     """What the engine is given in each phase (its bodies, the vehicle as the composite it flies, its confluences)
     against ``suspended_mass``; the rocket's and the EDL case's stay constant through their deployments."""
-    built = []
-    method = METHODS.resolve("sp")
-    build = method.build
-
-    def recording(self, case, phase):
-        built.append((case, phase))
-        return build(self, case, phase)
-
-    monkeypatch.setattr(method, "build", recording)
+    built = recorded_phases(monkeypatch, "sp")
     case = load_case(ROOT / "cases" / name)
     result = simulate(case, "sp", duration=duration)
     fired = {f"{e.get('system', e.get('body'))}.{e['event']}": e["time"] for e in result.summary["events"]
