@@ -192,13 +192,14 @@ def _add_new(subparsers) -> None:
 
 
 def _new(args) -> int:
-    from .case.new import NewCase, layout, new_case_text
+    from .case.new import layout
+    from .case.new_checks import checked_case_text, new_choices
     from .results.io import atomic_write_text
 
     given = {key.removeprefix("new_"): value for key, value in vars(args).items()
              if key.startswith("new_") and value is not None}
     given.setdefault("name", Path(args.file).stem)
-    choices = NewCase(**given)
+    choices = new_choices(given)
     if choices.from_rocketpy is not None:
         from .case.new_rocket import started_from
         from .results.rocketpy_export import apogee_state
@@ -214,8 +215,7 @@ def _new(args) -> int:
         raise InputError(f"{path} exists; pass --overwrite to replace it")
     if not path.parent.is_dir():
         raise InputError(f"{path}: the folder {path.parent} does not exist")
-    text = new_case_text(choices)
-    atomic_write_text(path, text)
+    atomic_write_text(path, checked_case_text(choices))
     if choices.dual_deploy:
         from .case.new_rocket import start_height
         print(f"wrote {path}: {choices.mass:g} kg rocket, dual deploy from {start_height(choices):.1f} m above the "
@@ -274,6 +274,8 @@ def _compare(args) -> int:
     from .results.compare import compare_results
     from .results.result import Result, parse_column_map
 
+    if args.out is not None and not args.out.strip():   # Path("") is the working folder: never meant
+        raise InputError(f"--out = {args.out!r}: must name a folder for the report (or leave --out out to print it)")
     settle = DEFAULT_SETTLE if args.settle is None else args.settle
     if not (math.isfinite(settle) and settle >= 0.0):
         raise InputError(f"--settle = {settle!r}: must be >= 0 (s) and finite")

@@ -35,6 +35,7 @@ from .read_triggers import check_triggers, read_separations
 from .read_world import read_atmosphere, read_planet, read_simulation, read_start
 from .start import Release, ground_relative
 from .trigger_reach import unreachable_triggers
+from .unit_slips import unit_slips
 
 
 def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:
@@ -121,7 +122,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     check_triggers(top, triggers, systems, failures, separations, atmosphere)
     top.allowed.extend(("extends", "remove"))
     top.finish()
-    warnings = check_plausible(data, ctx) + unreachable_triggers(
+    warnings = check_plausible(data, ctx) + unit_slips(bodies[vehicle]) + unreachable_triggers(
         triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude)
     check_escape(body_tables, bodies, planet)
     case = Case(name=name, description=description, source=source, planet=planet, start=start,

@@ -38,7 +38,7 @@ from ..physics.shapes import hemispherical_shell_inertia, solid_cylinder_inertia
 from .canopy_types import CANOPY_TYPES
 from .columns import column
 from .model import Contact
-from .new_checks import check_choice, check_integer, check_number, check_positive
+from .new_checks import check_choice, check_integer, check_needs, check_number, check_positive, check_reader_ranges
 from .new_planets import PLANETS, gravity_at
 
 MER_DRAG_AREA = 178.47 * 0.46
@@ -223,6 +223,8 @@ class NewCase:
         from . import new_rocket  # it builds on this module
 
         new_rocket.check_choices(self)
+        check_reader_ranges(self)
+        check_needs(self, [f.name for f in fields(self) if getattr(self, f.name) != f.default])
 
     def _check_release(self) -> None:
         if self.release_airspeed is not None:

@@ -41,3 +41,69 @@ def check_choice(key, value, table) -> None:
     """InputError unless ``value`` is a key of ``table``."""
     if value not in table:
         raise InputError(f"{key} = {value!r}: must be one of: {', '.join(table)}")
+
+
+READER_KEYS = {"mass": "bodies.vehicle.mass", "canopy_mass": "bodies.canopy.mass", "drogue_mass": "bodies.drogue.mass",
+               "main_mass": "bodies.main.mass",
+               "speed": "bodies.vehicle.initial.velocity_down", "wind_speed": "atmosphere.wind.speed",
+               "release_airspeed": "start.release.airspeed",
+               "velocity_east": "bodies.vehicle.initial.velocity_east",
+               "velocity_north": "bodies.vehicle.initial.velocity_north",
+               "velocity_up": "bodies.vehicle.initial.velocity_down"}
+"""A NewCase field -> the case key it becomes, whose range (``case.plausible.RANGES``) the case reader checks."""
+NEEDS = {"static_line_time": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),
+         "release_heading_deg": ("release_airspeed", "the heading is the aircraft's at a release"),
+         "release_flight_path_deg": ("release_airspeed", "the flight path is the aircraft's at a release"),
+         "wind_from_deg": ("wind_speed", "the direction is a wind's")}
+"""A NewCase field that means something only with another: field -> (that field, what the first is)."""
+
+
+def check_reader_ranges(c) -> None:
+    """InputError for a NewCase field outside the range the case reader allows for the key it becomes (a mass of
+    1e30 kg, a speed of 1e6 m/s): ``pchute new`` never writes a file ``pchute run`` refuses."""
+    from .plausible import check_value
+
+    for field, key in READER_KEYS.items():
+        value = getattr(c, field, None)
+        if is_finite(value):
+            error, _ = check_value(key, value)
+            if error is not None:
+                raise InputError(f"{field} = {short_repr(value)}: {error} (the case reader's range of {key})")
+    if not isinstance(c.name, str) or not c.name.isprintable():
+        raise InputError(f"name = {short_repr(c.name)}: must be one line of printable text (the case's name)")
+
+
+def check_needs(c, given) -> None:
+    """InputError for a field of ``given`` (names) that means nothing without another (NEEDS): one line naming both
+    (``--static-line-time`` without ``--release-airspeed`` would be dropped from the file)."""
+    for field in given:
+        if field in NEEDS and not getattr(c, NEEDS[field][0]):
+            needed, what = NEEDS[field]
+            raise InputError(f"{field} = {short_repr(getattr(c, field))}: only with {needed} "
+                             f"(--{needed.replace('_', '-')}): {what}; without it the file would drop it")
+
+
+def new_choices(given: dict):
+    """The NewCase of ``pchute new``'s options ``given`` (field -> value), each option that needs another checked
+    even at its default value."""
+    from .new import NewCase
+
+    choices = NewCase(**given)
+    check_needs(choices, given)
+    return choices
+
+
+def checked_case_text(choices) -> str:
+    """``new_case_text(choices)``, read back by the case reader first: a file ``pchute run`` would refuse is an
+    InputError naming the reader's complaint, never written."""
+    from ..errors import CaseError
+    from .files import tomllib
+    from .loader import build_case
+    from .new import new_case_text
+
+    text = new_case_text(choices)
+    try:
+        build_case(tomllib.loads(text), {}, f"the case `pchute new` would write for {choices.name!r}")
+    except CaseError as exc:
+        raise InputError(f"these choices make a case `pchute run` refuses: {exc}") from None
+    return text

@@ -9,7 +9,11 @@ when the vehicle already descends or hangs at apogee (``physics.triggers.Apogee`
 
 from __future__ import annotations
 
-from ..physics.triggers import Threshold
+from ..physics.triggers import QUANTITY, Apogee, Threshold, UserFunction, leaves
+
+SENSOR_ERRORS = {"pressure_noise": "pressure", "pressure_bias": "pressure", "correlation_time": "pressure",
+                 "speed_noise": "speed", "speed_bias": "speed"}
+"""A trigger's sensor keys of an error, and the error each is of (``physics.triggers.Quantity.error``)."""
 
 
 def unreachable_triggers(triggers: dict, initial, ground_altitude: float | None) -> tuple:
@@ -32,3 +36,28 @@ def unreachable_triggers(triggers: dict, initial, ground_altitude: float | None)
                          f"{initial.altitude:g} m, below {level:g} m, and does not climb (vertical speed "
                          f"{0.0 - initial.velocity_down + 0.0:g} m/s)")
     return tuple(lines)
+
+
+def errors_reaching(condition) -> set:
+    """The sensor errors ("pressure", "speed") that reach what ``condition`` reads: a threshold's quantity's own error
+    (a derived one, Mach number and dynamic pressure, reads the sensed air speed: the speed error), both for an
+    apogee (vertical velocity and altitude) and a user function (every sensed value), none for a time."""
+    reached = set()
+    for leaf in leaves(condition):
+        if isinstance(leaf, Threshold):
+            quantity = QUANTITY[leaf.quantity]
+            reached.add("speed" if quantity.derive is not None else quantity.error)
+        elif isinstance(leaf, (Apogee, UserFunction)):
+            reached.update(("pressure", "speed"))
+    return reached
+
+
+def idle_sensor_key(triggers: dict, key: str) -> str | None:
+    """Why case key ``key`` (full dotted) changes nothing, when it is a sensor error of a trigger in ``triggers`` that
+    the trigger's condition does not read (pressure_bias on a Mach trigger); None otherwise."""
+    owner, _, name = key.rpartition(".")
+    error = SENSOR_ERRORS.get(name)
+    for trigger in triggers.values():
+        if error is not None and trigger.key == owner and error not in errors_reaching(trigger.condition):
+            return f"{owner} ({trigger.describe()}) reads no value its {error} error reaches"
+    return None

@@ -11,11 +11,13 @@ from ..errors import PchuteError
 
 def event_times(summary: dict) -> dict:
     """Event label -> time (s) of a run's summary: 'deploy main', 'cutaway drogue', 'descent_rate', 'touchdown'
-    (the first of each); a cluster's canopy events name the canopy too ('disreef main main2')."""
+    (the first of each), 'separation <body>'; a cluster's canopy events name the canopy too ('disreef main main2')."""
     times = {}
     for e in summary.get("events", []):
         label = " ".join(str(e[key]) for key in ("event", "system", "canopy") if key in e)
         times.setdefault(label, e["time"])
+        if "body" in e:   # 'separation heat_shield'; 'separation' alone is the only separating body's
+            times.setdefault(f"{label} {e['body']}", e["time"])
     return times
 
 
@@ -60,6 +62,7 @@ def evaluate(case_file: str, overrides: dict, configuration, targets) -> dict:
         record["predictions"], record["missing_events"] = predictions(result, targets)
         record["columns"] = [name for name in result.names]
         record["events"] = event_times(result.summary)
+        record["end_time"] = float(result.time[-1])
     except PchuteError as exc:
         record.update(status="failed", error=str(exc))
     except Exception as exc:  # a bug, not a user mistake: still recorded

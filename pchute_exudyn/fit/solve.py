@@ -210,6 +210,7 @@ def _check_base_run(spec: FitSpec, record: dict) -> None:
     if record["status"] != "ok":
         raise InputError(f"the run at the starting values failed: {record['error']}")
     for i, target in enumerate(spec.targets):
+        _check_history_span(i, target, record.get("end_time"))
         if target.name not in record["missing_events"]:
             continue
         if target.kind == "event":
@@ -218,6 +219,18 @@ def _check_base_run(spec: FitSpec, record: dict) -> None:
         similar = difflib.get_close_matches(target.name, record["columns"], n=3)
         raise InputError(f"targets[{i}].{'final' if target.kind == 'final' else 'column'} = {target.name!r}: the run "
                          f"has no such column{'; similar: ' + ', '.join(similar) if similar else ''}")
+
+
+def _check_history_span(i: int, target, end: float | None) -> None:
+    """A history measured past the end of the run at the starting values is refused: the model has no value there
+    (holding its last one would compare the samples with a value the run never computed)."""
+    if target.kind != "history" or end is None or not target.times:
+        return
+    last = max(target.times)
+    if last > end + 1e-9 * max(1.0, abs(end)):
+        raise InputError(f"targets[{i}].history: samples up to {last:g} s run {last - end:g} s past the end of the run "
+                         f"at the starting values ({end:g} s): drop them from the file or lengthen "
+                         "simulation.duration")
 
 
 def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str) -> FitOutcome:

@@ -45,7 +45,7 @@ from ..errors import CaseError, InputError
 from ..results.csv_dialects import map_columns, parse_column_map, read_csv_columns, time_problem
 from ..study.spec import Configuration, read_configuration
 
-EVENT_HELP = "start, deploy <system>, cutaway <system>, descent_rate, touchdown"
+EVENT_HELP = "start, deploy <system>, cutaway <system>, separation <body>, descent_rate, touchdown"
 MAX_RUNS = 200
 """The default budget of runs (``[fit] max_runs``; Jacobian runs included) after which the fit stops and reports
 the best point it reached."""
@@ -149,7 +149,7 @@ def load_fit(path) -> FitSpec:
         raise f.error("case", f"case file not found: {case_path}", f.data["case"])
     max_runs = _read_max_runs(f)
     configuration = read_configuration(f, single_step=True)[0]
-    load_case(case_path)   # the base case must load before its keys are checked
+    case = load_case(case_path)   # the base case must load before its keys are checked
     free_tables = top.named_tables("free")
     if not free_tables:
         raise top.error("free", "a fit needs at least one free key: [free.\"<key>\"] with low and high")
@@ -158,11 +158,21 @@ def load_fit(path) -> FitSpec:
     if not isinstance(raw_targets, list) or not raw_targets:
         raise top.error("targets", "a fit needs at least one [[targets]] table (event, final or history)")
     targets = tuple(_read_target(Table(t, ("targets", i), ctx), path.parent) for i, t in enumerate(raw_targets))
+    _check_separations(ctx, targets, sorted(case.separations))
     top.finish()
     if max_runs < len(free) + 2:
         raise f.error("max_runs", f"must be >= {len(free) + 2}: the starting run and one Jacobian ({len(free)} runs, "
                                   "one per free key) plus a step", max_runs)
     return FitSpec(name, path, case_path, configuration, free, targets, path.read_text(), max_runs)
+
+
+def _check_separations(ctx: Context, targets: tuple, bodies: list) -> None:
+    """Event "separation" names one body's only when one body separates: else the choices ("separation <body>")."""
+    for i, target in enumerate(targets):
+        if target.kind == "event" and target.name == "separation" and len(bodies) > 1:
+            choices = " or ".join(f"'separation {body}'" for body in bodies)
+            raise ctx.error(("targets", i, "event"), f"{len(bodies)} bodies separate in the case "
+                                                     f"({', '.join(bodies)}): name one: {choices}", target.name)
 
 
 def _read_max_runs(f: Table) -> int:

@@ -94,6 +94,29 @@ def failed_runs_markdown(failed: list, parameters: list, describe) -> list:
     return lines
 
 
+def never_fired_counts(rows: list) -> dict:
+    """Per triggered event, how many ok runs ended without it (their ``never_fired`` cell names it)."""
+    counts: dict = {}
+    for r in rows:
+        if r.get("status") == "ok" and isinstance(r.get("never_fired"), str):
+            for event in r["never_fired"].split():
+                counts[event] = counts.get(event, 0) + 1
+    return counts
+
+
+def never_fired_markdown(counts: dict, ok: int) -> list:
+    """Report lines: the ok runs whose trigger never fired, per event (their outputs of it are empty cells, not in
+    the percentiles)."""
+    if not counts:
+        return []
+    lines = ["", "## Triggers that never fired", "",
+             f"Warning: in some of the {ok} ok runs a trigger never fired (each such run's `never_fired` column names "
+             "the event and its journal line in runs.jsonl keeps the warning); the outputs of that event are "
+             "empty in those runs and left out of its percentiles.", "", "| event | ok runs without it |",
+             "|---|---|"]
+    return lines + [f"| {event} | {n} |" for event, n in sorted(counts.items())]
+
+
 def separation_markdown(found: list) -> list:
     """Report lines: which inputs separate the failed runs from the ok runs (``separation``)."""
     if not found:

@@ -42,6 +42,8 @@ from .failures import (
     counts_markdown,
     failed_runs_markdown,
     failure_counts,
+    never_fired_counts,
+    never_fired_markdown,
     separation,
     separation_markdown,
 )
@@ -262,10 +264,13 @@ def study_report(folder) -> dict:
     counts = failure_counts(rows, planned_runs(folder))
     found = separation(ok, [r for r in failed if r.get("reference") != "True"], drawn + grid + ["step"]) \
         if failed and ok else []
+    unfired = never_fired_counts(rows)
     atomic_write_text(out / "failures.json", json_text({**counts, "failed_runs": [int(r["run"]) for r in failed],
-                                                        "separation": found}, indent=2) + "\n")
+                                                        "separation": found,
+                                                        **({"never_fired": unfired} if unfired else {})},
+                                                       indent=2) + "\n")
     paths["failures"] = out / "failures.json"
-    first = _failure_section(counts, rows, failed, found, parameters)
+    first = _failure_section(counts, rows, failed, found, parameters) + never_fired_markdown(unfired, counts["ok"])
     first += choice_markdown([r for r in rows if r.get("reference") != "True"], categorical) if failed else []
     extra = boxes + footprint + _by_category(ok, categorical, outputs) + _ranking(ranking, skipped)
     atomic_write_text(out / "report.md", _markdown(title, first, ok, failed, stats, errors, grid, paths, extra))

@@ -77,6 +77,22 @@ def sequence_outputs(summary: dict) -> dict:
     return out
 
 
+def trigger_outcome(case, summary: dict) -> dict:
+    """What a run's triggers did, for the study's records: ``never_fired``, the triggered events that did not happen
+    (space-separated names, "" when all fired; only for a case with triggers: it explains the run's empty
+    ``deploy_time_<system>`` or ``separation_time_<body>`` cells), and ``warnings``, the run's warnings (the case's
+    and each trigger's "never fired" line; only when there are any: kept in ``runs.jsonl``, not in the tables)."""
+    from ..results.summary import event_from_dict
+
+    out = {}
+    if case.triggers:
+        fired = {getattr(event_from_dict(e), "name", None) for e in summary.get("events", [])}
+        out["never_fired"] = " ".join(event for event in case.triggers if event not in fired)
+    if summary.get("warnings"):
+        out["warnings"] = list(summary["warnings"])
+    return out
+
+
 def _finite(value) -> float | None:
     """``value`` as a float, or None when absent or not finite (an empty cell in the study table)."""
     try:
@@ -144,6 +160,7 @@ def _execute(run: RunSpec, load_case, simulate) -> dict:
         result = simulate(case, c.method, c.integrator, c.step, history=run.history_dir is not None,
                           **dict(c.options))
         record.update(scalar_outputs(result))
+        record.update(trigger_outcome(case, result.summary))
         record["wall_time"] = result.summary["wall_time"]
         record["steps"] = result.summary["steps"]
     except PchuteError as exc:
@@ -314,6 +331,8 @@ def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: i
         errors and the report folder.
     """
     _check_arguments(spec, out, executor, workers, progress, retry_failed)
+    for line in getattr(spec, "warnings", ()):   # a dispersed key with no effect (study.spec)
+        print(f"pchute study: warning: {line}", file=sys.stderr)
     out = Path(out)
     ensure_writable_dir(out)   # before any worker starts: an unwritable folder is one line, at once
     owned = executor is None

@@ -60,9 +60,10 @@ import numpy as np
 from ..boundary import check_path
 from ..case.fields import Context, Table
 from ..case.files import read_toml
-from ..case.loader import load_case
+from ..case.loader import load_case, override_leaves
 from ..case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError, make_options
 from ..case.overrides import Scale
+from ..case.trigger_reach import SENSOR_ERRORS, idle_sensor_key
 from ..errors import CaseError
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
@@ -198,6 +199,7 @@ class StudySpec:
     text: str
     parameter_units: dict = field(default_factory=dict)   # key -> unit ("" for none), for reports
     sampling: str = "random"                              # random, latin_hypercube or sobol (SAMPLINGS)
+    warnings: list = field(default_factory=list)          # one line each (a key with no effect): run_study prints
 
     def design(self) -> np.ndarray | None:
         """(runs, drawn parameters) points in [0, 1) of a Latin hypercube or a scrambled Sobol sequence, seeded
@@ -509,6 +511,7 @@ def _check_parameters(spec: StudySpec, source: str) -> None:
                         break
                     continue
                 applied = True
+                _note_idle_key(spec, case, p.key, loaded)
                 unit = loaded.unit_of(p.key)
                 if unit is not None:
                     spec.parameter_units[p.key] = unit
@@ -521,3 +524,15 @@ def _check_parameters(spec: StudySpec, source: str) -> None:
             if first is not None and (every or not applied):
                 raise CaseError(source, f'parameters."{p.key}"',
                                 f"does not apply to case {case.name}: {first.detail}") from None
+
+
+def _note_idle_key(spec: StudySpec, case: Path, key: str, loaded) -> None:
+    """A warning in ``spec.warnings`` when parameter ``key`` is a trigger's sensor error its condition never reads
+    (pressure_bias on a Mach trigger): every run would be the same whatever the draw."""
+    if key.rpartition(".")[2] not in SENSOR_ERRORS or not loaded.triggers:
+        return
+    for full in override_leaves(case, {key: 987654321.125}):
+        why = idle_sensor_key(loaded.triggers, full)
+        line = f'parameters."{key}": has no effect in case {case.name}: {why}; every run draws it in vain'
+        if why is not None and line not in spec.warnings:
+            spec.warnings.append(line)

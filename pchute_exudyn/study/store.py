@@ -33,6 +33,8 @@ from ..results.journal import RUN_INDEX, RecordFolder, digests, writing
 from .table import PARQUET_NAME, write_parquet
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
+JOURNAL_ONLY = ("warnings",)
+"""Record entries kept in ``runs.jsonl`` alone (lists of text lines): not columns of ``runs.csv``."""
 
 
 class StudyStore(RecordFolder):
@@ -114,7 +116,7 @@ class StudyStore(RecordFolder):
         journal.append(self.folder / "runs.jsonl", record)
         self.records[record["run"]] = record
         row = {**self._input_row(self.runs[record["run"]]), **record}
-        if self._columns is None or any(key not in self._columns for key in row):
+        if self._columns is None or any(key not in self._columns and key not in JOURNAL_ONLY for key in row):
             self.write_table()   # a new column: the whole table with it
             return
         journal.append_text(self.folder / "runs.csv", self._rows_text([row], self._columns))
@@ -139,7 +141,7 @@ class StudyStore(RecordFolder):
         keys = list(FIRST_COLUMNS) + [p.key for p in self.spec.parameters]
         for row in rows:
             for key in row:
-                if key not in keys:
+                if key not in keys and key not in JOURNAL_ONLY:
                     keys.append(key)
         return keys
 

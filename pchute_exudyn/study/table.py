@@ -41,7 +41,11 @@ def load(folder):
         raise InputError("loading a study as a DataFrame needs pandas and pyarrow: pip install -e \".[data]\"")
     folder = Path(folder)
     if (folder / PARQUET_NAME).is_file():
-        return pandas.read_parquet(folder / PARQUET_NAME)
+        try:
+            return pandas.read_parquet(folder / PARQUET_NAME)
+        except Exception as exc:  # pyarrow's ArrowInvalid, OSError ...: a torn or foreign file, one line
+            raise InputError(f"{folder / PARQUET_NAME}: not a Parquet table pchute wrote ({type(exc).__name__}); "
+                             "rerun `pchute study` into the folder to rewrite it from runs.jsonl") from None
     if (folder / "runs.csv").is_file():
         return pandas.read_csv(folder / "runs.csv")
     raise InputError(f"{folder}: no runs.csv: not a study folder (run `pchute study` into it first)")
