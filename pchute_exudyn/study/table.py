@@ -40,12 +40,12 @@ def load(folder):
     if pandas is None:
         raise InputError("loading a study as a DataFrame needs pandas and pyarrow: pip install -e \".[data]\"")
     folder = Path(folder)
-    if (folder / PARQUET_NAME).is_file():
-        try:
-            return pandas.read_parquet(folder / PARQUET_NAME)
-        except Exception as exc:  # pyarrow's ArrowInvalid, OSError ...: a torn or foreign file, one line
-            raise InputError(f"{folder / PARQUET_NAME}: not a Parquet table pchute wrote ({type(exc).__name__}); "
-                             "rerun `pchute study` into the folder to rewrite it from runs.jsonl") from None
-    if (folder / "runs.csv").is_file():
-        return pandas.read_csv(folder / "runs.csv")
+    for name, read in ((PARQUET_NAME, pandas.read_parquet), ("runs.csv", pandas.read_csv)):
+        if (folder / name).is_file():
+            try:
+                return read(folder / name)
+            except Exception as exc:  # pyarrow's ArrowInvalid, a decode error ...: a torn or foreign file, one line
+                raise InputError(f"{folder / name}: not a {'Parquet' if name == PARQUET_NAME else 'CSV'} table "
+                                 f"pchute wrote ({type(exc).__name__}); rerun `pchute study` into the folder to "
+                                 "rewrite it from runs.jsonl") from None
     raise InputError(f"{folder}: no runs.csv: not a study folder (run `pchute study` into it first)")

@@ -65,15 +65,19 @@ def test_a_dispersed_key_with_no_effect_warns_in_one_line(tmp_path):
 
 
 def test_a_corrupt_parquet_table_is_one_line_naming_the_file(tmp_path):
-    import pchute_exudyn as pc
+    from pchute_exudyn import study
 
     pytest.importorskip("pyarrow")
     (tmp_path / "runs.csv").write_text("run,status\n0,ok\n")
     (tmp_path / "runs.parquet").write_bytes(b"PAR1 this is no table PAR1")
     with pytest.raises(InputError) as info:
-        pc.study.load(tmp_path)
+        study.load(tmp_path)
     message = str(info.value)
     assert len(message.splitlines()) == 1 and message.startswith(f"{tmp_path / 'runs.parquet'}: not a Parquet table")
+    (tmp_path / "runs.parquet").unlink()
+    (tmp_path / "runs.csv").write_bytes(b"run,status\n0,\xff\xfe\n")
+    with pytest.raises(InputError, match="runs.csv: not a CSV table pchute wrote"):
+        study.load(tmp_path)
 
 
 # -- fits of events ---------------------------------------------------------------------------------------------------
