@@ -12,7 +12,7 @@ the targets, validated into a ``FitSpec``. Paths in a fit file are relative to i
     initial = 0.76                # default: the case's value
 
     [[targets]]                   # an event's time (s): start, deploy <system>, cutaway <system>, descent_rate,
-    event = "touchdown"           # touchdown (as the run's summary names them)
+    event = "touchdown"           # touchdown, separation <body> (as the run's summary names them)
     time = 78.87
     std = 0.1                     # or weight = 10 (1 / std)
 

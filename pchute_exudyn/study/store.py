@@ -4,9 +4,10 @@
   every file the study reads (its cases and their ``extends`` chains);
 * ``.pchute.lock``: locked while a study works in the folder (``journal.FolderLock``): a second one is refused;
 * ``inputs.csv``: every planned run and its inputs, written before the first run;
-* ``runs.jsonl``: one line per finished run (inputs, outputs, status, error), appended and flushed to disk as each
-  run finishes, each line with its checksum (``journal``): the record that survives a crash (a torn or corrupt line
-  is reported and set aside in ``runs.jsonl.rejected``, so that run simply runs again);
+* ``runs.jsonl``: one line per finished run (inputs, outputs, status, error; its warnings, ``JOURNAL_ONLY``),
+  appended and flushed to disk as each run finishes, each line with its checksum (``journal``): the record that
+  survives a crash (a torn or corrupt line is reported and set aside in ``runs.jsonl.rejected``, so that run simply
+  runs again);
 * ``runs.csv``: the same as a table: a row appended as each run finishes (in the order they finish; the whole table
   rewritten, atomically, only when a run brings a column the table lacks), rewritten in run order when the study
   ends or is interrupted;
