@@ -38,6 +38,19 @@ def interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM where the command takes it as a clean stop (a run, a study, a fit): exit status 143."""
+
+    def __init__(self, message: str = "terminated (SIGTERM)"):
+        super().__init__(message)
+
+
+def terminate(signum, frame) -> None:
+    """SIGTERM while the command takes it as a clean stop: Terminated, raised as Ctrl-C's KeyboardInterrupt is (a
+    solve takes it over as it does SIGINT: ``engine.solver``)."""
+    raise Terminated()
+
+
 def _retry() -> None:
     signal.signal(signal.SIGALRM, interrupt)
     signal.setitimer(signal.ITIMER_REAL, RETRY)
