@@ -70,6 +70,26 @@ def test_ctrl_c_mid_run_exits_130_with_one_line_and_no_divergence_claim(tmp_path
     assert not out.exists()                                       # no empty result folder left behind
 
 
+def test_sigterm_mid_run_exits_143_with_one_line_and_nothing_written(tmp_path):
+    """SIGTERM to `pchute run` mid-solve (issue 49: it ended with -15 and no word): stopped as Ctrl-C is."""
+    out = tmp_path / "run"
+    process, terminal = _start_on_terminal(RUN + ["--out", str(out)], tmp_path)
+    try:
+        shown = _read_until(terminal, "s left", timeout=60)
+        assert "s left" in shown, shown
+        process.send_signal(signal.SIGTERM)
+        process.wait(timeout=30)
+        error = shown + _drain(terminal)
+    finally:
+        process.kill()
+        os.close(terminal)
+    last = [line for line in error.replace("\x1b[K", "").replace("\r", "\n").splitlines() if line.strip()][-1]
+    assert process.returncode == 143
+    assert last.startswith("pchute run: terminated (SIGTERM) at t = ") and last.endswith(
+        "of 20 s; no result files were written"), last
+    assert "Traceback" not in error and not out.exists()
+
+
 def test_progress_only_on_a_terminal_and_not_with_quiet(tmp_path):
     short = RUN[:-3] + ["--t-end", "3", "--no-plot"]
     process, terminal = _start_on_terminal(short + ["--quiet", "--out", str(tmp_path / "a")], tmp_path)

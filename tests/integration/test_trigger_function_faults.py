@@ -87,6 +87,10 @@ BATTERY = [
      "systems.main.deploy_trigger.function = '..tmp.plain_49:fire': must be \"module:function\" with a plain module "
      "name (names joined by dots, no path, no leading dot): a module.py in the case's folder or a module on the "
      "import path"),
+    ("module named by a file path",
+     lambda t: _run(_case(t, "plain_49", QUIET).with_name("case.toml"), t, "function=../lib/plain_49:fire"),
+     "systems.main.deploy_trigger.function = '../lib/plain_49:fire': must be \"module:function\" with a plain "
+     "module name"),
     ("function on an atmosphere without a speed of sound",
      lambda t: _run(_case(t, "quiet_49", QUIET, extra='[atmosphere]\nmodel = "table"\nfile = "air.csv"\n'), t,
                     csv="altitude,density\n-1000,1.35\n20000,0.09\n"),
