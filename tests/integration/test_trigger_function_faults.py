@@ -6,11 +6,13 @@ without a speed of sound each give one line naming the trigger and the function 
 import re
 import signal
 import subprocess
+import threading
 import time
 from pathlib import Path
 
 import pytest
 
+from pchute_exudyn.physics.user_calls import IDLE, CallTimedOut, UserCalls
 from tests.bad_input_harness import assert_one_line, run_bad_input
 from tests.helpers import ROOT, start_cli
 
@@ -106,3 +108,21 @@ def test_misbehaving_trigger_function_gives_one_line(tmp_path, name, make_args, 
     assert_one_line(code, err, expected, touched, seconds)
     assert code == (130 if "KeyboardInterrupt" in name else 1)
     assert not (tmp_path / "out").exists()
+
+
+def test_the_thread_of_a_user_function_answers_and_ends_when_idle():
+    """``physics.user_calls``: answers and exceptions come back, a call past its limit is left behind, and no
+    worker thread outlives its work by more than IDLE s (a study's process runs thousands of runs)."""
+    calls, before = UserCalls(), set(threading.enumerate())   # (a test before may have left a sleeping call)
+    assert calls.call(lambda a: a + 1, (1,), 1.0) == 2
+    with pytest.raises(ValueError):
+        calls.call(int, ("x",), 1.0)
+    started = time.monotonic()
+    with pytest.raises(CallTimedOut):
+        calls.call(time.sleep, (0.3,), 0.1)
+    assert time.monotonic() - started < 0.2
+    assert calls.call(lambda: True, (), 1.0) is True   # a new worker
+    deadline = time.monotonic() + IDLE + 2.0
+    while set(threading.enumerate()) - before and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not set(threading.enumerate()) - before
