@@ -633,9 +633,9 @@ def command() -> None:
             from .views.figure_process import FigureProcess
             _entry["figure"] = FigureProcess()   # as early as can be: its import overlaps everything before the save
         code = main()
-    except KeyboardInterrupt:   # Ctrl-C before the command's own handling began (``_interrupt``)
-        print(f"{' '.join(['pchute', *sys.argv[1:2]])}: interrupted", file=sys.stderr)
-        code = EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:   # Ctrl-C or SIGTERM before the command's own handling began (``_interrupt``)
+        print(f"{' '.join(['pchute', *sys.argv[1:2]])}: {str(exc) or 'interrupted'}", file=sys.stderr)
+        code = _interrupted_status(exc)
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()

@@ -153,6 +153,17 @@ def test_ctrl_c_while_the_command_starts_is_an_interrupt(tmp_path):
         assert "interrupted" in err and "diverged" not in err
 
 
+def test_sigterm_while_the_command_starts_is_a_clean_stop(tmp_path):
+    """SIGTERM to `pchute run` while it imports (issue 49: -15 and no word): exit 143 and one line."""
+    for delay in (0.3, 0.6):
+        process = start_cli(*RUN, cwd=tmp_path, stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        time.sleep(delay)
+        process.send_signal(signal.SIGTERM)
+        _, err = process.communicate(timeout=60)
+        assert process.returncode == 143 and len(err.strip().splitlines()) == 1, (delay, err)
+        assert "terminated (SIGTERM)" in err and "Traceback" not in err
+
+
 SWALLOWED = """
 import sys, time
 from pchute_exudyn import _interrupt
