@@ -5,9 +5,9 @@ module half imported, and some imports turn the interrupt into another error (Ex
 its wheel, numpy an AttributeError), so a Ctrl-C in the first 0.3 s of a command ended in a traceback or a wrong
 message. The command's handler raises it as Python's does, except inside an import: there it waits for the import to
 finish (looking again every ``RETRY`` s) and raises it then; one raised where Python can only print it (``__del__``,
-an at-fork callback) is raised again. It is installed when the package is imported by the
-``pchute`` command (the console script, ``python -m pchute_exudyn``), before anything heavy is imported; a program
-that imports the package keeps its own handlers.
+an at-fork callback) is raised again. SIGTERM is taken the same way, as ``Terminated`` (exit 143). It is installed
+when the package is imported by the ``pchute`` command (the console script, ``python -m pchute_exudyn``), before
+anything heavy is imported; a program that imports the package keeps its own handlers.
 """
 
 from __future__ import annotations
@@ -30,12 +30,33 @@ def _importing(frame) -> bool:
     return False
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM to the command: the same clean stop as Ctrl-C, exit status 143."""
+
+    def __init__(self, message: str = "terminated (SIGTERM)"):
+        super().__init__(message)
+
+
+_PENDING = [KeyboardInterrupt]
+"""What the next raise is: KeyboardInterrupt (SIGINT) or Terminated (SIGTERM), kept while an import defers it."""
+
+
 def interrupt(signum, frame) -> None:
-    """SIGINT (and the timer that retries it): KeyboardInterrupt, once no import is running."""
+    """SIGINT, SIGTERM (and the timer that retries them): KeyboardInterrupt, or Terminated for SIGTERM, once no
+    import is running."""
+    if signum == signal.SIGTERM:
+        _PENDING[0] = Terminated
+    elif signum == signal.SIGINT:
+        _PENDING[0] = KeyboardInterrupt
     if _importing(frame):
         _retry()
         return
-    raise KeyboardInterrupt
+    raised, _PENDING[0] = _PENDING[0], KeyboardInterrupt
+    raise raised()
+
+
+terminate = interrupt
+"""The command's SIGTERM handler (the one function: a solve takes both over, ``engine.solver``)."""
 
 
 def _retry() -> None:
@@ -48,6 +69,7 @@ def _unraisable(unraisable) -> None:
     callback: logging's runs at every fork of a pool's worker) would be printed and lost, and the command would go on
     as if never interrupted: it is raised again a moment later instead. Anything else goes to the previous hook."""
     if issubclass(unraisable.exc_type, KeyboardInterrupt) and threading.current_thread() is threading.main_thread():
+        _PENDING[0] = Terminated if issubclass(unraisable.exc_type, Terminated) else KeyboardInterrupt
         _retry()
         return
     _PREVIOUS_HOOK[0](unraisable)
@@ -65,8 +87,17 @@ def launched_as_command() -> bool:
 
 
 def install() -> None:
-    """Use ``interrupt`` for SIGINT in this process (the main thread only; where SIGINT is not ignored)."""
-    if hasattr(signal, "setitimer") and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+    """Use ``interrupt`` for SIGINT and ``terminate`` for SIGTERM in this process (the main thread only; where
+    SIGINT is not ignored, where SIGTERM is at its default)."""
+    if not hasattr(signal, "setitimer"):
+        return
+    installed = False
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         signal.signal(signal.SIGINT, interrupt)
+        installed = True
+    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, terminate)
+        installed = True
+    if installed and sys.unraisablehook is not _unraisable:
         _PREVIOUS_HOOK[0] = sys.unraisablehook
         sys.unraisablehook = _unraisable

@@ -13,7 +13,7 @@ import threading
 from dataclasses import fields, replace
 from pathlib import Path
 
-from . import __version__
+from . import __version__, _interrupt
 from .case import columns
 from .case.method_table import INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
@@ -122,7 +122,8 @@ def _run(args) -> int:
     # imports matplotlib on another core while the run goes on (started by ``command`` when it runs the process)
     figure = None if args.no_plot else (_entry.pop("figure", None) or FigureProcess())
     try:
-        return _run_case(args, figure)
+        with _signals_interrupt():
+            return _run_case(args, figure)
     finally:
         if figure is not None:
             figure.close()
@@ -424,21 +425,15 @@ def _timeout_seconds(text: str) -> float:
     return value
 
 
-class _Terminated(KeyboardInterrupt):
-    """SIGTERM during a study or a fit: the same clean stop as Ctrl-C, exit status 143."""
-
-
 @contextlib.contextmanager
 def _signals_interrupt():
-    """While a study or fit runs, SIGTERM stops it as Ctrl-C does: its workers stopped, finished runs kept, one line
-    (signals reach only the main thread: elsewhere nothing changes)."""
+    """While a run, a study or a fit goes on, SIGTERM stops it as Ctrl-C does (``_interrupt.terminate``): a study's
+    workers stopped, finished runs kept, one line, exit status 143 (signals reach only the main thread: elsewhere
+    nothing changes)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-
-    def terminate(signum, frame):
-        raise _Terminated()
-    previous = signal.signal(signal.SIGTERM, terminate)
+    previous = signal.signal(signal.SIGTERM, _interrupt.terminate)
     try:
         yield
     finally:
@@ -446,7 +441,8 @@ def _signals_interrupt():
 
 
 def _interrupted_status(exc: KeyboardInterrupt) -> int:
-    return EXIT_TERMINATED if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
+    terminated = isinstance(exc, _interrupt.Terminated) or getattr(exc, "terminated", False)
+    return EXIT_TERMINATED if terminated else EXIT_INTERRUPTED
 
 
 def _interruptible(args, out: Path, kept: str, work) -> tuple:
@@ -639,9 +635,9 @@ def command() -> None:
             from .views.figure_process import FigureProcess
             _entry["figure"] = FigureProcess()   # as early as can be: its import overlaps everything before the save
         code = main()
-    except KeyboardInterrupt:   # Ctrl-C before the command's own handling began (``_interrupt``)
-        print(f"{' '.join(['pchute', *sys.argv[1:2]])}: interrupted", file=sys.stderr)
-        code = EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:   # Ctrl-C or SIGTERM before the command's own handling began (``_interrupt``)
+        print(f"{' '.join(['pchute', *sys.argv[1:2]])}: {str(exc) or 'interrupted'}", file=sys.stderr)
+        code = _interrupted_status(exc)
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()

@@ -77,9 +77,12 @@ class SimulationError(PchuteError):
 
 
 class Interrupted(KeyboardInterrupt):
-    """The user interrupted a run (Ctrl-C, SIGINT): not an error of the model. ``time`` (s) is the simulation time
-    the run had reached; nothing of the run is written."""
+    """The user interrupted a run (Ctrl-C, SIGINT; SIGTERM when ``terminated``): not an error of the model. ``time``
+    (s) is the simulation time the run had reached; ``cause``: what interrupted it when not a signal to the process
+    (a KeyboardInterrupt a user trigger function raised). Nothing of the run is written."""
 
-    def __init__(self, time: float, end: float):
-        self.time, self.end = time, end
-        super().__init__(f"interrupted at t = {time:.3f} s of {end:g} s; no result files were written")
+    def __init__(self, time: float, end: float, cause: str = "", terminated: bool = False):
+        self.time, self.end, self.cause, self.terminated = time, end, cause, terminated
+        what = "terminated (SIGTERM)" if terminated else "interrupted"
+        because = f" ({cause})" if cause else ""
+        super().__init__(f"{what} at t = {time:.3f} s of {end:g} s{because}; no result files were written")

@@ -124,6 +124,7 @@ RANGES: tuple = (
     Range("*trigger*.correlation_time", "s", (0.0, 1e9), (0.0, 1e4)),
     Range("*trigger*.speed_noise", "m/s", (0.0, 1e4), (0.0, 100.0)),
     Range("*trigger*.speed_bias", "m/s", (-1e4, 1e4), (-100.0, 100.0)),
+    Range("*trigger*.time_limit", "s", (1e-6, 1e7), (1e-3, 3600.0)),
     Range("separations.*.speed", "m/s", (0.0, 1e4), (0.0, 50.0)),
 )
 """Every plausibility range; the first whose pattern matches a key applies."""

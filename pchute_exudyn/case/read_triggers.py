@@ -69,11 +69,12 @@ def _read_condition(form: str, t: Table, bodies: dict, folder):
             reference = t.string("reference", "geoid", choices=("geoid", "ground"))
         return Threshold(quantity, bounds[0] == "below", value, reference)
     if form == "function":
+        limit = t.number("time_limit", "s", default_of(UserFunction, "time_limit"), above=0.0)
         given = t.raw("function", None, "")
         if callable(given):   # through the Python API (load_case overrides)
-            return UserFunction(getattr(given, "__qualname__", repr(given)), given)
+            return UserFunction(getattr(given, "__qualname__", repr(given)), given, limit)
         name = t.string("function")
-        return UserFunction(name, import_function(name, folder, lambda m: t.error("function", m, name)))
+        return UserFunction(name, import_function(name, folder, lambda m: t.error("function", m, name)), limit)
     parts = t.raw(form, None, "table")
     if not isinstance(parts, list) or not parts:
         raise t.error(form, "must be a list of one or more trigger tables", parts)
@@ -105,10 +106,15 @@ def _read_sensor(t: Table, bodies: dict) -> Sensor:
 
 
 def import_function(name: str, case_folder: Path | None, error):
-    """The callable of ``"module:function"``: an importable module, else ``module.py`` next to the case file."""
+    """The callable of ``"module:function"``: an importable module, else ``module.py`` next to the case file. The
+    module is a plain (dotted) module name: no path, no leading dots, so no module outside the case's folder and the
+    import path is reached."""
     if not isinstance(name, str) or name.count(":") != 1 or not all(name.split(":")):
         raise error('must be "module:function"')
     module_name, function_name = name.split(":")
+    if not all(part.isidentifier() for part in module_name.split(".")) or not function_name.isidentifier():
+        raise error('must be "module:function" with a plain module name (names joined by dots, no path, no '
+                    'leading dot): a module.py in the case\'s folder or a module on the import path')
     try:
         module = _import(module_name, case_folder)
     except Exception as exc:   # the user's module: say what went wrong in one line
@@ -215,3 +221,10 @@ def check_triggers(top: Table, triggers: dict, systems: dict, failures, separati
         if needs and (atmosphere is None or not atmosphere.has_speed_of_sound):
             raise top.error(trigger.key, f"senses {', '.join(sorted(needs))}, which needs an atmosphere with a "
                                          "temperature (speed of sound)")
+        functions = [c.name for c in leaves(trigger.condition) if isinstance(c, UserFunction)]
+        if functions and (atmosphere is None or not atmosphere.has_speed_of_sound):
+            where = "the case has no atmosphere" if atmosphere is None else \
+                f"the atmosphere '{atmosphere.name}' has no temperature"
+            raise top.error(trigger.key, f"the function {functions[0]} is given pressure and mach, which need an "
+                            f"atmosphere with a temperature (speed of sound): {where}; add a temperature column (K) "
+                            "or give atmosphere.speed_of_sound (m/s)")

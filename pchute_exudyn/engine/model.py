@@ -106,6 +106,7 @@ class Model:
         self.stage = None                 # engine.stage.Stage: body states and the Python-computed loads
         self.aerodynamic_loads: dict = {}  # body -> its engine.bodies.BodyAerodynamics (to evaluate it alone)
         self.failure: Exception | None = None
+        self.progress: dict = {}   # the solve's progress (``engine.solver.integrate``): "interrupted" on Ctrl-C
         self._keep_alive: list = []       # symbolic user functions must outlive the solve
 
     # -- building ---------------------------------------------------------------------------------------------------

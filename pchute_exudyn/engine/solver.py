@@ -265,24 +265,29 @@ def _count_step(progress: dict, t: float, taken: bool, finite) -> bool:
 class _interrupt_flag:
     """While a solve runs, SIGINT (Ctrl-C) sets ``progress["interrupted"]`` instead of raising inside an Exudyn user
     function, where the engine would turn the KeyboardInterrupt into a failed user function and the run into a
-    reported divergence; the pre-step hook then stops the solver cleanly. Only in the main thread (where Python
-    delivers signals; a Dask worker's threads keep the default behaviour)."""
+    reported divergence; the pre-step hook then stops the solver cleanly. SIGTERM does the same when the command
+    takes it as a clean stop (its handler ``_interrupt.terminate``), noting ``progress["terminated"]``. Only in the
+    main thread (where Python delivers signals; a Dask worker's threads keep the default behaviour)."""
 
     def __init__(self, progress: dict):
-        self.progress, self.previous = progress, None
+        self.progress, self.previous = progress, {}
 
     def __enter__(self):
-        if threading.current_thread() is threading.main_thread() and \
-                signal.getsignal(signal.SIGINT) in (signal.default_int_handler, _interrupt.interrupt):
-            self.previous = signal.signal(signal.SIGINT, self._handle)
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        if signal.getsignal(signal.SIGINT) in (signal.default_int_handler, _interrupt.interrupt):
+            self.previous[signal.SIGINT] = signal.signal(signal.SIGINT, self._handle)
+        if signal.getsignal(signal.SIGTERM) is _interrupt.terminate:
+            self.previous[signal.SIGTERM] = signal.signal(signal.SIGTERM, self._handle)
         return self
 
     def _handle(self, signum, frame):
         self.progress["interrupted"] = True
+        self.progress["terminated"] = self.progress.get("terminated", False) or signum == signal.SIGTERM
 
     def __exit__(self, *exc):
-        if self.previous is not None:
-            signal.signal(signal.SIGINT, self.previous)
+        for signum, previous in self.previous.items():
+            signal.signal(signum, previous)
         return False
 
 
@@ -365,11 +370,12 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
         post_step, times, rows = _adaptive_post_step_function(model, duration, output_step, progress, report,
                                                               not before_steps, control)
     model.mbs.SetPostStepUserFunction(post_step)
+    model.progress = progress
     model.step = step if control is None else None
     model.warm_up()
     wall = _solve(model, settings, solver_type, progress, integrator, step)
     if progress["interrupted"]:
-        raise Interrupted(progress["time"], duration)
+        raise Interrupted(progress["time"], duration, progress.get("cause", ""), progress.get("terminated", False))
     if model.failure is not None:
         raise _user_error(model.failure, progress["time"])
     if progress["bad"] is not None:

@@ -9,7 +9,7 @@ import math
 from ..case.model import Case
 from ..case.sensing import pressure_function, true_values
 from ..errors import SimulationError
-from ..physics.triggers import TIME_TOLERANCE, TriggerFailed
+from ..physics.triggers import TIME_TOLERANCE, TriggerFailed, TriggerInterrupted
 from .bodies import MAX_DESCENT_ACCELERATION
 from .model import Model
 from .state import BodyChannel
@@ -35,6 +35,12 @@ class TriggerMonitor:
         self.next_check: dict = {}   # adaptive steps: event -> the time of its next look (s)
         self.window: set = set()     # adaptive steps: the events that can fire now, sampled at their sample times
         self.horizon = math.inf      # adaptive steps: the longest step (s; set by the run)
+        for watch in watches:        # a user function's wait ends on Ctrl-C or SIGTERM (``physics.user_calls``)
+            watch.calls.stopped = self._stopped
+
+    def _stopped(self) -> bool:
+        """Whether the run was asked to stop (``engine.solver``'s progress)."""
+        return bool(self.model.progress.get("interrupted"))
 
     def __call__(self, t: float) -> bool:
         step = self.model.step
@@ -50,6 +56,8 @@ class TriggerMonitor:
             if body not in self.readers or not watch.due(t, step):
                 continue
             self._observe(watch, t, self._truth(body, t, truths))
+            if self._stopped():
+                return True
         return bool(self.firings)
 
     def _truth(self, body: str, t: float, truths: dict):
@@ -65,6 +73,9 @@ class TriggerMonitor:
             firing = watch.observe(t, truth, self.fired, self.pressure_at)
         except TriggerFailed as exc:
             raise SimulationError(str(exc), exc.time) from None
+        except TriggerInterrupted as exc:   # the solver stops after this step and raises errors.Interrupted
+            self.model.progress.update(interrupted=True, cause=self.model.progress.get("cause") or exc.cause)
+            return
         if firing is not None:
             self.firings.append(firing)
 
@@ -93,6 +104,8 @@ class TriggerMonitor:
             self.window.add(watch.event)
             if watch.on_sample(t):
                 self._observe(watch, t, truth)
+                if self._stopped():
+                    return True
         return bool(self.firings)
 
     def landing(self, t: float) -> float:

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .aerodynamics import dynamic_pressure_of_speed, mach_number
+from .user_calls import CallInterrupted, CallTimedOut, UserCalls
 
 
 @dataclass(frozen=True)
@@ -159,12 +160,18 @@ class Apogee:
         return "apogee"
 
 
+FUNCTION_TIME_LIMIT = 10.0
+"""s: the default longest a user trigger function may take per call (``UserFunction.time_limit``)."""
+
+
 @dataclass(frozen=True)
 class UserFunction:
-    """``function(time, sensed, state) -> bool`` (``name``: its "module:function", or the callable's name)."""
+    """``function(time, sensed, state) -> bool`` (``name``: its "module:function", or the callable's name), called
+    in a thread of its own (``user_calls``); a call that takes longer than ``time_limit`` (s) stops the run."""
 
     name: str
     function: object = field(compare=False, repr=False)
+    time_limit: float = FUNCTION_TIME_LIMIT
 
     def describe(self) -> str:
         return f"function {self.name}"
@@ -320,11 +327,21 @@ class Firing:
 
 
 class TriggerFailed(Exception):
-    """A user trigger function raised or returned no bool: ``key`` names the trigger."""
+    """A user trigger function raised, returned no bool, called sys.exit or overran its time limit: ``key`` names
+    the trigger."""
 
     def __init__(self, key: str, message: str, time: float):
         super().__init__(f"{key}: {message} at t = {time:.4f} s")
         self.key, self.time = key, time
+
+
+class TriggerInterrupted(Exception):
+    """The run was interrupted while a user trigger function ran (Ctrl-C, SIGTERM; ``cause`` empty) or the function
+    raised KeyboardInterrupt (``cause`` says so): the run stops as interrupted."""
+
+    def __init__(self, key: str, time: float, cause: str = ""):
+        super().__init__(f"{key}: interrupted at t = {time:.4f} s")
+        self.key, self.time, self.cause = key, time, cause
 
 
 class Watch:
@@ -351,6 +368,7 @@ class Watch:
         self.speed_noise = NoiseStream(stream_seed(seed, event, 1), sensor.speed_noise, period, 0.0)
         self.index = 0            # the next sample's number (its time: index * period)
         self.previous = None      # (time, sensed, truth) of the last sample
+        self.calls = UserCalls()  # runs a user function (its ``stopped`` set by who feeds the watch)
 
     def due(self, time: float, step: float) -> bool:
         """Whether a sample is due at the step end ``time`` (s) of a step ``step`` (s)."""
@@ -429,14 +447,23 @@ class Watch:
     def _call(self, condition: UserFunction, time: float, sensed: dict, truth: dict) -> bool:
         state = {name: truth[name] for name in SENSED}
         state.update(position=truth["position"].copy(), velocity=truth["velocity"].copy())
+        key, name = self.trigger.key, condition.name
         try:
-            answer = condition.function(time, dict(sensed), state)
+            answer = self.calls.call(condition.function, (time, dict(sensed), state), condition.time_limit)
+        except CallTimedOut:
+            raise TriggerFailed(key, f"the function {name} took longer than its time limit of "
+                                f"{condition.time_limit:g} s per call (time_limit)", time) from None
+        except CallInterrupted:
+            raise TriggerInterrupted(key, time) from None
+        except KeyboardInterrupt:
+            raise TriggerInterrupted(key, time, f"{key}: the function {name} raised KeyboardInterrupt") from None
+        except SystemExit as exc:
+            raise TriggerFailed(key, f"the function {name} called sys.exit({exc.code!r}) instead of returning "
+                                "True or False", time) from None
         except Exception as exc:   # the user's code: its message, with the trigger's key and the time
-            raise TriggerFailed(self.trigger.key, f"the function {condition.name} raised "
-                                f"{type(exc).__name__}: {exc}", time) from None
+            raise TriggerFailed(key, f"the function {name} raised {type(exc).__name__}: {exc}", time) from None
         if not isinstance(answer, (bool, np.bool_)):
-            raise TriggerFailed(self.trigger.key, f"the function {condition.name} returned "
-                                f"{type(answer).__name__}, not a bool", time)
+            raise TriggerFailed(key, f"the function {name} returned {type(answer).__name__}, not a bool", time)
         return bool(answer)
 
     def _record(self, condition, time: float, sensed: dict, truth: dict, fired: dict) -> dict:

@@ -292,7 +292,7 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
         raw.step_control = None if control is None else control.summary()
     except Interrupted as exc:   # say how far the whole run got, not the phase
         model.release()
-        raise Interrupted(exc.time, plan.duration) from None
+        raise Interrupted(exc.time, plan.duration, exc.cause, exc.terminated) from None
     except BaseException:
         model.release()
         raise

@@ -70,6 +70,26 @@ def test_ctrl_c_mid_run_exits_130_with_one_line_and_no_divergence_claim(tmp_path
     assert not out.exists()                                       # no empty result folder left behind
 
 
+def test_sigterm_mid_run_exits_143_with_one_line_and_nothing_written(tmp_path):
+    """SIGTERM to `pchute run` mid-solve (issue 49: it ended with -15 and no word): stopped as Ctrl-C is."""
+    out = tmp_path / "run"
+    process, terminal = _start_on_terminal(RUN + ["--out", str(out)], tmp_path)
+    try:
+        shown = _read_until(terminal, "s left", timeout=60)
+        assert "s left" in shown, shown
+        process.send_signal(signal.SIGTERM)
+        process.wait(timeout=30)
+        error = shown + _drain(terminal)
+    finally:
+        process.kill()
+        os.close(terminal)
+    last = [line for line in error.replace("\x1b[K", "").replace("\r", "\n").splitlines() if line.strip()][-1]
+    assert process.returncode == 143
+    assert last.startswith("pchute run: terminated (SIGTERM) at t = ") and last.endswith(
+        "of 20 s; no result files were written"), last
+    assert "Traceback" not in error and not out.exists()
+
+
 def test_progress_only_on_a_terminal_and_not_with_quiet(tmp_path):
     short = RUN[:-3] + ["--t-end", "3", "--no-plot"]
     process, terminal = _start_on_terminal(short + ["--quiet", "--out", str(tmp_path / "a")], tmp_path)
@@ -131,6 +151,17 @@ def test_ctrl_c_while_the_command_starts_is_an_interrupt(tmp_path):
         _, err = process.communicate(timeout=60)
         assert process.returncode == 130 and len(err.strip().splitlines()) == 1, (delay, err)
         assert "interrupted" in err and "diverged" not in err
+
+
+def test_sigterm_while_the_command_starts_is_a_clean_stop(tmp_path):
+    """SIGTERM to `pchute run` while it imports (issue 49: -15 and no word): exit 143 and one line."""
+    for delay in (0.3, 0.6):
+        process = start_cli(*RUN, cwd=tmp_path, stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        time.sleep(delay)
+        process.send_signal(signal.SIGTERM)
+        _, err = process.communicate(timeout=60)
+        assert process.returncode == 143 and len(err.strip().splitlines()) == 1, (delay, err)
+        assert "terminated (SIGTERM)" in err and "Traceback" not in err
 
 
 SWALLOWED = """
