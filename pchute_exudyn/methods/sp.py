@@ -635,15 +635,15 @@ class SingularPerturbation(Method):
         return self._relaxed_remedy(system, step, attach_position, confluence_position)
 
     def _relaxed_remedy(self, system, step, attach_position, confluence_position) -> str:
-        """The any_damping preset as the remedy of a short limit it lifts at least tenfold, without a relaxation
-        time in effect; "" otherwise."""
+        """The any_damping preset as the remedy of a limit (s) below 1e-2 s that it lifts to 1e-2 s or more (its
+        design step) without a relaxation time in effect; "" otherwise."""
         if self.options.effective_relaxation_time > 0.0:
             return ""
         preset = PRESETS["any_damping"]
         lines = line_arrays(self.relaxed(system, preset["relaxation_time"]), attach_position, confluence_position)
         relaxed, _ = sp_step_limit(attach_position, confluence_position, *lines, mass=system.confluence.mass,
                                    kappa_max=preset["kappa_max"])
-        if not relaxed >= 10.0 * step:
+        if not relaxed >= 1e-2:
             return ""
         return (f"The {system.name} system's lines are damped too little for the step: use --sp-preset any_damping "
                 f"(a relaxation time; its limit here: {relaxed:.3g} s), or --dt auto (adaptive steps)")

@@ -81,3 +81,17 @@ def test_noise_that_leaves_the_atmosphere_names_the_trigger_and_the_noise(tmp_pa
     assert warning == f"pchute run: warning: {KEY}.pressure_noise = 100000.0 is implausible: outside 0..10000 (Pa)"
     assert_one_line(code, error, f"{KEY}: the sensed pressure", touched, seconds)
     assert "pressure_noise = 100000 Pa, pressure_bias = 0 Pa) has no barometric altitude: altitude" in error
+
+
+def test_a_short_limit_the_any_damping_preset_lifts_names_it(tmp_path, monkeypatch):
+    """Where no layout rule explains a short SP limit, the preset that lifts it to its design step is still named
+    (MER case 3 at 10 % line damping with only that rule: 0.0139 s relaxed against 0.00279 s)."""
+    from pchute_exudyn.methods.sp import SingularPerturbation
+
+    monkeypatch.setattr("pchute_exudyn.run.simulation._LIMITS", {})   # limits are kept by geometry, with their cause
+    monkeypatch.setattr(SingularPerturbation, "_cause", lambda self, system, step, attach, confluence, lines:
+                        self._relaxed_remedy(system, step, attach, confluence))
+    code, err, seconds, touched = run_bad_input(lambda t: ["run", MER3, "--method", "sp", *DAMPING_10, "--out",
+                                                           str(t / "out"), "--quiet"], tmp_path)
+    assert_one_line(code, err, "use --sp-preset any_damping (a relaxation time; its limit here: 0.0139 s)", touched,
+                    seconds)
