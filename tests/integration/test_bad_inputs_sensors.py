@@ -32,6 +32,8 @@ def _main(trigger: str) -> str:
 
 DISREEFS = f'extends = "{INFLATION}"\n[systems.main.inflation]\nstage_start = [0.0]\ndisreef_triggers = ' \
            '[{ after = "main.disreef3", delay = 1.0 }, { after = "main.deploy", delay = 8.0 }]\n'
+EARLY_DISREEF = DISREEFS.replace('{ after = "main.disreef3", delay = 1.0 }, { after = "main.deploy", delay = 8.0 }',
+                                  '{ after = "main.deploy", delay = 10.0 }, { after = "main.deploy", delay = 5.0 }')
 SEPARATION = f'extends = "{MER1}"\n[bodies.ballast]\nmass = 10.0\ninertia = [1.0, 1.0, 1.0]\n' \
              '[separations.ballast]\ntrigger = { time = 2.0 }\npoint = "vehicle.bridle1"\nspeed = 1.0\n' \
              'direction = [1e308, 1e308, 0.0]\n'
@@ -46,6 +48,9 @@ BATTERY = [
     ("disreef triggers out of order", lambda t: _run(t, DISREEFS),
      "systems.main.inflation.disreef_triggers.0 = 'main.disreef3': waits on main.disreef3, a later stage of its "
      "inflation"),
+    ("timed disreef before the stage before it", lambda t: _run(t, EARLY_DISREEF, "--t-end", "30"),
+     "systems.main.inflation.disreef_triggers.1: places main.disreef3 at 14.5 s, not after main.disreef2 at 19.5 s: "
+     "the stages of an inflation start in order"),
     ("altitude below 1e300 m", lambda t: _run(t, _main('{ quantity = "altitude", below = 1e300, rate = 20.0 }')),
      f"{KEY}.below = 1e+300: must be within -50000..1e+07 (m)"),
     ("Mach below 1e6", lambda t: _run(t, _main('{ quantity = "mach", below = 1e6, rate = 20.0 }')),
