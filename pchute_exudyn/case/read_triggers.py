@@ -25,7 +25,7 @@ from ..physics.triggers import (
     UserFunction,
     leaves,
 )
-from .events import known_times
+from .events import DISREEF, known_times
 from .fields import Table, default_of
 from .model import Separation
 
@@ -64,6 +64,10 @@ def _read_condition(form: str, t: Table, bodies: dict, folder):
                                    f"({THRESHOLD_QUANTITIES[quantity]})")
         unit = THRESHOLD_QUANTITIES[quantity]
         value = t.number(bounds[0], unit, minimum=None if quantity == "altitude" else 0.0)
+        low, high = QUANTITY[quantity].limits   # the range it can take: beyond it, a threshold cannot mean anything
+        if not low <= value <= high:
+            raise t.error(bounds[0], f"must be within {low:g}..{high:g} ({unit}), the {quantity} a run of this tool "
+                                     "can have", value)
         reference = "geoid"
         if quantity == "altitude":
             reference = t.string("reference", "geoid", choices=("geoid", "ground"))
@@ -156,11 +160,22 @@ def check_events(triggers: dict, fixed: set, error) -> None:
         while pending:
             current = pending.pop()
             for reference in triggers[current].references() if current in triggers else []:
+                if _later_stage(event, reference):
+                    raise error(event, f"waits on {reference}, a later stage of its inflation (through "
+                                       f"{' -> '.join(seen + [reference])}): stages start in order, each armed by "
+                                       "the one before", reference)
                 if reference == event:
                     raise error(event, "waits on itself through " + " -> ".join(seen + [event]), reference)
                 if reference not in seen:
                     seen.append(reference)
                     pending.append(reference)
+
+
+def _later_stage(event: str, reference: str) -> bool:
+    """Whether ``reference`` is a later disreef of the system of disreef ``event`` (``<system>.disreef<k>``)."""
+    (owner, kind), (other, later) = event.rsplit(".", 1), reference.rsplit(".", 1)
+    stage = [name[len(DISREEF):] for name in (kind, later) if name.startswith(DISREEF)]
+    return owner == other and len(stage) == 2 and all(k.isdigit() for k in stage) and int(stage[1]) > int(stage[0])
 
 
 def read_separations(t: Table | None, bodies: dict, vehicle: str, triggers: dict, systems: dict,
@@ -187,8 +202,11 @@ def read_separations(t: Table | None, bodies: dict, vehicle: str, triggers: dict
             raise st.error("point", f"must be a point of the vehicle \"{vehicle}.<point>\"; its points: "
                                     + ", ".join(bodies[vehicle].points), point)
         direction = np.array(st.vector("direction", ""), float)
-        if not np.linalg.norm(direction) > 0.0:
-            raise st.error("direction", "must be a non-zero vector (vehicle body axes)", list(direction))
+        with np.errstate(over="ignore"):
+            norm = float(np.linalg.norm(direction))
+        if not (norm > 0.0 and math.isfinite(norm)):   # [1e308, 1e308, 0] overflows its norm: the push would vanish
+            raise st.error("direction", "must be a non-zero vector of finite length (vehicle body axes)",
+                           direction.tolist())
         speed = st.number("speed", "m/s", minimum=0.0)
         trigger = read_trigger(st.table("trigger"), bodies)
         time = trigger.condition.time if isinstance(trigger.condition, At) else math.inf
@@ -199,7 +217,7 @@ def read_separations(t: Table | None, bodies: dict, vehicle: str, triggers: dict
             triggers[f"{name}.separation"] = trigger
         st.finish()
         separations[name] = Separation(name, tuple(bodies[vehicle].points[point_name]), speed,
-                                       tuple((direction / np.linalg.norm(direction)).tolist()), time)
+                                       tuple((direction / norm).tolist()), time)
     t.finish()
     return separations
 

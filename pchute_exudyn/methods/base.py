@@ -91,6 +91,10 @@ class Method:
                               f"the {self.name} method runs with --integrator {' or '.join(self.integrators)} only"
                               + note)
 
+    def check_step(self, case: Case, step: float) -> None:
+        """Refuse a fixed RK4 step (s) a setting of the method makes unstable before the run (InputError); the step
+        monitor checks the confluences' limit during it."""
+
     def build(self, case: Case, phase: Phase):  # pragma: no cover - interface
         """The method's Exudyn model of ``case`` for one phase (an ``engine.model.Model``)."""
         raise NotImplementedError

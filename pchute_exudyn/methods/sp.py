@@ -35,6 +35,7 @@ from ..errors import InputError
 from ..physics.compiled import has_machine_code, machine_code
 from ..physics.linearization import (
     ILL_CONDITIONED,
+    body_line_step_limit,
     crosswise_damping_ratio,
     damped_line_step_limit,
     sp_step_limit,
@@ -422,6 +423,13 @@ accurate's settings with a relaxation time of 5e-3 s, half the thesis's step: ev
 the solve (``relaxed``), so RK4 at 1e-2 s is stable for any line damping, none included (docs/models/any_damping.md)."""
 
 
+RELAXED_BODY_MARGIN = 2.0
+"""A fixed step may be up to this many times the RK4 limit of the bodies' motion on the relaxed lines
+(``SingularPerturbation.check_step``): that estimate (the bodies pulled against each other through every line of a
+system in series, damped tau K) is pessimistic; the runs diverged at about 3 times it (MER case 1 at 1e-2 s between
+tau = 0.2 and 0.4 s, PA1 between 0.3 and 0.5 s)."""
+
+
 RELAXED_STEPS = 1.5
 """An adaptive step over the relaxation time it asks for (``SingularPerturbation.relaxation_for_step``): RK4 is
 stable on the real mode -1/tau up to 2.785 tau: 1.86 such steps, a margin for the sideways stiffness of stretched
@@ -566,6 +574,33 @@ class SingularPerturbation(Method):
                              "Eq. 3.6 is built from the line damping and is singular whenever only undamped lines are "
                              "taut; use --sp-preset any_damping (a relaxation time), or --method full")
 
+    def check_step(self, case, step: float) -> None:
+        """Refuse a fixed step (s) that the relaxation time makes unstable: tau K on every line moves the bodies
+        against each other at a rate (C over their reduced mass, ``body_line_step_limit``) that rises with tau."""
+        tau = self.options.effective_relaxation_time
+        if tau <= 0.0:
+            return
+        for system in case.systems.values():
+            by_body = {}
+            for line, k, c in zip(system.lines, *line_constants(self.relaxed(system))):
+                total = by_body.setdefault(line.body, [0.0, 0.0])
+                total[0], total[1] = total[0] + k, total[1] + c
+            masses = [case.bodies[b].mass for b in by_body if not case.bodies[b].fixed]
+            if len(by_body) < 2 or not masses or min(sum(t) for t in by_body.values()) <= 0.0:
+                continue
+            series = [1.0 / sum(1.0 / t[i] for t in by_body.values()) if all(t[i] > 0 for t in by_body.values())
+                      else 0.0 for i in (0, 1)]
+            mass = 1.0 / sum(1.0 / m for m in masses)
+            limit = body_line_step_limit(mass, [series[0]], [series[1]])
+            if step > RELAXED_BODY_MARGIN * limit:
+                allowed = tau * RELAXED_BODY_MARGIN * limit / step
+                raise InputError(f"sp relaxation time (--sp-relaxation-time) = {tau:g} s: its damping tau K moves "
+                                 f"the {system.name} system's bodies against each other at up to "
+                                 f"{series[1] / mass:.3g} 1/s, too fast for the RK4 step {step:g} s (limit "
+                                 f"{limit:.3g} s): use at most {float(f'{allowed:.2g}'):g} s (any_damping's "
+                                 f"{PRESETS['any_damping']['relaxation_time']:g} s), or --dt "
+                                 f"{float(f'{0.9 * RELAXED_BODY_MARGIN * limit:.2g}'):g}")
+
     def build(self, case, phase):
         if self.options.effective_relaxation_time > 0.0:
             case = replace(case, systems={name: self.relaxed(system) for name, system in case.systems.items()})
@@ -597,7 +632,21 @@ class SingularPerturbation(Method):
             return (f"The {system.name} system's lines are damped too little for the step (K/C up to "
                     f"{max(rates):.3g} 1/s): use --sp-preset any_damping (a relaxation time), or --dt auto "
                     "(adaptive steps)")
-        return ""
+        return self._relaxed_remedy(system, step, attach_position, confluence_position)
+
+    def _relaxed_remedy(self, system, step, attach_position, confluence_position) -> str:
+        """The any_damping preset as the remedy of a limit (s) below 1e-2 s that it lifts to 1e-2 s or more (its
+        design step) without a relaxation time in effect; "" otherwise."""
+        if self.options.effective_relaxation_time > 0.0:
+            return ""
+        preset = PRESETS["any_damping"]
+        lines = line_arrays(self.relaxed(system, preset["relaxation_time"]), attach_position, confluence_position)
+        relaxed, _ = sp_step_limit(attach_position, confluence_position, *lines, mass=system.confluence.mass,
+                                   kappa_max=preset["kappa_max"])
+        if not relaxed >= 1e-2:
+            return ""
+        return (f"The {system.name} system's lines are damped too little for the step: use --sp-preset any_damping "
+                f"(a relaxation time; its limit here: {relaxed:.3g} s), or --dt auto (adaptive steps)")
 
     def lumped_step_limit(self, system) -> float:
         if len(system.lines) == 2:

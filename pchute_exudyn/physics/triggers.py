@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .aerodynamics import dynamic_pressure_of_speed, mach_number
+from .atmosphere import OutsideAtmosphereError
 from .user_calls import CallInterrupted, CallTimedOut, UserCalls
 
 
@@ -50,6 +51,9 @@ class Quantity:
         Whether a triggered deployment's record keeps the vehicle's true value (``run.sequence``).
     studied : bool
         Whether a study keeps that recorded value as a column (``deploy_<name>_<system>``, ``case.columns``).
+    limits : (float, float)
+        The range (its unit) the quantity can take in a run of this tool: a threshold outside it cannot mean
+        anything, and a sensed magnitude below it (a speed bias that makes a speed negative) stops the run.
     """
 
     name: str
@@ -61,20 +65,27 @@ class Quantity:
     threshold: bool = False
     recorded: bool = False
     studied: bool = False
+    limits: tuple = (-math.inf, math.inf)
 
 
+ALTITUDES = (-5e4, 1e7)
+"""m: the altitudes of this tool (``case.plausible``'s impossible range of an initial altitude)."""
+SPEEDS = (0.0, 1e5)
+"""m/s: a speed magnitude (the tool's initial speeds are within 2e4 m/s per axis)."""
 QUANTITIES = (
     Quantity("altitude", "m", "geodetic altitude (barometric when the sensor has a pressure error)", "pressure",
-             threshold=True, recorded=True, studied=True),
-    Quantity("altitude_ground", "m", "the same above the case's ground", "pressure"),
-    Quantity("pressure", "Pa", "static pressure", "pressure"),
-    Quantity("vertical_velocity", "m/s", "up-positive vertical velocity", "speed"),
-    Quantity("speed", "m/s", "speed relative to the ground", "speed", threshold=True),
-    Quantity("airspeed", "m/s", "speed relative to the air", "speed", threshold=True, recorded=True),
+             threshold=True, recorded=True, studied=True, limits=ALTITUDES),
+    Quantity("altitude_ground", "m", "the same above the case's ground", "pressure", limits=ALTITUDES),
+    Quantity("pressure", "Pa", "static pressure", "pressure", limits=(0.0, 1e8)),
+    Quantity("vertical_velocity", "m/s", "up-positive vertical velocity", "speed", limits=(-SPEEDS[1], SPEEDS[1])),
+    Quantity("speed", "m/s", "speed relative to the ground", "speed", threshold=True, limits=SPEEDS),
+    Quantity("airspeed", "m/s", "speed relative to the air", "speed", threshold=True, recorded=True, limits=SPEEDS),
     Quantity("mach", "-", "airspeed over the speed of sound", derive=lambda v, t: mach_number(
-        v["airspeed"], t["speed_of_sound"]), needs_speed_of_sound=True, threshold=True, recorded=True, studied=True),
+        v["airspeed"], t["speed_of_sound"]), needs_speed_of_sound=True, threshold=True, recorded=True, studied=True,
+             limits=(0.0, 1e3)),
     Quantity("dynamic_pressure", "Pa", "1/2 rho airspeed^2", derive=lambda v, t: dynamic_pressure_of_speed(
-        t["density"], v["airspeed"]), needs_speed_of_sound=True, threshold=True, recorded=True, studied=True),
+        t["density"], v["airspeed"]), needs_speed_of_sound=True, threshold=True, recorded=True, studied=True,
+             limits=(0.0, 1e10)),
 )
 """Every quantity a sensor reads, in the order a user function's ``sensed`` lists them."""
 QUANTITY = {quantity.name: quantity for quantity in QUANTITIES}
@@ -412,7 +423,7 @@ class Watch:
                 self._errors()
                 self.index += 1
             self.index += 1
-        sensed = sense(truth, self.trigger.sensor, *self._errors(), pressure_at)
+        sensed = self._sense(time, truth, pressure_at)
         condition = self.trigger.condition
         holds = self._holds(condition, time, sensed, truth, fired)
         previous, self.previous = self.previous, (time, sensed, truth)
@@ -423,6 +434,28 @@ class Watch:
             sample_time, record = _crossing(condition, previous, (time, sensed, truth))
         record.update(time=sample_time, lag=self.trigger.sensor.lag)
         return Firing(self.event, sample_time + self.trigger.sensor.lag, sample_time, record)
+
+    def _sense(self, time: float, truth: dict, pressure_at) -> dict:
+        """The sensed values of the sample at ``time`` (s). A sensor setting that gives a value the quantity cannot
+        take stops the run naming the trigger and the setting (TriggerFailed): a noisy or biased pressure with no
+        altitude in the atmosphere, a speed bias that makes a magnitude the trigger reads negative (noise alone may,
+        for a sample, and is kept as drawn)."""
+        sensor = self.trigger.sensor
+        pressure_error, speed_error = self._errors()
+        try:
+            sensed = sense(truth, sensor, pressure_error, speed_error, pressure_at)
+        except OutsideAtmosphereError as exc:
+            raise TriggerFailed(self.trigger.key, f"the sensed pressure {truth['pressure'] + pressure_error:.6g} Pa "
+                                f"(true {truth['pressure']:.6g} Pa, pressure_noise = {sensor.pressure_noise:g} Pa, "
+                                f"pressure_bias = {sensor.pressure_bias:g} Pa) has no barometric altitude: {exc}",
+                                time) from None
+        if sensor.speed_bias < 0.0:
+            for name in _read_by(self.trigger.condition):
+                if QUANTITY[name].error == "speed" and truth[name] + sensor.speed_bias < QUANTITY[name].limits[0]:
+                    raise TriggerFailed(self.trigger.key, f"speed_bias = {sensor.speed_bias:g} m/s makes the sensed "
+                                        f"{name} negative (true {truth[name]:.4g} m/s; a {name} is a magnitude: the "
+                                        f"bias must stay above minus the run's lowest {name})", time)
+        return sensed
 
     def _errors(self) -> tuple:
         sensor = self.trigger.sensor
@@ -481,6 +514,18 @@ class Watch:
             return {"quantity": "time", "threshold": condition.time, "measured": time, "true": time}
         return {"quantity": "after", "threshold": condition.delay, "measured": time - fired.get(condition.event, time),
                 "true": time - fired.get(condition.event, time), "event": condition.event}
+
+
+def _read_by(condition) -> set:
+    """The sensed values (``SENSED``) a condition reads: a threshold's quantity (Mach number and dynamic pressure
+    through the airspeed), every value for a user function."""
+    names = set()
+    for leaf in leaves(condition):
+        if isinstance(leaf, UserFunction):
+            names.update(SENSED)
+        elif isinstance(leaf, Threshold):
+            names.add("airspeed" if QUANTITY[leaf.quantity].derive is not None else leaf.sensed_name)
+    return names
 
 
 def _crossing(condition, before: tuple, after: tuple) -> tuple:

@@ -14,7 +14,7 @@ import copy
 import math
 from dataclasses import replace
 
-from ..case.events import armed_by, known_times, with_event_times
+from ..case.events import DISREEF, armed_by, known_times, with_event_times
 from ..case.model import Case
 from ..case.sensing import true_values
 from ..errors import SimulationError
@@ -75,14 +75,26 @@ class Sequence:
                 condition = trigger.condition
                 if event in self.times or not isinstance(condition, After) or condition.event not in self.times:
                     continue
+                stage_before = _stage_before(self.base, event)
+                if stage_before is not None and stage_before not in self.times:
+                    continue   # a disreef is armed by the stage before it, a timed one too
                 reference = self.times[condition.event]
                 self.times[event] = reference + condition.delay
+                self._check_stage_order(event, stage_before)
                 self.records[event] = {"quantity": "after", "threshold": condition.delay, "measured": None,
                                        "true": None, "time": reference + condition.delay, "lag": 0.0,
                                        "event": condition.event}
                 changed = True
         placed = {event: time for event, time in self.times.items() if event in self.base.triggers}
         self.case = with_event_times(self.base, placed) if placed else self.base
+
+    def _check_stage_order(self, event: str, stage_before: str | None) -> None:
+        """A disreef placed at or before the stage before it (its deployment, the disreef before) stops the run
+        naming its trigger: the stages of an inflation start in order."""
+        if stage_before is not None and self.times[event] <= self.times[stage_before]:
+            raise SimulationError(f"{self.base.triggers[event].key}: places {event} at {self.times[event]:g} s, not "
+                                  f"after {stage_before} at {self.times[stage_before]:g} s: the stages of an "
+                                  "inflation start in order, each after the one before", self.times[event])
 
     def boundaries(self, duration: float) -> set:
         """The run times (s) of the triggered events placed so far within the run: each is a phase boundary, so that
@@ -131,3 +143,12 @@ class Sequence:
         note = f"; by then {'this trigger had' if len(waiting) == 1 else 'these triggers had'} not fired: "
         return SimulationError(str(error) + note + ", ".join(waiting), error.time)
 
+
+def _stage_before(case: Case, event: str) -> str | None:
+    """The event that starts the stage before disreef ``event`` (the disreef before it, or its system's deployment;
+    ``case.events.armed_by``); None for any other event, and for the first disreef of a system present from the
+    start (its first stage starts with the run)."""
+    kind = event.rsplit(".", 1)[1]
+    if not kind.startswith(DISREEF) or not kind[len(DISREEF):].isdigit():
+        return None
+    return armed_by(case, event)

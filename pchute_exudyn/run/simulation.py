@@ -63,6 +63,10 @@ MAX_OUTPUT_BYTES = 4e9
 """Largest memory (bytes) the sampled histories of one run may need; beyond it a run is refused before it starts."""
 BYTES_PER_SAMPLE_VALUE = 40
 """Memory per sampled value while a run collects it (a Python float in a row list, then its array entry)."""
+MAX_TRIGGER_SAMPLES = 1e7
+"""Samples one trigger's sensor may take in a run (rate in Hz times the duration in s): each is drawn in Python (its
+noise, about 1 us, even for a sample a fixed step skips) and, at adaptive steps, is an engine step of its own; a
+10 kHz sensor over 1000 s is within it."""
 
 
 @dataclass(frozen=True)
@@ -153,6 +157,9 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     if step > duration:
         raise InputError(f"step (--dt) = {step:g} s: must not exceed the duration ({duration:g} s)")
     _check_size(case, step, duration)
+    _check_samples(case, duration)
+    if control is None and INTEGRATORS[integrator].explicit:
+        resolved.check_step(case, step)
     check_time_scales(case, step)
     return RunPlan(resolved, integrator, step, duration, limit, control)
 
@@ -225,6 +232,17 @@ def _check_size(case: Case, step: float, duration: float) -> None:
                          f"of {values} values, about {need / 1e9:.0f} GB: more than the {MAX_OUTPUT_BYTES / 1e9:g} GB "
                          "a run may hold; raise simulation.output_step (--set simulation.output_step=...) or "
                          "shorten the run")
+
+
+def _check_samples(case: Case, duration: float) -> None:
+    """Refuse, before any work, a trigger whose sampling rate (Hz) gives more than MAX_TRIGGER_SAMPLES in the run."""
+    for trigger in case.triggers.values():
+        rate = trigger.sensor.rate
+        if rate is not None and rate * duration > MAX_TRIGGER_SAMPLES:
+            raise InputError(f"{trigger.key}.rate = {rate:g} Hz: {duration:g} s at that rate is "
+                             f"{rate * duration:.3g} samples; a trigger takes at most {MAX_TRIGGER_SAMPLES:.0e} in a "
+                             f"run: lower the rate (at most {MAX_TRIGGER_SAMPLES / duration:.3g} Hz here) or shorten "
+                             "the run")
 
 
 _LIMITS: dict = {}
