@@ -148,7 +148,8 @@ def _import(module_name: str, case_folder: Path | None):
 
 def check_events(triggers: dict, fixed: set, error) -> None:
     """Every ``after`` names an event of the case (``triggers``: event -> Trigger; ``fixed``: events at a fixed time)
-    and no chain of ``after`` comes back to itself; ``error(event, message, value)`` makes the error."""
+    and no chain of ``after`` and arming (``_waits_on``) comes back to itself; ``error(event, message, value)`` makes
+    the error."""
     known = set(triggers) | fixed
     for event, trigger in triggers.items():
         for reference in trigger.references():
@@ -159,7 +160,7 @@ def check_events(triggers: dict, fixed: set, error) -> None:
         seen, pending = [event], [event]
         while pending:
             current = pending.pop()
-            for reference in triggers[current].references() if current in triggers else []:
+            for reference in _waits_on(current, triggers, known):
                 if _later_stage(event, reference):
                     raise error(event, f"waits on {reference}, a later stage of its inflation (through "
                                        f"{' -> '.join(seen + [reference])}): stages start in order, each armed by "
@@ -169,6 +170,17 @@ def check_events(triggers: dict, fixed: set, error) -> None:
                 if reference not in seen:
                     seen.append(reference)
                     pending.append(reference)
+
+
+def _waits_on(event: str, triggers: dict, known: set) -> list:
+    """The events ``event`` waits on: those its ``after`` names, and the one that arms its trigger (a system's
+    deployment for its cut-away and disreefs, ``case.events.armed_by``), so that a deployment after its own
+    cut-away is a cycle too."""
+    waits = list(triggers[event].references()) if event in triggers else []
+    owner, kind = event.rsplit(".", 1)
+    if (kind == "cutaway" or kind.startswith(DISREEF)) and f"{owner}.deploy" in known:
+        waits.append(f"{owner}.deploy")
+    return waits
 
 
 def _later_stage(event: str, reference: str) -> bool:

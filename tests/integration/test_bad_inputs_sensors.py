@@ -48,6 +48,13 @@ BATTERY = [
     ("disreef triggers out of order", lambda t: _run(t, DISREEFS),
      "systems.main.inflation.disreef_triggers.0 = 'main.disreef3': waits on main.disreef3, a later stage of its "
      "inflation"),
+    ("a deployment after its own cut-away", lambda t: _run(t, f'extends = "{TRIGGERS}"\nremove = '
+                                                             '["systems.main.deploy_trigger"]\n[systems.main]\n'
+                                                             'deploy_trigger = { after = "main.cutaway" }\n'
+                                                             'cutaway_trigger = { quantity = "speed", below = 5.0, '
+                                                             'rate = 20.0 }\n'),
+     "systems.main.deploy_trigger = 'main.deploy': waits on itself through main.deploy -> main.cutaway -> "
+     "main.deploy"),
     ("timed disreef before the stage before it", lambda t: _run(t, EARLY_DISREEF, "--t-end", "30"),
      "systems.main.inflation.disreef_triggers.1: places main.disreef3 at 14.5 s, not after main.disreef2 at 19.5 s: "
      "the stages of an inflation start in order"),
