@@ -51,20 +51,26 @@ def _drain(terminal) -> str:
     return seen
 
 
-def test_ctrl_c_mid_run_exits_130_with_one_line_and_no_divergence_claim(tmp_path):
+def _signal_mid_run(tmp_path, sent) -> tuple:
+    """(exit status, last line, all it printed, output folder) of `pchute run` sent ``sent`` mid-solve."""
     out = tmp_path / "run"
     process, terminal = _start_on_terminal(RUN + ["--out", str(out)], tmp_path)
     try:
         shown = _read_until(terminal, "s left", timeout=60)        # the progress line: the solve is running
         assert "t = " in shown and "s left" in shown, shown
-        process.send_signal(signal.SIGINT)
+        process.send_signal(sent)
         process.wait(timeout=30)
         error = shown + _drain(terminal)
     finally:
         process.kill()
         os.close(terminal)
     last = [line for line in error.replace("\x1b[K", "").replace("\r", "\n").splitlines() if line.strip()][-1]
-    assert process.returncode == 130
+    return process.returncode, last, error, out
+
+
+def test_ctrl_c_mid_run_exits_130_with_one_line_and_no_divergence_claim(tmp_path):
+    status, last, error, out = _signal_mid_run(tmp_path, signal.SIGINT)
+    assert status == 130
     assert last.startswith("pchute run: interrupted at t = ") and last.endswith("of 20 s; no result files were written")
     assert "diverged" not in error and "Traceback" not in error
     assert not out.exists()                                       # no empty result folder left behind
@@ -72,19 +78,8 @@ def test_ctrl_c_mid_run_exits_130_with_one_line_and_no_divergence_claim(tmp_path
 
 def test_sigterm_mid_run_exits_143_with_one_line_and_nothing_written(tmp_path):
     """SIGTERM to `pchute run` mid-solve (issue 49: it ended with -15 and no word): stopped as Ctrl-C is."""
-    out = tmp_path / "run"
-    process, terminal = _start_on_terminal(RUN + ["--out", str(out)], tmp_path)
-    try:
-        shown = _read_until(terminal, "s left", timeout=60)
-        assert "s left" in shown, shown
-        process.send_signal(signal.SIGTERM)
-        process.wait(timeout=30)
-        error = shown + _drain(terminal)
-    finally:
-        process.kill()
-        os.close(terminal)
-    last = [line for line in error.replace("\x1b[K", "").replace("\r", "\n").splitlines() if line.strip()][-1]
-    assert process.returncode == 143
+    status, last, error, out = _signal_mid_run(tmp_path, signal.SIGTERM)
+    assert status == 143
     assert last.startswith("pchute run: terminated (SIGTERM) at t = ") and last.endswith(
         "of 20 s; no result files were written"), last
     assert "Traceback" not in error and not out.exists()
