@@ -10,9 +10,11 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Iterable, Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from ..physics.conditions import ConditionsError
 from .carried import own_vehicle, packed_by_default
 from .checks import (
     check_connections,
@@ -33,7 +35,7 @@ from .read_bodies import read_body
 from .read_systems import read_failures, read_system
 from .read_triggers import check_triggers, read_separations
 from .read_world import read_atmosphere, read_planet, read_simulation, read_start
-from .start import Release, ground_relative
+from .start import Release, at_conditions, ground_relative
 from .trigger_reach import unreachable_triggers
 from .unit_slips import unit_slips
 
@@ -103,13 +105,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     systems = {name: packed_by_default(system, vehicle) for name, system in systems.items()}
     simulation_table = top.table("simulation")
     simulation = read_simulation(simulation_table)
-    atmosphere, wind, turbulence, gusts = None, None, None, ()
-    if atmosphere_table is not None:
-        ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
-        atmosphere, wind, turbulence, gusts = read_atmosphere(atmosphere_table, ground,
-                                                               _heading(bodies[vehicle], release))
-        initial = bodies[vehicle].initial
-        check_grounds(atmosphere_table, wind, turbulence, None if initial is None else initial.altitude)
+    bodies, atmosphere, wind, turbulence, gusts = _with_air(atmosphere_table, simulation, body_tables, bodies,
+                                                            vehicle, frame, release)
     check_mach(body_tables, bodies, atmosphere)
     if release is not None:
         check_release(body_tables, system_tables, bodies, systems, vehicle)
@@ -133,9 +130,53 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     return own_vehicle(case, body_tables[vehicle].error) if bodies[vehicle].mass_includes_packed else case
 
 
+def _with_air(atmosphere_table, simulation, body_tables, bodies, vehicle, frame, release) -> tuple:
+    """(bodies, atmosphere, wind, turbulence, gusts): ``[atmosphere]`` read (all None and no gusts without one), the
+    vehicle's start found from its flight conditions when the case gives them, the grounds checked against it."""
+    atmosphere, wind, turbulence, gusts = None, None, None, ()
+    if atmosphere_table is not None:
+        ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
+        atmosphere, wind, turbulence, gusts = read_atmosphere(atmosphere_table, ground,
+                                                               _heading(bodies[vehicle], release))
+    bodies = _at_conditions(body_tables, bodies, vehicle, atmosphere, wind, frame, release)
+    if atmosphere_table is not None:
+        initial = bodies[vehicle].initial
+        check_grounds(atmosphere_table, wind, turbulence, None if initial is None else initial.altitude)
+    return bodies, atmosphere, wind, turbulence, gusts
+
+
+def _at_conditions(body_tables, bodies, vehicle, atmosphere, wind, frame, release) -> dict:
+    """``bodies`` with the vehicle's start found from its flight conditions when the case gives them
+    (``case.start.at_conditions``); they belong to the vehicle alone, need an atmosphere and exclude a release."""
+    for name, body in bodies.items():
+        conditions = body.initial.conditions if body.initial is not None else None
+        if conditions is None:
+            continue
+        table = body_tables[name]
+        if name != vehicle:
+            raise table.error("initial.mach", f"only the vehicle ('{vehicle}') can start at flight conditions "
+                                              "(mach, dynamic_pressure, flight_path_deg, heading_deg)", conditions.mach)
+        if release is not None:
+            raise table.error("initial.mach", "a vehicle released from an aircraft (start.release) takes its state "
+                                              "from the release; remove the flight conditions", conditions.mach)
+        if atmosphere is None:
+            raise table.error("initial.mach", "needs an [atmosphere] to find the altitude and speed of the flight "
+                                              "conditions (mach, dynamic_pressure)", conditions.mach)
+        try:
+            initial = at_conditions(body.initial, atmosphere, wind, frame)
+        except ConditionsError as exc:
+            raise table.error("initial.dynamic_pressure", f"with initial.mach = {conditions.mach:g}: {exc}",
+                              conditions.dynamic_pressure) from None
+        bodies = {**bodies, name: replace(body, initial=initial)}
+    return bodies
+
+
 def _heading(vehicle: Body, release: Release | None) -> tuple:
     """Unit (east, north) direction of the vehicle's initial horizontal velocity as the case gives it (a release's
-    heading; east when it has none): where turbulence's u points without a mean wind."""
+    heading, or its flight conditions'; east when it has none): where turbulence's u points without a mean wind."""
+    conditions = vehicle.initial.conditions if vehicle.initial is not None else None
+    if conditions is not None:
+        release = Release(1.0, conditions.heading_deg, conditions.flight_path_deg)
     east, north = (release.air_velocity()[:2] if release is not None
                    else (vehicle.initial.velocity_east, vehicle.initial.velocity_north))
     speed = math.hypot(east, north)

@@ -25,7 +25,7 @@ from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
 from ..physics.step_control import StepRule
 from .columns import column
 from .method_table import INTEGRATORS
-from .start import Release
+from .start import FlightConditions, Release
 
 
 @dataclass(frozen=True)
@@ -44,6 +44,9 @@ class InitialState:
         Attitude angles (deg) relative to the descent frame (see ``physics.rotations``); bodies only.
     rate_x, rate_y, rate_z : float
         Angular velocity in body axes (rad/s); bodies only.
+    conditions : FlightConditions or None
+        The vehicle only: the Mach number, dynamic pressure, flight-path angle and heading the case gave instead of
+        the altitude and velocity, which the loader found from them (``case.start.at_conditions``); None otherwise.
     """
 
     altitude: float
@@ -58,6 +61,7 @@ class InitialState:
     rate_x: float = 0.0
     rate_y: float = 0.0
     rate_z: float = 0.0
+    conditions: FlightConditions | None = None
 
     @property
     def velocity_enu(self) -> np.ndarray:

@@ -2,16 +2,23 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..physics.aerodynamics import CoefficientTable, CoefficientTableError
 from ..physics.apparent_mass import ApparentMass
 from .fields import REQUIRED, Table, check_vector, default_of
 from .model import Aerodynamics, Body, InitialState
+from .start import CONDITION_KEYS, FlightConditions
 
 
 def read_initial(t: Table, *, attitude: bool) -> InitialState:
-    values = {"altitude": t.number("altitude", "m")}
+    """``initial`` table: the altitude, position, velocity (and for a body its attitude and rates); a body's start may
+    instead be given as flight conditions (``CONDITION_KEYS``; ``_read_conditions``), the altitude then NaN until the
+    loader finds it in the atmosphere (``case.start.at_conditions``)."""
+    conditions = _read_conditions(t) if attitude and any(key in t.data for key in CONDITION_KEYS) else None
+    values = {"altitude": math.nan if conditions is not None else t.number("altitude", "m"), "conditions": conditions}
     for key in ("east", "north"):
         values[key] = t.number(key, "m", default_of(InitialState, key))
     for key in ("velocity_north", "velocity_east", "velocity_down"):
@@ -27,6 +34,23 @@ def read_initial(t: Table, *, attitude: bool) -> InitialState:
             values[key] = t.number(key, "rad/s", default_of(InitialState, key))
     t.finish()
     return InitialState(**values)
+
+
+def _read_conditions(t: Table) -> FlightConditions:
+    """The flight-condition keys of an ``initial`` table (all four together; none of the altitude and velocity keys
+    they replace)."""
+    missing = [key for key in CONDITION_KEYS if key not in t.data]
+    if missing:
+        given = ", ".join(key for key in CONDITION_KEYS if key in t.data)
+        raise t.error(missing[0], f"required with {given}: a start given as flight conditions needs "
+                                  f"{', '.join(CONDITION_KEYS)} together")
+    replaced = [key for key in ("altitude", "velocity_north", "velocity_east", "velocity_down") if key in t.data]
+    if replaced:
+        raise t.error(replaced[0], "give either altitude and the velocity_* keys or the flight conditions "
+                                   f"({', '.join(CONDITION_KEYS)}), not both", t.data[replaced[0]])
+    return FlightConditions(t.number("mach", "", above=0.0), t.number("dynamic_pressure", "Pa", above=0.0),
+                            t.number("flight_path_deg", "deg", minimum=-90.0, maximum=90.0),
+                            t.number("heading_deg", "deg", minimum=-360.0, maximum=360.0))
 
 
 def _read_inertia(t: Table) -> np.ndarray:

@@ -18,6 +18,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from ..physics.conditions import altitude_and_speed
+
 VELOCITY_FRAMES = ("ground", "air")
 """What the ``velocity_*`` keys of the ``initial`` tables are relative to (``[start] velocities_relative_to``)."""
 
@@ -76,3 +78,44 @@ def ground_relative(bodies: dict, systems: dict, vehicle: str, wind, frame: str,
         bodies = {**bodies, vehicle: replace(released, initial=moved_with(released.initial, air_east, air_north,
                                                                           air_up))}
     return bodies, systems
+
+
+CONDITION_KEYS = ("mach", "dynamic_pressure", "flight_path_deg", "heading_deg")
+"""The ``[bodies.<vehicle>.initial]`` keys that give the start as flight conditions (together, instead of
+``altitude`` and the ``velocity_*`` keys)."""
+
+
+@dataclass(frozen=True)
+class FlightConditions:
+    """The vehicle's start as flight conditions (line stretch or mortar fire as reconstructions state it).
+
+    Attributes
+    ----------
+    mach : float
+        Mach number (-, > 0) of the vehicle's speed through the air.
+    dynamic_pressure : float
+        rho V^2 / 2 (Pa, > 0) with V that speed.
+    flight_path_deg : float
+        Flight-path angle of the air-relative velocity above the horizontal (deg, -90 to 90; negative descending).
+    heading_deg : float
+        Its direction, clockwise from north (deg).
+    """
+
+    mach: float
+    dynamic_pressure: float
+    flight_path_deg: float
+    heading_deg: float
+
+
+def at_conditions(initial, atmosphere, wind, frame: str):
+    """``initial`` (an ``InitialState`` with ``conditions``) with the altitude (m) and velocity (m/s) the conditions
+    give in ``atmosphere`` (``physics.conditions.altitude_and_speed``): the velocity relative to the air, the
+    steady ``wind`` at that altitude added when the case's velocities are relative to the ground (``frame``), as a
+    release's is. Raises ``physics.conditions.ConditionsError``."""
+    c = initial.conditions
+    altitude, speed = altitude_and_speed(atmosphere, c.mach, c.dynamic_pressure)
+    east, north, up = Release(speed, c.heading_deg, c.flight_path_deg).air_velocity()
+    if frame == "ground" and wind is not None:
+        wind_east, wind_north = wind.at(altitude)
+        east, north = east + wind_east, north + wind_north
+    return replace(initial, altitude=altitude, velocity_east=east, velocity_north=north, velocity_down=-up)

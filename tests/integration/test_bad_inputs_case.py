@@ -66,6 +66,16 @@ def _fit(tmp: Path, target: str, extra: str = "", free: str = "") -> list:
     return ["fit", path, "--out", str(tmp / "fit_out"), "--workers", "1"]
 
 
+def _conditions(tmp: Path, keys: str = "dynamic_pressure = 846.0\n") -> str:
+    """cases/mer/edl.toml with its vehicle's start given as flight conditions (Mach 2.07 at -25 deg, east, and
+    ``keys``) instead of its altitude and velocity."""
+    edl = (ROOT / "cases" / "mer" / "edl.toml").as_posix()
+    return _file(tmp, "conditions.toml", f'extends = "{edl}"\nremove = ["bodies.vehicle.initial.altitude", '
+                                         '"bodies.vehicle.initial.velocity_down", '
+                                         '"bodies.vehicle.initial.velocity_east"]\n[bodies.vehicle.initial]\n'
+                                         f'mach = 2.07\nflight_path_deg = -25.0\nheading_deg = 90.0\n{keys}')
+
+
 HISTORY = 'history = "data.csv"\ncolumn = "tension_riser"\nstd = 1.0'
 
 BATTERY = [
@@ -108,6 +118,19 @@ BATTERY = [
     ("gust direction overflowing", lambda t: ["run", _gusty(t), "--set", "atmosphere.gusts[0].direction=[1e308, 1e308, 0]"],
      "atmosphere.gusts[0].direction = [1e+308, 1e+308, 0]: its length overflows"),
     # silently accepted before
+    # a start given as flight conditions (bodies.<vehicle>.initial: mach, dynamic_pressure, ...)
+    ("dynamic pressure no altitude gives at that Mach", lambda t: ["run", _conditions(t, "dynamic_pressure = 1e7\n")],
+     "bodies.vehicle.initial.dynamic_pressure = 10000000.0: with initial.mach = 2.07: no altitude of the mars_grc "
+     "atmosphere (-10000 to 100000 m) gives 1e+07 Pa at Mach 2.07"),
+    ("both altitude and mach", lambda t: ["run", _conditions(t), "--set", "vehicle.initial.altitude=9500"],
+     "bodies.vehicle.initial.altitude = 9500: give either altitude and the velocity_* keys or the flight conditions "
+     "(mach, dynamic_pressure, flight_path_deg, heading_deg), not both"),
+    ("mach without dynamic_pressure", lambda t: ["run", _conditions(t, "")],
+     "bodies.vehicle.initial.dynamic_pressure: required with mach, flight_path_deg, heading_deg"),
+    ("mach in an atmosphere without a speed of sound", lambda t: [
+        "run", _conditions(t), "--set", 'atmosphere.model="table"', "--set",
+        f'atmosphere.file="{(ROOT / "tests" / "cases" / "constant_air.csv").as_posix()}"'],
+     "the table atmosphere has no speed of sound, so a Mach number cannot be turned into a speed"),
     ("extends overridden", lambda t: ["run", CASE1, "--set", "extends=other.toml"],
      "--set extends=other.toml: extends: cannot be overridden"),
     ("remove overridden", lambda t: ["run", CASE1, "--set", "remove=[\"planet\"]"], "remove: cannot be overridden"),

@@ -109,3 +109,45 @@ def test_a_relative_dispersion_scales_a_coefficient_tables_values():
     assert table["value"] == pytest.approx([0.55 * 1.1, 0.55 * 1.1, 0.0], rel=1e-15)
     inertia = tomllib.loads(text)["bodies"]["vehicle"]["inertia"]
     assert data["bodies"]["vehicle"]["inertia"] == pytest.approx([2.0 * value for value in inertia], rel=1e-15)
+
+
+EDL = ROOT / "cases" / "mer" / "edl.toml"
+CONDITIONS = {"mach": 2.07, "dynamic_pressure": 846.0, "flight_path_deg": -25.0, "heading_deg": 90.0}
+
+
+def conditions_case(folder, **keys) -> str:
+    """cases/mer/edl.toml with its vehicle started at flight conditions (``CONDITIONS`` updated by ``keys``) instead
+    of its altitude and velocity."""
+    path = folder / "conditions.toml"
+    given = "\n".join(f"{key} = {value}" for key, value in {**CONDITIONS, **keys}.items())
+    path.write_text(f'extends = "{EDL.as_posix()}"\nremove = ["bodies.vehicle.initial.altitude", '
+                    '"bodies.vehicle.initial.velocity_down", "bodies.vehicle.initial.velocity_east"]\n'
+                    f"[bodies.vehicle.initial]\n{given}\n")
+    return str(path)
+
+
+@pytest.mark.parametrize("frame", ["ground", "air"])
+def test_a_start_at_flight_conditions_finds_the_altitude_and_speed_in_the_atmosphere(tmp_path, frame):
+    """Mach, dynamic pressure, flight-path angle and heading give the altitude where the Mars model has that pair and
+    a velocity of M a(h) at that angle through the air, the wind added whatever the velocities are relative to."""
+    case = pc.load_case(conditions_case(tmp_path), {"atmosphere.wind.east": 10.0, "start.velocities_relative_to": frame})
+    state = case.bodies["vehicle"].initial
+    density, sound = case.atmosphere.state(state.altitude)
+    air = np.array([state.velocity_east - 10.0, state.velocity_north, -state.velocity_down])
+    speed = float(np.linalg.norm(air))
+    assert speed == pytest.approx(2.07 * sound, rel=1e-12)
+    assert 0.5 * density * speed ** 2 == pytest.approx(846.0, rel=1e-12)
+    assert math.degrees(math.asin(air[2] / speed)) == pytest.approx(-25.0, abs=1e-9)
+    assert air[1] == pytest.approx(0.0, abs=1e-9) and air[0] > 0.0
+    assert state.conditions.mach == 2.07 and 9000.0 < state.altitude < 10000.0
+
+
+def test_a_run_from_flight_conditions_records_them_at_its_first_sample(tmp_path):
+    """SP from the conditions in a wind: the vehicle's Mach number and dynamic pressure at t = 0 are the given ones
+    (body +x horizontal, yaw 90 deg, so that the aerodynamic centre is at the centre of mass's altitude)."""
+    case = pc.load_case(conditions_case(tmp_path), {"atmosphere.wind.east": 10.0, "vehicle.initial.yaw_deg": 90.0,
+                                                    "simulation.duration": 0.1})
+    result = pc.simulate(case, "sp")
+    assert result["vehicle_mach"][0] == pytest.approx(2.07, rel=1e-6)
+    assert result["vehicle_dynamic_pressure"][0] == pytest.approx(846.0, rel=1e-6)
+    assert result["vehicle_altitude"][0] == pytest.approx(case.bodies["vehicle"].initial.altitude, abs=1e-6)
