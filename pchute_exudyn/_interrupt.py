@@ -55,6 +55,13 @@ def interrupt(signum, frame) -> None:
     raise raised()
 
 
+def pending_is_termination() -> bool:
+    """Whether the signal a deferred raise stands for is SIGTERM (``Terminated``), and forget it: a solve takes it
+    over (``engine.solver``)."""
+    pending, _PENDING[0] = _PENDING[0], KeyboardInterrupt
+    return pending is Terminated
+
+
 terminate = interrupt
 """The command's SIGTERM handler (the one function: a solve takes both over, ``engine.solver``)."""
 

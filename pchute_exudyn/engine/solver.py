@@ -279,11 +279,16 @@ class _interrupt_flag:
             self.previous[signal.SIGINT] = signal.signal(signal.SIGINT, self._handle)
         if signal.getsignal(signal.SIGTERM) is _interrupt.terminate:
             self.previous[signal.SIGTERM] = signal.signal(signal.SIGTERM, self._handle)
+        if hasattr(signal, "SIGALRM") and signal.getsignal(signal.SIGALRM) is _interrupt.interrupt:
+            # a signal an import deferred (``_interrupt``) comes back on this timer, maybe now, inside the solve
+            self.previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, self._handle)
         return self
 
     def _handle(self, signum, frame):
+        deferred = hasattr(signal, "SIGALRM") and signum == signal.SIGALRM
         self.progress["interrupted"] = True
-        self.progress["terminated"] = self.progress.get("terminated", False) or signum == signal.SIGTERM
+        self.progress["terminated"] = (self.progress.get("terminated", False) or signum == signal.SIGTERM
+                                       or (deferred and _interrupt.pending_is_termination()))
 
     def __exit__(self, *exc):
         for signum, previous in self.previous.items():
@@ -306,6 +311,8 @@ def _solve(model: Model, settings, solver_type, progress: dict, integrator: str,
         with _interrupt_flag(progress):
             model.mbs.SolveDynamic(settings, solverType=solver_type, showHints=False)
     except Exception as exc:  # the engine wraps user-function errors; report ours, else a divergence
+        if progress["interrupted"]:   # a stop a signal asked for (the engine may raise on it): ``integrate`` says so
+            return _time.perf_counter() - started
         if model.failure is not None:
             raise _user_error(model.failure, progress["time"]) from None
         implicit = not INTEGRATORS[integrator].explicit
