@@ -167,14 +167,10 @@ def _post_step_function(model: Model, step: float, end: float, output_step: floa
             return True
         count[0] += 1
         if counts:
-            if t - last_end[0] > ROUND_OFF * step:   # not the start, nor a round-off step at the end
-                progress["steps"] += 1
+            taken = t - last_end[0] > ROUND_OFF * step   # not the start, nor a round-off step at the end
             last_end[0] = t
             progress["time"] = t + step
-            if progress["interrupted"]:
-                return False
-            if progress["steps"] % CHECK_EVERY == 0 and not finite():
-                progress["bad"] = t
+            if not _count_step(progress, t, taken, finite):
                 return False
         try:
             for hook in post_hooks:
