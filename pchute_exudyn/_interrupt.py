@@ -41,6 +41,12 @@ _PENDING = [KeyboardInterrupt]
 """What the next raise is: KeyboardInterrupt (SIGINT) or Terminated (SIGTERM), kept while an import defers it."""
 
 
+RECEIVED = [None]
+"""The interrupt this command was sent (KeyboardInterrupt or Terminated), None before any: an engine call that the
+raise lands in may turn it into an error of its own (Exudyn's AddObject a RuntimeError), which the command then
+reports as the interrupt it was (``cli.main``)."""
+
+
 def interrupt(signum, frame) -> None:
     """SIGINT, SIGTERM (and the timer that retries them): KeyboardInterrupt, or Terminated for SIGTERM, once no
     import is running."""
@@ -48,6 +54,7 @@ def interrupt(signum, frame) -> None:
         _PENDING[0] = Terminated
     elif signum == signal.SIGINT:
         _PENDING[0] = KeyboardInterrupt
+    RECEIVED[0] = _PENDING[0]
     if _importing(frame):
         _retry()
         return

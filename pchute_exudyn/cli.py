@@ -672,6 +672,10 @@ def main(argv=None) -> int:
               file=sys.stderr)
         return EXIT_ERROR
     except Exception as exc:   # the last resort: a bug of ours, still one line (every known fault has its own)
+        if _interrupt.RECEIVED[0] is not None:   # the interrupt, turned into an engine error where it landed
+            interrupted = _interrupt.RECEIVED[0]()
+            print(f"pchute {args.command}: {str(interrupted) or 'interrupted'}", file=sys.stderr)
+            return _interrupted_status(interrupted)
         print(f"pchute {args.command}: internal error: {type(exc).__name__}: {_first_line(exc)} (please report this "
               "with the command line)", file=sys.stderr)
         return EXIT_ERROR
