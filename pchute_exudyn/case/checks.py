@@ -58,6 +58,18 @@ def check_mach(body_tables, bodies, atmosphere) -> None:
                                               "(K) or give atmosphere.speed_of_sound (m/s)", list(table.mach))
 
 
+def check_supersonic_openings(system_tables, systems, atmosphere) -> None:
+    """A supersonic opening takes its load factor from the Mach number at line stretch: it needs the speed of
+    sound."""
+    if atmosphere is None or atmosphere.has_speed_of_sound:
+        return
+    for name, system in systems.items():
+        if system.inflation is not None and system.inflation.supersonic is not None:
+            raise system_tables[name].error("inflation.supersonic", "a supersonic opening needs the speed of sound, "
+                                            "and the atmosphere table has no temperature column: add one (K) or "
+                                            "give atmosphere.speed_of_sound (m/s)")
+
+
 RELEASED_KEYS = ("velocity_north", "velocity_east", "velocity_down", "rate_x", "rate_y", "rate_z")
 """Initial-state keys a released vehicle may not have: its motion is the release's."""
 

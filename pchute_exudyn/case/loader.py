@@ -25,6 +25,7 @@ from .checks import (
     check_packed_mass,
     check_plausible,
     check_release,
+    check_supersonic_openings,
     check_vehicle,
 )
 from .fields import Context, Table
@@ -108,6 +109,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     bodies, atmosphere, wind, turbulence, gusts = _with_air(atmosphere_table, simulation, body_tables, bodies,
                                                             vehicle, frame, release)
     check_mach(body_tables, bodies, atmosphere)
+    check_supersonic_openings(system_tables, systems, atmosphere)
     if release is not None:
         check_release(body_tables, system_tables, bodies, systems, vehicle)
     check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)

@@ -20,6 +20,7 @@ from .model import (
     canopy_opening,
 )
 from .read_bodies import read_initial
+from .read_opening import read_supersonic
 from .read_triggers import read_trigger
 
 CANOPY_MODELS = ("rigid", "reduced")
@@ -287,9 +288,10 @@ def _read_inflation(t: Table, system: str = "", bodies=None, triggers=None) -> I
                    zip(starts, columns["fraction"], columns["fill_constant"], columns["exponent"]))
     scalars = {key: t.number(key, unit, default_of(Inflation, key)) for key, unit in
                (("initial_fraction", ""), ("overinflation", ""), ("overinflation_decay", "s"))}
+    supersonic = t.table("supersonic", None)
     t.finish()
     try:
-        return Inflation(stages, **scalars)
+        return Inflation(stages, **scalars, supersonic=read_supersonic(supersonic) if supersonic else None)
     except InflationError as exc:
         raise t.error(exc.field, str(exc), exc.value) from None
 

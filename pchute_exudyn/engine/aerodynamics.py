@@ -86,6 +86,11 @@ class BodyAerodynamics:
             vx, vy, vz = vx - wx, vy - wy, vz - wz
         return math.sqrt(vx * vx + vy * vy + vz * vz)
 
+    def sound_speed(self, time: float) -> float:
+        """The speed of sound (m/s) at the aerodynamic centre from the engine at run time ``time`` (s)."""
+        (x, y, z), _, _, _ = self.read()
+        return self.loads.atmosphere.speed_of_sound(self.loads.altitude(x, y, z))
+
 
 class AerodynamicLoads:
     """The aerodynamics of a model's bodies, packed for ``physics.aerodynamics.aerodynamics_stage`` (``add`` each

@@ -90,19 +90,23 @@ def add_apparent_mass(model: Model, case: Case, body: Body, node: int) -> None:
 
 def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, aerodynamic_load) -> None:
     """Measure the canopy's air speed (``aerodynamic_load.air_speed(time)``, m/s) around each stage start of an
-    opening (``physics.inflation.InflationProgress``); report the drag-area fraction (-) and the magnitude of the
-    canopy's aerodynamic force (N) as channels."""
+    opening (``physics.inflation.InflationProgress``), with the speed of sound for a supersonic opening and its Mach
+    number after every step for its breathing; report the drag-area fraction (-) and the magnitude of the canopy's
+    aerodynamic force (N) as channels."""
     speed_reader = aerodynamic_load.air_speed
+    sound_reader = aerodynamic_load.sound_speed if progress.supersonic is not None else (lambda t: None)
     get_time = model.mbs.systemData.GetTime
     last = [model.phase.start]
 
     def before_step(mbs, t):   # t: the coming step's end; the state is still the step's start
         if progress.pending is None and progress.due(t):   # (a retried, halved implicit step keeps its start)
-            progress.begin(last[0], speed_reader(last[0]))
+            progress.begin(last[0], speed_reader(last[0]), sound_reader(last[0]))
 
     def after_step(mbs, t):
         if progress.pending is not None:
-            progress.complete(t, speed_reader(t))
+            progress.complete(t, speed_reader(t), sound_reader(t))
+        if progress.load_factor is not None and progress.supersonic.breathing_amplitude is not None:
+            progress.observe(speed_reader(t) / sound_reader(t))
         last[0] = t
 
     model.add_pre_step(before_step)

@@ -13,7 +13,9 @@ fraction f_(i-1) (f_0, the initial fraction, for the first)::
                                                    over the decay time t_k
 
 A stage that starts before the previous fill has ended starts from f_(i-1) all the same (the law's definition).
-Plain floats: the fraction is evaluated at every solver stage.
+With a supersonic opening (``physics.supersonic_opening``) the last stage's C_x and n come from the conditions at its
+start, and the filled canopy breathes once its overinflation has decayed. Plain floats: the fraction is evaluated
+at every solver stage.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import math
 from dataclasses import dataclass, replace
 
 from .invalid import InvalidField
+from .supersonic_opening import SupersonicOpening
 
 
 class InflationError(InvalidField):
@@ -72,6 +75,9 @@ class Inflation:
     numbers : tuple of int
         Each stage's number as the case counts them (empty: 1, 2, ...): an opening that skips stages keeps the others'
         numbers (``skipping``), so that reports name the same stage the same way.
+    supersonic : SupersonicOpening or None
+        The last stage's C_x, fill constant and breathing from the conditions at its start (then ``overinflation``
+        stays 1 and ``overinflation_decay`` > 0).
     """
 
     stages: tuple
@@ -79,6 +85,7 @@ class Inflation:
     overinflation: float = 1.0
     overinflation_decay: float = 0.0
     numbers: tuple = ()
+    supersonic: SupersonicOpening | None = None
 
     def __post_init__(self):
         stages = self.stages
@@ -101,6 +108,10 @@ class Inflation:
         _check(math.isfinite(decay) and decay >= 0.0, "overinflation_decay", decay, "must be >= 0 (s)")
         _check(self.overinflation == 1.0 or decay > 0.0, "overinflation_decay", decay,
                "must be > 0 (s) when overinflation > 1")
+        if self.supersonic is not None:
+            _check(self.overinflation == 1.0, "overinflation", self.overinflation,
+                   "must be left out with a supersonic opening (its load factor is the overinflation)")
+            _check(decay > 0.0, "overinflation_decay", decay, "must be > 0 (s) with a supersonic opening")
 
     def number(self, stage: int) -> int:
         """The number (from 1, as the case counts them) of stage ``stage`` (0-based here)."""
@@ -118,16 +129,18 @@ class Inflation:
                 current = i
         return current
 
-    def fraction(self, since: float, fill_times) -> float:
+    def fraction(self, since: float, fill_times, overinflation: float | None = None, breathing=None) -> float:
         """f at ``since`` (s since line stretch) given each started stage's fill time (s; ``fill_times[i]``; a stage
-        without one yet holds f_(i-1), its value at its start)."""
+        without one yet holds f_(i-1), its value at its start); ``overinflation`` (-) replaces C_x (a supersonic
+        opening's load factor) and ``breathing(elapsed)`` (-) multiplies the last stage's f_n once the overinflation
+        has decayed (``elapsed`` s before)."""
         if since < 0.0:
             return self.initial_fraction
         i = self.stage_at(since)
         stage = self.stages[i]
         before = self.initial_fraction if i == 0 else self.stages[i - 1].fraction
         last = i == len(self.stages) - 1
-        peak = stage.fraction * (self.overinflation if last else 1.0)
+        peak = stage.fraction * ((self.overinflation if overinflation is None else overinflation) if last else 1.0)
         if i >= len(fill_times):   # the stage's speed is not measured yet (the engine's start-up call): f_(i-1)
             return before
         elapsed, fill = since - stage.start, fill_times[i]
@@ -136,6 +149,8 @@ class Inflation:
         decay = elapsed - fill
         if last and decay < self.overinflation_decay:
             return peak - (peak - stage.fraction) * decay / self.overinflation_decay
+        if last and breathing is not None:
+            return stage.fraction * breathing(decay - self.overinflation_decay)
         return stage.fraction
 
 
@@ -185,7 +200,9 @@ class InflationProgress:
 
     The engine measures the speed V_i at a stage start s_i from the states around it: ``begin`` at the start of the
     step in which s_i falls (provisionally, V at the step start) and ``complete`` at its end (V_i interpolated
-    linearly to s_i). Pure floats, no engine: it outlives the models of a run's phases.
+    linearly to s_i). A supersonic opening also takes the speed of sound there (its Mach number sets the last
+    stage's C_x and n) and, for its breathing, the canopy's Mach number after every step (``observe``). Pure floats,
+    no engine: it outlives the models of a run's phases.
 
     Parameters
     ----------
@@ -200,11 +217,33 @@ class InflationProgress:
         self.inflation, self.diameter, self.line_stretch = inflation, diameter, line_stretch
         self.speeds: list = []           # V_i (m/s) per started stage
         self.fill_times: list = []       # t_f,i (s) per started stage
-        self.pending = None              # (run time, speed) at the start of the step where a stage starts
+        self.pending = None              # (run time, speed, speed of sound) at the start of the step of a stage start
+        self.load_factor = None          # C_k (-) of a supersonic opening, once its last stage has started
+        self.stretch_mach = None         # the Mach number (-) at that start
+        self.mach = 0.0                  # the canopy's Mach number (-) at the last step's end (breathing)
+
+    @property
+    def supersonic(self):
+        """The opening's ``SupersonicOpening`` (None: a subsonic fill-constant law)."""
+        return self.inflation.supersonic
 
     def __call__(self, since: float) -> float:
         """The drag-area fraction at ``since`` (s since line stretch)."""
-        return self.inflation.fraction(since, self.fill_times)
+        if self.load_factor is None:
+            return self.inflation.fraction(since, self.fill_times)
+        return self.inflation.fraction(since, self.fill_times, self.load_factor, self._breathing)
+
+    def _breathing(self, elapsed: float) -> float:
+        return self.supersonic.breathing(elapsed, self.mach, self.speeds[-1], self.diameter)
+
+    def breathing(self) -> bool:
+        """Whether the canopy breathes at its last measured Mach number (a supersonic opening's last stage)."""
+        amplitude = None if self.supersonic is None else self.supersonic.breathing_amplitude
+        return self.load_factor is not None and amplitude is not None and amplitude(self.mach) > 0.0
+
+    def observe(self, mach: float) -> None:
+        """The canopy's Mach number (-) at a step's end: the breathing's amplitude over the next step."""
+        self.mach = mach
 
     def due(self, step_end: float) -> bool:
         """Whether a stage not yet measured starts by ``step_end`` (run time, s)."""
@@ -212,26 +251,37 @@ class InflationProgress:
         return started < len(self.inflation.stages) and \
             self.line_stretch + self.inflation.stages[started].start <= step_end
 
-    def begin(self, time: float, speed: float) -> None:
-        """At the start ``time`` (s) of the step in which the next stage starts, with the air speed (m/s) then."""
-        self.pending = (time, speed)
-        self._set(speed)
+    def begin(self, time: float, speed: float, sound: float | None = None) -> None:
+        """At the start ``time`` (s) of the step in which the next stage starts, with the air speed (m/s) and, for a
+        supersonic opening, the speed of sound (m/s) then."""
+        self.pending = (time, speed, sound)
+        self._set(speed, sound)
 
-    def complete(self, time: float, speed: float) -> None:
-        """At the end ``time`` (s) of that step: V_i interpolated to the stage start."""
+    def complete(self, time: float, speed: float, sound: float | None = None) -> None:
+        """At the end ``time`` (s) of that step: V_i (and the speed of sound) interpolated to the stage start."""
         if self.pending is None:
             return
-        start_time, start_speed = self.pending
+        start_time, start_speed, start_sound = self.pending
         stage_time = self.line_stretch + self.inflation.stages[len(self.speeds) - 1].start
         w = (stage_time - start_time) / (time - start_time) if time > start_time else 1.0
+        w = min(max(w, 0.0), 1.0)
         self.speeds.pop()
         self.fill_times.pop()
-        self._set(start_speed + min(max(w, 0.0), 1.0) * (speed - start_speed))
+        self._set(start_speed + w * (speed - start_speed),
+                  None if sound is None else start_sound + w * (sound - start_sound))
         self.pending = None
 
-    def _set(self, speed: float) -> None:
+    def _set(self, speed: float, sound: float | None = None) -> None:
+        stage = len(self.speeds)
         self.speeds.append(speed)
-        self.fill_times.append(self.inflation.fill_time(len(self.speeds) - 1, speed, self.diameter))
+        if self.supersonic is None or stage < len(self.inflation.stages) - 1 or sound is None:
+            self.fill_times.append(self.inflation.fill_time(stage, speed, self.diameter))
+            return
+        mach = speed / sound
+        self.stretch_mach, self.mach = mach, mach
+        self.load_factor = self.supersonic.load_factor_at(mach, self.diameter)
+        fill_constant = self.supersonic.fill_constant_at(mach, self.inflation.stages[stage].fill_constant)
+        self.fill_times.append(fill_constant * self.diameter / max(speed, 1e-9))
 
     def windows(self, end: float) -> list:
         """(stage number from 1, start, end) in run time (s) of each stage started before ``end`` (s)."""

@@ -131,6 +131,8 @@ class StageStartEvent(Event):
     fill_time: float = 0.0   # s
     canopy: str | None = field(default=None, metadata=OPTIONAL)   # the canopy, in a cluster
     trigger: dict | None = field(default=None, metadata=OPTIONAL)
+    mach: float | None = field(default=None, metadata=OPTIONAL)          # -, a supersonic opening's line stretch
+    load_factor: float | None = field(default=None, metadata=OPTIONAL)   # -, its C_k there
     kind: ClassVar[str] = "stage_start"
 
     @property
@@ -174,7 +176,9 @@ def opening_events(case, openings: dict, end: float) -> list:
         for flown, (stage, fill_end, speed, fill) in enumerate(progress.fill_ends()):
             start = fill_end - fill
             kind = StageStartEvent if flown == 0 else DisreefEvent   # the first flown (stage 1 unless skipped)
-            events.append(kind(start, system, stage, speed, fill, **named))
+            supersonic = {"mach": progress.stretch_mach, "load_factor": progress.load_factor} \
+                if progress.load_factor is not None and flown == len(progress.inflation.stages) - 1 else {}
+            events.append(kind(start, system, stage, speed, fill, **named, **supersonic))
             if fill_end <= flies_to:
                 events.append(FillEndEvent(fill_end, system, stage, **named))
     return events

@@ -46,6 +46,10 @@ CAP_STEPS = 100
 ALLOWANCE_STEPS = 8
 """Steps between two looks at the relaxation's cap (``_relaxation_cap``: the lines' stretch-rate envelope fades over
 seconds)."""
+OPENING_STEPS = 200
+"""Fewest steps (-) over a canopy's fill and its overinflation's decay (``_opening_cap``): the drag rises from nothing
+to its peak within the fill and swings the canopy on its lines, which the indicator, in a norm that a heavy vehicle
+dominates, does not see (MSL's 60 kg parachute behind 3.1 t: twice the opening load at the indicator's steps)."""
 RELAXATION_SHARE = 0.01
 """Largest share (-) of a line's tension that the relaxation's extra damping may add at the current stretch rates
 (``_relaxation_cap``)."""
@@ -107,13 +111,24 @@ class AdaptiveSteps:
             self.step = next_step(taken, error, CAP_FRACTION * self.cap, self.rule.largest)
         else:
             self.step = min(self.step, CAP_FRACTION * self.cap)
-        coming = min(self.step, self._relaxation_cap(t))
+        coming = min(self.step, self._relaxation_cap(t), self._opening_cap(t))
         if self.landing is not None:
             land = self.landing(t) - t
             if land < coming:
                 coming = land   # the step that ends on a trigger's sample; the rule's step stays for the next
         self._relax(coming)
         return coming
+
+    def _opening_cap(self, t: float) -> float:
+        """The step (s) an opening under way allows: its fill time over OPENING_STEPS from the stage's start until
+        its fill and its overinflation's decay have ended, and while a supersonic canopy breathes (inf
+        otherwise)."""
+        cap = math.inf
+        for progress in (self.model.phase.inflation or {}).values():
+            for _, end, _, fill in progress.fill_ends():
+                if t < end + progress.inflation.overinflation_decay or progress.breathing():
+                    cap = min(cap, fill / OPENING_STEPS)
+        return cap
 
     def _count(self, taken: float) -> None:
         self.smallest, self.largest = min(self.smallest, taken), max(self.largest, taken)
