@@ -61,7 +61,8 @@ class InputError(PchuteError):
 
 
 class SimulationError(PchuteError):
-    """The integration failed: the state became NaN or infinite, a line tore, or the engine stopped.
+    """The integration failed: the state became NaN or infinite, a line broke or was over-stretched, or the engine
+    stopped.
 
     Parameters
     ----------

@@ -19,6 +19,7 @@ from ..physics.atmosphere import Atmosphere
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency
 from ..physics.inflation import Inflation, nominal_diameter, skipping, with_disreef_delays
 from ..physics.interpolation import interpolate_held
+from ..physics.line_materials import RatedLine
 from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
@@ -179,6 +180,8 @@ class Line:
         C (N s/m).
     load_elongation : LoadElongation or None
         A measured tension-strain table replacing K (L - L0) (``physics.lines``); None: the linear law.
+    rating : RatedLine or None
+        The material and breaking strength a case named (``physics.line_materials``; its table is the line's table).
     """
 
     name: str
@@ -188,6 +191,7 @@ class Line:
     stiffness: float
     damping: float
     load_elongation: LoadElongation | None = None
+    rating: RatedLine | None = None
 
 
 @dataclass(frozen=True)

@@ -72,6 +72,7 @@ RANGES: tuple = (
     Range("systems.*.lines.*.damping", "N s/m", (0.0, 1e12), (0.0, 1e8)),
     Range("systems.*.lines.*.load_elongation.tension", "N", (0.0, 1e12), (0.0, 1e8)),
     Range("systems.*.lines.*.load_elongation.strain", "", (0.0, 10.0), (0.0, 2.0)),
+    Range("systems.*.lines.*.breaking_strength", "N", (0.0, 1e12), (1.0, 1e8)),
     Range("systems.*.contact.stiffness", "N/m", (0.0, 1e15), (0.0, 1e10)),
     Range("systems.*.contact.damping", "N s/m", (0.0, 1e12), (0.0, 1e8)),
     # initial states: speeds, rates, altitudes, positions

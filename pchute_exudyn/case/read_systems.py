@@ -6,6 +6,7 @@ import math
 
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
 from ..physics.inflation import Inflation, InflationError, InflationStage
+from ..physics.line_materials import LINE_MATERIALS, RatedLine
 from ..physics.lines import LoadElongation, LoadElongationError
 from ..physics.triggers import At
 from .events import DISREEF
@@ -194,16 +195,43 @@ def _read_cluster(t: Table, canopies: tuple) -> tuple:
 def _read_line(name: str, lt: Table, bodies: dict) -> Line:
     body, point = _read_body_point(lt, "attach", bodies, lt.string("attach"))
     free_length = lt.number("free_length", "m", above=0.0)
-    table_data = lt.table("load_elongation", None)
-    table = _read_load_elongation(table_data) if table_data is not None else None
+    rating = _read_rating(lt)
+    if rating is not None:   # a material's curve scaled by the line's breaking strength: a table like any other
+        table = rating.table()
+    else:
+        table_data = lt.table("load_elongation", None)
+        table = _read_load_elongation(table_data) if table_data is not None else None
     if table is not None and "stiffness" in lt.data:
         raise lt.error("stiffness", "give stiffness or load_elongation, not both", lt.data["stiffness"])
     # with a table, K is the table's initial tangent stiffness (for reports); the table gives the tension
     stiffness = table.slopes()[0] / free_length if table is not None else lt.number("stiffness", "N/m", minimum=0.0)
     line = Line(name, body, point, free_length=free_length, stiffness=stiffness,
-                damping=lt.number("damping", "N s/m", minimum=0.0), load_elongation=table)
+                damping=lt.number("damping", "N s/m", minimum=0.0), load_elongation=table, rating=rating)
     lt.finish()
     return line
+
+
+def _read_rating(lt: Table) -> RatedLine | None:
+    """``material = "<name>"`` and ``breaking_strength`` (N, the whole line) of a line (``physics.line_materials``),
+    instead of ``stiffness`` or ``load_elongation``; None without a material."""
+    names = ", ".join(LINE_MATERIALS)
+    material = lt.string("material", None)
+    if material is None:
+        if "breaking_strength" in lt.data:
+            raise lt.error("breaking_strength", f"needs material (one of: {names}): the strength scales that "
+                                                "material's load-elongation curve", lt.data["breaking_strength"])
+        lt.allowed.append("breaking_strength")
+        return None
+    if material not in LINE_MATERIALS:
+        raise lt.error("material", f"unknown line material; the materials are: {names}", material)
+    for key in ("stiffness", "load_elongation"):
+        if key in lt.data:
+            raise lt.error(key, f"give one of material (with breaking_strength), stiffness or load_elongation, not "
+                                f"{key} with material = {material!r}", lt.data[key])
+    if "breaking_strength" not in lt.data:
+        raise lt.error("breaking_strength", f"required (N) with material = {material!r}: the line's rated breaking "
+                                            "strength, all its legs or plies together")
+    return RatedLine(LINE_MATERIALS[material], lt.number("breaking_strength", "N", above=0.0))
 
 
 def _read_body_point(t: Table, key: str, bodies: dict, text: str) -> tuple:

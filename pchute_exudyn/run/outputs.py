@@ -32,8 +32,9 @@ from ..physics.rotations import attitude_angles_deg, tilt_deg
 from ..physics.step_control import merge_summaries
 
 MAX_LINE_STRAIN = 1.0
-"""A line stretched beyond (1 + MAX_LINE_STRAIN) times its free length means the integration diverged (parachute
-lines fail at a few per cent strain); such a run stops with an error instead of returning numbers."""
+"""A line without a material stretched beyond (1 + MAX_LINE_STRAIN) times its free length is over-stretched: no
+parachute line stretches that far (they break at a few per cent to a few tens of per cent strain), so such a run stops
+with an error instead of returning numbers. A line with a material stops at its material's breaking strain."""
 
 
 def concatenate(case: Case, histories: list) -> RawHistory:
@@ -119,8 +120,8 @@ def scene(case: Case, raw: RawHistory) -> tuple[dict, dict]:
 
 
 def check_history(case: Case, raw: RawHistory, step: float) -> None:
-    """Raise SimulationError if a body ran away (``check_runaway``), any sample is NaN/inf or a line is torn
-    (strain > MAX_LINE_STRAIN)."""
+    """Raise SimulationError if a body ran away (``check_runaway``), any sample is NaN/inf (a divergence) or a line
+    is over-stretched (``check_line_strains``)."""
     arrays = [raw.time] + [a for b in raw.bodies.values() for a in b.values()] \
         + [a for c in raw.confluences.values() for a in c.values()] + list(raw.tensions.values())
     bad_rows = np.zeros(len(raw.time), dtype=bool)
@@ -132,20 +133,45 @@ def check_history(case: Case, raw: RawHistory, step: float) -> None:
         raise SimulationError(f"the state became NaN or infinite at t = {t:.4f} s: the integration diverged; "
                               f"try a smaller step than {step:g} s", float(t))
     for system in case.systems.values():
-        if system.name not in raw.confluences:
-            continue
-        system = system.with_bodies(raw.bodies)   # without the lines of canopies not in this phase
-        positions, _ = attach_points(case, raw, system, velocities=False)
-        length = np.linalg.norm(positions - raw.confluences[system.name]["position"][:, None, :], axis=-1)
-        free = np.array([line.free_length for line in system.lines])
-        strain = (length - free) / free
-        if (strain > MAX_LINE_STRAIN).any():
-            row, col = np.unravel_index(np.argmax(strain > MAX_LINE_STRAIN), strain.shape)
-            line = system.lines[col]
-            raise SimulationError(
-                f"line {case.line_label(system, line)} reached {length[row, col] / free[col]:.2f} times its free "
-                f"length at t = {raw.time[row]:.4f} s: the integration diverged; try a smaller step than {step:g} s",
-                float(raw.time[row]))
+        if system.name in raw.confluences:
+            check_line_strains(case, raw, system.with_bodies(raw.bodies))   # without canopies not in this phase
+
+
+def check_line_strains(case: Case, raw: RawHistory, system) -> None:
+    """Raise SimulationError at the first sample where a line of ``system`` is over-stretched: beyond its material's
+    breaking strain (a line with ``material``: it broke), else beyond (1 + MAX_LINE_STRAIN) times its free length.
+    The message starts with the line's name and gives the system, the time, the strain, the limit and the tension."""
+    positions, _ = attach_points(case, raw, system, velocities=False)
+    length = np.linalg.norm(positions - raw.confluences[system.name]["position"][:, None, :], axis=-1)
+    free = np.array([line.free_length for line in system.lines])
+    limits = np.array([MAX_LINE_STRAIN if line.rating is None else line.rating.breaking_strain
+                       for line in system.lines])
+    beyond = (length - free) / free > limits
+    if not beyond.any():
+        return
+    row, col = np.unravel_index(np.argmax(beyond), beyond.shape)
+    line = system.lines[col]
+    tension = raw.tensions.get((system.name, line.name))
+    raise SimulationError(over_stretch_message(case.line_label(system, line), system.name, line,
+                                               float(raw.time[row]), float(length[row, col] / free[col] - 1.0),
+                                               None if tension is None else float(tension[row])),
+                          float(raw.time[row]))
+
+
+def over_stretch_message(label: str, system: str, line, time: float, strain: float, tension: float | None) -> str:
+    """What a run that over-stretched ``line`` says: the line, its system, the time (s), the strain reached, the
+    limit and the tension (N; None: not sampled)."""
+    pulled = "" if tension is None else f", tension {tension:.6g} N"
+    rating = line.rating
+    if rating is not None:
+        return (f"{label} (system {system}) broke at t = {time:.4f} s: strain {strain:.2%} beyond the "
+                f"{rating.material.name} line's breaking strain {rating.breaking_strain:.2%}{pulled} (breaking "
+                f"strength {rating.breaking_strength:.6g} N); the load exceeds what the line can carry: raise its "
+                "breaking_strength or lower the load")
+    return (f"{label} (system {system}) over-stretched at t = {time:.4f} s: strain {strain:.2%} "
+            f"({1.0 + strain:.2f} times its free length), beyond twice its free length (strain "
+            f"{MAX_LINE_STRAIN:.0%}){pulled}; no parachute line stretches that far: check its stiffness or "
+            "load_elongation, or give its material and breaking_strength")
 
 
 def check_runaway(case: Case, raw: RawHistory, rows: int) -> None:

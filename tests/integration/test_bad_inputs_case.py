@@ -19,6 +19,8 @@ PA1 = str(ROOT / "cases" / "cev_pa1.toml")
 PA1_WINDS = str(ROOT / "cases" / "cev_pa1_winds.toml")
 PA1_INFLATION = str(ROOT / "cases" / "cev_pa1_inflation.toml")
 RISER_TABLE = "main.lines.riser.load_elongation."
+HANGING = str(ROOT / "tests" / "cases" / "hanging_kevlar.toml")
+LOWER = "hang.lines.lower."
 TURBULENCE = "atmosphere.turbulence."
 SHORT = ["--method", "sp", "--t-end", "0.2"]
 
@@ -76,6 +78,12 @@ def _conditions(tmp: Path, keys: str = "dynamic_pressure = 846.0\n") -> str:
                                          f'mach = 2.07\nflight_path_deg = -25.0\nheading_deg = 90.0\n{keys}')
 
 
+def _unrated(tmp: Path) -> str:
+    """tests/cases/hanging_kevlar.toml with its lower line's material but without its breaking strength."""
+    return _file(tmp, "unrated.toml", f'extends = "{Path(HANGING).as_posix()}"\n'
+                                      'remove = ["systems.hang.lines.lower.breaking_strength"]\n')
+
+
 HISTORY = 'history = "data.csv"\ncolumn = "tension_riser"\nstd = 1.0'
 
 BATTERY = [
@@ -117,6 +125,29 @@ BATTERY = [
      "atmosphere.gusts[0].length = 0.001: must be >= the integration step (0.01 s)"),
     ("gust direction overflowing", lambda t: ["run", _gusty(t), "--set", "atmosphere.gusts[0].direction=[1e308, 1e308, 0]"],
      "atmosphere.gusts[0].direction = [1e+308, 1e+308, 0]: its length overflows"),
+    # line materials (docs/models/line_materials.md)
+    ("unknown line material", lambda t: ["run", HANGING, "--set", LOWER + 'material="kevlr"'],
+     "systems.hang.lines.lower.material = 'kevlr': unknown line material; the materials are: kevlar, technora, "
+     "nylon"),
+    ("material without breaking strength", lambda t: ["run", _unrated(t)],
+     "systems.hang.lines.lower.breaking_strength: required (N) with material = 'kevlar': the line's rated breaking "
+     "strength, all its legs or plies together"),
+    ("zero breaking strength", lambda t: ["run", HANGING, "--set", LOWER + "breaking_strength=0"],
+     "systems.hang.lines.lower.breaking_strength = 0: must be > 0 (N)"),
+    ("negative breaking strength", lambda t: ["run", HANGING, "--set", LOWER + "breaking_strength=-2500.0"],
+     "systems.hang.lines.lower.breaking_strength = -2500.0: must be > 0 (N)"),
+    ("breaking strength of 1e13 N", lambda t: ["run", HANGING, "--set", LOWER + "breaking_strength=1e13"],
+     "systems.hang.lines.lower.breaking_strength = 10000000000000.0: must be within 0..1e+12 (N) for this tool"),
+    ("material and stiffness", lambda t: ["run", HANGING, "--set", LOWER + "stiffness=1e5"],
+     "systems.hang.lines.lower.stiffness = 100000.0: give one of material (with breaking_strength), stiffness or "
+     "load_elongation, not stiffness with material = 'kevlar'"),
+    ("material and line table", lambda t: ["run", str(ROOT / "tests" / "cases" / "hanging_table.toml"), "--set",
+                                           LOWER + 'material="nylon"', "--set", LOWER + "breaking_strength=5e3"],
+     ": give one of material (with breaking_strength), stiffness or load_elongation, not load_elongation with "
+     "material = 'nylon'"),
+    ("breaking strength without material", lambda t: ["run", CASE1, "--set", "main.lines.riser.breaking_strength=1e4"],
+     "systems.main.lines.riser.breaking_strength = 10000.0: needs material (one of: kevlar, technora, nylon): the "
+     "strength scales that material's load-elongation curve"),
     # silently accepted before
     # a start given as flight conditions (bodies.<vehicle>.initial: mach, dynamic_pressure, ...)
     ("dynamic pressure no altitude gives at that Mach", lambda t: ["run", _conditions(t, "dynamic_pressure = 1e7\n")],
