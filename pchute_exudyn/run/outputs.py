@@ -171,7 +171,8 @@ def over_stretch_message(label: str, system: str, line, time: float, strain: flo
     return (f"{label} (system {system}) over-stretched at t = {time:.4f} s: strain {strain:.2%} "
             f"({1.0 + strain:.2f} times its free length), beyond twice its free length (strain "
             f"{MAX_LINE_STRAIN:.0%}){pulled}; no parachute line stretches that far: check its stiffness or "
-            "load_elongation, or give its material and breaking_strength")
+            "load_elongation, or give its material and breaking_strength; with lines that are right, the step may "
+            "be too long for them (try a smaller --dt)")
 
 
 def check_runaway(case: Case, raw: RawHistory, rows: int) -> None:
