@@ -1,7 +1,7 @@
 """Opening loads against the flight record: the supersonic disk-gap-band opening model calibrated on ASPIRE SR01,
 SR02 and MSL, then predicting Mars 2020 and ASPIRE SR03 blind, each flight as a Monte Carlo of its opening.
 
-Run:  python validation/flown_loads.py [--runs 400] [--workers 2] [--check]
+Run:  python validation/flown_loads.py [--runs 400] [--workers 2] [--check | --compare]
 
 1. Calibration: the model's two constants (C_ref and s_M of docs/models/supersonic_opening.md) are fitted, with the
    simulation in the loop, so that the nominal runs of the three calibration flights meet their flown first peaks in
@@ -12,7 +12,8 @@ Run:  python validation/flown_loads.py [--runs 400] [--workers 2] [--check]
 3. Comparison: only then are the held-out flights' flown loads read (validation/flown_loads/held_out.json), and the
    page docs/validation/flown_loads.md is written.
 
-``--check`` stops (exit 1) unless cases/edl/msl.toml holds the calibrated constants to 4 significant digits.
+``--check`` stops (exit 1) unless cases/edl/msl.toml holds the calibrated constants to 4 significant digits;
+``--compare`` only writes the page again from the predictions.json on disk and the flown loads (no runs).
 """
 
 from __future__ import annotations
@@ -192,15 +193,27 @@ def calibrated_in_case(calibration: dict) -> list:
 
 
 def predictions(calibration: dict, runs: int, workers: int) -> dict:
-    """Every flight's inputs and predicted first peak (N), as predictions.json holds them."""
-    out = {}
-    for key, flight in FLIGHTS.items():
-        nominal = first_peak(key)
-        out[key] = {"flight": flight.label, "role": flight.role, "case": flight.case, "inputs": flight.inputs,
-                    "dispersions": {**DISPERSIONS, **flight.dispersions,
-                                    f"{OPENING}.load_factor": ("relative", calibration["spread"])},
-                    "nominal": nominal, **predict(key, runs, calibration["spread"], workers)}
-    return out
+    """Every flight's inputs (with their sources) and predicted first peak (N), as predictions.json holds them."""
+    return {key: {**flight_inputs(key, calibration["spread"]), **predict(key, runs, calibration["spread"], workers)}
+            for key in FLIGHTS}
+
+
+def flight_inputs(key: str, spread: float) -> dict:
+    """What flight ``key``'s prediction starts from: its case, the deployment conditions and their source, the
+    Monte Carlo's draws, and its nominal run."""
+    flight = FLIGHTS[key]
+    path = ROOT / flight.case
+    case = load_case(path)
+    conditions = {name: _value(path, f"bodies.vehicle.initial.{name}") for name in ("mach", "dynamic_pressure")}
+    return {"flight": flight.label, "role": flight.role, "case": flight.case,
+            "inputs": {"mach_at_mortar_fire": conditions["mach"], "dynamic_pressure_at_mortar_fire":
+                       conditions["dynamic_pressure"], "source": flight.inputs,
+                       "vehicle_mass": case.bodies["vehicle"].mass,
+                       "parachute_reference_area": case.bodies["parachute"].aerodynamics.reference_area,
+                       "line_stretch_after_mortar_fire": case.systems["main"].deploy_time,
+                       "dispersions": {**DISPERSIONS, **flight.dispersions,
+                                       f"{OPENING}.load_factor": ("relative", spread)}},
+            "nominal": first_peak(key), "unit": "N"}
 
 
 def main(argv=None) -> int:
@@ -208,7 +221,10 @@ def main(argv=None) -> int:
     parser.add_argument("--runs", type=int, default=400, help="Monte Carlo runs per flight (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
     parser.add_argument("--check", action="store_true", help="only check that msl.toml holds the calibration")
+    parser.add_argument("--compare", action="store_true", help="only write the page from predictions.json")
     args = parser.parse_args(argv)
+    if args.compare:
+        return write_page()
     calibration = calibrate()
     stale = calibrated_in_case(calibration)
     for name, held, fitted in stale:
@@ -216,12 +232,22 @@ def main(argv=None) -> int:
     if stale or args.check:
         return 1 if stale else 0
     OUT.mkdir(parents=True, exist_ok=True)
-    result = {"calibration": {k: v for k, v in calibration.items() if k != "runs"},
-              "calibration_runs": calibration["runs"], "flights": predictions(calibration, args.runs, args.workers)}
-    atomic_write_text(OUT / "predictions.json", json.dumps(result, indent=2, allow_nan=False) + "\n")
-    held_out = json.loads(HELD_OUT.read_text()) if HELD_OUT.exists() else {}   # read only now, after the predictions
-    atomic_write_text(PAGE, page(result, held_out, {k: f.flown for k, f in FLIGHTS.items() if f.flown}))
-    print(f"wrote {OUT / 'predictions.json'} and {PAGE}")
+    atomic_write_text(OUT / "calibration.json", json.dumps(calibration, indent=2, allow_nan=False) + "\n")
+    flights = predictions(calibration, args.runs, args.workers)
+    atomic_write_text(OUT / "predictions.json", json.dumps(flights, indent=2, allow_nan=False) + "\n")
+    print(f"wrote {OUT / 'calibration.json'} and {OUT / 'predictions.json'}")
+    return write_page()
+
+
+def write_page() -> int:
+    """The page from the calibration and the predictions on disk; the held-out flights' flown loads are read here,
+    after them."""
+    result = {"calibration": json.loads((OUT / "calibration.json").read_text()),
+              "flights": json.loads((OUT / "predictions.json").read_text())}
+    held_out = json.loads(HELD_OUT.read_text()) if HELD_OUT.exists() else {}
+    calibration = {k: {"flown": f.flown, "source": f.flown_source} for k, f in FLIGHTS.items() if f.flown}
+    atomic_write_text(PAGE, page(result, held_out, calibration))
+    print(f"wrote {PAGE}")
     return 0
 
 

@@ -7,7 +7,8 @@ KN = 1e3
 
 def page(result: dict, held_out: dict, calibration_flown: dict) -> str:
     """The page: sources and inputs, the calibration, the blind predictions, the comparison (held-out flights once
-    ``held_out`` holds their flown loads)."""
+    ``held_out`` holds their flown loads). ``held_out`` and ``calibration_flown``: by flight, ``flown`` (N) and its
+    ``source``."""
     flights = result["flights"]
     return "\n".join(_head() + _inputs(flights) + _calibration(result, calibration_flown) + _draws(flights)
                      + _predictions(flights) + _comparison(flights, held_out, calibration_flown) + _reading()) + "\n"
@@ -35,7 +36,7 @@ def _inputs(flights: dict) -> list:
             "| C_D there | mass ratio R_m | C_k there |", "|---|---|---|---|---|---|---|---|"]
     for flight in flights.values():
         n = flight["nominal"]
-        rows.append(f"| {flight['flight']} | {flight['role']} | {flight['inputs']} | {n['mach']:.3f}, "
+        rows.append(f"| {flight['flight']} | {flight['role']} | {flight['inputs']['source']} | {n['mach']:.3f}, "
                     f"{n['dynamic_pressure']:.0f} | {n['mass']:.0f} | {n['drag_coefficient']:.3f} | "
                     f"{n['mass_ratio']:.4f} | {n['load_factor']:.3f} |")
     return rows + ["", "R_m = rho (C_D S)^(3/2) / m at line stretch: every flight is close to an infinite-mass "
@@ -55,8 +56,8 @@ def _calibration(result: dict, flown: dict) -> list:
             "and one Mars flight it cannot be told apart from the Mach slope.", "",
             "| calibration flight | flown (kN) | nominal run (kN) | residual |", "|---|---|---|---|"]
     for key, residual in c["residuals"].items():
-        run = result["calibration_runs"][key]
-        rows.append(f"| {result['flights'][key]['flight']} | {flown[key] / KN:.1f} | {run['peak'] / KN:.1f} | "
+        run = c["runs"][key]
+        rows.append(f"| {result['flights'][key]['flight']} | {flown[key]['flown'] / KN:.1f} | {run['peak'] / KN:.1f} | "
                     f"{100 * residual:+.1f} % |")
     return rows + ["", f"The residuals' spread (one degree of freedom) is {100 * c['spread']:.1f} %: the load "
                    "factor's 1-sigma uncertainty in every Monte Carlo below.", ""]
@@ -67,7 +68,7 @@ def _draws(flights: dict) -> list:
             "hypercube sampling; the study files are written to `validation/output/flown_loads/study_files/` and "
             "run with `pchute study` as well.", "", "| flight | key | kind | 1-sigma |", "|---|---|---|---|"]
     for flight in flights.values():
-        for key, (kind, sigma) in flight["dispersions"].items():
+        for key, (kind, sigma) in flight["inputs"]["dispersions"].items():
             spread = f"{100 * sigma:.1f} %" if kind == "relative" else f"{sigma:g}"
             rows.append(f"| {flight['flight']} | `{key}` | {kind} | {spread} |")
     return rows + ["", "Sources: C_D 5 % (assumed; MSL's reconstructed subsonic C_D was 3.4 % above its pre-flight "
@@ -90,10 +91,9 @@ def _comparison(flights: dict, held_out: dict, calibration_flown: dict) -> list:
     rows = ["## Comparison", "", "| flight | role | flown (kN) | source | median error | inside 1-99 %? |",
             "|---|---|---|---|---|---|"]
     for key, flight in flights.items():
-        if key in calibration_flown:
-            flown, source = calibration_flown[key], "see [Flights and inputs](#flights-and-inputs)"
-        elif key in held_out:
-            flown, source = held_out[key]["flown"], held_out[key]["source"]
+        known = calibration_flown.get(key) or held_out.get(key)
+        if known:
+            flown, source = known["flown"], known["source"]
         else:
             rows.append(f"| {flight['flight']} | {flight['role']} | not yet added | | | |")
             continue

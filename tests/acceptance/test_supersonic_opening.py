@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from pchute_exudyn import load_case, simulate
+from pchute_exudyn.errors import CaseError
 from pchute_exudyn.physics.inflation import Inflation, InflationStage, nominal_diameter
 from pchute_exudyn.physics.supersonic_opening import MachTable, SupersonicOpening
 from tests.helpers import ROOT
@@ -119,3 +120,11 @@ def test_the_filled_canopy_breathes_at_its_strouhal_frequency_once_the_overinfla
     expected = 1.0 + amplitude * np.sin(2.0 * math.pi * strouhal * SPEED / diameter * (time[after] - start))
     np.testing.assert_allclose(columns["tow_drag_area_fraction"][after], expected, rtol=0, atol=1e-9)
     assert abs(columns["tow_drag_area_fraction"].max() - model.load_factor_at(SPEED / SOUND, diameter)) < 1e-9
+
+
+def test_a_supersonic_opening_in_air_without_a_speed_of_sound_is_refused_in_one_line(tmp_path):
+    path, _, _ = _towed(tmp_path, breathing=False)
+    path.write_text(path.read_text().replace(f"speed_of_sound = {SOUND}\n", ""))
+    with pytest.raises(CaseError, match="systems.tow.inflation.supersonic: a supersonic opening needs the speed of "
+                                        "sound"):
+        load_case(path)

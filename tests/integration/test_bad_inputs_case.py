@@ -19,6 +19,8 @@ PA1 = str(ROOT / "cases" / "cev_pa1.toml")
 PA1_WINDS = str(ROOT / "cases" / "cev_pa1_winds.toml")
 PA1_INFLATION = str(ROOT / "cases" / "cev_pa1_inflation.toml")
 RISER_TABLE = "main.lines.riser.load_elongation."
+MSL_EDL = str(ROOT / "cases" / "edl" / "msl.toml")
+SUPERSONIC = "main.inflation.supersonic"
 HANGING = str(ROOT / "tests" / "cases" / "hanging_kevlar.toml")
 LOWER = "hang.lines.lower."
 TURBULENCE = "atmosphere.turbulence."
@@ -186,6 +188,17 @@ BATTERY = [
                                                   "drogue.deploy_time=0.05", *SHORT, "--out", str(t / "o")],
      "systems.drogue.deploy_time = 0.05 s places canopy 'drogue_canopy' at line stretch at 1181.99 m, below the "
      "ground (simulation.ground_altitude = 1200 m)"),
+    # supersonic openings (cases/edl)
+    ("supersonic load factor below 1", lambda t: ["run", MSL_EDL, "--set", f"{SUPERSONIC}.load_factor=0.8"],
+     "systems.main.inflation.supersonic.load_factor = 0.8: must be >= 1 (the peak drag area over the filled one)"),
+    ("supersonic Mach range reversed", lambda t: ["run", MSL_EDL, "--set", f"{SUPERSONIC}.mach_range=[2.1, 1.5]"],
+     "systems.main.inflation.supersonic.mach_range = [2.1, 1.5]: must be [low, high] with 0 < low < high"),
+    ("breathing amplitude of 1", lambda t: ["run", MSL_EDL, "--set",
+                                            f"{SUPERSONIC}.breathing_amplitude={{mach=[1.2, 1.5], value=[0.0, 1.0]}}"],
+     "systems.main.inflation.supersonic.breathing_amplitude = [0.0, 1.0]: each must be in [0, 1)"),
+    ("supersonic opening with an overinflation", lambda t: ["run", MSL_EDL, "--set",
+                                                            "main.inflation.overinflation=1.2"],
+     "systems.main.inflation.overinflation = 1.2: must be left out with a supersonic opening"),
     # studies: limits
     ("study of 2e6 runs", lambda t: _study(t, 2_000_000, DRAWN),
      "study.runs = 2000000: must be <= 1000000"),
