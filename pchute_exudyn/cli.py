@@ -164,16 +164,17 @@ def _run_case(args, figure) -> int:
 
 def _add_new(subparsers) -> None:
     from .case.canopy_types import CANOPY_TYPES
-    from .case.new import choice_fields, command_help
+    from .case.new_help import choice_fields, command_help
     from .case.new_planets import PLANETS
 
     new = subparsers.add_parser(
         "new", help="write a new, runnable case file from a few choices",
         description="Write a complete, commented case file: a vehicle under one canopy (or a cluster) on bridles "
                     "and a riser per canopy, in steady descent (every line stretched by its steady load, moving with "
-                    "the air and down at the steady rate) or released from an aircraft (--release-airspeed); or a "
-                    "rocket's dual deploy from a state over the ground (--dual-deploy, --from-rocketpy). Edit "
-                    "it or run it as it is (`pchute run FILE`). The same from Python: pchute_exudyn.new_case(...).")
+                    "the air and down at the steady rate), released from an aircraft (--release-airspeed) or at line "
+                    "stretch at flight conditions (--mach, --dynamic-pressure); or a rocket's dual deploy from a "
+                    "state over the ground (--dual-deploy, --from-rocketpy). Edit it or run it as it is (`pchute run "
+                    "FILE`). The same from Python: pchute_exudyn.new_case(...).")
     new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
     choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES)}
     helps = command_help()
@@ -224,8 +225,8 @@ def _new(args) -> int:
         return 0
     plan = layout(choices)
     print(f"wrote {path}: {choices.mass:g} kg vehicle on {choices.planet}, suspended mass {plan.total_mass:.2f} kg, "
-          f"steady descent {plan.steady_rate(choices.altitude):.2f} m/s at {choices.altitude:g} m; run it with "
-          f"`pchute run {path}`")
+          f"{plan.conditions_words}steady descent {plan.steady_rate(plan.altitude):.2f} m/s at {plan.altitude:g} m; "
+          f"run it with `pchute run {path}`")
     return 0
 
 

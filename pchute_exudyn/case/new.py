@@ -4,8 +4,9 @@ The vehicle hangs under one canopy (or a cluster) on ``bridles`` lines that meet
 canopy from the confluence to the canopy's suspension-line apex (the canopy body's ``riser`` point). Everything is
 placed in the descent attitude, in steady descent: every line stretched by its share of the steady load (LINE_STRAIN),
 the confluence where the stretched bridles put it, all moving with the air and straight down through it at
-``speed``; or released from an aircraft, every system placed at line stretch at its deployment. Sizing rules (each
-written into the file beside its number, and in ``docs/tutorial.md``):
+``speed``; or released from an aircraft, every system placed at line stretch at its deployment; or at line stretch at
+flight conditions (``mach``, ``dynamic_pressure``; case.new_conditions). Sizing rules (each written into the file
+beside its number, and in ``docs/tutorial.md``):
 
 * canopy: reference area S0 = drag area / C_D0 of its type (or from the nominal diameter, S0 = pi D0^2 / 4); mass
   CANOPY_AREAL_MASS x S0 unless given; the inertia of a thin hemispherical shell of the projected radius
@@ -14,7 +15,7 @@ written into the file beside its number, and in ``docs/tutorial.md``):
   shell's own centre lies R_p / 2 higher; C_A(alpha') C_D0 to AXIAL_FLAT_TO_DEG, then to 0 edge-on, and C_N(alpha')
   the zero-trim canopy table of MER to 60 deg, then to EDGE_ON_NORMAL;
 * vehicle: a solid cylinder of the given diameter, half as tall, the bridles on a circle of 0.35 diameters on its
-  top face;
+  top face; no aerodynamic load (at flight conditions a table of C_A = 0, so that the run records its Mach number);
 * lines: stiffness from LINE_STRAIN of stretch under the vehicle's weight in steady descent, damping
   LINE_DAMPING_TIME x stiffness (MER's ratio); the confluence CONFLUENCE_MASS_FRACTION of the vehicle's mass;
 * the run: SP to touchdown on the reference surface, RK4 at adaptive steps (no ``[simulation.steps]``;
@@ -26,7 +27,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -39,6 +40,7 @@ from .canopy_types import CANOPY_TYPES
 from .columns import column
 from .model import Contact
 from .new_checks import check_choice, check_integer, check_needs, check_number, check_positive, check_reader_ranges
+from .new_conditions import check_conditions, header_words, start_state, vehicle_rows
 from .new_planets import PLANETS, gravity_at
 
 MER_DRAG_AREA = 178.47 * 0.46
@@ -128,6 +130,15 @@ class NewCase:
         The aircraft's heading (deg, clockwise from north) and flight-path angle (deg, climbing > 0, -90 to 90).
     static_line_time : float
         Time (s, >= 0) from the release to line stretch.
+    mach : float or None
+        Start at line stretch at this Mach number (-) and ``dynamic_pressure`` instead of in steady descent: the
+        altitude solves rho(h) a(h)^2 M^2 / 2 = q in the planet's atmosphere, the speed through the air is M a(h),
+        and the canopies deploy at the start and open as after a release (case.new_conditions).
+    dynamic_pressure : float or None
+        The start's dynamic pressure q = rho V^2 / 2 (Pa), with ``mach``.
+    flight_path_deg, heading_deg : float
+        The start's velocity through the air above the horizontal (deg, -90 to 90, descending < 0) and its
+        direction clockwise from north (deg), with ``mach``.
     dual_deploy : bool
         A rocket's dual deploy instead (case.new_rocket): a slender cylinder of ``mass`` (kg, its packed recovery gear
         included), ``diameter`` and ``length``, a drogue on an apogee trigger and a main at ``main_height``.
@@ -179,6 +190,10 @@ class NewCase:
     release_heading_deg: float = 0.0
     release_flight_path_deg: float = 0.0
     static_line_time: float = 1.0
+    mach: float | None = None
+    dynamic_pressure: float | None = None
+    flight_path_deg: float = 0.0
+    heading_deg: float = 0.0
     dual_deploy: bool = False
     length: float | None = None
     drogue_drag_area: float | None = None
@@ -212,6 +227,7 @@ class NewCase:
         check_number("wind_from_deg", self.wind_from_deg, -360.0 <= self.wind_from_deg <= 360.0,
                 "must be within -360..360 (deg, clockwise from north)")
         self._check_release()
+        check_conditions(self)
         if self.drag_area is not None and self.canopy_diameter is not None:
             raise InputError(f"drag_area = {self.drag_area!r} and canopy_diameter = {self.canopy_diameter!r}: give "
                              "one of them, not both")
@@ -245,6 +261,12 @@ class NewCase:
         return self.release_airspeed is not None
 
     @property
+    def deploys(self) -> bool:
+        """Whether the canopies deploy during the run (a release, or a start at flight conditions) rather than
+        fly from the start in steady descent."""
+        return self.released or self.mach is not None
+
+    @property
     def canopy_drag_coefficient(self) -> float:
         """Each canopy's C_D0 on S0 (-): the one given, else its type's."""
         return (CANOPY_TYPES[self.canopy_type].drag_coefficient if self.drag_coefficient is None
@@ -272,11 +294,20 @@ class _Layout:
     riser_length: float
     apex_distance: float    # canopy centre of mass to its riser point (m)
     projected_radius: float
+    altitude: float         # the vehicle's centre of mass at the start (m; flight conditions: solved)
+    airspeed: float | None = None   # the start's speed through the air at flight conditions (m/s); else None
 
     @property
     def total_mass(self) -> float:
         c = self.choices
         return c.mass + c.canopies * self.canopy_mass + self.confluence_mass
+
+    @property
+    def conditions_words(self) -> str:
+        """`pchute new`'s words on a start at flight conditions (their altitude and airspeed), else none."""
+        c = self.choices
+        return "" if self.airspeed is None else (f"line stretch at Mach {c.mach:g} and {c.dynamic_pressure:g} Pa: "
+                                                 f"{self.altitude:.1f} m, {self.airspeed:.2f} m/s through the air, ")
 
     @property
     def height(self) -> float:
@@ -330,7 +361,7 @@ class _Layout:
         """A canopy's drag time constant m_canopy / (rho C_D0 S0 V) (s) at ``speed`` V (m/s) at the start, rho where
         its drag acts then (``canopy_height`` above the vehicle); inf at rest."""
         c = self.choices
-        density = PLANETS[c.planet][3]().density(c.altitude + self.canopy_height)
+        density = PLANETS[c.planet][3]().density(self.altitude + self.canopy_height)
         drag = density * c.canopy_drag_coefficient * self.reference_area * speed
         return self.canopy_mass / drag if drag > 0.0 else math.inf
 
@@ -358,18 +389,20 @@ def layout(choices: NewCase) -> _Layout:
         raise InputError(f"suspension_line_length = {line!r}: must exceed the canopy's projected radius, {radius:g} m")
     plan = _Layout(choices, gravity_at(choices.planet), area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
                    choices.bridle_length or choices.diameter, choices.riser_length or 0.5 * nominal,
-                   math.sqrt(line**2 - radius**2), radius)
+                   math.sqrt(line**2 - radius**2), radius, *start_state(choices))
     circle = radius if choices.canopies == 2 else radius / math.sin(math.pi / max(choices.canopies, 2))
     if choices.canopies > 1 and circle >= plan.canopy_reach:
         raise InputError(f"canopies = {choices.canopies}: their envelopes (radius {radius:.3g} m) cannot sit side by "
                          f"side on risers that reach {plan.canopy_reach:.3g} m; lengthen "
                          "riser_length or suspension_line_length")
     try:
-        rate = plan.steady_rate(choices.altitude)
+        rate = plan.steady_rate(plan.altitude)
     except (ValueError, ZeroDivisionError):   # outside the model's range, or no air left
         rate = math.nan
     if not (math.isfinite(rate) and rate > 0.0):
-        raise InputError(f"altitude = {choices.altitude!r}: outside the {PLANETS[choices.planet][1]} atmosphere "
+        start = (f"altitude = {choices.altitude!r}" if plan.airspeed is None else f"mach = {choices.mach:g} and "
+                 f"dynamic_pressure = {choices.dynamic_pressure:g} (a start at {plan.altitude:.1f} m)")
+        raise InputError(f"{start}: outside the {PLANETS[choices.planet][1]} atmosphere "
                          "(no finite air density there); start lower")
     return plan
 
@@ -410,40 +443,6 @@ def new_case(choices: NewCase | None = None, **kwargs):
     return build_case(tomllib.loads(new_case_text(choices)), {}, f"new_case({choices.name!r})")
 
 
-UNIT_METAVARS = (("(kg", "KG"), ("(m^2", "M2"), ("(m/s", "M/S"), ("(m)", "M"), ("(m,", "M"), ("(deg", "DEG"),
-                 ("(s,", "S"), ("(s)", "S"), ("(-)", "C"))
-"""A command-line metavar from the unit a NewCase attribute's description names first."""
-
-
-def command_help() -> dict:
-    """NewCase field -> (metavar, help) of `pchute new`, from the class docstring's Attributes (their one home):
-    the description with ``code`` marks and the module's constant names left out; the defaults come from NewCase."""
-    text = NewCase.__doc__.split("Attributes\n    ----------\n", 1)[1]
-    found, names = {}, []
-    for line in text.splitlines():
-        if line.startswith("    ") and not line.startswith("        ") and " : " in line:
-            names, spec = line.strip().split(" : ", 1)
-            names = [name.strip() for name in names.split(",")]
-            for name in names:
-                found[name] = [spec, ""]
-        elif line.startswith("        ") and names:
-            for name in names:
-                found[name][1] += (" " if found[name][1] else "") + line.strip()
-    out = {}
-    for name, (spec, description) in found.items():
-        description = description.replace("``", "")
-        metavar = next((m for unit, m in UNIT_METAVARS if unit in description), None)
-        metavar = "N" if spec.startswith("int") else "TEXT" if spec == "str" and name == "name" else metavar
-        out[name] = (metavar, description[0].lower() + description[1:].rstrip("."))
-    return out
-
-
-def choice_fields() -> list:
-    """The NewCase fields (name, default) in order, for the command line."""
-    defaults = asdict(NewCase())
-    return [(f.name, defaults[f.name]) for f in fields(NewCase)]
-
-
 def _n(value: float) -> str:
     """A number for the file: 12 significant digits (micrometres on kilometres), no float noise."""
     text = repr(float(f"{float(value):.12g}"))
@@ -461,8 +460,9 @@ class _Writer:
         self.plan, self.c = plan, plan.choices
         c = self.c
         self.height, self.attach_radius, self.rise = plan.height, plan.attach_radius, plan.rise()
-        self.confluence_altitude = c.altitude + 0.5 * self.height + self.rise
-        self.speed = plan.steady_rate(c.altitude) if c.speed is None else c.speed
+        self.confluence_altitude = plan.altitude + 0.5 * self.height + self.rise
+        self.speed = plan.steady_rate(plan.altitude) if c.speed is None else c.speed
+        self.airspeed = c.release_airspeed if c.released else plan.airspeed   # at deployment (m/s); None: steady
 
     def lines(self) -> list:
         return self.header() + self.vehicle() + self.canopies() + self.system() + self.simulation()
@@ -474,7 +474,7 @@ class _Writer:
         return [f"# {c.name}: written by `pchute new` (pchute_exudyn.case.new; docs/tutorial.md). Units SI;",
                 "# angles in degrees only where named _deg. " + self.start_words()[0], *self.start_words()[1:],
                 f"# Suspended mass {_n(p.total_mass)} kg; steady rate of descent sqrt(2 m g / (rho n C_V S0)) = "
-                f"{p.steady_rate(c.altitude):.3f} m/s at the start,", f"# {p.steady_rate(0.0):.3f} m/s at 0 m: "
+                f"{p.steady_rate(p.altitude):.3f} m/s at the start,", f"# {p.steady_rate(0.0):.3f} m/s at 0 m: "
                 + ("C_V = C_D0 for one canopy" if c.canopies == 1 else
                    f"C_V = eta C_D0 cos(theta) + C_N(theta) sin(theta) = {p.vertical_coefficient:.5g}, the drag "
                    f"efficiency eta = {p.drag_efficiency:g}\n# of {c.canopies} canopies flying theta = "
@@ -494,6 +494,8 @@ class _Writer:
     def start_words(self) -> list:
         """The header's lines on how the run starts."""
         c = self.c
+        if c.mach is not None:
+            return header_words(c, self.plan.altitude, self.airspeed)
         if c.released:
             return [f"Released from an aircraft at {_n(c.release_airspeed)} m/s through the air",
                     f"# (heading {c.release_heading_deg:g} deg, flight path {c.release_flight_path_deg:g} deg); the "
@@ -536,9 +538,11 @@ class _Writer:
                 "the bridles' attach points"]
         for i, point in enumerate(self.attach_points(), start=1):
             rows.append(f"bridle{i} = {_vector(point)}")
-        if c.released:
+        if c.deploys:
             rows.append(f"line_stretch = {_vector([-(0.5 * self.height + self.plan.rise(0.0)), 0.0, 0.0])}   # the "
                         "confluence at deployment: every bridle at its free length")
+        if c.mach is not None:
+            return rows + vehicle_rows(c, self.plan.altitude, self.airspeed) + [""]
         rows += ["[bodies.vehicle.initial]                   # attitude: body +x down (the descent attitude)",
                  f"altitude = {_n(c.altitude)}                        # m: the centre of mass"]
         if not c.released:
@@ -572,7 +576,7 @@ class _Writer:
                      f"inertia = {_vector(hemispherical_shell_inertia(p.canopy_mass, p.projected_radius))}   # kg m^2",
                      f"points.riser = [{_n(p.apex_distance)}, 0.0, 0.0]   # m: the suspension lines' apex, "
                      f"{_n(c.suspension_line_length or nominal_diameter(p.reference_area))} m lines to the "
-                     "skirt", *([] if c.released else self.canopy_initial(name, centre, yaw, pitch, roll)),
+                     "skirt", *([] if c.deploys else self.canopy_initial(name, centre, yaw, pitch, roll)),
                      *self.aerodynamics(name), ""]
         return rows
 
@@ -616,7 +620,7 @@ class _Writer:
         rows = ["[systems.main]", f"canopies = {self.canopy_names()}".replace("'", '"') if c.canopies > 1
                 else 'canopy = "canopy"', *self.canopy_model(), *self.deployment(), "[systems.main.confluence]",
                 f"mass = {_n(p.confluence_mass)}                            # kg (0.2 % of the vehicle's, assumed)"]
-        if not c.released:
+        if not c.deploys:
             rows += ["[systems.main.confluence.initial]", f"altitude = {_n(self.confluence_altitude)}   # m: where "
                      "the stretched bridles put it", f"velocity_down = {_n(self.speed)}"]
         rows.append("")
@@ -633,36 +637,37 @@ class _Writer:
         c = self.c
         if c.bridles != 1 or c.canopies != 1:
             return []
-        time = self.plan.canopy_drag_time(c.release_airspeed if c.released else self.speed)
+        time = self.plan.canopy_drag_time(self.airspeed if c.deploys else self.speed)
         if time >= LIGHT_CANOPY_TIME:
             return []
         why = f"its drag time constant m / (rho C_D0 S0 V) = {time:.2g} s < {LIGHT_CANOPY_TIME:g} s"
-        if c.released:
+        if c.deploys:
             return [f"# canopy_model: rigid (the default), though light ({why}): it opens by an inflation, which a "
                     "reduced canopy refuses"]
         return [f'canopy_model = "reduced"   # light ({why}): a drag point at the riser\'s end, without its fast '
                 "modes (docs/models/reduced_canopy.md)"]
 
     def deployment(self) -> list:
-        """A released vehicle's system: deployed at line stretch after the static line's time, opening by its type's
-        fill constant (CANOPY_TYPES)."""
+        """A released vehicle's system: deployed at line stretch after the static line's time (at flight conditions:
+        at the start), opening by its type's fill constant (CANOPY_TYPES)."""
         c = self.c
-        if not c.released:
+        if not c.deploys:
             return []
         canopy = CANOPY_TYPES[c.canopy_type]
         fill, exponent, overinflation = canopy.fill_constant, canopy.opening_exponent, canopy.overinflation
-        fill_time = fill * nominal_diameter(self.plan.reference_area) / max(c.release_airspeed, 1.0)
+        fill_time = fill * nominal_diameter(self.plan.reference_area) / max(self.airspeed, 1.0)
         decay = OVERINFLATION_DECAY * fill_time if overinflation > 1.0 else 0.0
-        return [f"deploy_time = {_n(c.static_line_time)}   # s: the static line's time from the release to line "
-                "stretch", 'deploy_point = "vehicle.line_stretch"',
+        when = (f"deploy_time = {_n(c.static_line_time)}   # s: the static line's time from the release to line "
+                "stretch" if c.released else "deploy_time = 0.0   # s: line stretch at the start (flight conditions)")
+        return [when, 'deploy_point = "vehicle.line_stretch"',
                 f"[systems.main.inflation]                   # one stage from line stretch; {c.canopy_type} values "
                 "(pchute_exudyn/case/canopy_types.py, docs/tutorial.md)",
                 "stage_start = [0.0]                        # s after line stretch", "fraction = [1.0]",
                 f"fill_constant = [{_n(fill)}]   # -: fill time n D0 / V, V the canopy's speed at line stretch",
                 f"exponent = [{_n(exponent)}]   # -: the drag area grows as (t / t_fill)^exponent",
                 f"overinflation = {_n(overinflation)}   # -: the drag area's overshoot at the end of the fill",
-                f"overinflation_decay = {_n(decay)}   # s: a quarter of the fill time at the release airspeed "
-                "(assumed)"]
+                f"overinflation_decay = {_n(decay)}   # s: a quarter of the fill time at the "
+                f"{'release' if c.released else 'start'} airspeed (assumed)"]
 
     @staticmethod
     def line(name: str, attach: str, length: float, tension: float) -> list:
@@ -674,8 +679,8 @@ class _Writer:
 
     def simulation(self) -> list:
         c, p = self.c, self.plan
-        before = c.static_line_time + 30.0 if c.released else 0.0   # a release: the deployment and the opening
-        duration = 10.0 * math.ceil((1.25 * c.altitude / p.steady_rate(0.0) + 10.0 + before) / 10.0)
+        before = (c.static_line_time if c.released else 0.0) + 30.0 if c.deploys else 0.0   # the deployment, opening
+        duration = 10.0 * math.ceil((1.25 * p.altitude / p.steady_rate(0.0) + 10.0 + before) / 10.0)
         return ["[simulation]", f"duration = {_n(duration)}   # s: an upper bound; the run ends at touchdown "
                 "(the vehicle's centre of mass at 0 m)", "output_step = 0.02                         # s",
                 'method = "sp"', 'integrator = "rk4"', "# No [simulation.steps]: RK4 takes adaptive steps "

@@ -54,8 +54,12 @@ READER_KEYS = {"mass": "bodies.vehicle.mass", "canopy_mass": "bodies.canopy.mass
 NEEDS = {"static_line_time": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),
          "release_heading_deg": ("release_airspeed", "the heading is the aircraft's at a release"),
          "release_flight_path_deg": ("release_airspeed", "the flight path is the aircraft's at a release"),
-         "wind_from_deg": ("wind_speed", "the direction is a wind's")}
+         "wind_from_deg": ("wind_speed", "the direction is a wind's"),
+         "flight_path_deg": ("mach", "the flight path is the start's at flight conditions"),
+         "heading_deg": ("mach", "the heading is the start's at flight conditions")}
 """A NewCase field that means something only with another: field -> (that field, what the first is)."""
+EXCLUDES = {"altitude": ("mach", "the flight conditions give the start altitude (case.new_conditions)")}
+"""A NewCase field given (even at its default) that another, when set, refuses: field -> (that field, why)."""
 
 
 def check_reader_ranges(c) -> None:
@@ -75,8 +79,13 @@ def check_reader_ranges(c) -> None:
 
 def check_needs(c, given) -> None:
     """InputError for a field of ``given`` (names) that means nothing without another (NEEDS): one line naming both
-    (``--static-line-time`` without ``--release-airspeed`` would be dropped from the file)."""
+    (``--static-line-time`` without ``--release-airspeed`` would be dropped from the file); or that another field
+    set refuses (EXCLUDES: ``--altitude`` beside ``--mach``)."""
     for field in given:
+        if field in EXCLUDES and getattr(c, EXCLUDES[field][0]) is not None:
+            other, why = EXCLUDES[field]
+            raise InputError(f"{field} = {short_repr(getattr(c, field))}: not with {other} "
+                             f"(--{other.replace('_', '-')}): {why}")
         if field in NEEDS and not getattr(c, NEEDS[field][0]):
             needed, what = NEEDS[field]
             raise InputError(f"{field} = {short_repr(getattr(c, field))}: only with {needed} "
