@@ -105,7 +105,7 @@ def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, a
     def after_step(mbs, t):
         if progress.pending is not None:
             progress.complete(t, speed_reader(t), sound_reader(t))
-        if progress.load_factor is not None and progress.supersonic.breathing_amplitude is not None:
+        if progress.load_factor is not None:
             progress.observe(speed_reader(t) / sound_reader(t))
         last[0] = t
 

@@ -236,10 +236,10 @@ class InflationProgress:
     def _breathing(self, elapsed: float) -> float:
         return self.supersonic.breathing(elapsed, self.mach, self.speeds[-1], self.diameter)
 
-    def breathing(self) -> bool:
-        """Whether the canopy breathes at its last measured Mach number (a supersonic opening's last stage)."""
-        amplitude = None if self.supersonic is None else self.supersonic.breathing_amplitude
-        return self.load_factor is not None and amplitude is not None and amplitude(self.mach) > 0.0
+    def supersonic_flight(self) -> bool:
+        """Whether a supersonic opening's canopy still flies faster than sound (at its last measured Mach number):
+        the unsteady flight in which it breathes and its lines swing."""
+        return self.load_factor is not None and self.mach > 1.0
 
     def observe(self, mach: float) -> None:
         """The canopy's Mach number (-) at a step's end: the breathing's amplitude over the next step."""

@@ -164,10 +164,14 @@ def over_stretch_message(label: str, system: str, line, time: float, strain: flo
     pulled = "" if tension is None else f", tension {tension:.6g} N"
     rating = line.rating
     if rating is not None:
-        return (f"{label} (system {system}) broke at t = {time:.4f} s: strain {strain:.2%} beyond the "
+        verb, cause = "broke", "the load exceeds what the line can carry: raise its breaking_strength or lower the load"
+        if tension is not None and tension < 0.5 * rating.breaking_strength:   # past its breaking strain at half load
+            verb, cause = "stretched past breaking", ("its tension is under half its breaking strength, so the stretch "
+                                                      "and the load disagree: a step too long for the line (try a "
+                                                      "smaller --dt)")
+        return (f"{label} (system {system}) {verb} at t = {time:.4f} s: strain {strain:.2%} beyond the "
                 f"{rating.material.name} line's breaking strain {rating.breaking_strain:.2%}{pulled} (breaking "
-                f"strength {rating.breaking_strength:.6g} N); the load exceeds what the line can carry: raise its "
-                "breaking_strength or lower the load")
+                f"strength {rating.breaking_strength:.6g} N); {cause}")
     return (f"{label} (system {system}) over-stretched at t = {time:.4f} s: strain {strain:.2%} "
             f"({1.0 + strain:.2f} times its free length), beyond twice its free length (strain "
             f"{MAX_LINE_STRAIN:.0%}){pulled}; no parachute line stretches that far: check its stiffness or "

@@ -47,9 +47,10 @@ ALLOWANCE_STEPS = 8
 """Steps between two looks at the relaxation's cap (``_relaxation_cap``: the lines' stretch-rate envelope fades over
 seconds)."""
 OPENING_STEPS = 200
-"""Fewest steps (-) over a canopy's fill and its overinflation's decay (``_opening_cap``): the drag rises from nothing
-to its peak within the fill and swings the canopy on its lines, which the indicator, in a norm that a heavy vehicle
-dominates, does not see (MSL's 60 kg parachute behind 3.1 t: twice the opening load at the indicator's steps)."""
+"""Fewest steps (-) over a canopy's fill and its overinflation's decay, a step kept while a supersonic opening's
+canopy flies faster than sound (``_opening_cap``): the drag rises from nothing to its peak within the fill and swings
+the canopy on its lines, which the indicator, in a norm that a heavy vehicle dominates, does not see (MSL's 60 kg
+parachute behind 3.1 t: twice the opening load at the indicator's steps; docs/models/step_control.md, "Openings")."""
 RELAXATION_SHARE = 0.01
 """Largest share (-) of a line's tension that the relaxation's extra damping may add at the current stretch rates
 (``_relaxation_cap``)."""
@@ -121,12 +122,12 @@ class AdaptiveSteps:
 
     def _opening_cap(self, t: float) -> float:
         """The step (s) an opening under way allows: its fill time over OPENING_STEPS from the stage's start until
-        its fill and its overinflation's decay have ended, and while a supersonic canopy breathes (inf
-        otherwise)."""
+        its fill and its overinflation's decay have ended, and while a supersonic opening's canopy flies faster than
+        sound (inf otherwise)."""
         cap = math.inf
         for progress in (self.model.phase.inflation or {}).values():
             for _, end, _, fill in progress.fill_ends():
-                if t < end + progress.inflation.overinflation_decay or progress.breathing():
+                if t < end + progress.inflation.overinflation_decay or progress.supersonic_flight():
                     cap = min(cap, fill / OPENING_STEPS)
         return cap
 
