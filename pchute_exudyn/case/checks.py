@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from ..errors import CaseError
+from ..physics.inflation import nominal_diameter
 from ..physics.planet import Planet
 from .fields import Context, Table
 from .plausible import check_value
@@ -58,16 +59,26 @@ def check_mach(body_tables, bodies, atmosphere) -> None:
                                               "(K) or give atmosphere.speed_of_sound (m/s)", list(table.mach))
 
 
-def check_supersonic_openings(system_tables, systems, atmosphere) -> None:
+def check_supersonic_openings(system_tables, systems, bodies, atmosphere) -> None:
     """A supersonic opening takes its load factor from the Mach number at line stretch: it needs the speed of
-    sound."""
-    if atmosphere is None or atmosphere.has_speed_of_sound:
-        return
+    sound, and its wake factor 1 - k_w d / D_0 must stay positive for each of its canopies."""
     for name, system in systems.items():
-        if system.inflation is not None and system.inflation.supersonic is not None:
+        opening = None if system.inflation is None else system.inflation.supersonic
+        if opening is None:
+            continue
+        if atmosphere is not None and not atmosphere.has_speed_of_sound:
             raise system_tables[name].error("inflation.supersonic", "a supersonic opening needs the speed of sound, "
                                             "and the atmosphere table has no temperature column: add one (K) or "
                                             "give atmosphere.speed_of_sound (m/s)")
+        for canopy in system.canopies:
+            aerodynamics = bodies[canopy].aerodynamics
+            share = 0.0 if aerodynamics is None else \
+                opening.wake_coefficient * opening.forebody_diameter / nominal_diameter(aerodynamics.reference_area)
+            if share >= 1.0:
+                raise system_tables[name].error("inflation.supersonic.wake_coefficient", f"gives k_w d / D_0 = "
+                                                f"{share:.3g} for canopy '{canopy}': it must stay below 1 (the wake "
+                                                "factor 1 - k_w d / D_0 scales the load factor)",
+                                                opening.wake_coefficient)
 
 
 RELEASED_KEYS = ("velocity_north", "velocity_east", "velocity_down", "rate_x", "rate_y", "rate_z")

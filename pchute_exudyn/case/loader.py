@@ -109,7 +109,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     bodies, atmosphere, wind, turbulence, gusts = _with_air(atmosphere_table, simulation, body_tables, bodies,
                                                             vehicle, frame, release)
     check_mach(body_tables, bodies, atmosphere)
-    check_supersonic_openings(system_tables, systems, atmosphere)
+    check_supersonic_openings(system_tables, systems, bodies, atmosphere)
     if release is not None:
         check_release(body_tables, system_tables, bodies, systems, vehicle)
     check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)

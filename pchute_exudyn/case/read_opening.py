@@ -32,6 +32,6 @@ def _mach_table(t: Table, key: str) -> MachTable | None:
     mach = table.sequence("mach", "", min_length=2)
     value = table.vector("value", "", length=len(mach))
     table.finish()
-    if any(b <= a for a, b in zip(mach, mach[1:])):
-        raise table.error("mach", "must increase strictly", list(mach))
+    if any(b <= a for a, b in zip(mach, mach[1:])) or mach[0] < 0.0:
+        raise table.error("mach", "must be Mach numbers >= 0, increasing strictly", list(mach))
     return MachTable(tuple(mach), tuple(value))

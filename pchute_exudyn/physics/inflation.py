@@ -110,16 +110,18 @@ class Inflation:
                "must be > 0 (s) when overinflation > 1")
         if self.supersonic is not None:
             _check(self.overinflation == 1.0, "overinflation", self.overinflation,
-                   "must be left out with a supersonic opening (its load factor is the overinflation)")
+                   "must be left out (or 1) with a supersonic opening: its load factor is the overinflation")
             _check(decay > 0.0, "overinflation_decay", decay, "must be > 0 (s) with a supersonic opening")
 
     def number(self, stage: int) -> int:
         """The number (from 1, as the case counts them) of stage ``stage`` (0-based here)."""
         return self.numbers[stage] if self.numbers else stage + 1
 
-    def fill_time(self, stage: int, speed: float, nominal_diameter: float) -> float:
-        """t_f = n_i D_0 / V_i (s) of stage ``stage`` (0-based) at air speed ``speed`` (m/s), D_0 in m."""
-        return self.stages[stage].fill_constant * nominal_diameter / max(speed, 1e-9)
+    def fill_time(self, stage: int, speed: float, nominal_diameter: float, fill_constant: float | None = None) -> float:
+        """t_f = n_i D_0 / V_i (s) of stage ``stage`` (0-based) at air speed ``speed`` (m/s), D_0 in m; with
+        ``fill_constant`` (-), that n instead of the stage's (a supersonic opening's n at its Mach number)."""
+        n = self.stages[stage].fill_constant if fill_constant is None else fill_constant
+        return n * nominal_diameter / max(speed, 1e-9)
 
     def stage_at(self, since: float) -> int:
         """The stage (0-based) running at ``since`` (s since line stretch)."""
@@ -281,7 +283,7 @@ class InflationProgress:
         self.stretch_mach, self.mach = mach, mach
         self.load_factor = self.supersonic.load_factor_at(mach, self.diameter)
         fill_constant = self.supersonic.fill_constant_at(mach, self.inflation.stages[stage].fill_constant)
-        self.fill_times.append(fill_constant * self.diameter / max(speed, 1e-9))
+        self.fill_times.append(self.inflation.fill_time(stage, speed, self.diameter, fill_constant))
 
     def windows(self, end: float) -> list:
         """(stage number from 1, start, end) in run time (s) of each stage started before ``end`` (s)."""

@@ -184,6 +184,20 @@ def opening_events(case, openings: dict, end: float) -> list:
     return events
 
 
+def opening_warnings(case, events) -> tuple:
+    """A supersonic opening whose line stretch fell outside its ``mach_range``: its load factor was held at the
+    range's end (the constants were not fitted there)."""
+    warned = []
+    for event in events:
+        if isinstance(event, StageStartEvent) and event.mach is not None:
+            low, high = case.systems[event.system].inflation.supersonic.mach_range
+            if not low <= event.mach <= high:
+                warned.append(f"systems.{event.system}: line stretch at Mach {event.mach:.3g}, outside the supersonic "
+                              f"opening's mach_range [{low:g}, {high:g}]: its load factor was held at the range's "
+                              f"end (C_k = {event.load_factor:.4g})")
+    return tuple(warned)
+
+
 def opening_loads(case, openings: dict, columns: dict) -> dict:
     """Per opening (by its label: the system, or the canopy in a cluster), per stage: its window (s: from the stage
     start to the next one, the cut-away or the run's end) and the peak tension (N) in it and when (s) of each line

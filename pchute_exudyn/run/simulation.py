@@ -38,6 +38,7 @@ from ..results.summary import (
     merge_facts,
     opening_events,
     opening_loads,
+    opening_warnings,
     separation_summary,
 )
 from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
@@ -416,7 +417,8 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {},
         cluster=cluster_summary(case, columns, events), pendulum=pendulum_summary(case, columns, events),
         descent=descent_summary(case, columns), failures=failures_flown(case.failures),
-        warnings=case.warnings + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
+        warnings=case.warnings + opening_warnings(case, events)
+        + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
         separations=separation_summary(case, raw, events),
         step_control=None if plan.control is None else {"rule": "adaptive", **(raw.step_control or {})})

@@ -122,12 +122,16 @@ class AdaptiveSteps:
 
     def _opening_cap(self, t: float) -> float:
         """The step (s) an opening under way allows: its fill time over OPENING_STEPS from the stage's start until
-        its fill and its overinflation's decay have ended, and while a supersonic opening's canopy flies faster than
-        sound (inf otherwise)."""
+        its fill (and, for the last stage, its overinflation's decay) has ended, and while a supersonic opening's
+        canopy flies faster than sound (inf otherwise; a canopy cut away no longer counts)."""
         cap = math.inf
-        for progress in (self.model.phase.inflation or {}).values():
-            for _, end, _, fill in progress.fill_ends():
-                if t < end + progress.inflation.overinflation_decay or progress.supersonic_flight():
+        for (_, canopy), progress in (self.model.phase.inflation or {}).items():
+            if canopy not in self.model.phase.bodies:
+                continue
+            last = progress.inflation.number(len(progress.inflation.stages) - 1)
+            for stage, end, _, fill in progress.fill_ends():
+                decay = progress.inflation.overinflation_decay if stage == last else 0.0
+                if t < end + decay or progress.supersonic_flight():
                     cap = min(cap, fill / OPENING_STEPS)
         return cap
 

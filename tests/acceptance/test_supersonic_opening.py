@@ -102,3 +102,14 @@ def test_adaptive_steps_fly_a_supersonic_opening_and_its_supersonic_descent_as_t
     recorded = json.loads((ROOT / "validation" / "output" / "flown_loads" / "predictions.json").read_text())
     assert abs(np.nanmax(tension) / recorded["msl"]["nominal"]["peak"] - 1.0) < 0.03
     assert abs(np.nanmax(tension[time > 3.0]) / FIXED_PEAK_AFTER_OPENING - 1.0) < 0.05
+
+
+def test_a_line_stretch_outside_the_fitted_mach_range_is_flown_at_its_end_and_warned():
+    case = load_case(ROOT / "cases" / "edl" / "msl.toml", {"bodies.vehicle.initial.mach": 1.3,
+                                                          "bodies.vehicle.initial.dynamic_pressure": 300.0})
+    summary = simulate(case, duration=1.2).run_summary
+    start = next(event for event in summary.events if event.kind == "stage_start")
+    opening = case.systems["main"].inflation.supersonic
+    assert start.mach < opening.mach_range[0]
+    assert start.load_factor == pytest.approx(opening.load_factor + opening.mach_slope * (1.5 - 1.8), rel=1e-12)
+    assert any("outside the supersonic opening's mach_range [1.5, 2.1]" in line for line in summary.warnings)

@@ -196,9 +196,16 @@ BATTERY = [
     ("breathing amplitude of 1", lambda t: ["run", MSL_EDL, "--set",
                                             f"{SUPERSONIC}.breathing_amplitude={{mach=[1.2, 1.5], value=[0.0, 1.0]}}"],
      "systems.main.inflation.supersonic.breathing_amplitude = [0.0, 1.0]: each must be in [0, 1)"),
+    ("supersonic wake factor below zero", lambda t: ["run", MSL_EDL, "--set", f"{SUPERSONIC}.wake_coefficient=6.0"],
+     "systems.main.inflation.supersonic.wake_coefficient = 6.0: gives k_w d / D_0 = 1.26 for canopy 'parachute': it "
+     "must stay below 1"),
+    ("supersonic Mach table below zero", lambda t: ["run", MSL_EDL, "--set",
+                                                    f"{SUPERSONIC}.fill_constant={{mach=[-1.0, 1.8], value=[8.0, 11.5]}}"],
+     "systems.main.inflation.supersonic.fill_constant.mach = [-1.0, 1.8]: must be Mach numbers >= 0, increasing "
+     "strictly"),
     ("supersonic opening with an overinflation", lambda t: ["run", MSL_EDL, "--set",
                                                             "main.inflation.overinflation=1.2"],
-     "systems.main.inflation.overinflation = 1.2: must be left out with a supersonic opening"),
+     "systems.main.inflation.overinflation = 1.2: must be left out (or 1) with a supersonic opening"),
     # studies: limits
     ("study of 2e6 runs", lambda t: _study(t, 2_000_000, DRAWN),
      "study.runs = 2000000: must be <= 1000000"),
