@@ -107,8 +107,7 @@ def first_peak(key: str, constants: dict | None = None) -> dict:
     diameter = nominal_diameter(parachute.aerodynamics.reference_area)
     mach = float(columns["parachute_mach"][at])
     opening = case.systems["main"].inflation.supersonic
-    drag = parachute.aerodynamics.axial_coefficient
-    drag_coefficient = float(drag(0.0, mach)) if callable(drag) else float(drag)
+    drag_coefficient = float(parachute.aerodynamics.axial_coefficient(0.0, mach))
     density = case.atmosphere.density(float(columns["parachute_altitude"][at]))
     return {"peak": float(tension[peak]), "peak_time": float(time[peak] - stretch), "mach": mach,
             "dynamic_pressure": float(columns["parachute_dynamic_pressure"][at]), "drag_coefficient":
