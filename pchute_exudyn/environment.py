@@ -28,3 +28,6 @@ DISPLAY = "DISPLAY"
 """The X11 display (Linux): ``pchute view`` opens a window only with it or ``WAYLAND_DISPLAY`` set."""
 WAYLAND_DISPLAY = "WAYLAND_DISPLAY"
 """The Wayland display (Linux): see ``DISPLAY``."""
+SKIP_KERNEL_BUILD = "PCHUTE_SKIP_KERNEL_BUILD"
+"""Read by the install (``setup.py``) alone: ``1`` installs without building the compiled kernel module, which
+otherwise fails the install when it cannot be built (runs then use the Python form and build it in the background)."""

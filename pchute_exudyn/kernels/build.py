@@ -156,6 +156,19 @@ def in_jit_process(module: str, arguments: list, held: Path | None = None) -> in
             held.unlink(missing_ok=True)
 
 
+def check(folder: Path | None) -> int:
+    """0 when ``folder`` (default: the package's ``_compiled`` folder, where the install puts it) holds the module of
+    the current source, else 1 with one line saying so: what CI asserts right after the install."""
+    folder = folder if folder is not None else selection.PACKAGE / "_compiled"
+    table = selection.table_path(folder=folder)
+    if table.is_file() and (folder / json.loads(table.read_text())["file"]).is_file():
+        print(f"compiled kernels in place: {table.with_suffix('').name}")
+        return 0
+    print(f"no compiled kernel module of the current source in {folder} (the install did not build it)",
+          file=sys.stderr)
+    return 1
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog=f"python -m {COMMAND}", description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=None, help="folder for the module (default: the kernel folder)")
@@ -163,7 +176,11 @@ def main(argv=None) -> int:
                         help="build only when the folder has no module of the current source")
     parser.add_argument("--lock", type=Path, default=None, help=argparse.SUPPRESS)   # removed when done
     parser.add_argument("--verbose", action="store_true")
+    parser.add_argument("--check", action="store_true",
+                        help="only say whether the folder holds the module of the current source (exit 1 if not)")
     args = parser.parse_args(argv)
+    if args.check:
+        return check(args.out)
     if args.if_missing and selection.table_path(folder=args.out).is_file():
         return 0
     if os.environ.get(selection.VARIABLE) != "jit":

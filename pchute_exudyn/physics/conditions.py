@@ -12,7 +12,6 @@ atmosphere, so there is one root; in a table where it does not, the lowest is ta
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
 
 OPEN_RANGE = (-10000.0, 100000.0)
 """m: where the root is sought in a model without a range of its own (the Mars model; its temperature stays above
@@ -64,6 +63,9 @@ def altitude_and_speed(atmosphere, mach: float, dynamic_pressure: float) -> tupl
         rho, a = atmosphere.state(h)
         return 0.5 * rho * a * a * mach * mach - dynamic_pressure
 
-    altitude = heights[i] if excess[i] == 0.0 else brentq(excess_at, heights[i], heights[i + 1], xtol=1e-10,
-                                                              rtol=4 * np.finfo(float).eps, maxiter=200)
+    if excess[i] == 0.0:
+        return float(heights[i]), float(mach * atmosphere.speed_of_sound(heights[i]))
+    from scipy.optimize import brentq  # here, not at import: a case load must not pay for scipy.optimize
+
+    altitude = brentq(excess_at, heights[i], heights[i + 1], xtol=1e-10, rtol=4 * np.finfo(float).eps, maxiter=200)
     return float(altitude), float(mach * atmosphere.speed_of_sound(altitude))
