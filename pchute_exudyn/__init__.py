@@ -27,7 +27,7 @@ from .kernels.selection import select as _select_kernel_form  # noqa: E402
 
 _select_kernel_form()   # compiled, jit or Python kernels, before physics is imported (see kernels.selection)
 
-from .case.method_table import METHODS  # noqa: E402
+from .registries.methods import METHODS  # noqa: E402
 
 METHODS.fill_with(lambda: import_module(".methods", __name__))   # registers the built-in methods when first read
 

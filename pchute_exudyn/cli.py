@@ -14,10 +14,10 @@ from dataclasses import fields, replace
 from pathlib import Path
 
 from . import __version__, _interrupt
-from .case import columns
-from .case.method_table import INTEGRATORS, METHODS
 from .errors import InputError, PchuteError
 from .kernels import lock, selection
+from .registries import columns
+from .registries.methods import INTEGRATORS, METHODS
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -163,9 +163,9 @@ def _run_case(args, figure) -> int:
 
 
 def _add_new(subparsers) -> None:
-    from .case.canopy_types import CANOPY_TYPES
     from .case.new_help import choice_fields, command_help
     from .case.new_planets import PLANETS
+    from .registries.canopy_types import CANOPY_TYPES
 
     new = subparsers.add_parser(
         "new", help="write a new, runnable case file from a few choices",

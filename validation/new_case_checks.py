@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.method_table import METHODS
 from pchute_exudyn.cli import main as pchute
 from pchute_exudyn.physics.atmosphere import US76
+from pchute_exudyn.registries.methods import METHODS
 from pchute_exudyn.results.compare import compare_results
 from pchute_exudyn.results.csv_dialects import parse_column_map
 from pchute_exudyn.results.io import atomic_write_text

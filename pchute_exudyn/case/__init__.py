@@ -1,7 +1,7 @@
 """Case files: the model of a run as validated, frozen data, and the table of methods a case can name."""
 
+from ..registries.methods import INTEGRATORS, METHODS, OptionError
 from .loader import load_case
-from .method_table import INTEGRATORS, METHODS, OptionError
 from .model import Case
 from .overrides import Scale, apply_override, parse_override
 

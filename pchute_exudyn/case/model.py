@@ -24,8 +24,8 @@ from ..physics.lines import LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
 from ..physics.step_control import StepRule
-from .columns import column
-from .method_table import INTEGRATORS
+from ..registries.columns import column
+from ..registries.methods import INTEGRATORS
 from .start import FlightConditions, Release
 
 
@@ -447,9 +447,9 @@ class SimulationSettings:
     output_step : float
         Sampling interval of the stored time histories (s).
     method : str
-        Default confluence method (a name in ``case.method_table.METHODS``).
+        Default confluence method (a name in ``registries.methods.METHODS``).
     integrator : str
-        Default integrator (one of ``case.method_table.INTEGRATORS``).
+        Default integrator (one of ``registries.methods.INTEGRATORS``).
     steps : dict of str to float
         Default integration step (s) per method, keyed ``<method>`` for rk4 and ``<method>_implicit``.
     spectral_radius : float

@@ -36,8 +36,8 @@ from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency, spread_d
 from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
 from ..physics.shapes import hemispherical_shell_inertia, solid_cylinder_inertia
-from .canopy_types import CANOPY_TYPES
-from .columns import column
+from ..registries.canopy_types import CANOPY_TYPES
+from ..registries.columns import column
 from .model import Contact
 from .new_checks import check_choice, check_integer, check_needs, check_number, check_positive, check_reader_ranges
 from .new_conditions import check_conditions, header_words, start_state, vehicle_rows
@@ -99,7 +99,7 @@ class NewCase:
     canopy_diameter : float or None
         Each canopy's nominal diameter D0 (m).
     canopy_type : str
-        The canopy type (``case.canopy_types``): its drag coefficient C_D0 and how it opens.
+        The canopy type (``registries.canopy_types``): its drag coefficient C_D0 and how it opens.
     canopy_mass : float or None
         Each canopy's mass (kg); None: 0.15 kg per m^2 of S0 (CANOPY_AREAL_MASS).
     canopies : int
@@ -661,7 +661,7 @@ class _Writer:
                 "stretch" if c.released else "deploy_time = 0.0   # s: line stretch at the start (flight conditions)")
         return [when, 'deploy_point = "vehicle.line_stretch"',
                 f"[systems.main.inflation]                   # one stage from line stretch; {c.canopy_type} values "
-                "(pchute_exudyn/case/canopy_types.py, docs/tutorial.md)",
+                "(pchute_exudyn/registries/canopy_types.py, docs/tutorial.md)",
                 "stage_start = [0.0]                        # s after line stretch", "fraction = [1.0]",
                 f"fill_constant = [{_n(fill)}]   # -: fill time n D0 / V, V the canopy's speed at line stretch",
                 f"exponent = [{_n(exponent)}]   # -: the drag area grows as (t / t_fill)^exponent",

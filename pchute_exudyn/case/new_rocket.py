@@ -174,7 +174,7 @@ def dual_deploy_lines(c) -> list:
 
 def _sizes(c, which: str) -> tuple:
     """(S0 (m^2), mass (kg), projected radius (m), apex distance (m)) of the ``which`` canopy."""
-    from .canopy_types import CANOPY_TYPES
+    from ..registries.canopy_types import CANOPY_TYPES
 
     drag_coefficient = CANOPY_TYPES[c.canopy_type].drag_coefficient if c.drag_coefficient is None \
         else c.drag_coefficient

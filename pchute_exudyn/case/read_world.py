@@ -13,8 +13,8 @@ from ..physics.gravity import PUBLISHED_SPIN, published_spin
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.step_control import StepRule
 from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
+from ..registries.methods import INTEGRATORS, METHODS, OptionError, make_options
 from .fields import REQUIRED, Table, check_number, default_of
-from .method_table import INTEGRATORS, METHODS, OptionError, make_options
 from .model import Case, SimulationSettings
 from .start import VELOCITY_FRAMES, Release
 from .tables import AIR_GAMMA, AIR_GAS_CONSTANT, read_atmosphere_table

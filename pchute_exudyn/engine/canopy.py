@@ -15,9 +15,9 @@ import math
 import exudyn.itemInterface as eii
 import numpy as np
 
-from ..case.columns import column, unit
 from ..case.model import Body, Case
 from ..physics.apparent_mass import kirchhoff_terms, translational_mass_matrix
+from ..registries.columns import column, unit
 from .model import CURRENT, OV, Model
 from .state import ColumnChannel
 
@@ -131,6 +131,6 @@ def add_fraction_channel(model: Model, label: str, schedule, deployed_at: float)
 
 
 def _channel(template: str, owner: str) -> ColumnChannel:
-    """A channel that is an output column of its own (``case.columns``), with the registry's unit."""
+    """A channel that is an output column of its own (``registries.columns``), with the registry's unit."""
     name = column(template, owner)
     return ColumnChannel(name, unit(name))

@@ -27,11 +27,11 @@ import exudyn as exu
 import numpy as np
 
 from .. import _interrupt
-from ..case.method_table import INTEGRATORS
 from ..errors import Interrupted, PchuteError, SimulationError
 from ..kernels.form import BUILDER as KERNEL_BUILDER
 from ..physics.atmosphere import OutsideAtmosphereError
 from ..physics.compiled import MODE as KERNEL_FORM
+from ..registries.methods import INTEGRATORS
 from .model import Model
 from .state import RawHistory
 

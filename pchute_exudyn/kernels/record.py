@@ -137,7 +137,7 @@ def every_method(case, duration: float | None = 0.05, variants: bool = True) -> 
     chooses itself (adaptive for RK4), for ``duration`` (s) or, None, for the case's duration up to STEPS steps of
     that fixed step (full mass RK4 at its limit would take hours on a whole descent)."""
     import pchute_exudyn as pc
-    from pchute_exudyn.case.method_table import METHODS
+    from pchute_exudyn.registries.methods import METHODS
     from pchute_exudyn.run.simulation import stability_step
 
     for name, method_class in METHODS.items():

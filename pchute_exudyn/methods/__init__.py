@@ -1,4 +1,4 @@
-"""The confluence methods, one module each, registered in the method table (``case.method_table.METHODS``).
+"""The confluence methods, one module each, registered in the method table (``registries.methods.METHODS``).
 
 Adding a method: a module in this package with its class (a ``base.Method`` subclass with a name, its integrators,
 its Options type, a ``build`` of its model and, if it has confluence dynamics, a ``step_limit``), its model's
@@ -9,7 +9,7 @@ registered when the table is first read, in the order of ``ORDER`` and then by m
 import importlib
 import pkgutil
 
-from ..case.method_table import METHODS
+from ..registries.methods import METHODS
 from .base import Method, StepLimit, unstable_step_message
 
 ORDER = ("full", "sp", "equilibrium")

@@ -1,6 +1,6 @@
 """The method interface: what a confluence method is to the rest of the package.
 
-A method is a class registered in the method table (``case.method_table.METHODS``): it says which integrators it
+A method is a class registered in the method table (``registries.methods.METHODS``): it says which integrators it
 supports, owns a frozen ``Options`` type (its options, their defaults and their validation in one place), builds its
 Exudyn model for a phase, gives its explicit-step limit and names the per-system quantities it reports.
 """
@@ -13,10 +13,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..case.method_table import INTEGRATORS, NoOptions, OptionError, make_options
 from ..case.model import Case, ParachuteSystem
 from ..engine.state import Phase
 from ..physics.lines import tangent_stiffness
+from ..registries.methods import INTEGRATORS, NoOptions, OptionError, make_options
 
 
 def option(flag: str | None, parse, help: str, choices: tuple | None = None) -> dict:

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..case.method_table import OptionError
 from ..engine.full import build_full_model
 from ..physics.linearization import full_mass_step_limit, spectral_step_bound
+from ..registries.methods import OptionError
 from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
 LINE_LAWS = ("symbolic", "python")

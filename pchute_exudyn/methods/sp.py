@@ -24,7 +24,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..case.method_table import OptionError
 from ..case.model import Case, ParachuteSystem
 from ..engine.bodies import add_bodies
 from ..engine.model import Model
@@ -92,6 +91,7 @@ from ..physics.sp_stepping import (
     sp_step_stage_with_bodies,
     step_done,
 )
+from ..registries.methods import OptionError
 from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
 RATE_MEMORY = 2.0

@@ -50,7 +50,7 @@ class Quantity:
     recorded : bool
         Whether a triggered deployment's record keeps the vehicle's true value (``run.sequence``).
     studied : bool
-        Whether a study keeps that recorded value as a column (``deploy_<name>_<system>``, ``case.columns``).
+        Whether a study keeps that recorded value as a column (``deploy_<name>_<system>``, ``registries.columns``).
     limits : (float, float)
         The range (its unit) the quantity can take in a run of this tool: a threshold outside it cannot mean
         anything, and a sensed magnitude below it (a speed bias that makes a speed negative) stops the run.

@@ -22,8 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..case.columns import column, owner
 from ..errors import InputError
+from ..registries.columns import column, owner
 from .csv_dialects import time_problem
 from .result import Result
 from .summary import first_fall_through

@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..case.columns import owner
 from ..errors import InputError
+from ..registries.columns import owner
 from . import rocketpy_export
 from .csv_dialects import map_columns, parse_column_map  # noqa: F401  (parse_column_map: API)
 from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
@@ -173,7 +173,7 @@ class Result:
         return list(self.tensions().values())
 
     def tensions(self) -> dict:
-        """{line label: its tension column} (``case.columns``)."""
+        """{line label: its tension column} (``registries.columns``)."""
         found = {name: owner(name, "tension_{owner}") for name in self.columns}
         return {label: name for name, label in found.items() if label is not None}
 

@@ -25,8 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..case.columns import column
 from ..errors import InputError
+from ..registries.columns import column
 from .csv_dialects import read_csv_columns
 
 SOLVER_HEADER = ("Time (s),X (m),Y (m),Z (m),E0,E1,E2,E3,W1 (rad/s),W2 (rad/s),W3 (rad/s)")

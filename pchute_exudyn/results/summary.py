@@ -25,8 +25,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..case.columns import column
 from ..case.events import DISREEF
+from ..registries.columns import column
 
 
 @dataclass(frozen=True)

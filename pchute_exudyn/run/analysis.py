@@ -18,12 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..case.columns import column
 from ..case.model import Case
 from ..engine.state import RawHistory
 from ..physics.cluster import flyout_angles, load_share, present_mean
 from ..physics.contact import envelope_radius, overlaps
 from ..physics.kinematics import body_point
+from ..registries.columns import column
 from ..results.summary import ContactEndEvent, ContactStartEvent
 from .outputs import units_of
 

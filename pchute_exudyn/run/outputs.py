@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..case.columns import POINT_QUANTITIES, column, derived, method_column, unit
 from ..case.model import Case
 from ..engine.state import BODY_QUANTITIES, CONFLUENCE_QUANTITIES, ColumnChannel, RawHistory
 from ..errors import SimulationError
@@ -30,6 +29,7 @@ from ..physics.kinematics import body_point, relative_to_body
 from ..physics.lines import line_states
 from ..physics.rotations import attitude_angles_deg, tilt_deg
 from ..physics.step_control import merge_summaries
+from ..registries.columns import POINT_QUANTITIES, column, derived, method_column, unit
 
 MAX_LINE_STRAIN = 1.0
 """A line without a material stretched beyond (1 + MAX_LINE_STRAIN) times its free length is over-stretched: no
@@ -206,8 +206,8 @@ def _point_columns(case: Case, owner: str, time, position, velocity, columns: di
 
 
 def derive_columns(case: Case, raw: RawHistory, history: bool = True) -> tuple[dict, dict]:
-    """Named time histories and their units (``case.columns``) from an engine run; see the module docstring for the
-    names. ``history=False`` (a run whose history nobody keeps: a study's) leaves out what the summary never reads:
+    """Named time histories and their units (``registries.columns``) from an engine run; see the module docstring for
+    the names. ``history=False`` (a run whose history nobody keeps: a study's) leaves out what the summary never reads:
     each aerodynamic body's air-relative columns (angles of attack, dynamic pressure, Mach number, wind and
     turbulence at its centre), the bodies' attitude angles, the other bodies' point columns and every relative
     column."""
@@ -236,12 +236,12 @@ def derive_columns(case: Case, raw: RawHistory, history: bool = True) -> tuple[d
 
 
 def units_of(columns) -> dict:
-    """The unit of each column (``case.columns``); a column the registry does not know is a programming error."""
+    """The unit of each column (``registries.columns``); a column the registry does not know is a programming error."""
     units = {}
     for name in columns:
         units[name] = unit(name)
         if units[name] is None:
-            raise KeyError(f"output column {name!r} has no record in pchute_exudyn.case.columns")
+            raise KeyError(f"output column {name!r} has no record in pchute_exudyn.registries.columns")
     return units
 
 

@@ -14,8 +14,6 @@ import numpy as np
 
 from ..boundary import check_callable, check_case, check_flag
 from ..case.carried import case_at
-from ..case.columns import column, owner
-from ..case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
 from ..case.model import Case
 from ..case.plausible import check_time_scales
 from ..engine.bodies import Touchdown
@@ -27,6 +25,8 @@ from ..kernels import selection
 from ..methods.base import Method, line_arrays, line_constants, unstable_step_message
 from ..physics.linearization import damped_line_step_limit, sp_step_limit, spectral_step_bound
 from ..physics.step_control import StepRule
+from ..registries.columns import column, owner
+from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
 from ..results.result import Result
 from ..results.summary import (
     RunSummary,

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from ..case.columns import owner
+from ..registries.columns import owner
 
 ELLIPSES = (("1 sigma", 1.0), ("3 sigma", 3.0), ("99 %", math.sqrt(-2.0 * math.log(0.01))))
 """(label, k): dispersion ellipses drawn and tabulated, k in standard deviations along the principal axes."""

@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_path
-from ..case.columns import owner as column_owner
-from ..case.columns import unit as column_unit
-from ..case.method_table import METHODS, option_names
 from ..errors import InputError
+from ..registries.columns import owner as column_owner
+from ..registries.columns import unit as column_unit
+from ..registries.methods import METHODS, option_names
 from ..results.compare import compare_results
 from ..results.io import atomic_write_text, ensure_writable_dir, json_text
 from ..results.result import Result
@@ -68,7 +68,7 @@ def _is_peak_tension(name: str) -> bool:
 
 
 def output_label(name: str) -> str:
-    """An output column with its unit (``case.columns``): 'peak_tension_riser (N)'."""
+    """An output column with its unit (``registries.columns``): 'peak_tension_riser (N)'."""
     found = column_unit(name)
     return f"{name} ({found})" if found else name
 

@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
-from ..case.columns import column
 from ..errors import InputError, PchuteError
 from ..physics.triggers import QUANTITIES
+from ..registries.columns import column
 from ..results.io import ensure_writable_dir
 from ..results.journal import WriteFailed
 from .spec import RunSpec, StudySpec
@@ -280,7 +280,7 @@ def _check_arguments(spec, out, executor, workers, progress, retry_failed) -> No
 class StudyOutcome(Mapping):
     """What ``run_study`` did: the counts of runs (planned, skipped because already done, executed, failed), its
     wall time (s), the study folder, its table (``runs.csv``, every run's inputs, status and outputs, units in
-    ``case.columns``), the failed runs with their errors ({run index: error text}) and the report folder
+    ``registries.columns``), the failed runs with their errors ({run index: error text}) and the report folder
     (``report/``, once ``study_report`` has written it, else None). Read as a mapping, it is its counts."""
 
     planned: int

@@ -61,10 +61,10 @@ from ..boundary import check_path
 from ..case.fields import Context, Table
 from ..case.files import read_toml
 from ..case.loader import load_case, override_leaves
-from ..case.method_table import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError, make_options
 from ..case.overrides import Scale
 from ..case.trigger_reach import SENSOR_ERRORS, idle_sensor_key
 from ..errors import CaseError
+from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError, make_options
 
 DISTRIBUTIONS = {"normal": ("mean", "std"), "uniform": ("low", "high"),
                  "truncated_normal": ("mean", "std", "low", "high"), "seed": (), "choice": ()}

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..case.columns import owner
 from ..errors import InputError
+from ..registries.columns import owner
 from ..results.io import atomic_writer
 from ..results.result import Result, load_scene
 

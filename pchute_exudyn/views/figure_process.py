@@ -15,7 +15,7 @@ import pickle
 import subprocess
 import sys
 
-from ..case.columns import column
+from ..registries.columns import column
 
 SUMMARY_KEYS = ("vehicle", "case", "method", "integrator", "step", "events")
 """What the figures read of the summary (their titles, the vehicle's name and the events they mark)."""

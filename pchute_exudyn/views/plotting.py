@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from ..case.columns import column
+from ..registries.columns import column
 from ..results.io import atomic_writer
 
 

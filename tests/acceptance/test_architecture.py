@@ -157,7 +157,7 @@ def test_packed_layouts_are_read_by_name_outside_their_home():
 
 def test_integrators_are_compared_only_in_their_table():
     found = [text for path, text in _lines_matching(INTEGRATOR_COMPARISON)
-             if path != "pchute_exudyn/case/method_table.py"]
+             if path != "pchute_exudyn/registries/methods.py"]
     assert not found, "integrator names compared outside the table:\n" + "\n".join(found)
 
 

@@ -9,9 +9,9 @@ import re
 
 import pytest
 
-from pchute_exudyn.case.canopy_types import CANOPY_TYPES
 from pchute_exudyn.case.files import tomllib
 from pchute_exudyn.cli import main
+from pchute_exudyn.registries.canopy_types import CANOPY_TYPES
 
 VEHICLES = {1: 0.1, 20: 0.3, 800: 2.6, 5000: 4.0}   # mass (kg) -> diameter (m)
 STEADY_ALTITUDE = 100.0   # m: a steady descent starts at its steady rate; 8 s to the ground

@@ -1,4 +1,4 @@
-"""The canopy types of ``pchute new`` (``case.canopy_types.CANOPY_TYPES``, issue 47): one record each, complete and within
+"""The canopy types of ``pchute new`` (``registries.canopy_types.CANOPY_TYPES``, issue 47): one record each, complete and within
 the published ranges it cites, documented in the tutorial and the sources, and written by ``pchute new``."""
 
 import re
@@ -6,7 +6,7 @@ import re
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.canopy_types import CANOPY_TYPES
+from pchute_exudyn.registries.canopy_types import CANOPY_TYPES
 from tests.helpers import ROOT
 
 

@@ -1,4 +1,4 @@
-"""The output-column registry (``case.columns``, issue 47): every column a run writes and every value a study records
+"""The output-column registry (``registries.columns``, issue 47): every column a run writes and every value a study records
 has one record there, with its unit; no module outside the registry spells a column name."""
 
 import re
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.columns import COLUMNS, column, describe, unit
+from pchute_exudyn.registries.columns import COLUMNS, column, describe, unit
 from pchute_exudyn.study.runner import scalar_outputs
 from tests.helpers import ROOT
 
@@ -16,7 +16,7 @@ SPELLED = re.compile(r'''f["'][^"']*\{[^}]*\}_(altitude|east|north|velocity_|ten
 
 
 def test_the_docs_table_of_columns_is_the_registry():
-    from pchute_exudyn.case.columns import markdown_table
+    from pchute_exudyn.registries.columns import markdown_table
 
     text = (ROOT / "docs" / "results.md").read_text()
     assert text.split("<!-- columns:begin -->\n", 1)[1].split("\n<!-- columns:end -->", 1)[0] == markdown_table()
@@ -45,12 +45,12 @@ def test_no_module_but_the_registry_spells_a_column_name():
     found = [f"{path.relative_to(ROOT)}:{number}: {line.strip()}"
              for path in sorted((ROOT / "pchute_exudyn").rglob("*.py")) if path.name != "columns.py"
              for number, line in enumerate(path.read_text().splitlines(), start=1) if SPELLED.search(line)]
-    assert not found, "column names spelled outside pchute_exudyn/case/columns.py:\n" + "\n".join(found)
+    assert not found, "column names spelled outside pchute_exudyn/registries/columns.py:\n" + "\n".join(found)
 
 
 def test_a_column_with_its_own_derivation_is_written_for_every_body(monkeypatch):
     """A new column is one record: one that says how it is computed from a body's states appears in every run."""
-    from pchute_exudyn.case import columns as registry
+    from pchute_exudyn.registries import columns as registry
 
     speed = registry.Column("{owner}_speed", "m/s", "speed relative to the start frame", "body",
                             derive=lambda body: np.linalg.norm(body["velocity"], axis=1))

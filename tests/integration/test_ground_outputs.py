@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.columns import column
+from pchute_exudyn.registries.columns import column
 from pchute_exudyn.results.summary import run_line
 
 GROUND = 1000.0   # m

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.method_table import METHODS
 from pchute_exudyn.case.new import LIGHT_CANOPY_TIME, LINE_STRAIN, NewCase, layout
 from pchute_exudyn.cli import main
 from pchute_exudyn.engine.state import initial_body_state, initial_confluence_state, initial_point
 from pchute_exudyn.physics.atmosphere import US76
+from pchute_exudyn.registries.methods import METHODS
 from pchute_exudyn.results.compare import compare_results, descent_metrics
 from pchute_exudyn.results.csv_dialects import parse_column_map, read_csv_columns
 from pchute_exudyn.run.simulation import stability_step

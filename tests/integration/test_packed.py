@@ -13,8 +13,8 @@ import pytest
 from pchute_exudyn import load_case, simulate
 from pchute_exudyn.case.carried import carried, case_at
 from pchute_exudyn.case.events import with_event_times
-from pchute_exudyn.case.method_table import METHODS
 from pchute_exudyn.errors import CaseError
+from pchute_exudyn.registries.methods import METHODS
 
 G = 9.80665
 V0 = np.array([15.0, 0.0, -5.0])   # m/s, start frame (x east, y north, z up): 15 east, 5 down

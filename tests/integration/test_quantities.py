@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.columns import unit
 from pchute_exudyn.case.sensing import true_values
 from pchute_exudyn.physics.triggers import QUANTITIES, SENSED, THRESHOLD_QUANTITIES, Sensor, sense
+from pchute_exudyn.registries.columns import unit
 from tests.helpers import ROOT
 
 

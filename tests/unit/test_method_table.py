@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.method_table import METHODS
 from pchute_exudyn.cli import main
 from pchute_exudyn.engine.bodies import add_bodies
 from pchute_exudyn.engine.model import Model
@@ -20,6 +19,7 @@ from pchute_exudyn.engine.state import initial_point
 from pchute_exudyn.methods import Method
 from pchute_exudyn.physics.equilibrium import equilibrium_point
 from pchute_exudyn.physics.lines import line_states, line_tensions
+from pchute_exudyn.registries.methods import METHODS
 from tests.helpers import MER
 
 

@@ -169,7 +169,7 @@ def column(template: str, owner: str = "", other: str = "") -> str:
     try:
         entry = _table()[template]
     except KeyError:
-        raise KeyError(f"no output column {template!r} in the registry (pchute_exudyn.case.columns)") from None
+        raise KeyError(f"no output column {template!r} in the registry (pchute_exudyn.registries.columns)") from None
     return entry.name(owner, other)
 
 

@@ -101,7 +101,7 @@ class MethodTable(Mapping):
             raise ValueError(f"method {name!r} names unknown integrator(s) {unknown}; "
                              f"integrators are {tuple(INTEGRATORS)}")
         self._classes[name] = method_class
-        register(*method_outputs(getattr(method_class, "outputs", {})))   # its columns (``case.columns``)
+        register(*method_outputs(getattr(method_class, "outputs", {})))   # its columns (``registries.columns``)
         return method_class
 
     def unregister(self, name: str) -> None:
