@@ -47,7 +47,7 @@ def geometry(case):
 
 def analysis(case):
     system, attach, free_length, stiffness, damping = geometry(case)
-    eq = equilibrium_point(attach, free_length, stiffness, require_unique=True)
+    eq = equilibrium_point(attach, [line.law for line in system.lines], require_unique=True)
     c_bar, k_bar = linearize(attach, eq.position, free_length, stiffness, damping)
     return system, eq.position, c_bar, k_bar, modes(system.confluence.mass, c_bar, k_bar)
 

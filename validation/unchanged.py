@@ -57,6 +57,20 @@ RUNS = [
     ("PA1 triggers, SP, to touchdown", "cases/cev_pa1_triggers.toml", dict(method="sp")),
     ("MER 5 aero trim, SP, 20 s", "cases/mer/case5_aero_trim.toml", dict(method="sp", duration=20.0)),
     ("MER EDL, SP, to touchdown", "cases/mer/edl.toml", dict(method="sp")),
+    # issue 54: every shipped case (the rocket's reduced canopies, the supersonic disk-gap-band family)
+    ("rocket dual deploy, SP, to touchdown", "cases/rocket/dual_deploy.toml", dict(method="sp")),
+    ("rocket dual deploy, equilibrium, 60 s", "cases/rocket/dual_deploy.toml", dict(method="equilibrium",
+                                                                                 duration=60.0)),
+    ("MSL, SP, to touchdown", "cases/edl/msl.toml", dict(method="sp")),
+    ("Mars 2020, SP, to touchdown", "cases/edl/mars2020.toml", dict(method="sp")),
+    ("ASPIRE SR01, SP, to touchdown", "cases/edl/aspire_sr01.toml", dict(method="sp")),
+    ("ASPIRE SR02, SP, to touchdown", "cases/edl/aspire_sr02.toml", dict(method="sp")),
+    ("ASPIRE SR03, SP, to touchdown", "cases/edl/aspire_sr03.toml", dict(method="sp")),
+    ("MSL, full implicit, 20 s", "cases/edl/msl.toml", dict(method="full", integrator="implicit", duration=20.0)),
+    ("PA1 inflation (a riser by table), full RK4, 3 s", "cases/cev_pa1_inflation.toml",
+     dict(method="full", integrator="rk4", duration=3.0)),
+    ("PA1 inflation, equilibrium, 15 s", "cases/cev_pa1_inflation.toml", dict(method="equilibrium",
+                                                                              duration=15.0)),
 ]
 MACHINE = ("wall_time", "created", "versions", "steps_per_second", "case_file")
 """Summary keys that describe the machine or the moment, not the result."""

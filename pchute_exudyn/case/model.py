@@ -20,7 +20,7 @@ from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency
 from ..physics.inflation import Inflation, nominal_diameter, skipping, with_disreef_delays
 from ..physics.interpolation import interpolate_held
 from ..physics.line_materials import RatedLine
-from ..physics.lines import LoadElongation
+from ..physics.lines import LineLaw, LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
 from ..physics.step_control import StepRule
@@ -192,6 +192,11 @@ class Line:
     damping: float
     load_elongation: LoadElongation | None = None
     rating: RatedLine | None = None
+
+    @property
+    def law(self) -> LineLaw:
+        """The line's tension-only law (``physics.lines.LineLaw``): what every method evaluates."""
+        return LineLaw(self.free_length, self.stiffness, self.damping, self.load_elongation)
 
 
 @dataclass(frozen=True)

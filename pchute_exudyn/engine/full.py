@@ -1,10 +1,11 @@
 """The full-mass model (thesis Eqs. 1.1-1.7): the reference solution.
 
 Vehicle and canopies are rigid bodies, each confluence is a 3-DoF point mass, each line an
-``ObjectConnectorSpringDamper`` whose tension-only law (``physics.lines``) runs as an Exudyn symbolic user function
-(inside the engine: about 0.04 us per call against 0.37 us for a Python one, see ``validation/benchmark_full.py``).
-A line with a load-elongation table gets its own symbolic law: the table as a sum of ramps, which the expression
-language can write without a search (``LoadElongation.hinges``).
+``ObjectConnectorSpringDamper`` whose tension-only law runs as an Exudyn symbolic user function (inside the engine:
+about 0.04 us per call against 0.37 us for a Python one, see ``validation/benchmark_full.py``), written from the
+line's record (``physics.lines.LineLaw.expression`` in Exudyn's symbolic arithmetic). A line with a load-elongation
+table gets its own symbolic law: the table as a sum of ramps, which the expression language can write without a
+search (``LoadElongation.hinges``).
 """
 
 from __future__ import annotations
@@ -14,56 +15,44 @@ import exudyn.itemInterface as eii
 from exudyn.utilities import CreateSymbolicUserFunction
 
 from ..case.model import Case
-from ..physics.lines import tension
+from ..physics.lines import Arithmetic, LineLaw
 from .bodies import PointConfluence, add_bodies
 from .model import CURRENT, OV, Model
 from .state import Phase, TensionChannel
 
 esym = exu.symbolic
 LINE_COLOUR = [0.1, 0.1, 0.6, 1.0]   # lines in Exudyn's viewer
+SYMBOLIC = Arithmetic(lambda: esym.Real(0.0), esym.max,
+                      lambda stretch, value: esym.IfThenElse(stretch > 0, value, esym.Real(0.0)))
+"""Exudyn's symbolic expressions as the arithmetic the line law is written in (``LineLaw.expression``)."""
 
 
-def _tension_only_symbolic(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
-    # physics.lines.tension as an expression tree: T = max(0, K dL + C dL/dt) if L > L0 else 0
-    return esym.IfThenElse(deltaL > 0, esym.max(esym.Real(0.0), stiffness * deltaL + damping * deltaL_t),
-                           esym.Real(0.0))
+def _symbolic_law(law: LineLaw):
+    """``law`` as an Exudyn spring-damper user function written in symbolic expressions (``LineLaw.expression``:
+    the linear law with the connector's K and C, a table's in its hinge form)."""
+    def symbolic(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
+        return law.expression(deltaL, deltaL_t, SYMBOLIC, stiffness, damping)
+    return symbolic
 
 
-def _tension_only_python(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
-    return tension(deltaL, deltaL_t, stiffness, damping)
+def _python_law(law: LineLaw):
+    """``law`` as a Python spring-damper user function (``LineLaw.tension``)."""
+    def python(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
+        return law.tension(deltaL, deltaL_t)
+    return python
 
 
-def _table_law_symbolic(table, free_length: float):
-    """A load-elongation table's line law as an expression tree: the table in its hinge form
-    (``LoadElongation.hinges``: a sum of ramps, no search), T = max(0, T_table(dL / L0) + C dL/dt) if dL > 0."""
-    hinges = table.hinges()
-
-    def law(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
-        strain = deltaL * (1.0 / free_length)
-        elastic = esym.Real(0.0)
-        for corner, change in hinges:
-            elastic = elastic + change * esym.max(esym.Real(0.0), strain - corner)
-        return esym.IfThenElse(deltaL > 0, esym.max(esym.Real(0.0), elastic + damping * deltaL_t), esym.Real(0.0))
-    return law
-
-
-def _table_law_python(table, free_length: float):
-    def law(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
-        return tension(deltaL, deltaL_t, stiffness, damping, table(deltaL / free_length) if deltaL > 0.0 else None)
-    return law
-
-
-def _line_law(model: Model, line, shared, symbolic: bool):
-    """The spring-damper user function of ``line``: the shared linear law, or its own table law."""
-    table = line.load_elongation
-    if table is None:
-        return shared
+def _line_law(model: Model, law: LineLaw, shared: dict, symbolic: bool):
+    """The spring-damper user function of a line with law ``law``: symbolic (one function for every linear line,
+    whose K and C the connector passes; its own for a table) or Python (``symbolic`` False)."""
     if not symbolic:
-        return _table_law_python(table, line.free_length)
-    law = CreateSymbolicUserFunction(model.mbs, _table_law_symbolic(table, line.free_length),
-                                     "springForceUserFunction", itemTypeName="ObjectConnectorSpringDamper")
-    model.keep_alive(law)
-    return law
+        return _python_law(law)
+    key = None if law.table is None else law
+    if key not in shared:
+        shared[key] = CreateSymbolicUserFunction(model.mbs, _symbolic_law(law), "springForceUserFunction",
+                                                 itemTypeName="ObjectConnectorSpringDamper")
+        model.keep_alive(shared[key])
+    return shared[key]
 
 
 def _force_reader(mbs, connector: int):
@@ -85,12 +74,7 @@ def build_full_model(case: Case, phase: Phase, symbolic_line_law: bool = True) -
     model = Model(case, phase)
     mbs = model.mbs
     add_bodies(model, case)
-    if symbolic_line_law:
-        law = CreateSymbolicUserFunction(mbs, _tension_only_symbolic, "springForceUserFunction",
-                                         itemTypeName="ObjectConnectorSpringDamper")
-        model.keep_alive(law)
-    else:
-        law = _tension_only_python
+    laws: dict = {}   # the symbolic user functions made so far (``_line_law``)
     for system in model.systems:
         confluence = PointConfluence(model, case, system.name, system.confluence.mass,
                                      phase.confluence_states[system.name])
@@ -99,7 +83,7 @@ def build_full_model(case: Case, phase: Phase, symbolic_line_law: bool = True) -
             connector = mbs.AddObject(eii.ObjectConnectorSpringDamper(
                 markerNumbers=[attach, confluence.marker], referenceLength=line.free_length,
                 stiffness=line.stiffness, damping=line.damping,
-                springForceUserFunction=_line_law(model, line, law, symbolic_line_law),
+                springForceUserFunction=_line_law(model, line.law, laws, symbolic_line_law),
                 visualization=eii.VObjectConnectorSpringDamper(show=True, drawSize=0.05, color=LINE_COLOUR)))
             model.add_channel(TensionChannel(system.name, line.name), _force_reader(mbs, connector))
     return model.assemble()

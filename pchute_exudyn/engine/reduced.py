@@ -48,11 +48,10 @@ class ReducedConfluence(Confluence):
     def __init__(self, model: Model, case: Case, system: ParachuteSystem, initial_states: list):
         """``initial_states``: the confluence's own coordinates at the phase start (empty: none)."""
         self.model, self.system = model, system
-        self.free_length = [line.free_length for line in system.lines]
-        self.stiffness = [line.stiffness for line in system.lines]
-        self.damping = [line.damping for line in system.lines]
-        tables = [line.load_elongation for line in system.lines]
-        self.tables = tables if any(table is not None for table in tables) else None   # None: the linear path
+        self.laws = [line.law for line in system.lines]   # physics.lines.LineLaw: the one line law
+        self.free_length = [law.free_length for law in self.laws]
+        self.stiffness = [law.stiffness for law in self.laws]
+        self.damping = [law.damping for law in self.laws]
         self.stage = model.stage
         self.points = model.stage.points([(line.body, case.bodies[line.body].points[line.point])
                                           for line in system.lines])

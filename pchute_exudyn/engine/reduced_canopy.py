@@ -14,7 +14,9 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..physics.aerodynamics import mach_number
+from ..physics.compiled import python_form
 from ..physics.linearization import max_stable_step_rk4
+from ..physics.lines import series_damping as series_damping_kernel
 from ..physics.reduced_canopy import BRIDLE_ROW, RISER_ROW
 from ..physics.singular_perturbation import WORK_ATTACH_POSITION, WORK_SCRATCH, WORK_TENSION
 from ..physics.sp_stepping import (
@@ -33,6 +35,8 @@ from ..physics.sp_stepping import (
     TIME_NEWER,
 )
 from .model import Model
+
+series_damping = python_form(series_damping_kernel)
 
 
 def reduced_canopy(case: Case, system: ParachuteSystem) -> str | None:
@@ -100,8 +104,8 @@ class ReducedCanopy:
         memory = self.memory
         drag = memory[MEMORY_CANOPY, CANOPY_DRAG]
         speed = math.dist(memory[MEMORY_V0].tolist(), memory[MEMORY_AIR].tolist())
-        (k1, k2), (c1, c2) = _constants(self.lines)
-        stiffness, damping = k1 * k2 / (k1 + k2), (c1 * k2 * k2 + c2 * k1 * k1) / (k1 + k2) ** 2
+        (k1, c1), (k2, c2) = ((law.stiffest, law.damping) for law in (line.law for line in self.lines))
+        stiffness, damping = k1 * k2 / (k1 + k2), series_damping(k1, k2, c1, c2)
         inertia = self.mass / step
         a = WORK_ATTACH_POSITION
         length = float(np.linalg.norm(work[RISER_ROW, a:a + 3] - work[BRIDLE_ROW, a:a + 3]))
@@ -109,9 +113,3 @@ class ReducedCanopy:
         across = work[RISER_ROW, WORK_TENSION] / length / (drag * speed + inertia)
         return max_stable_step_rk4([-max(along, across)])
 
-
-def _constants(lines) -> tuple:
-    """The two lines' stiffest stiffness (N/m; a table's steepest slope over L0) and their damping (N s/m)."""
-    stiffness = [line.stiffness if line.load_elongation is None else
-                 max(line.load_elongation.slopes()) / line.free_length for line in lines]
-    return stiffness, [line.damping for line in lines]

@@ -15,7 +15,6 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..engine.state import Phase
-from ..physics.lines import tangent_stiffness
 from ..registries.methods import INTEGRATORS, NoOptions, OptionError, make_options
 
 
@@ -127,24 +126,21 @@ class Method:
 
 
 def line_constants(system: ParachuteSystem) -> tuple[list, list]:
-    """The stiffest constants of a system's lines: K (N/m; a load-elongation table's steepest slope / L0) and
-    C (N s/m)."""
-    stiffness = [line.stiffness if line.load_elongation is None else
-                 max(line.load_elongation.slopes()) / line.free_length for line in system.lines]
-    return stiffness, [line.damping for line in system.lines]
+    """The stiffest constants of a system's lines: K (N/m; ``LineLaw.stiffest``) and C (N s/m)."""
+    laws = [line.law for line in system.lines]
+    return [law.stiffest for law in laws], [law.damping for law in laws]
 
 
 def line_arrays(system: ParachuteSystem, attach_position=None, confluence_position=None) -> tuple[list, list, list]:
     """Free lengths (m), stiffnesses (N/m) and damping constants (N s/m) of a system's lines; with the geometry
-    given, a line with a load-elongation table has its tangent stiffness there (``physics.lines``)."""
-    lines = system.lines
-    stiffness = [line.stiffness for line in lines]
-    if attach_position is not None and any(line.load_elongation is not None for line in lines):
+    given, a line with a load-elongation table has its tangent stiffness there (``LineLaw.slope``)."""
+    laws = [line.law for line in system.lines]
+    stiffness = [law.stiffness for law in laws]
+    if attach_position is not None and any(law.table is not None for law in laws):
         lengths = np.linalg.norm(np.asarray(attach_position, float) - np.asarray(confluence_position, float)[:3],
                                  axis=-1)
-        stiffness = [tangent_stiffness(length - line.free_length, line.free_length, line.stiffness,
-                                       line.load_elongation) for length, line in zip(lengths, lines)]
-    return [line.free_length for line in lines], stiffness, [line.damping for line in lines]
+        stiffness = [law.slope(length - law.free_length) for length, law in zip(lengths, laws)]
+    return [law.free_length for law in laws], stiffness, [law.damping for law in laws]
 
 
 def unstable_step_message(method: Method, step: float, limit: StepLimit, time: float) -> str:

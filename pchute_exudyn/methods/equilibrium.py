@@ -20,7 +20,7 @@ from ..engine.reduced import ReducedConfluence
 from ..engine.state import ConfluenceState, Phase
 from ..errors import SimulationError
 from ..physics.equilibrium import equilibrium_point, equilibrium_velocity
-from ..physics.lines import line_tensions, pack_tables
+from ..physics.lines import line_tensions, pack_lines
 from ..physics.singular_perturbation import solve_series
 from .base import Method
 
@@ -49,12 +49,12 @@ class EquilibriumConfluence(ReducedConfluence):
         self.guess = tuple(state.position.tolist())   # warm start: the last solution
         self.solves = self.failures = self.consecutive_failures = self.iterations = 0
         self.max_iterations_used = 0
-        self.table_points, self.table_counts = pack_tables(line.load_elongation for line in system.lines)
+        self.packed_lines = pack_lines(self.laws)   # (L0, K, C) rows, table points, counts: the series kernel's
 
     def compute(self, t, q, positions, velocities):
         if len(positions) == 2:   # a pair in series: the massless confluence on the line between them
             return self._series(positions, velocities)
-        solved = equilibrium_point(positions, self.free_length, self.stiffness, guess=self.guess, tables=self.tables)
+        solved = equilibrium_point(positions, self.laws, guess=self.guess)
         self.solves += 1
         self.iterations += solved.iterations
         self.max_iterations_used = max(self.max_iterations_used, solved.iterations)
@@ -70,10 +70,8 @@ class EquilibriumConfluence(ReducedConfluence):
                     "N): use --method sp or full", t)
         position = tuple(solved.position.tolist())
         self.guess = position
-        velocity, _ = equilibrium_velocity(positions, velocities, position, self.free_length, self.stiffness,
-                                           self.tables)
-        tensions, directions = line_tensions(positions, velocities, position, velocity, self.free_length,
-                                             self.stiffness, self.damping, self.tables)
+        velocity, _ = equilibrium_velocity(positions, velocities, position, self.laws)
+        tensions, directions = line_tensions(positions, velocities, position, velocity, self.laws)
         return EquilibriumSolution(position, tuple(velocity), tuple(tensions), tuple(directions), solved.iterations,
                                    solved.converged)
 
@@ -81,9 +79,8 @@ class EquilibriumConfluence(ReducedConfluence):
         """Two lines in series (``physics.singular_perturbation.solve_series``), the same law as SP's."""
         tensions, directions, active = np.zeros(2), np.zeros((2, 3)), np.zeros(2, np.bool_)
         attach = np.asarray(positions, float)
-        lines = np.column_stack([self.free_length, self.stiffness, self.damping])
-        vx, vy, vz, fraction = solve_series(attach, np.asarray(velocities, float), lines, self.table_points,
-                                            self.table_counts, tensions, directions, active, 0.0, 0.0, 0.0)
+        vx, vy, vz, fraction = solve_series(attach, np.asarray(velocities, float), *self.packed_lines, tensions,
+                                            directions, active, 0.0, 0.0, 0.0)
         position = tuple((attach[0] + fraction * (attach[1] - attach[0])).tolist())
         self.solves += 1
         return EquilibriumSolution(position, (vx, vy, vz), tuple(tensions.tolist()),

@@ -16,11 +16,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from itertools import repeat
 
 import numpy as np
 
-from .lines import line_geometry
+from .lines import LineLaw, line_geometry
 from .small_linalg import solve_symmetric, symmetric_eigenvalues
 
 
@@ -62,35 +61,38 @@ class Equilibrium:
     unique: bool
 
 
-def line_terms(length: float, free_length: float, stiffness: float, table=None) -> tuple:
-    """A taut line's elastic tension f (N), energy (J) and the two parts of its tangent stiffness (N/m),
-    (f / L) I + (df/dL - f / L) n n^T: for the linear law K (1 - L0/L) and K L0/L; for a load-elongation table
-    (``physics.lines.LoadElongation``) T_table / L and slope / L0 - T_table / L."""
-    stretch = length - free_length
-    if table is None:
-        f = stiffness * stretch
-        ratio = free_length / length
-        return f, 0.5 * f * stretch, stiffness * (1.0 - ratio), stiffness * ratio
-    strain = stretch / free_length
-    f = table(strain)
-    return f, free_length * table.energy(strain), f / length, table.slope(strain) / free_length - f / length
+def line_terms(law: LineLaw, length: float) -> tuple:
+    """A taut line's (``law``, at length ``length`` in m) elastic tension f (N), energy (J) and the two parts of its
+    tangent stiffness (N/m), (f / L) I + (df/dL - f / L) n n^T: for the linear law K (1 - L0/L) and K L0/L; for a
+    load-elongation table T_table / L and slope / L0 - T_table / L (``LineLaw.elastic``, ``slope``, ``energy``)."""
+    stretch = length - law.free_length
+    f = law.elastic(stretch)
+    if law.table is None:
+        ratio = law.free_length / length
+        return f, law.energy(stretch), law.stiffness * (1.0 - ratio), law.stiffness * ratio
+    return f, law.energy(stretch), f / length, law.slope(stretch) - f / length
 
 
-def stiffness_forces(attach_position, position, free_length, stiffness, tables=None):
+def stiffness_laws(free_length, stiffness, tables=None) -> list:
+    """The lines' laws for the balance of their stiffness forces (no damping: it does not enter Eq. 2.9)."""
+    tables = tables or [None] * len(free_length)
+    return [LineLaw(l0, k, 0.0, table) for l0, k, table in zip(free_length, stiffness, tables)]
+
+
+def stiffness_forces(attach_position, position, laws):
     """Force sum F (N), potential U (J), tangent stiffness K_bar = -dF/dr (N/m, six entries a00, a01, a02, a11,
-    a12, a22; ``linearization.line_stiffness`` summed) and taut flags at ``position``. Plain floats; ``tables``:
-    per line, a load-elongation table replacing K (L - L0)."""
+    a12, a22; ``linearization.line_stiffness`` summed) and taut flags at ``position`` of the lines ``laws``
+    (``stiffness_laws``). Plain floats."""
     fx = fy = fz = potential = 0.0
     a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
     taut = []
-    for (length, nx, ny, nz), l0, k, table in zip(line_geometry(attach_position, position), free_length, stiffness,
-                                                  tables or repeat(None)):
-        stretch = length - l0
-        if stretch <= 0.0 or k == 0.0:
+    for (length, nx, ny, nz), law in zip(line_geometry(attach_position, position), laws):
+        stretch = length - law.free_length
+        if stretch <= 0.0 or law.stiffness == 0.0:
             taut.append(stretch > 0.0)
             continue
         taut.append(True)
-        f, energy, line_iso, kr = line_terms(length, l0, k, table)
+        f, energy, line_iso, kr = line_terms(law, length)
         fx += f * nx
         fy += f * ny
         fz += f * nz
@@ -110,7 +112,7 @@ def _is_regular(k_bar) -> bool:
     return eigenvalues[0] > 1e-9 * max(eigenvalues[2], 1e-300)
 
 
-def _descent_step(attach, free_length, stiffness, tables, r, state, mu: float, scale: float):
+def _descent_step(attach, laws, r, state, mu: float, scale: float):
     """One damped Newton step on U from ``r`` (``state``: stiffness_forces there): Newton on the regularised Hessian
     K_bar + mu I with an Armijo line search, mu raised tenfold until a step is accepted. Returns the new point, its
     state and mu, or None when no step is found."""
@@ -130,7 +132,7 @@ def _descent_step(attach, free_length, stiffness, tables, r, state, mu: float, s
         t = 1.0
         while t > 1e-10:
             trial = (r[0] + t * step[0], r[1] + t * step[1], r[2] + t * step[2])
-            trial_state = stiffness_forces(attach, trial, free_length, stiffness, tables)
+            trial_state = stiffness_forces(attach, trial, laws)
             if resolved:
                 accepted = trial_state[1] <= potential - 1e-4 * t * slope
             else:
@@ -143,16 +145,17 @@ def _descent_step(attach, free_length, stiffness, tables, r, state, mu: float, s
     return None
 
 
-def equilibrium_point(attach_position, free_length, stiffness, guess=None, tolerance: float = 1e-9,
-                      max_iterations: int = 100, require_unique: bool = False, tables=None) -> Equilibrium:
+def equilibrium_point(attach_position, laws, guess=None, tolerance: float = 1e-9, max_iterations: int = 100,
+                      require_unique: bool = False) -> Equilibrium:
     """Solve Eq. 2.9 for the confluence position by damped Newton on the convex potential U.
 
     Parameters
     ----------
     attach_position : sequence of (x, y, z)
         Attach points (m).
-    free_length, stiffness : sequence of float
-        L0 (m) and K (N/m) per line.
+    laws : sequence of LineLaw
+        The lines (``stiffness_laws`` makes them from L0 in m, K in N/m and tables); a table's tension and slope
+        replace K (L - L0) and K; the damping does not enter.
     guess : (x, y, z), optional
         Starting point (m), e.g. the previous solution; default: the stiffness-weighted mean of the attach points.
     tolerance : float
@@ -160,8 +163,6 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     max_iterations : int
     require_unique : bool
         Raise NoEquilibriumError when the balance is not isolated (K_bar singular there).
-    tables : sequence of LoadElongation or None, optional
-        Per line, a load-elongation table whose tension (and slope) replace K (L - L0) (and K).
 
     Returns
     -------
@@ -169,8 +170,8 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     """
     # plain floats for the loops below (accepts lists or arrays; cheap: this runs at every solver stage)
     attach = [(float(p[0]), float(p[1]), float(p[2])) for p in attach_position]
-    free_length = [float(v) for v in free_length]
-    stiffness = [float(v) for v in stiffness]
+    free_length = [float(law.free_length) for law in laws]
+    stiffness = [float(law.stiffness) for law in laws]
     total = sum(stiffness)
     if not total > 0.0:
         raise NoEquilibriumError("no line has stiffness", 0, len(stiffness))
@@ -179,13 +180,13 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     else:
         r = tuple(float(c) for c in guess)
     scale = sum(k * l0 for k, l0 in zip(stiffness, free_length))
-    force, potential, k_bar, taut = stiffness_forces(attach, r, free_length, stiffness, tables)
+    force, potential, k_bar, taut = stiffness_forces(attach, r, laws)
     mu = 1e-9 * scale / max(sum(free_length) / len(free_length), 1e-12)
     iterations = 0
     while math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2) > tolerance * scale \
             and iterations < max_iterations:
         iterations += 1
-        stepped = _descent_step(attach, free_length, stiffness, tables, r, (force, potential, k_bar, taut), mu, scale)
+        stepped = _descent_step(attach, laws, r, (force, potential, k_bar, taut), mu, scale)
         if stepped is None:
             break
         r, (force, potential, k_bar, taut), mu = stepped
@@ -196,7 +197,7 @@ def equilibrium_point(attach_position, free_length, stiffness, guess=None, toler
     return Equilibrium(np.array(r), residual <= tolerance * scale, iterations, residual, np.array(taut), unique)
 
 
-def equilibrium_velocity(attach_position, attach_velocity, position, free_length, stiffness, tables=None):
+def equilibrium_velocity(attach_position, attach_velocity, position, laws):
     """Velocity of the equilibrium point (thesis Appendix B): K_bar v_eq = sum K_i_bar v_i.
 
     Differentiating F(r_eq, r_i) = 0 in time gives K_bar v_eq = sum_i K_i_bar v_i, with K_i_bar = K_i [(1 - L0/L) I +
@@ -211,12 +212,11 @@ def equilibrium_velocity(attach_position, attach_velocity, position, free_length
     """
     bx = by = bz = 0.0
     a00 = a01 = a02 = a11 = a12 = a22 = iso = 0.0
-    for (length, nx, ny, nz), (vx, vy, vz), l0, k, table in zip(line_geometry(attach_position, position),
-                                                                attach_velocity, free_length, stiffness,
-                                                                tables or repeat(None)):
-        if length <= l0 or k == 0.0:
+    for (length, nx, ny, nz), (vx, vy, vz), law in zip(line_geometry(attach_position, position), attach_velocity,
+                                                       laws):
+        if length <= law.free_length or law.stiffness == 0.0:
             continue
-        _, _, ki, kr = line_terms(length, l0, k, table)
+        _, _, ki, kr = line_terms(law, length)
         along = kr * (vx * nx + vy * ny + vz * nz)
         bx += ki * vx + along * nx
         by += ki * vy + along * ny

@@ -16,20 +16,29 @@ A line may instead give its elastic tension as a measured load-elongation table 
 
     taut  when L > L0:  T = max(0, T_table(eps) + C L_dot),   eps = (L - L0) / L0
 
-The array functions here are pure numpy and broadcast over any leading axes, so one call handles all lines of a
-system (shape ``(n_lines, 3)``) or all output samples at once (shape ``(n_samples, n_lines, 3)``).
+One law, one home. The law is written once, as the kernels ``line_elastic`` (T_el), ``line_slope`` (dT_el/dL),
+``line_pull`` and ``line_tension`` (the clip and the slack rule), with the series pair of two lines through a
+massless confluence (``series_constants``, ``series_pair``, ``series_damping``) built on them; a line is one
+``LineLaw`` record (``case.model.Line.law``), whose methods call the same kernels as Python. Every method uses them:
+SP's solve and its reduced canopy (compiled, per stage), the equilibrium point, the linearisation's tangent
+stiffness, the full-mass model's Python law. The forms that cannot call a kernel are written from the record:
+``LineLaw.expression`` over an ``Arithmetic`` gives the full-mass model's Exudyn symbolic user function
+(``engine.full``) and the law over numpy arrays (``tension_magnitude``, ``line_states``: whole histories, broadcast
+over leading axes). ``tests/unit/test_line_law.py`` evaluates every form on random states against the record.
 """
 
 from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from itertools import repeat
+from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
-from .compiled import kernel
+from .compiled import kernel, python_form
 from .invalid import InvalidField
 
 
@@ -121,17 +130,21 @@ def table_tension(points, count, strain):
     return f0 + (f1 - f0) / (e1 - e0) * (strain - e0)
 
 
+# -- the line law: the one definition (compiled for the per-stage solves, called as Python elsewhere) ------------
+
 @kernel
-def _elastic(points, count, stretch, free_length, stiffness):
-    """Elastic tension (N) of a line stretched by ``stretch`` (m): K (L - L0), or its table's (0 when slack)."""
+def line_elastic(points, count, stretch, free_length, stiffness):
+    """Elastic tension T_el (N) of a line stretched by ``stretch`` = L - L0 (m): K (L - L0), or its table's
+    T_table((L - L0) / L0) (``points``: its first ``count`` rows of strain and tension; count 0: linear); 0 when
+    slack (stretch <= 0)."""
     if stretch <= 0.0:
         return 0.0
     return stiffness * stretch if count == 0 else table_tension(points, count, stretch / free_length)
 
 
 @kernel
-def _slope(points, count, stretch, free_length, stiffness):
-    """Tangent stiffness (N/m) of a line at ``stretch`` (m): K, or its table's slope / L0 (the segment's, from the
+def line_slope(points, count, stretch, free_length, stiffness):
+    """Tangent stiffness dT_el/dL (N/m) at ``stretch`` (m): K, or the table's slope / L0 (the segment's, from the
     right at a breakpoint; the first segment's when slack)."""
     if count == 0:
         return stiffness
@@ -140,6 +153,33 @@ def _slope(points, count, stretch, free_length, stiffness):
     while i < count - 2 and points[i + 1, 0] <= strain:
         i += 1
     return (points[i + 1, 1] - points[i, 1]) / (points[i + 1, 0] - points[i, 0]) / free_length
+
+
+@kernel
+def line_pull(elastic, damping, rate):
+    """The line's pull along n before the tension-only clip (N): T_el + C dL/dt, ``elastic`` T_el in N,
+    ``damping`` C in N s/m, ``rate`` dL/dt in m/s (Eq. 1.6). Negative: the law would push."""
+    return elastic + damping * rate
+
+
+@kernel
+def line_tension(stretch, elastic, damping, rate):
+    """The tension-only line law (Eq. 1.6 with the clip; module docstring): T = max(0, T_el + C dL/dt) (N) while
+    the line is taut (``stretch`` = L - L0 > 0, m), 0 while it is slack; ``elastic`` T_el = ``line_elastic``."""
+    pull = line_pull(elastic, damping, rate)
+    return pull if stretch > 0.0 and pull > 0.0 else 0.0
+
+
+@kernel
+def series_damping(first_stiffness, second_stiffness, first_damping, second_damping):
+    """The damping (N s/m) of two lines in series with (tangent) stiffnesses K_1, K_2 (N/m) and damping C_1, C_2
+    (N s/m), matched to their compliance to first order in frequency: C_s = (C_1 K_2^2 + C_2 K_1^2) / (K_1 + K_2)^2
+    (exact at every frequency when C_1 / K_1 = C_2 / K_2); 0 when neither has stiffness."""
+    total = first_stiffness + second_stiffness
+    if not total > 0.0:
+        return 0.0
+    return (first_damping * second_stiffness * second_stiffness
+            + second_damping * first_stiffness * first_stiffness) / (total * total)
 
 
 @kernel
@@ -163,14 +203,14 @@ def series_constants(lines, tables, table_counts, length, load):
             first = 0.5 * (low + high)
             if high - low <= 1e-15 * stretch:
                 break
-            if _elastic(tables[0], n1, first, l1, k1) - _elastic(tables[1], n2, stretch - first, l2, k2) < load:
+            if line_elastic(tables[0], n1, first, l1, k1) - line_elastic(tables[1], n2, stretch - first, l2, k2) \
+                    < load:
                 low = first
             else:
                 high = first
-    t1, t2 = _slope(tables[0], n1, first, l1, k1), _slope(tables[1], n2, stretch - first, l2, k2)
-    total = t1 + t2
-    damping = (c1 * t2 * t2 + c2 * t1 * t1) / (total * total) if total > 0.0 else 0.0
-    return _elastic(tables[1], n2, stretch - first, l2, k2), damping, first
+    t1, t2 = line_slope(tables[0], n1, first, l1, k1), line_slope(tables[1], n2, stretch - first, l2, k2)
+    damping = series_damping(t1, t2, c1, c2)
+    return line_elastic(tables[1], n2, stretch - first, l2, k2), damping, first
 
 
 @kernel
@@ -182,20 +222,19 @@ def series_pair(lines, tables, table_counts, length, length_rate, load):
     second's tension: T_1 = T_2 + load.
 
     The elastic split e_1 + e_2 = e = length - L0_1 - L0_2 with T_1(e_1) = T_2(e_2) + load (for linear lines
-    K_1 e_1 = K_2 e_2 + load; a table's by bisection); the pair's damping the series value that matches its
-    compliance to first order in frequency, C_s = (C_1 K_2^2 + C_2 K_1^2) / (K_1 + K_2)^2 with the tangent
-    stiffnesses at the split (exact at every frequency when C_1 / K_1 = C_2 / K_2); T_2 = T_2,el + C_s de/dt,
-    tension only (``series_constants``). Returns (T_1, T_2 in N, the first line's stretch e_1 in m, its rate in
-    m/s); slack (e <= 0, or no tension): e_1 = e L0_1 / (L0_1 + L0_2)."""
+    K_1 e_1 = K_2 e_2 + load; a table's by bisection); the pair's damping ``series_damping`` with the tangent
+    stiffnesses at the split; T_2 = T_2,el + C_s de/dt (``line_pull``), tension only (``series_constants``).
+    Returns (T_1, T_2 in N, the first line's stretch e_1 in m, its rate in m/s); slack (e <= 0, or no tension):
+    e_1 = e L0_1 / (L0_1 + L0_2)."""
     l1, l2 = lines[0, 0], lines[1, 0]
     share = l1 / (l1 + l2)
     elastic, damping, first = series_constants(lines, tables, table_counts, length, load)
-    second = elastic + damping * length_rate
+    second = line_pull(elastic, damping, length_rate)
     stretch = length - l1 - l2
     if stretch <= 0.0 or (second <= 0.0 and second + load <= 0.0):
         return 0.0, 0.0, stretch * share, length_rate * share
-    t1 = _slope(tables[0], int(table_counts[0]), first, l1, lines[0, 1])
-    t2 = _slope(tables[1], int(table_counts[1]), stretch - first, l2, lines[1, 1])
+    t1 = line_slope(tables[0], int(table_counts[0]), first, l1, lines[0, 1])
+    t2 = line_slope(tables[1], int(table_counts[1]), stretch - first, l2, lines[1, 1])
     rate_share = t2 / (t1 + t2) if t1 + t2 > 0.0 else share
     return max(second + load, 0.0), max(second, 0.0), first, length_rate * rate_share
 
@@ -214,16 +253,110 @@ def pack_tables(tables) -> tuple[np.ndarray, np.ndarray]:
     return points, counts
 
 
-def elastic_tension(stretch: float, free_length: float, stiffness: float, table: LoadElongation | None) -> float:
-    """The elastic part of a taut line's tension (N) at ``stretch`` = L - L0 > 0 (m): K (L - L0), or the table's
-    T_table((L - L0) / L0)."""
-    return stiffness * stretch if table is None else table(stretch / free_length)
+class Arithmetic(NamedTuple):
+    """The operations a form of the line law that is not written in floats is built from (``LineLaw.expression``):
+    ``zero()`` a zero, ``maximum(a, b)``, ``where_taut(stretch, value)``: ``value`` where the stretch is > 0, else
+    zero."""
+
+    zero: Callable
+    maximum: Callable
+    where_taut: Callable
 
 
-def tangent_stiffness(stretch: float, free_length: float, stiffness: float, table: LoadElongation | None) -> float:
-    """d(elastic tension)/dL (N/m) at ``stretch`` (m): K, or the table's slope over L0 (its first segment's while
-    the line is slack)."""
-    return stiffness if table is None else table.slope(stretch / free_length) / free_length
+NO_TABLE = np.zeros((2, 2))
+NO_TABLE.flags.writeable = False
+"""The table rows a linear line passes to the kernels (which never read them: its count is 0)."""
+ARRAYS = Arithmetic(lambda: 0.0, np.maximum, lambda stretch, value: np.where(stretch > 0.0, value, 0.0))
+"""The line law over numpy arrays (``tension_magnitude``: whole histories)."""
+
+
+@dataclass(frozen=True)
+class LineLaw:
+    """One tension-only spring-damper line: the record every form of the line law is evaluated on (module docstring;
+    ``case.model.Line.law``).
+
+    Attributes
+    ----------
+    free_length : float
+        L0 (m).
+    stiffness : float
+        K (N/m); with a table, its first slope / L0 (for reports: the table gives the tension).
+    damping : float
+        C (N s/m).
+    table : LoadElongation or None
+        A load-elongation table whose tension replaces K (L - L0).
+
+    The law itself is the kernels above (``line_elastic``, ``line_slope``, ``line_tension``, the series pair), which
+    the per-stage solves run compiled and these methods run as Python; ``expression`` writes the same law in another
+    arithmetic (numpy arrays, Exudyn's symbolic expressions). ``tests/unit/test_line_law.py`` holds every form to
+    this record on random states.
+    """
+
+    free_length: float
+    stiffness: float
+    damping: float
+    table: LoadElongation | None = None
+
+    @cached_property
+    def count(self) -> int:
+        """Points of the table as the kernels read them (0: linear)."""
+        return 0 if self.table is None else len(self.table.strain)
+
+    @cached_property
+    def points(self) -> np.ndarray:
+        """The table's (strain, tension) rows (``NO_TABLE`` for a linear line)."""
+        return NO_TABLE if self.table is None else self.table.points()
+
+    def elastic(self, stretch: float) -> float:
+        """T_el (N) at ``stretch`` = L - L0 (m): ``line_elastic``."""
+        return _elastic(self.points, self.count, stretch, self.free_length, self.stiffness)
+
+    def slope(self, stretch: float) -> float:
+        """Tangent stiffness dT_el/dL (N/m) at ``stretch`` (m): ``line_slope``."""
+        return _slope(self.points, self.count, stretch, self.free_length, self.stiffness)
+
+    def tension(self, stretch: float, rate: float) -> float:
+        """T (N) at ``stretch`` = L - L0 (m) and ``rate`` = dL/dt (m/s): ``line_tension``."""
+        return _tension(stretch, self.elastic(stretch), self.damping, rate)
+
+    @property
+    def stiffest(self) -> float:
+        """The largest tangent stiffness (N/m): K, or the table's steepest slope / L0 (its last slope continues)."""
+        return self.stiffness if self.table is None else max(self.table.slopes()) / self.free_length
+
+    def energy(self, stretch: float) -> float:
+        """Elastic energy (J) stored at ``stretch`` > 0 (m): the integral of T_el over the stretch."""
+        if self.table is None:
+            return 0.5 * (self.stiffness * stretch) * stretch
+        return self.free_length * self.table.energy(stretch / self.free_length)
+
+    def expression(self, stretch, rate, ops: Arithmetic = ARRAYS, stiffness=None, damping=None):
+        """The law in the arithmetic ``ops`` (the Exudyn symbolic form: ``engine.full``; numpy arrays): T = max(0,
+        T_el + C rate) where taut, 0 elsewhere, T_el = K stretch or the table in its hinge form (``LoadElongation.
+        hinges``: a sum of ramps, no search), strain = stretch (1 / L0). ``stiffness`` and ``damping`` (N/m, N s/m)
+        may be given as values of that arithmetic (the engine's connector parameters); default this line's."""
+        stiffness = self.stiffness if stiffness is None else stiffness
+        damping = self.damping if damping is None else damping
+        if self.table is None:
+            elastic = stiffness * stretch
+        else:
+            strain = stretch * (1.0 / self.free_length)
+            elastic = ops.zero()
+            for corner, change in self.table.hinges():
+                elastic = elastic + change * ops.maximum(ops.zero(), strain - corner)
+        return ops.where_taut(stretch, ops.maximum(ops.zero(), elastic + damping * rate))
+
+
+_elastic, _slope, _tension = python_form(line_elastic), python_form(line_slope), python_form(line_tension)
+"""The law's kernels as Python, for ``LineLaw``'s calls from Python (a compiled call costs more than the sum)."""
+
+
+def pack_lines(laws) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Lines (LineLaw) as the compiled kernels take them: rows (n, 3) of L0 (m), K (N/m), C (N s/m), and the tables
+    as ``pack_tables`` packs them (points, counts)."""
+    laws = list(laws)
+    constants = np.array([(law.free_length, law.stiffness, law.damping) for law in laws], float).reshape(-1, 3)
+    return (constants, *pack_tables(law.table for law in laws))
 
 
 @dataclass(frozen=True)
@@ -259,19 +392,6 @@ class LineState:
         return -self.force_on_confluence()
 
 
-def tension(stretch: float, length_rate: float, stiffness: float, damping: float, elastic: float | None = None
-            ) -> float:
-    """The line law for one line in plain floats (per-stage user functions); same law as ``tension_magnitude``.
-
-    Parameters are the stretch L - L0 (m), dL/dt (m/s), K (N/m) and C (N s/m); ``elastic``: the elastic tension
-    (N) when a load-elongation table gives it (``elastic_tension``), else K (L - L0). Returns T (N) >= 0.
-    """
-    if stretch <= 0.0:
-        return 0.0
-    value = (stiffness * stretch if elastic is None else elastic) + damping * length_rate
-    return value if value > 0.0 else 0.0
-
-
 def line_geometry(attach_position, confluence_position) -> list:
     """Length L (m) and unit vector n = (r_i - r_c) / L of each line, as (L, nx, ny, nz) in plain floats: the one
     home of the line geometry for the per-stage kernels (SP, equilibrium point, the line law). A line of zero length
@@ -288,70 +408,32 @@ def line_geometry(attach_position, confluence_position) -> list:
     return geometry
 
 
-def line_tensions(attach_position, attach_velocity, confluence_position, confluence_velocity, free_length,
-                  stiffness, damping, tables=None) -> tuple[tuple, tuple]:
-    """Tensions T (N) and unit vectors n (confluence -> attach point) of a system's lines in plain floats (the
-    per-stage form of ``line_states``): sequences of (x, y, z) in m and m/s, and per-line L0 (m), K (N/m), C (N s/m)
-    and load-elongation tables (None: every line linear).
-    """
+def line_tensions(attach_position, attach_velocity, confluence_position, confluence_velocity, laws
+                  ) -> tuple[tuple, tuple]:
+    """Tensions T (N) and unit vectors n (confluence -> attach point) of a system's lines (``laws``: LineLaw each)
+    in plain floats (the per-stage form of ``line_states``): sequences of (x, y, z) in m and m/s."""
     wx, wy, wz = confluence_velocity
     tensions, directions = [], []
-    for (length, nx, ny, nz), (vx, vy, vz), l0, k, c, table in zip(
-            line_geometry(attach_position, confluence_position), attach_velocity, free_length, stiffness, damping,
-            tables or repeat(None)):
+    for (length, nx, ny, nz), (vx, vy, vz), law in zip(line_geometry(attach_position, confluence_position),
+                                                       attach_velocity, laws):
         directions.append((nx, ny, nz))
-        stretch = length - l0
-        elastic = None if table is None or stretch <= 0.0 else table(stretch / l0)
-        tensions.append(tension(stretch, (vx - wx) * nx + (vy - wy) * ny + (vz - wz) * nz, k, c, elastic))
+        tensions.append(law.tension(length - law.free_length, (vx - wx) * nx + (vy - wy) * ny + (vz - wz) * nz))
     return tuple(tensions), tuple(directions)
 
 
-def elastic_tensions(stretch, free_length, stiffness, tables=None) -> np.ndarray:
-    """Elastic tensions (N) of lines at ``stretch`` = L - L0 (m, shape (..., n_lines)) for L > L0: K (L - L0), or
-    T_table((L - L0) / L0) for a line with a table (``tables``: per line, None for a linear line)."""
-    stretch = np.asarray(stretch, dtype=float)
-    elastic = np.asarray(stiffness, float) * stretch
-    if tables is None or all(table is None for table in tables):
-        return elastic
-    elastic = np.array(np.broadcast_to(elastic, stretch.shape))
-    for j, (table, l0) in enumerate(zip(tables, np.broadcast_to(free_length, stretch.shape[-1:]))):
-        if table is not None:
-            strain = np.maximum(stretch[..., j] / l0, 0.0)
-            elastic[..., j] = sum(change * np.maximum(strain - corner, 0.0) for corner, change in table.hinges())
-    return elastic
-
-
-def tension_magnitude(length, length_rate, free_length, stiffness, damping, tables=None):
-    """Tension-only line law (Eq. 1.6 with the clip of ``docs/models/conventions.md``).
-
-    Parameters
-    ----------
-    length : array_like
-        Line length L (m).
-    length_rate : array_like
-        dL/dt (m/s).
-    free_length : array_like
-        Unstretched length L0 (m).
-    stiffness : array_like
-        Spring constant K (N/m).
-    damping : array_like
-        Damping constant C (N s/m).
-    tables : sequence of LoadElongation or None, optional
-        Per line (last axis), a load-elongation table replacing K (L - L0); None: every line linear.
-
-    Returns
-    -------
-    ndarray
-        T = max(0, K (L - L0) + C dL/dt) where L > L0, and 0 where the line is slack (N).
-    """
+def tension_magnitude(length, length_rate, laws):
+    """The line law over arrays (``LineLaw.expression`` with numpy): T (N) of the lines ``laws`` (the last axis)
+    at lengths ``length`` (m) and rates ``length_rate`` (m/s), shape (..., n_lines); T = max(0, T_el + C dL/dt)
+    where L > L0, 0 where the line is slack."""
     length = np.asarray(length, dtype=float)
-    linear = elastic_tensions(length - free_length, free_length, stiffness, tables) \
-        + damping * np.asarray(length_rate, dtype=float)
-    return np.where(length > free_length, np.maximum(linear, 0.0), 0.0)
+    rate = np.broadcast_to(np.asarray(length_rate, dtype=float), length.shape)
+    tension = np.zeros(length.shape)
+    for j, law in enumerate(laws):
+        tension[..., j] = law.expression(length[..., j] - law.free_length, rate[..., j])
+    return tension
 
 
-def line_states(attach_position, attach_velocity, confluence_position, confluence_velocity,
-                free_length, stiffness, damping, tables=None) -> LineState:
+def line_states(attach_position, attach_velocity, confluence_position, confluence_velocity, laws) -> LineState:
     """Evaluate lines from their attach points to a confluence (Eqs. 1.6-1.7).
 
     Parameters
@@ -360,10 +442,8 @@ def line_states(attach_position, attach_velocity, confluence_position, confluenc
         Inertial position (m) and velocity (m/s) of each line's attach point.
     confluence_position, confluence_velocity : array_like, shape (..., 3)
         Inertial position (m) and velocity (m/s) of the confluence; broadcast against the lines.
-    free_length, stiffness, damping : array_like, shape (n_lines,)
-        L0 (m), K (N/m) and C (N s/m) of each line.
-    tables : sequence of LoadElongation or None, optional
-        Per line, a load-elongation table replacing K (L - L0).
+    laws : sequence of LineLaw
+        The lines (``case.model.Line.law``).
 
     Returns
     -------
@@ -375,6 +455,7 @@ def line_states(attach_position, attach_velocity, confluence_position, confluenc
     with np.errstate(invalid="ignore", divide="ignore"):
         direction = np.where(length[..., None] > 0.0, rel / length[..., None], 0.0)
     length_rate = np.einsum("...i,...i->...", rel_v, direction)
-    tension = tension_magnitude(length, length_rate, free_length, stiffness, damping, tables)
+    tension = tension_magnitude(length, length_rate, laws)
+    free = np.array([law.free_length for law in laws], float)
     return LineState(length=length, direction=direction, length_rate=length_rate, tension=tension,
-                     taut=length > np.asarray(free_length))
+                     taut=length > free)

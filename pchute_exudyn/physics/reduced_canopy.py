@@ -37,7 +37,7 @@ from .kinematics import (
     add_point_forces,
     point_motions,
 )
-from .lines import series_constants
+from .lines import line_pull, series_constants
 from .small_linalg import solve_symmetric_kernel
 
 BRIDLE_ROW, RISER_ROW = 0, 1
@@ -54,8 +54,8 @@ def _residual(vx, vy, vz, drag, wx, wy, wz, rate, bx, by, bz, ux, uy, uz, elasti
     pulling: tension only), the mass term (rate in N s/m, b = m g + rate v_r in N)."""
     rx, ry, rz = vx - wx, vy - wy, vz - wz
     speed = math.sqrt(rx * rx + ry * ry + rz * rz)
-    tension = elastic + damping * (ux * vx + uy * vy + uz * vz) - rest
-    tension = max(tension, 0.0)
+    # the pair's pull T_el + C_s u . (v - v_A), its rate split as u . v - u . v_A for the Newton Jacobian
+    tension = max(line_pull(elastic, damping, ux * vx + uy * vy + uz * vz) - rest, 0.0)
     fx = -drag * speed * rx - tension * ux + bx - rate * vx
     fy = -drag * speed * ry - tension * uy + by - rate * vy
     fz = -drag * speed * rz - tension * uz + bz - rate * vz

@@ -48,7 +48,7 @@ import numpy as np
 
 from .compiled import kernel
 from .kinematics import LAYOUT_DAMPING, LAYOUT_FREE_LENGTH, LAYOUT_TABLE, POINT_COLUMNS, add_point_forces, point_motions
-from .lines import pack_tables, series_pair, table_tension
+from .lines import line_elastic, line_pull, line_tension, pack_tables, series_pair
 from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
 
 SLACK_RULES = ("stretch", "force")
@@ -192,8 +192,7 @@ def _assemble(attach, attach_velocity, cx, cy, cz, lines, tables, table_counts, 
         l0, k, c = lines[i, 0], lines[i, 1], lines[i, 2]
         stretch = length - l0
         vn = attach_velocity[i, 0] * nx + attach_velocity[i, 1] * ny + attach_velocity[i, 2] * nz
-        count = int(table_counts[i])
-        elastic = k * stretch if count == 0 else table_tension(tables[i], count, stretch / l0)
+        elastic = line_elastic(tables[i], int(table_counts[i]), stretch, l0, k)   # 0 when slack: never read then
         geometry[i, 0], geometry[i, 1], geometry[i, 2] = nx, ny, nz
         geometry[i, 3], geometry[i, 4], geometry[i, 5] = stretch, vn, elastic
         if not forced:
@@ -206,7 +205,7 @@ def _assemble(attach, attach_velocity, cx, cy, cz, lines, tables, table_counts, 
             a11 += cny * ny
             a12 += cny * nz
             a22 += c * nz * nz
-            f = elastic + c * vn
+            f = line_pull(elastic, c, vn)   # Eq. 3.10's right-hand side: the pull at the attach point's velocity
             bx += f * nx
             by += f * ny
             bz += f * nz
@@ -249,7 +248,7 @@ def _next_active_set(geometry, lines, active, velocity, visited, seen):
             geometry[i, 4], geometry[i, 5]
         if stretch <= 0.0:
             continue
-        linear = elastic + lines[i, 2] * (vn - wx * nx - wy * ny - wz * nz)
+        linear = line_pull(elastic, lines[i, 2], vn - wx * nx - wy * ny - wz * nz)
         if active[i] and linear < 0.0:
             drop |= 1 << i
         elif not active[i] and linear > 0.0:
@@ -358,8 +357,7 @@ def solve_confluence(attach, attach_velocity, cx, cy, cz, v0x, v0y, v0z, lines, 
         nx, ny, nz, stretch, vn, elastic = geometry[i, 0], geometry[i, 1], geometry[i, 2], geometry[i, 3], \
             geometry[i, 4], geometry[i, 5]
         directions[i, 0], directions[i, 1], directions[i, 2] = nx, ny, nz
-        value = elastic + lines[i, 2] * (vn - vx * nx - vy * ny - vz * nz)   # lines.tension's law
-        tensions[i] = value if stretch > 0.0 and value > 0.0 else 0.0
+        tensions[i] = line_tension(stretch, elastic, lines[i, 2], vn - vx * nx - vy * ny - vz * nz)
     return vx, vy, vz, c_c, kappa
 
 

@@ -70,9 +70,8 @@ def linearization_report(case: Case, system_name: str | None = None, time: float
     free_length = [l.free_length for l in lines]
     stiffness = [l.stiffness for l in lines]
     damping = [l.damping for l in lines]
-    tables = [l.load_elongation for l in lines]
     try:
-        eq = equilibrium_point(attach, free_length, stiffness, guess=guess, require_unique=True, tables=tables)
+        eq = equilibrium_point(attach, [line.law for line in lines], guess=guess, require_unique=True)
     except NoEquilibriumError as exc:
         raise InputError(f"no unique equilibrium point of the {system_name} confluence at t = {at_time:g} s: "
                          f"{exc.taut} of {exc.lines} lines are taut at the force balance and they do not pull "

@@ -318,7 +318,5 @@ def line_tensions_from_states(case: Case, raw: RawHistory, system) -> np.ndarray
     """Tensions (n_samples, n_lines) recomputed with ``physics.lines`` from the sampled states (N)."""
     positions, velocities = attach_points(case, raw, system)
     point = raw.confluences[system.name]
-    lines = system.lines
     return line_states(positions, velocities, point["position"], point["velocity"],
-                       np.array([l.free_length for l in lines]), np.array([l.stiffness for l in lines]),
-                       np.array([l.damping for l in lines]), [l.load_elongation for l in lines]).tension
+                       [line.law for line in system.lines]).tension

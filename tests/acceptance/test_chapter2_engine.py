@@ -23,7 +23,7 @@ def _linear(case):
     system = next(iter(case.systems.values()))
     attach = np.array([initial_point(case, l.body, l.point) for l in system.lines])
     args = ([l.free_length for l in system.lines], [l.stiffness for l in system.lines])
-    eq = equilibrium_point(attach, *args, require_unique=True).position
+    eq = equilibrium_point(attach, [l.law for l in system.lines], require_unique=True).position
     c_bar, k_bar = linearize(attach, eq, *args, [l.damping for l in system.lines])
     return system, eq, c_bar, k_bar
 

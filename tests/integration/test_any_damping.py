@@ -39,8 +39,7 @@ def test_without_damping_the_confluence_settles_on_the_equilibrium_point(tmp_pat
     result = simulate(case, "sp", step=1e-3, duration=1.0, preset="any_damping", order=0)
     anchors = case.bodies["anchors"].points
     lines = case.systems["confluence"].lines
-    expected = equilibrium_point([anchors[line.point] for line in lines], [line.free_length for line in lines],
-                                 [line.stiffness for line in lines]).position
+    expected = equilibrium_point([anchors[line.point] for line in lines], [line.law for line in lines]).position
     assert _confluence(result)[-1] == pytest.approx(np.asarray(expected), abs=1e-6)
 
 

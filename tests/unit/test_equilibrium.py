@@ -7,13 +7,20 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from pchute_exudyn.physics.analytic import analytic_response
-from pchute_exudyn.physics.equilibrium import NoEquilibriumError, equilibrium_point, equilibrium_velocity
+from pchute_exudyn.physics.equilibrium import (
+    NoEquilibriumError,
+    equilibrium_point,
+    equilibrium_velocity,
+    stiffness_laws,
+)
 from pchute_exudyn.physics.linearization import linearize, modes
-from pchute_exudyn.physics.lines import line_states
+from pchute_exudyn.physics.lines import LineLaw, line_states
 
 L0 = np.array([6.0, 6.0, 6.0, 30.0])
 K = np.array([50000.0, 50000.0, 50000.0, 90000.0])
 C = np.array([100.0, 100.0, 100.0, 300.0])
+LAWS = stiffness_laws(L0, K)                  # the lines' stiffness (damping does not enter the balance)
+LINES = [LineLaw(*constants) for constants in zip(L0, K, C)]
 H = 36.2161                                   # simple.md
 H_EXACT = math.sqrt(35.0) + 30.3              # the thesis's construction: 0.3 m above the free-length height
 
@@ -23,7 +30,7 @@ def anchors(top=(0.0, 0.0, H)):
 
 
 def test_chapter2_numbers_within_0_1_percent():
-    eq = equilibrium_point(anchors(), L0, K, require_unique=True)
+    eq = equilibrium_point(anchors(), LAWS, require_unique=True)
     assert eq.converged and eq.unique
     assert eq.position[2] == pytest.approx(6.0305, abs=5e-5)                         # thesis r_eq
     c_bar, k_bar = linearize(anchors(), eq.position, L0, K, C)
@@ -38,7 +45,7 @@ def test_chapter2_numbers_within_0_1_percent():
 
 def test_table_2_2_to_its_printed_digits():
     """With the thesis's own h (0.3 m above free length), Table 2.2 is reproduced digit for digit."""
-    eq = equilibrium_point(anchors((0, 0, H_EXACT)), L0, K)
+    eq = equilibrium_point(anchors((0, 0, H_EXACT)), LAWS)
     m = modes(15.0, *linearize(anchors((0, 0, H_EXACT)), eq.position, L0, K, C))
     lateral, vertical = m.eigenvalues[0], m.eigenvalues[-1]
     assert round(abs(lateral), 4) == 18.7843 and round(abs(vertical), 4) == 125.4485        # omega_n (rad/s)
@@ -52,17 +59,17 @@ def test_table_2_2_to_its_printed_digits():
                                    (0.99, 0.0, 0.01), (0.0, 0.0, 36.0), (1e3, 1e3, 1e3)])
 def test_newton_from_poor_starting_points(guess):
     # starting next to an anchor or beyond the riser's top slackens lines on the way: plain Newton diverges there
-    eq = equilibrium_point(anchors(), L0, K, guess=guess)
+    eq = equilibrium_point(anchors(), LAWS, guess=guess)
     assert eq.converged and eq.iterations <= 30
     np.testing.assert_allclose(eq.position, [0.0, 0.0, 6.0305195], atol=1e-6)
 
 
 def test_newton_through_slack_steps_off_axis():
     top = (2.0, 0.0, H)
-    reference = equilibrium_point(anchors(top), L0, K).position
+    reference = equilibrium_point(anchors(top), LAWS).position
     rng = np.random.default_rng(7)
     for guess in rng.uniform(-40, 40, (50, 3)):
-        eq = equilibrium_point(anchors(top), L0, K, guess=guess)
+        eq = equilibrium_point(anchors(top), LAWS, guess=guess)
         assert eq.converged
         np.testing.assert_allclose(eq.position, reference, atol=1e-6)
     assert abs(reference[0]) > 0.05                                                    # really off the axis
@@ -72,11 +79,11 @@ def test_appendix_a_matrices_are_the_line_force_derivatives():
     rng = np.random.default_rng(8)
     for top in ((0, 0, H), (2.0, 0.0, H), (1.0, -1.5, 35.0)):
         attach = anchors(top)
-        r = equilibrium_point(attach, L0, K).position + rng.normal(0, 0.02, 3)
+        r = equilibrium_point(attach, LAWS).position + rng.normal(0, 0.02, 3)
         c_bar, k_bar = linearize(attach, r, L0, K, C)
 
         def force(position, velocity, attach=attach):
-            state = line_states(attach, np.zeros((4, 3)), position, velocity, L0, K, C)
+            state = line_states(attach, np.zeros((4, 3)), position, velocity, LINES)
             return state.force_on_confluence().sum(axis=0)
 
         h = 1e-6
@@ -92,12 +99,12 @@ def test_appendix_b_velocity_is_the_rate_of_the_equilibrium_point():
     rng = np.random.default_rng(9)
     attach = anchors((2.0, 0.5, H))
     velocity = rng.normal(0, 3.0, (4, 3))
-    eq = equilibrium_point(attach, L0, K, tolerance=1e-14).position
-    v_eq, regular = equilibrium_velocity(attach, velocity, eq, L0, K)
+    eq = equilibrium_point(attach, LAWS, tolerance=1e-14).position
+    v_eq, regular = equilibrium_velocity(attach, velocity, eq, LAWS)
     assert regular
     dt = 1e-6
-    ahead = equilibrium_point(attach + velocity * dt, L0, K, guess=eq, tolerance=1e-14).position
-    behind = equilibrium_point(attach - velocity * dt, L0, K, guess=eq, tolerance=1e-14).position
+    ahead = equilibrium_point(attach + velocity * dt, LAWS, guess=eq, tolerance=1e-14).position
+    behind = equilibrium_point(attach - velocity * dt, LAWS, guess=eq, tolerance=1e-14).position
     np.testing.assert_allclose(v_eq, (ahead - behind) / (2 * dt), rtol=1e-6, atol=1e-7)
 
 
@@ -105,7 +112,7 @@ def test_appendix_b_velocity_is_the_rate_of_the_equilibrium_point():
 def test_modal_solution_matches_direct_integration(top, damping_scale):
     # damping_scale 40 makes the vertical mode overdamped (real roots, Eq. 2.7) beside complex lateral ones (Eq. 2.8)
     attach = anchors(top)
-    eq = equilibrium_point(attach, L0, K).position
+    eq = equilibrium_point(attach, LAWS).position
     c_bar, k_bar = linearize(attach, eq, L0, K, C * damping_scale)
     mass, dr0, dv0 = 15.0, np.array([0.04, -0.03, 0.0295]), np.array([-1.0, 1.0, 5.0])
     times = np.linspace(0.0, 2.0, 401)
@@ -131,12 +138,13 @@ def test_critically_damped_mode_falls_back_to_the_exponential():
 def test_no_unique_equilibrium_is_reported():
     # two lines whose reach overlaps: every point of the lens between them is slack and balanced
     attach = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 5.0]])
-    loose = equilibrium_point(attach, [3.0, 3.0], [1000.0, 1000.0])
+    loose = equilibrium_point(attach, stiffness_laws([3.0, 3.0], [1000.0, 1000.0]))
     assert loose.converged and not loose.unique and not loose.taut.any()
     with pytest.raises(NoEquilibriumError, match="singular at the force balance") as info:
-        equilibrium_point(attach, [3.0, 3.0], [1000.0, 1000.0], require_unique=True)
+        equilibrium_point(attach, stiffness_laws([3.0, 3.0], [1000.0, 1000.0]), require_unique=True)
     assert (info.value.taut, info.value.lines) == (0, 2)
     with pytest.raises(NoEquilibriumError, match="no line has stiffness"):
-        equilibrium_point(attach, [3.0, 3.0], [0.0, 0.0])
-    v, regular = equilibrium_velocity(attach, np.ones((2, 3)), loose.position, [3.0, 3.0], [1000.0, 1000.0])
+        equilibrium_point(attach, stiffness_laws([3.0, 3.0], [0.0, 0.0]))
+    v, regular = equilibrium_velocity(attach, np.ones((2, 3)), loose.position,
+                                      stiffness_laws([3.0, 3.0], [1000.0, 1000.0]))
     assert not regular and np.allclose(v, 0.0)

@@ -39,9 +39,8 @@ class PinnedConfluence(ReducedConfluence):
 
     def compute(self, t, q, positions, velocities):
         if self.pin is None:
-            self.pin = tuple(equilibrium_point(positions, self.free_length, self.stiffness).position.tolist())
-        tensions, directions = line_tensions(positions, velocities, self.pin, (0.0, 0.0, 0.0), self.free_length,
-                                             self.stiffness, self.damping)
+            self.pin = tuple(equilibrium_point(positions, self.laws).position.tolist())
+        tensions, directions = line_tensions(positions, velocities, self.pin, (0.0, 0.0, 0.0), self.laws)
         return PinnedSolution(self.pin, (0.0, 0.0, 0.0), tensions, directions)
 
     def derivative(self, solution):
@@ -76,15 +75,14 @@ def test_a_method_added_in_one_file_runs_through_simulate_and_writes_results(fix
     # the confluence stays where the lines balanced at t = 0
     system = case.systems["main"]
     attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
-    free, stiff, damp = ([getattr(line, key) for line in system.lines] for key in ("free_length", "stiffness",
-                                                                                       "damping"))
-    pin = equilibrium_point(attach, free, stiff).position
+    laws = [line.law for line in system.lines]
+    pin = equilibrium_point(attach, laws).position
     position = case.start.local_position(result.final("confluence_altitude"), result.final("confluence_east"),
                                          result.final("confluence_north"))
     assert np.ptp(result["confluence_altitude"]) < 1e-6
     np.testing.assert_allclose(position, pin, atol=1e-6)
     # the first tensions are the line law at the initial geometry with a still confluence
-    expected = line_states(attach, np.zeros_like(attach), pin, np.zeros(3), free, stiff, damp).tension
+    expected = line_states(attach, np.zeros_like(attach), pin, np.zeros(3), laws).tension
     for line, tension in zip(system.lines, expected):
         assert result[f"tension_{line.name}"][0] == pytest.approx(tension, rel=1e-9, abs=1e-9)
     # hung from a point fixed in space, the vehicle is caught: it ends within a line stretch of where it began
