@@ -29,7 +29,7 @@ _select_kernel_form()   # compiled, jit or Python kernels, before physics is imp
 
 from .registries.methods import METHODS  # noqa: E402
 
-METHODS.fill_with(lambda: import_module(".methods", __name__))   # registers the built-in methods when first read
+METHODS.fill_with(lambda: import_module(".methods", __name__).register_builtin())   # when the table is first read
 
 _HOMES = {"Case": "case", "load_case": "boundary", "NewCase": "case.new",
           "new_case": "boundary", "new_case_text": "boundary", "CaseError": "errors", "InputError": "errors",

@@ -257,7 +257,7 @@ def main(argv=None) -> int:
         f"with order-0 SP to {sp_vs_light:.2f} deg in yaw after {FULL_OPEN:g} s: order 0 is the massless limit, and "
         "its difference is the confluence mass's physics, not SP's numerics.",
         "* SP order 1 (the case's setting) keeps the confluence's weight and inertia to first order in the same "
-        "solve (backward-difference acceleration; `pchute_exudyn.physics.singular_perturbation`) at the same step and "
+        "solve (backward-difference acceleration; `pchute_exudyn.methods.sp`) at the same step and "
         "cost: it follows the full-mass rocking, tensions and touchdown time, and converges to the full-mass model "
         "as the step falls (the 2e-3 s row).",
         "* The implicit full-mass run keeps the confluence mass and agrees closely with the RK4 reference at 1e-2 s.",

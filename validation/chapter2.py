@@ -21,7 +21,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.engine.linearized import exudyn_eigenvalues
 from pchute_exudyn.engine.state import initial_point
 from pchute_exudyn.physics.analytic import analytic_response
-from pchute_exudyn.physics.equilibrium import equilibrium_point
+from pchute_exudyn.physics.equilibrium_point import equilibrium_point
 from pchute_exudyn.physics.linearization import linearize, modes
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.run.phases import initial_phase

@@ -29,7 +29,8 @@ from pchute_exudyn.registries.methods import METHODS
 from pchute_exudyn.results.compare import compare_results
 from pchute_exudyn.results.csv_dialects import parse_column_map
 from pchute_exudyn.results.io import atomic_write_text
-from pchute_exudyn.run.simulation import stability_step, versions
+from pchute_exudyn.run.simulation import versions
+from pchute_exudyn.run.step_control import stability_step
 
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "output" / "new_case"

@@ -23,7 +23,7 @@ from ..physics.line_materials import RatedLine
 from ..physics.lines import LineLaw, LoadElongation
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.runaway import RunawayLimits, fall_speed, wind_bound
-from ..physics.step_control import StepRule
+from ..physics.step_rule import StepRule
 from ..registries.columns import column
 from ..registries.methods import INTEGRATORS
 from .start import FlightConditions, Release
@@ -470,7 +470,7 @@ class SimulationSettings:
     seed : int
         Seed of the triggers' sensor noise (``physics.triggers``).
     step_rule : StepRule
-        The adaptive steps of an RK4 run that sets no step (``physics.step_control``).
+        The adaptive steps of an RK4 run that sets no step (``physics.step_rule``).
     """
 
     duration: float

@@ -11,7 +11,7 @@ import numpy as np
 from ..physics.atmosphere import US76, MarsGRC, ScaledAtmosphere, Wind
 from ..physics.gravity import PUBLISHED_SPIN, published_spin
 from ..physics.planet import FlatPlanet, Planet, StartFrame
-from ..physics.step_control import StepRule
+from ..physics.step_rule import StepRule
 from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
 from ..registries.methods import INTEGRATORS, METHODS, OptionError, make_options
 from .fields import REQUIRED, Table, check_number, default_of
@@ -235,7 +235,7 @@ def read_simulation(t: Table) -> SimulationSettings:
 
 
 def _read_step_rule(t: Table | None) -> StepRule:
-    """``[simulation.step_control]``: the adaptive steps' tolerances and bounds (``physics.step_control.StepRule``)."""
+    """``[simulation.step_control]``: the adaptive steps' tolerances and bounds (``physics.step_rule.StepRule``)."""
     if t is None:
         return StepRule()
     rule = StepRule(relative=t.number("relative", "", default_of(StepRule, "relative"), above=0.0, maximum=1.0),

@@ -16,9 +16,9 @@ from ..case.model import Body, Case
 from ..physics.planet import FlatPlanet
 from ..physics.rotations import rotation_vector
 from .canopy import add_apparent_mass, add_fraction_channel, add_inflation_hooks
-from .contact import add_contact
+from .contact_loads import add_contact
 from .display import body_graphics
-from .model import CURRENT, OV, BodyItems, Confluence, Model
+from .phase_model import CURRENT, OV, BodyItems, Confluence, Model
 from .stage import Stage
 from .state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
 
@@ -140,7 +140,7 @@ class PointConfluence(Confluence):
 def add_aerodynamics(model: Model, case: Case, body: Body, schedule=None, deployed_at: float = 0.0,
                      efficiency: float = 1.0):
     """The body's aerodynamic load, applied through the model's stage; returns its
-    ``engine.aerodynamics.BodyAerodynamics`` (None for a body without aerodynamics or with them switched off)."""
+    ``engine.aero_loads.BodyAerodynamics`` (None for a body without aerodynamics or with them switched off)."""
     aero = body.aerodynamics
     if aero is None or not aero.enabled:
         return None

@@ -18,7 +18,7 @@ import numpy as np
 from ..case.model import Body, Case
 from ..physics.apparent_mass import kirchhoff_terms, translational_mass_matrix
 from ..registries.columns import column, unit
-from .model import CURRENT, OV, Model
+from .phase_model import CURRENT, OV, Model
 from .state import ColumnChannel
 
 

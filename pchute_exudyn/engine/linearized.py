@@ -7,7 +7,7 @@ import numpy as np
 
 from ..case.model import Case
 from ..physics.linearization import companion_matrix
-from .full import build_full_model
+from .full_model import build_full_model
 from .state import Phase
 
 

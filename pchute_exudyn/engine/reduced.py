@@ -23,15 +23,14 @@ import numpy as np
 from ..case.model import Case, ParachuteSystem
 from ..physics.compiled import bound
 from ..physics.kinematics import add_point_forces, point_motions
-from ..physics.sp_stepping import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
-from .model import Confluence, Model
+from ..physics.rk4 import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
+from .phase_model import Confluence, Model
 from .state import ConfluenceChannel, MethodChannel, TensionChannel
 
 
-def step_size(model: Model, span: float) -> float:
-    """The step (s) Exudyn takes over ``span`` (the coming step's end time minus its start): the run's own step as
-    the engine holds it, unless the span is another (the short last step its accumulated time can need)."""
-    step = model.step
+def step_size(step: float | None, span: float) -> float:
+    """The step (s) Exudyn takes over ``span`` (the coming step's end time minus its start): the run's own ``step``
+    (s; None for adaptive steps), unless the span is another (the short last step its accumulated time can need)."""
     return step if step is not None and abs(span - step) <= 1e-6 * step else span
 
 
@@ -64,6 +63,7 @@ class ReducedConfluence(Confluence):
         self.step_size = 0.0                                    # h (s) of the step under way
         self.slopes: list = []                                  # the derivatives of its stages so far
         self.solution = None                                    # the solve at the last end of step
+        self.run_step = None                                    # s: the run's fixed step (``warm_up``)
         model.stage.add_confluence(self)
 
     def compute(self, t, q, positions, velocities):  # pragma: no cover - interface
@@ -83,7 +83,7 @@ class ReducedConfluence(Confluence):
     def new_step(self, mbs, t):
         """Pre-step hook (``t``: the end time of the coming step)."""
         self.slopes = []
-        self.step_size = step_size(self.model, t - self.step_start)
+        self.step_size = step_size(self.run_step, t - self.step_start)
 
     def stage_solve(self, t: float) -> None:
         """The solve at the current RK stage (called by the stage force item, the body states already current)."""
@@ -139,8 +139,10 @@ class ReducedConfluence(Confluence):
         """The solution at the end of the last step (made by ``advance`` before any other post-step work)."""
         return self.solution
 
-    def warm_up(self) -> None:
-        """The solve at the phase start (the first post-step call, before any step, repeats it)."""
+    def warm_up(self, step: float | None) -> None:
+        """The run's fixed step (s; None for adaptive steps) and the solve at the phase start (the first post-step
+        call, before any step, repeats it)."""
+        self.run_step = step
         self.advance(None, self.model.phase.start)
 
     def position(self) -> list:

@@ -32,7 +32,7 @@ from ..kernels.form import BUILDER as KERNEL_BUILDER
 from ..physics.atmosphere import OutsideAtmosphereError
 from ..physics.compiled import MODE as KERNEL_FORM
 from ..registries.methods import INTEGRATORS
-from .model import Model
+from .phase_model import Model
 from .state import RawHistory
 
 CHECK_EVERY = 200
@@ -147,95 +147,101 @@ def _hook_parts(model: Model) -> tuple:
             _finite_state(model))
 
 
-def _post_step_function(model: Model, step: float, end: float, output_step: float, progress: dict, report=None,
+class _FixedSteps:
+    """A post-step hook's clock at a fixed step ``step`` (s): a sample at the first step on or past each output time
+    (within half a step)."""
+
+    def __init__(self, step: float):
+        self.step = step
+
+    def seen(self, t: float, last: float) -> bool:
+        """Whether the call at ``t`` (s) repeats the one of the last sample (Exudyn calls once more at the end)."""
+        return t <= last + 0.5 * self.step
+
+    def count(self, progress: dict, t: float, taken: float, finite) -> bool:
+        """The pre-step hook's bookkeeping (``_count_step``), with the coming step's end time (for messages)."""
+        progress["time"] = t + self.step
+        return _count_step(progress, t, taken > ROUND_OFF * self.step, finite)
+
+    def margin(self, taken: float) -> float:
+        return 0.5 * self.step
+
+    def next_sample(self, t: float, output_step: float) -> float:
+        return (round(t / output_step) + 1) * output_step
+
+    def advance(self, mbs, t: float, progress: dict, counts: bool, end: float) -> None:
+        """Nothing to choose: every step is the same."""
+
+
+class _AdaptiveSteps:
+    """A post-step hook's clock at steps ``control`` chooses (``run.step_control``): after the model's hooks it asks
+    ``control.after_step(t)`` for the coming step and sets it as the engine's step (the engine's explicit solver takes
+    the step size it holds at each step's start); a sample at the first step end on or past each output time, and at
+    every step end where steps are longer than the output step."""
+
+    def __init__(self, control):
+        self.control, self.solver = control, None
+
+    def seen(self, t: float, last: float) -> bool:
+        return t <= last
+
+    def count(self, progress: dict, t: float, taken: float, finite) -> bool:
+        return _count_step(progress, t, taken > ROUND_OFF * self.control.rule.smallest, finite)
+
+    def margin(self, taken: float) -> float:
+        return 0.5 * taken
+
+    def next_sample(self, t: float, output_step: float) -> float:
+        return (math.floor(t / output_step + ROUND_OFF) + 1) * output_step
+
+    def advance(self, mbs, t: float, progress: dict, counts: bool, end: float) -> None:
+        coming = self.control.after_step(t)
+        if self.solver is None:
+            self.solver = mbs.sys["dynamicSolver"].it
+        self.solver.currentStepSize = coming
+        if counts:
+            progress["time"] = min(t + coming, end)
+
+
+def _post_step_function(model: Model, clock, end: float, output_step: float, progress: dict, report=None,
                         counts: bool = False):
     """Exudyn's post-step hook: runs the model's post-step hooks and stop conditions and samples every channel at
-    the first step on or past each output time (within half a step; Exudyn's own sensor clock anchors each write
-    to the last one and drifts off the grid: seen 55.4102 s for 55.41 s at 2e-4 s). Returns the hook and the
-    sample times and rows it fills. ``counts``: it also does the pre-step hook's bookkeeping, for a fixed-step
-    explicit run without pre-step hooks, which then needs no pre-step call (the state after step n is the state
-    before step n + 1): count the step, record the coming step's end time (for messages), stop on Ctrl-C, check the
-    state every CHECK_EVERY steps."""
+    the step ``clock`` says (``_FixedSteps``, ``_AdaptiveSteps``; Exudyn's own sensor clock anchors each write to the
+    last one and drifts off the grid: seen 55.4102 s for 55.41 s at 2e-4 s), then lets the clock choose the coming
+    step. Returns the hook and the sample times and rows it fills. ``counts``: it also does the pre-step hook's
+    bookkeeping, for an explicit run without pre-step hooks, which then needs no pre-step call (the state after step
+    n is the state before step n + 1): count the step, record the coming step's end time (for messages), stop on
+    Ctrl-C, check the state every CHECK_EVERY steps."""
     reads, rows, times, post_hooks, stop_conditions, count, finite = _hook_parts(model)
     start = progress["time"]
     next_sample = [start]
-    last = [None]   # solver time of the last sample (the recorded time is its grid value)
+    last = [None]   # solver time of the last sample (a fixed step's recorded time is its grid value)
     last_end = [start]   # the end of the last step (counts)
 
     def post_step(mbs_, t):
-        if last[0] is not None and t <= last[0] + 0.5 * step:  # Exudyn calls this once more after the last step
-            return True
-        count[0] += 1
-        if counts:
-            taken = t - last_end[0] > ROUND_OFF * step   # not the start, nor a round-off step at the end
-            last_end[0] = t
-            progress["time"] = t + step
-            if not _count_step(progress, t, taken, finite):
-                return False
-        try:
-            for hook in post_hooks:
-                hook(mbs_, t)
-            stop = False
-            for condition in stop_conditions:
-                stop = condition(t) or stop
-            if stop or t >= next_sample[0] - 0.5 * step or t >= end - 0.5 * step:
-                rows.append([read() for read in reads])
-                times.append(t)   # solver time; grid_time after the run
-                last[0] = t
-                next_sample[0] = (round(t / output_step) + 1) * output_step
-            if stop:
-                progress["stopped"] = t
-                return False
-            if report is not None and count[0] % REPORT_EVERY == 0:
-                report(t)
-        except Exception as exc:  # stop cleanly and raise it after the solver has returned
-            model.record_failure(exc)
-            return False
-        return True
-    return post_step, times, rows
-
-
-def _adaptive_post_step_function(model: Model, end: float, output_step: float, progress: dict, report, counts: bool,
-                                 control):
-    """``_post_step_function`` of a run whose steps ``control`` chooses: after the model's hooks and stop conditions
-    it asks ``control.after_step(t)`` for the coming step and sets it as the engine's step (the engine's explicit
-    solver takes the step size it holds at each step's start). A sample is taken at the first step end on or past
-    each output time, and at every step end where steps are longer than the output step."""
-    reads, rows, times, post_hooks, stop_conditions, count, finite = _hook_parts(model)
-    start = progress["time"]
-    next_sample = [start]
-    last = [None]
-    last_end = [start]
-    solver = []   # the engine's solver object, once it runs
-
-    def post_step(mbs_, t):
-        if last[0] is not None and t <= last[0]:  # Exudyn calls this once more after the last step
+        if last[0] is not None and clock.seen(t, last[0]):  # Exudyn calls this once more after the last step
             return True
         count[0] += 1
         taken = t - last_end[0]
-        if counts and not _count_step(progress, t, taken > ROUND_OFF * control.rule.smallest, finite):
-            return False
         last_end[0] = t
+        if counts and not clock.count(progress, t, taken, finite):
+            return False
         try:
             for hook in post_hooks:
                 hook(mbs_, t)
             stop = False
             for condition in stop_conditions:
                 stop = condition(t) or stop
-            if stop or t >= next_sample[0] - 0.5 * taken or t >= end - 0.5 * taken:
+            margin = clock.margin(taken)
+            if stop or t >= next_sample[0] - margin or t >= end - margin:
                 rows.append([read() for read in reads])
-                times.append(t)
+                times.append(t)   # solver time; a fixed step's grid_time after the run
                 last[0] = t
-                next_sample[0] = (math.floor(t / output_step + ROUND_OFF) + 1) * output_step
+                next_sample[0] = clock.next_sample(t, output_step)
             if stop:
                 progress["stopped"] = t
                 return False
-            coming = control.after_step(t)
-            if not solver:
-                solver.append(mbs_.sys["dynamicSolver"].it)
-            solver[0].currentStepSize = coming
-            if counts:
-                progress["time"] = min(t + coming, end)
+            clock.advance(mbs_, t, progress, counts, end)
             if report is not None and count[0] % REPORT_EVERY == 0:
                 report(t)
         except Exception as exc:  # stop cleanly and raise it after the solver has returned
@@ -366,16 +372,12 @@ def integrate(model: Model, integrator: str, step: float, duration: float, outpu
     before_steps = model.pre_step_hooks or not INTEGRATORS[integrator].explicit   # an implicit step may be retried
     if before_steps:
         model.mbs.SetPreStepUserFunction(_pre_step_function(model, progress, step))
-    if control is None:
-        post_step, times, rows = _post_step_function(model, step, duration, output_step, progress, report,
-                                                     counts=not before_steps)
-    else:
-        post_step, times, rows = _adaptive_post_step_function(model, duration, output_step, progress, report,
-                                                              not before_steps, control)
+    clock = _FixedSteps(step) if control is None else _AdaptiveSteps(control)
+    post_step, times, rows = _post_step_function(model, clock, duration, output_step, progress, report,
+                                                 counts=not before_steps)
     model.mbs.SetPostStepUserFunction(post_step)
     model.progress = progress
-    model.step = step if control is None else None
-    model.warm_up()
+    model.warm_up(step if control is None else None)
     wall = _solve(model, settings, solver_type, progress, integrator, step)
     if progress["interrupted"]:
         raise Interrupted(progress["time"], duration, progress.get("cause", ""), progress.get("terminated", False))

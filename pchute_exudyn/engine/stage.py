@@ -20,6 +20,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 
 from ..case.model import Case
+from ..physics.aerodynamics import STAGE_AERODYNAMICS_FAILED
 from ..physics.compiled import bound
 from ..physics.kinematics import (
     BODY_COORDINATE_AT,
@@ -38,9 +39,8 @@ from ..physics.kinematics import (
     add_normal_gravity_forces,
     body_states,
 )
-from ..physics.sp_stepping import STAGE_AERODYNAMICS_FAILED
-from .aerodynamics import AerodynamicLoads
-from .model import Model
+from .aero_loads import AerodynamicLoads
+from .phase_model import Model
 from .state import BodyChannel, initial_body_state
 
 BODY_COLUMNS = 8
@@ -75,7 +75,7 @@ class Stage:
         self.parts = []                   # generalized-force arrays the reduced confluences write
         self.confluences = []             # engine.reduced.ReducedConfluence: solved at every stage
         self.fused = None                 # the only confluence, when it can solve with the kinematics in one call
-        self.contacts = []                # engine.contact.CanopyContact of each cluster: after the aerodynamics
+        self.contacts = []                # engine.contact_loads.CanopyContact of each cluster: after the aerodynamics
         self.generalized = np.zeros(6 * len(self.free))
         self.refreshed = None             # (time, post-step call) of the last refresh
         self.rows = self.states.tolist()  # the states at the last refresh, as lists
@@ -92,7 +92,7 @@ class Stage:
 
     def _set_reference(self, case: Case, name: str) -> None:
         row = self.row[name]
-        if name in self.model.massless:   # a reduced canopy's row: its kernel writes it (``physics.reduced_canopy``)
+        if name in self.model.massless:   # a reduced canopy's row: its kernel writes it (``methods.sp.canopy_kernels``)
             state = self.model.phase.body_states[name]
             self.states[row, ROW_POSITION], self.states[row, ROW_ROTATION] = state.position, state.attitude.ravel()
             self.states[row, ROW_VELOCITY] = state.velocity
@@ -116,7 +116,7 @@ class Stage:
         return layout
 
     def add_aerodynamics(self, body, schedule=None, deployed_at: float = 0.0, efficiency: float = 1.0):
-        """Apply ``body``'s aerodynamic load through the stage (``engine.aerodynamics``); returns its
+        """Apply ``body``'s aerodynamic load through the stage (``engine.aero_loads``); returns its
         ``BodyAerodynamics``."""
         return self.loads.add(body, schedule, deployed_at, efficiency)
 
@@ -125,7 +125,7 @@ class Stage:
         self.confluences.append(confluence)
 
     def add_contact(self, contact) -> None:
-        """Apply a cluster's canopy contact (``engine.contact.CanopyContact``) through the stage, after the
+        """Apply a cluster's canopy contact (``engine.contact_loads.CanopyContact``) through the stage, after the
         aerodynamic loads."""
         self.contacts.append(contact)
 
@@ -160,7 +160,7 @@ class Stage:
         engine about a microsecond per body and stage. Only on a spherical planet, without canopy contact (added
         after the kernel's forces, it would come after the gravity), and for the bodies on which nothing else adds
         a force (an apparent mass's item would change the order of the engine's sum, and its rounding). With
-        normal gravity (``physics.sp_stepping.add_body_gravity``) the bodies' normal-gravity loads lose their user
+        normal gravity (``methods.sp.stepping.add_body_gravity``) the bodies' normal-gravity loads lose their user
         function (a Python call per body and stage)."""
         connectors = self.model.gravity_connectors
         if (self.gravity[0] == 0.0 and not self.normal) or self.contacts:

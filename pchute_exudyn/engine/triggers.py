@@ -11,7 +11,7 @@ from ..case.sensing import pressure_function, true_values
 from ..errors import SimulationError
 from ..physics.triggers import TIME_TOLERANCE, TriggerFailed, TriggerInterrupted
 from .bodies import MAX_DESCENT_ACCELERATION
-from .model import Model
+from .phase_model import Model
 from .state import BodyChannel
 
 
@@ -35,6 +35,7 @@ class TriggerMonitor:
         self.next_check: dict = {}   # adaptive steps: event -> the time of its next look (s)
         self.window: set = set()     # adaptive steps: the events that can fire now, sampled at their sample times
         self.horizon = math.inf      # adaptive steps: the longest step (s; set by the run)
+        self.step = None             # s: the phase's fixed step, None for adaptive steps (``warm_up``)
         for watch in watches:        # a user function's wait ends on Ctrl-C or SIGTERM (``physics.user_calls``)
             watch.calls.stopped = self._stopped
 
@@ -42,8 +43,12 @@ class TriggerMonitor:
         """Whether the run was asked to stop (``engine.solver``'s progress)."""
         return bool(self.model.progress.get("interrupted"))
 
+    def warm_up(self, step: float | None) -> None:
+        """The step the engine takes (s; None for adaptive steps), before the solve."""
+        self.step = step
+
     def __call__(self, t: float) -> bool:
-        step = self.model.step
+        step = self.step
         if step is None:
             return self._adaptive(t)
         if t <= self.start:   # the start state was sampled at the end of the phase before

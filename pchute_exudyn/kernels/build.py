@@ -1,7 +1,7 @@
 """Build the compiled kernel module (``kernels.selection`` says why and when it is used).
 
 ``python -m pchute_exudyn.kernels.build`` compiles every kernel for the argument types the package calls it with from
-Python (``kernels/signatures.json``, written by ``python -m pchute_exudyn.kernels.record``) into one extension
+Python (``kernels/signatures.json``, written by ``python -m pchute_exudyn.tools.record_signatures``) into one extension
 module, with numba's ahead-of-time compiler, into the kernel folder (``selection.cache_directory``; ``--out DIR``
 elsewhere). The package's install runs it (``setup.py``); a command that finds no module of the current source
 starts it in the background (``kernels.lock``). The module's table, written last, says which export serves which

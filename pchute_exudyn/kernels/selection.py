@@ -38,17 +38,28 @@ from .form import BUILDER, EXPORTS, VARIABLE
 MODES = ("compiled", "jit", "python")
 PACKAGE = Path(__file__).resolve().parents[1]
 PHYSICS = PACKAGE / "physics"
-KERNEL_MODULES = ("pchute_exudyn.physics.", "pchute_exudyn.results.number_text")
-"""The modules whose functions are kernels (``physics.compiled.kernel``): the physics and the number formatter."""
+SP_KERNELS = ("memory", "balance", "stepping", "canopy_kernels")
+"""The modules of SP's package (``methods/sp``) that hold its compiled kernels and their named memory."""
+KERNEL_MODULES = ("pchute_exudyn.physics.", "pchute_exudyn.results.number_text",
+                  *(f"pchute_exudyn.methods.sp.{name}" for name in SP_KERNELS))
+"""The modules whose functions are kernels (``physics.compiled.kernel``): the physics, SP's kernels and the number
+formatter."""
+
+
+def kernel_sources() -> list:
+    """The files the kernels are compiled from (``source_key``): every physics module, SP's kernel modules and the
+    number formatter."""
+    return [*sorted(PHYSICS.glob("*.py")), *(PACKAGE / "methods" / "sp" / f"{name}.py" for name in SP_KERNELS),
+            PACKAGE / "results" / "number_text.py"]
 SIGNATURES = PACKAGE / "kernels" / "signatures.json"
 """The argument types each kernel is compiled for: the ones the package calls it with from Python
-(``python -m pchute_exudyn.kernels.record`` writes it)."""
+(``python -m pchute_exudyn.tools.record_signatures`` writes it)."""
 
 
 def source_key() -> str:
     """A digest of the kernels' source, the signatures they are compiled for, and the Python that loads them."""
     digest = hashlib.sha256()
-    for path in [*sorted(PHYSICS.glob("*.py")), PACKAGE / "results" / "number_text.py"]:
+    for path in kernel_sources():
         digest.update(path.name.encode() + path.read_bytes())
     digest.update(SIGNATURES.read_bytes() if SIGNATURES.is_file() else b"")
     digest.update(sys.version.encode() + sysconfig.get_platform().encode())

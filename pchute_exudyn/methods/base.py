@@ -31,13 +31,28 @@ def option_field(default, flag: str | None, parse, help: str, choices: tuple | N
 
 @dataclass(frozen=True)
 class StepLimit:
-    """The largest stable RK4 step of one confluence and the mode that sets it; ``cause``: where a layout or a setting
-    makes that mode fast, what it is and its remedy (the message then says so instead of a step)."""
+    """The largest stable RK4 step (s) one mode of a model allows, as a method reports it.
 
-    system: str
-    step: float               # s
-    eigenvalue: complex       # 1/s, the limiting eigenvalue of the linearised confluence
-    cause: str = ""
+    Attributes
+    ----------
+    value : float
+        The step (s); inf when nothing limits it.
+    cause : str
+        What sets it, as a message names it ("the main confluence (sp method, mode -123.4 1/s)").
+    remedy : str
+        What would lift it, when a layout or a setting of the method makes the mode fast (the message then says so
+        instead of offering a step); "" when a smaller step is the remedy.
+    eigenvalue : complex
+        The limiting eigenvalue of the linearised mode (1/s), 0 when the limit is not a mode's.
+    system : str
+        The parachute system it belongs to.
+    """
+
+    value: float
+    cause: str
+    remedy: str = ""
+    eigenvalue: complex = 0j
+    system: str = ""
 
 
 SMALLEST_SUGGESTED_STEP = 1e-6
@@ -63,7 +78,7 @@ class Method:
     integrator_note: ClassVar[str] = ""
     """Why the method runs with its integrators only (for the message refusing another)."""
     record_variants: ClassVar[tuple] = ({},)
-    """Option sets under which ``kernels.record`` runs the method (each option set a different kernel path)."""
+    """Option sets under which ``tools.record_signatures`` runs the method (each option set a different kernel path)."""
     step_limited: ClassVar[bool] = False
     """Whether the method's confluences have dynamics that limit an explicit step (``step_limit``)."""
     implicit_hint: ClassVar[str] = ""
@@ -95,21 +110,32 @@ class Method:
         monitor checks the confluences' limit during it."""
 
     def build(self, case: Case, phase: Phase):  # pragma: no cover - interface
-        """The method's Exudyn model of ``case`` for one phase (an ``engine.model.Model``)."""
+        """The method's Exudyn model of ``case`` for one phase (an ``engine.phase_model.Model``)."""
         raise NotImplementedError
 
-    def step_limit(self, system: ParachuteSystem, attach_position, confluence_position) -> StepLimit | None:
-        """Largest stable RK4 step of a system's confluence at the given geometry; None when the method has no
-        confluence dynamics (nothing to limit)."""
-        return None
+    # -- the method's step limits: ``run.step_control`` takes their minimum ------------------------------------------
 
-    def lumped_step_limit(self, system: ParachuteSystem) -> float | None:
-        """A geometry-free bound of ``step_limit`` (s), for choosing a step before any geometry exists
-        (``simulation.stability_step``): inf when the method has no confluence dynamics; None (unknown: the run needs
-        a step) for a step-limited method that does not say."""
-        return None if self.step_limited else math.inf
+    def confluence_limits(self, system: ParachuteSystem, attach_position, confluence_position,
+                          explicit: bool = True) -> list:
+        """The StepLimits of ``system``'s confluence at this geometry (m): RK4's stability limits of its modes, or,
+        for an implicit integrator (``explicit`` False), the step that resolves its fastest damped mode (the
+        accuracy scale); empty when the method has no confluence dynamics."""
+        return []
 
-    def relaxation_for_step(self, step: float, system: ParachuteSystem) -> float:
+    def lumped_limit(self, system: ParachuteSystem, explicit: bool = True) -> StepLimit | None:
+        """A geometry-free bound of ``confluence_limits``, for choosing a step before any geometry exists
+        (``run.step_control.stability_step``): inf when the method has no confluence dynamics; None (unknown: the
+        run needs a step) for a step-limited method that cannot say."""
+        if self.step_limited:
+            return None
+        return StepLimit(math.inf, f"the {system.name} confluence ({self.name} method)", system=system.name)
+
+    def state_limits(self, model, system: ParachuteSystem, step: float) -> list:
+        """StepLimits of the method's own states in ``model`` (an ``engine.phase_model.Model``) at a step ``step`` (s),
+        beyond its confluence's modes (SP: a reduced canopy's drag point); none by default."""
+        return []
+
+    def relaxation(self, step: float, system: ParachuteSystem) -> float:
         """The relaxation time (s) of ``system``'s line damping at an adaptive step of ``step`` (s;
         ``run.step_control``): 0, none, unless the method relaxes its confluence to take steps beyond its damped
         mode."""
@@ -118,6 +144,12 @@ class Method:
     def relaxed(self, system: ParachuteSystem, relaxation_time: float = 0.0) -> ParachuteSystem:
         """``system`` as the method's solve sees it at ``relaxation_time`` (s): itself unless the method relaxes."""
         return system
+
+    def relaxation_cap(self, model, system: ParachuteSystem, t: float, own: float, share: float) -> float:
+        """The longest adaptive step (s) at time ``t`` (s) whose relaxation keeps ``system``'s tensions within
+        ``share`` (-) of their own, never below ``own`` (s: the step the lines' own damping allows); inf when the
+        method does not relax."""
+        return math.inf
 
     def settings(self) -> dict:
         """The options as ``summary.json`` reports them."""
@@ -145,15 +177,15 @@ def line_arrays(system: ParachuteSystem, attach_position=None, confluence_positi
 
 def unstable_step_message(method: Method, step: float, limit: StepLimit, time: float) -> str:
     """The error text for an RK4 step beyond a confluence's stability limit."""
-    suggestion = float(f"{0.9 * limit.step:.2g}")  # below the limit even after rounding
+    suggestion = float(f"{0.9 * limit.value:.2g}")  # below the limit even after rounding
     mode = limit.eigenvalue
     mode_text = f"{mode.real:.4g} {'+' if mode.imag >= 0 else '-'} {abs(mode.imag):.4g}i" if mode.imag else \
         f"{mode.real:.4g}"
     what = (f"the RK4 step {step:g} s exceeds the stability limit of the {limit.system} confluence ({method.name} "
-            f"method) at t = {time:.3f} s ({limit.step:.3g} s, set by its mode lambda = {mode_text} 1/s, counting "
+            f"method) at t = {time:.3f} s ({limit.value:.3g} s, set by its mode lambda = {mode_text} 1/s, counting "
             f"every line as taut, the stiffest case): the results would be wrong")
-    if limit.cause:
-        return f"{what}. {limit.cause}"
+    if limit.remedy:
+        return f"{what}. {limit.remedy}"
     if suggestion < SMALLEST_SUGGESTED_STEP:
         return (f"{what}. That mode is too fast for any explicit step: check the lines' stiffness and damping and "
                 f"the masses{method.implicit_hint or ', or use --method full --integrator implicit'}")

@@ -1,6 +1,6 @@
 """The equilibrium-point method (Raiszadeh, the thesis's ref. 7; thesis section 1.3 and Eq. 2.9), its model and its
 confluence: no confluence states; at every right-hand-side evaluation the confluence is placed where the line
-stiffness forces balance (``physics.equilibrium``, warm-started from the last solution), it moves with the
+stiffness forces balance (``physics.equilibrium_point``, warm-started from the last solution), it moves with the
 equilibrium velocity of Appendix B, and the line law with that velocity gives the forces on the bodies.
 
 A solve that does not converge keeps its best point and is counted; the counts go to the summary, and
@@ -15,13 +15,12 @@ import numpy as np
 
 from ..case.model import Case, ParachuteSystem
 from ..engine.bodies import add_bodies
-from ..engine.model import Model
+from ..engine.phase_model import Model
 from ..engine.reduced import ReducedConfluence
 from ..engine.state import ConfluenceState, Phase
 from ..errors import SimulationError
-from ..physics.equilibrium import equilibrium_point, equilibrium_velocity
-from ..physics.lines import line_tensions, pack_lines
-from ..physics.singular_perturbation import solve_series
+from ..physics.equilibrium_point import equilibrium_point, equilibrium_velocity
+from ..physics.lines import line_tensions, pack_lines, solve_series
 from .base import Method
 
 MAX_CONSECUTIVE_FAILURES = 20
@@ -76,7 +75,7 @@ class EquilibriumConfluence(ReducedConfluence):
                                    solved.converged)
 
     def _series(self, positions, velocities) -> EquilibriumSolution:
-        """Two lines in series (``physics.singular_perturbation.solve_series``), the same law as SP's."""
+        """Two lines in series (``physics.lines.solve_series``), the same law as SP's."""
         tensions, directions, active = np.zeros(2), np.zeros((2, 3)), np.zeros(2, np.bool_)
         attach = np.asarray(positions, float)
         vx, vy, vz, fraction = solve_series(attach, np.asarray(velocities, float), *self.packed_lines, tensions,

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..engine.full import build_full_model
-from ..physics.linearization import full_mass_step_limit, spectral_step_bound
+from ..engine.full_model import build_full_model
+from ..physics.linearization import damped_line_step_limit, full_mass_step_limit, sp_step_limit, spectral_step_bound
 from ..registries.methods import OptionError
 from .base import Method, StepLimit, line_arrays, line_constants, option_field
 
@@ -43,10 +43,24 @@ class FullMass(Method):
     def build(self, case, phase):
         return build_full_model(case, phase, symbolic_line_law=self.options.line_law == "symbolic")
 
-    def step_limit(self, system, attach_position, confluence_position) -> StepLimit:
-        step, eigenvalue = full_mass_step_limit(system.confluence.mass, attach_position, confluence_position,
-                                                *line_arrays(system, attach_position, confluence_position))
-        return StepLimit(system.name, step, eigenvalue)
+    def confluence_limits(self, system, attach_position, confluence_position, explicit: bool = True) -> list:
+        """The point mass's modes on its lines at this geometry (``full_mass_step_limit``); for an implicit
+        integrator, stable at any step, the step that resolves the confluence's fastest damped mode, as the massless
+        solve has it (``sp_step_limit``): the step is then for accuracy."""
+        lines = line_arrays(system, attach_position, confluence_position)
+        if explicit:
+            step, eigenvalue = full_mass_step_limit(system.confluence.mass, attach_position, confluence_position,
+                                                    *lines)
+        else:
+            step, eigenvalue = sp_step_limit(attach_position, confluence_position, *lines)
+        return [StepLimit(step, f"the {system.name} confluence ({self.name} method, mode {eigenvalue:.4g} 1/s)",
+                          eigenvalue=eigenvalue, system=system.name)]
 
-    def lumped_step_limit(self, system) -> float:
-        return spectral_step_bound(system.confluence.mass, *line_constants(system))
+    def lumped_limit(self, system, explicit: bool = True) -> StepLimit | None:
+        """A bound that holds in any layout (``spectral_step_bound``); implicit: the lines' damped mode at free length
+        (``damped_line_step_limit``; None when no line is damped)."""
+        constants = line_constants(system)
+        value = spectral_step_bound(system.confluence.mass, *constants) if explicit else \
+            damped_line_step_limit(*constants)
+        return None if value is None else StepLimit(value, f"the {system.name} confluence ({self.name} method)",
+                                                    system=system.name)

@@ -344,6 +344,13 @@ start after them."""
 HEADER_BODY_COUNT = 0
 """Where the body count is in ``pack_stage``'s array (0: no aerodynamics)."""
 
+# A fused stage kernel (the model's only confluence doing a stage's kernel work, the aerodynamics' included, in one
+# call: ``engine.stage.Stage``) returns the sum of these flags (0: neither)
+STAGE_SETTLED = 1.0
+"""It did the last step's deferred end-of-step work."""
+STAGE_AERODYNAMICS_FAILED = 2.0
+"""The aerodynamics met a problem and added nothing (nor the gravity): the caller mends and adds them."""
+
 
 def work_size(count: int) -> int:
     """The length of ``aerodynamics_stage``'s work array for ``count`` bodies: the status (code, value), the

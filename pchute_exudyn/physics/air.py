@@ -16,6 +16,8 @@ from .wind import NO_WIND, gust_rows, gust_sum, steady_wind, turbulence_velocity
 AIR_COLUMNS = 13
 """``AirMotion.parameters``: moving (1/0), steady wind only (1/0: no turbulence and no gusts), the rotation rate
 (rad/s), its unit axis (3), the angular velocity (3, rad/s), the planet centre (3, m, start frame), turbulence (1/0)."""
+AIR_MOVING, AIR_STEADY_ONLY, AIR_RATE, AIR_AXIS, AIR_OMEGA, AIR_CENTER, AIR_TURBULENT = 0, 1, 2, 3, 6, 9, 12
+"""Where each of them is (the vectors' first component)."""
 
 
 class AirMotion:
@@ -113,30 +115,32 @@ def air_velocity(parameters, wind, gusts, turbulence, field, x, y, z, altitude, 
     (m) at ``time`` (s), and 0; or (0, 0, 0, cells) when the turbulence field must first grow to that many cells.
     The arguments are ``AirMotion``'s packed parts."""
     vx = vy = vz = 0.0
-    rate = parameters[2]
-    if parameters[0] > 0.0:
-        if parameters[1] > 0.0:   # the steady wind alone (as before turbulence and gusts)
+    rate = parameters[AIR_RATE]
+    if parameters[AIR_MOVING] > 0.0:
+        if parameters[AIR_STEADY_ONLY] > 0.0:   # the steady wind alone (as before turbulence and gusts)
             vx, vy = steady_wind(wind, altitude)
         else:
             east, north = steady_wind(wind, altitude)
             ge, gn, gu = gust_sum(gusts, time)
             tx = ty = tz = 0.0
-            if parameters[12] > 0.0:
+            if parameters[AIR_TURBULENT] > 0.0:
                 tx, ty, tz, needed = turbulence_velocity(field, turbulence, altitude, east, north)
                 if needed:
                     return 0.0, 0.0, 0.0, needed
             vx, vy, vz = east + ge, north + gn, gu
             vx, vy, vz = vx + tx, vy + ty, vz + tz
         if rate:  # the ground's east/north axes have turned by omega t about the polar axis
-            kx, ky, kz = parameters[3], parameters[4], parameters[5]
+            axis = AIR_AXIS
+            kx, ky, kz = parameters[axis], parameters[axis + 1], parameters[axis + 2]
             c, s = math.cos(rate * time), math.sin(rate * time)
             along = kx * vx + ky * vy + kz * vz
             vx, vy, vz = (vx * c + (ky * vz - kz * vy) * s + kx * along * (1 - c),
                           vy * c + (kz * vx - kx * vz) * s + ky * along * (1 - c),
                           vz * c + (kx * vy - ky * vx) * s + kz * along * (1 - c))
     if rate:
-        ox, oy, oz = parameters[6], parameters[7], parameters[8]
-        dx, dy, dz = x - parameters[9], y - parameters[10], z - parameters[11]
+        omega, center = AIR_OMEGA, AIR_CENTER
+        ox, oy, oz = parameters[omega], parameters[omega + 1], parameters[omega + 2]
+        dx, dy, dz = x - parameters[center], y - parameters[center + 1], z - parameters[center + 2]
         vx += oy * dz - oz * dy
         vy += oz * dx - ox * dz
         vz += ox * dy - oy * dx

@@ -73,11 +73,13 @@ US76_KIND, MARS_KIND, TABLE_KIND = 0.0, 1.0, 2.0
 """``kernel_parameters()[0]``: which model."""
 NO_SOUND, SOUND_FROM_TEMPERATURE, SOUND_CONSTANT = 0.0, 1.0, 2.0
 """``kernel_parameters()[1]``: how the speed of sound is had (none, sqrt(gamma R T), a constant)."""
-DENSITY_SCALE_AT = 6
-"""``kernel_parameters()[6]``: the factor (-) on the model's density (``ScaledAtmosphere``; 1 by default)."""
+KIND_AT, SOUND_KIND_AT, GAMMA_AT, GAS_CONSTANT_AT, SOUND_AT, ROWS_AT, DENSITY_SCALE_AT = 0, 1, 2, 3, 4, 5, 6
+"""Where each value of ``kernel_parameters()`` is: the model's kind, how the speed of sound is had, gamma (-), R
+(J/(kg K)), a constant speed of sound (m/s), n (a table's rows), the factor (-) on the model's density
+(``ScaledAtmosphere``; 1 by default)."""
 PARAMETER_HEAD = 7
-"""kernel parameters: kind, speed-of-sound kind, gamma (-), R (J/(kg K)), constant speed of sound (m/s), n (table
-rows), density scale (-); a table then has n altitudes (m), n log-densities and n temperatures (K)."""
+"""The values before a table's columns: a table then has n altitudes (m), n log-densities and n temperatures
+(K)."""
 
 
 class Atmosphere:
@@ -357,7 +359,7 @@ def us76_density(layers, altitude):
 @kernel
 def _table_interpolate(parameters, column, i, w):
     """Linear between rows i - 1 and i of a table atmosphere's ``column`` (1: log-density, 2: temperature)."""
-    n = int(parameters[5])
+    n = int(parameters[ROWS_AT])
     start = PARAMETER_HEAD + column * n
     return parameters[start + i - 1] + w * (parameters[start + i] - parameters[start + i - 1])
 
@@ -366,7 +368,7 @@ def _table_interpolate(parameters, column, i, w):
 def atmosphere_state(parameters, altitude):
     """(density in kg/m^3, speed of sound in m/s or NaN, status) at geodetic ``altitude`` (m) of the atmosphere
     ``parameters`` (``Atmosphere.kernel_parameters``); status 1 when the altitude is outside the model."""
-    kind, sound = parameters[0], parameters[1]
+    kind, sound = parameters[KIND_AT], parameters[SOUND_KIND_AT]
     if kind == US76_KIND:
         if not (-5000.0 <= altitude <= 86000.0):
             return math.nan, math.nan, 1.0
@@ -377,17 +379,17 @@ def atmosphere_state(parameters, altitude):
         density = mars_grc_pressure(altitude) / (0.1921 * (celsius + 273.1))
         temperature = celsius + 273.1
     else:
-        n = int(parameters[5])
+        n = int(parameters[ROWS_AT])
         if not (parameters[PARAMETER_HEAD] <= altitude <= parameters[PARAMETER_HEAD + n - 1]):
             return math.nan, math.nan, 1.0
         i, w = bracket_packed(parameters, PARAMETER_HEAD, n, altitude)
         density = math.exp(_table_interpolate(parameters, 1, i, w))
         temperature = _table_interpolate(parameters, 2, i, w) if sound == SOUND_FROM_TEMPERATURE else 0.0
-    density *= parameters[6]   # DENSITY_SCALE_AT: 1 unless dispersed (exact: x 1.0 changes no bit)
+    density *= parameters[DENSITY_SCALE_AT]   # 1 unless dispersed (exact: x 1.0 changes no bit)
     if sound == SOUND_FROM_TEMPERATURE:
-        return density, math.sqrt(parameters[2] * parameters[3] * temperature), 0.0
+        return density, math.sqrt(parameters[GAMMA_AT] * parameters[GAS_CONSTANT_AT] * temperature), 0.0
     if sound == SOUND_CONSTANT:
-        return density, parameters[4], 0.0
+        return density, parameters[SOUND_AT], 0.0
     return density, math.nan, 0.0
 
 

@@ -35,11 +35,8 @@ ROW_BODY_RATE = slice(BODY_RATE_AT, BODY_RATE_AT + 3)
 """The same parts as slices of a row, for Python callers."""
 POINT_COLUMNS = 5
 """Columns of a point layout row: body (index into the states), point in body axes (m), and the body's first
-generalized-force index (-1: a fixed body, which takes none)."""
-LAYOUT_FREE_LENGTH, LAYOUT_STIFFNESS, LAYOUT_DAMPING, LAYOUT_TABLE = (POINT_COLUMNS, POINT_COLUMNS + 1,
-                                                                      POINT_COLUMNS + 2, POINT_COLUMNS + 3)
-"""The columns of a line's layout row after its attach point's (an SP confluence's, a reduced canopy's): L0 (m),
-K (N/m), C (N s/m) and its load-elongation table (index, -1: none)."""
+generalized-force index (-1: a fixed body, which takes none). SP's line layout continues it
+(``methods.sp.memory``)."""
 
 
 @kernel

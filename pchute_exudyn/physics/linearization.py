@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .compiled import kernel
-from .singular_perturbation import SINGULAR, minimum_damping
+from .conditioning import SINGULAR, minimum_damping
 
 
 def line_stiffness(stiffness, free_length, length, direction):

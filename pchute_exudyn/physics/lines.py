@@ -23,8 +23,9 @@ massless confluence (``series_constants``, ``series_pair``, ``series_damping``) 
 SP's solve and its reduced canopy (compiled, per stage), the equilibrium point, the linearisation's tangent
 stiffness, the full-mass model's Python law. The forms that cannot call a kernel are written from the record:
 ``LineLaw.expression`` over an ``Arithmetic`` gives the full-mass model's Exudyn symbolic user function
-(``engine.full``) and the law over numpy arrays (``tension_magnitude``, ``line_states``: whole histories, broadcast
-over leading axes). ``tests/unit/test_line_law.py`` evaluates every form on random states against the record.
+(``engine.full_model``) and the law over numpy arrays (``tension_magnitude``, ``line_states``: whole histories,
+broadcast over leading axes). ``tests/unit/test_line_law.py`` evaluates every form on random states against the
+record.
 """
 
 from __future__ import annotations
@@ -130,6 +131,10 @@ def table_tension(points, count, strain):
     return f0 + (f1 - f0) / (e1 - e0) * (strain - e0)
 
 
+LINE_FREE_LENGTH, LINE_STIFFNESS, LINE_DAMPING = 0, 1, 2
+"""The columns of a packed line's row of constants (``pack_lines``): L0 (m), K (N/m), C (N s/m)."""
+
+
 # -- the line law: the one definition (compiled for the per-stage solves, called as Python elsewhere) ------------
 
 @kernel
@@ -188,8 +193,8 @@ def series_constants(lines, tables, table_counts, length, load):
     attach points, with ``load`` (N) along it on the confluence (the first line carries it on top of the second's
     tension): (the second line's elastic tension T_2,el in N, the pair's series damping C_s in N s/m, the first line's
     stretch e_1 in m). Slack (length <= L0_1 + L0_2): (0, 0, e L0_1 / (L0_1 + L0_2))."""
-    l1, k1, c1 = lines[0, 0], lines[0, 1], lines[0, 2]
-    l2, k2, c2 = lines[1, 0], lines[1, 1], lines[1, 2]
+    l1, k1, c1 = lines[0, LINE_FREE_LENGTH], lines[0, LINE_STIFFNESS], lines[0, LINE_DAMPING]
+    l2, k2, c2 = lines[1, LINE_FREE_LENGTH], lines[1, LINE_STIFFNESS], lines[1, LINE_DAMPING]
     n1, n2 = int(table_counts[0]), int(table_counts[1])
     stretch = length - l1 - l2
     if stretch <= 0.0:
@@ -226,17 +231,53 @@ def series_pair(lines, tables, table_counts, length, length_rate, load):
     stiffnesses at the split; T_2 = T_2,el + C_s de/dt (``line_pull``), tension only (``series_constants``).
     Returns (T_1, T_2 in N, the first line's stretch e_1 in m, its rate in m/s); slack (e <= 0, or no tension):
     e_1 = e L0_1 / (L0_1 + L0_2)."""
-    l1, l2 = lines[0, 0], lines[1, 0]
+    l1, l2 = lines[0, LINE_FREE_LENGTH], lines[1, LINE_FREE_LENGTH]
     share = l1 / (l1 + l2)
     elastic, damping, first = series_constants(lines, tables, table_counts, length, load)
     second = line_pull(elastic, damping, length_rate)
     stretch = length - l1 - l2
     if stretch <= 0.0 or (second <= 0.0 and second + load <= 0.0):
         return 0.0, 0.0, stretch * share, length_rate * share
-    t1 = line_slope(tables[0], int(table_counts[0]), first, l1, lines[0, 1])
-    t2 = line_slope(tables[1], int(table_counts[1]), stretch - first, l2, lines[1, 1])
+    t1 = line_slope(tables[0], int(table_counts[0]), first, l1, lines[0, LINE_STIFFNESS])
+    t2 = line_slope(tables[1], int(table_counts[1]), stretch - first, l2, lines[1, LINE_STIFFNESS])
     rate_share = t2 / (t1 + t2) if t1 + t2 > 0.0 else share
     return max(second + load, 0.0), max(second, 0.0), first, length_rate * rate_share
+
+
+@kernel
+def solve_series(attach, attach_velocity, lines, tables, table_counts, tensions, directions, active, wx, wy, wz):
+    """Two lines in series through the massless confluence (docs/models/step_control.md, "Lines in series"): the
+    pair acts as one tension-only line between their attach points A (line 0) and B (line 1), ``lines.series_pair``,
+    and the confluence sits on AB where the lines' elastic stretches put it, moving with that point. (wx, wy, wz) is
+    the confluence's weight (N; 0 massless): its component along AB makes line 0's tension exceed line 1's; the
+    caller shares the rest between A and B. Writes both tensions (N), the unit vectors n from the confluence to each
+    attach point (-u and u, u from A to B) and the lines counted taut; returns (vx, vy, vz) of the confluence (m/s)
+    and its fraction (-) of the way from A to B.
+
+    The massless balance T_1 n_1 + T_2 n_2 = 0 has no solution off AB with a tension: the confluence has no
+    stiffness across the pair, so Eq. 3.10's alpha is singular there and a state of its own would only follow the
+    line with a fast, artificial mode. In the massless limit this is exact."""
+    ax, ay, az = attach[0, 0], attach[0, 1], attach[0, 2]
+    dx, dy, dz = attach[1, 0] - ax, attach[1, 1] - ay, attach[1, 2] - az
+    length = math.sqrt(dx * dx + dy * dy + dz * dz)
+    ux, uy, uz = dx / length, dy / length, dz / length
+    rx = attach_velocity[1, 0] - attach_velocity[0, 0]
+    ry = attach_velocity[1, 1] - attach_velocity[0, 1]
+    rz = attach_velocity[1, 2] - attach_velocity[0, 2]
+    length_rate = rx * ux + ry * uy + rz * uz
+    first, second, stretch, stretch_rate = series_pair(lines, tables, table_counts, length, length_rate,
+                                                       wx * ux + wy * uy + wz * uz)
+    along = lines[0, LINE_FREE_LENGTH] + stretch   # from A to the confluence (m)
+    tensions[0], tensions[1] = first, second
+    for i in range(2):
+        active[i] = tensions[i] > 0.0
+        sign = -1.0 if i == 0 else 1.0
+        directions[i, 0], directions[i, 1], directions[i, 2] = sign * ux, sign * uy, sign * uz
+    turn = along / length                # the confluence turns with u: (r - (r.u) u) along / length
+    vx = attach_velocity[0, 0] + stretch_rate * ux + turn * (rx - length_rate * ux)
+    vy = attach_velocity[0, 1] + stretch_rate * uy + turn * (ry - length_rate * uy)
+    vz = attach_velocity[0, 2] + stretch_rate * uz + turn * (rz - length_rate * uz)
+    return vx, vy, vz, along / length
 
 
 def pack_tables(tables) -> tuple[np.ndarray, np.ndarray]:
@@ -331,7 +372,7 @@ class LineLaw:
         return self.free_length * self.table.energy(stretch / self.free_length)
 
     def expression(self, stretch, rate, ops: Arithmetic = ARRAYS, stiffness=None, damping=None):
-        """The law in the arithmetic ``ops`` (the Exudyn symbolic form: ``engine.full``; numpy arrays): T = max(0,
+        """The law in the arithmetic ``ops`` (the Exudyn symbolic form: ``engine.full_model``; numpy arrays): T = max(0,
         T_el + C rate) where taut, 0 elsewhere, T_el = K stretch or the table in its hinge form (``LoadElongation.
         hinges``: a sum of ramps, no search), strain = stretch (1 / L0). ``stiffness`` and ``damping`` (N/m, N s/m)
         may be given as values of that arithmetic (the engine's connector parameters); default this line's."""

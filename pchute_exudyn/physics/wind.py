@@ -37,38 +37,45 @@ def wind_from_direction(speed: float, from_deg: float) -> tuple:
 
 
 NO_WIND, TABLE_WIND, POWER_LAW_WIND = 0.0, 1.0, 2.0
-"""``kernel_parameters()[0]`` of a steady wind: none, constant or altitude table (``physics.atmosphere.Wind``: then
-n, and n altitudes, n east and n north components, or for a constant n = 0, east, north), or power law (east, north,
-h_ref, p, h_ground)."""
+"""A steady wind's kind (``kernel_parameters()[WIND_KIND_AT]``): none, constant or altitude table
+(``physics.atmosphere.Wind``: then n, and n altitudes, n east and n north components, or for a constant n = 0, east,
+north), or power law (east, north, h_ref, p, h_ground)."""
+WIND_KIND_AT, TABLE_ROWS_AT, TABLE_HEAD = 0, 1, 2
+"""A steady wind's kind, a table's n, and where the table's columns (a constant's east and north) start."""
+POWER_EAST_AT, POWER_NORTH_AT, POWER_HEIGHT_AT, POWER_EXPONENT_AT, POWER_GROUND_AT = 1, 2, 3, 4, 5
+"""A power law's east and north wind at the reference height (m/s), h_ref (m), p (-) and h_ground (m)."""
+TURBULENCE_GROUND_AT, TURBULENCE_CELL_AT, TURBULENCE_HEADING_AT = 0, 1, 2
+"""``DrydenTurbulence.kernel_parameters``: the ground altitude (m), the field's cell (m), the heading (east, north)."""
 
 
 @kernel
 def steady_wind(parameters, altitude):
     """(east, north) steady wind (m/s) at geodetic ``altitude`` (m) of the wind ``parameters``
     (``kernel_parameters`` of ``physics.atmosphere.Wind`` or ``PowerLawWind``; [NO_WIND] for none)."""
-    kind = parameters[0]
+    kind = parameters[WIND_KIND_AT]
     if kind == TABLE_WIND:
-        n = int(parameters[1])
+        n = int(parameters[TABLE_ROWS_AT])
+        head = TABLE_HEAD
         if n == 0:
-            return parameters[2], parameters[3]
-        if altitude <= parameters[2]:
+            return parameters[head], parameters[head + 1]
+        if altitude <= parameters[head]:
             i, w = 1, 0.0
-        elif altitude >= parameters[2 + n - 1]:
+        elif altitude >= parameters[head + n - 1]:
             i, w = n - 1, 1.0
         else:
             i = 1
-            while parameters[2 + i] <= altitude:   # bisect_right, as physics.interpolation.bracket
+            while parameters[head + i] <= altitude:   # bisect_right, as physics.interpolation.bracket
                 i += 1
-            w = (altitude - parameters[2 + i - 1]) / (parameters[2 + i] - parameters[2 + i - 1])
-        east, north = 2 + n, 2 + 2 * n
+            w = (altitude - parameters[head + i - 1]) / (parameters[head + i] - parameters[head + i - 1])
+        east, north = head + n, head + 2 * n
         return (parameters[east + i - 1] + w * (parameters[east + i] - parameters[east + i - 1]),
                 parameters[north + i - 1] + w * (parameters[north + i] - parameters[north + i - 1]))
     if kind == POWER_LAW_WIND:
-        height = altitude - parameters[5]
+        height = altitude - parameters[POWER_GROUND_AT]
         if height <= 0.0:
             return 0.0, 0.0
-        factor = (height / parameters[3]) ** parameters[4]
-        return parameters[1] * factor, parameters[2] * factor
+        factor = (height / parameters[POWER_HEIGHT_AT]) ** parameters[POWER_EXPONENT_AT]
+        return parameters[POWER_EAST_AT] * factor, parameters[POWER_NORTH_AT] * factor
     return 0.0, 0.0
 
 
@@ -252,14 +259,15 @@ def turbulence_velocity(field, parameters, altitude, mean_east, mean_north):
     """(east, north, up) turbulence (m/s) at ``altitude`` (m), u along the mean wind (m/s; without one, along the
     heading), and 0; or (0, 0, 0, cells) when the field must first be generated further (``field_components``).
     ``parameters``: ``DrydenTurbulence.kernel_parameters``."""
-    u, v, w, needed = field_components(field, parameters[0], parameters[1], altitude)
+    u, v, w, needed = field_components(field, parameters[TURBULENCE_GROUND_AT], parameters[TURBULENCE_CELL_AT],
+                                       altitude)
     if needed:
         return 0.0, 0.0, 0.0, needed
     speed = hypot(mean_east, mean_north)
     if speed > 1e-9:
         ce, cn = mean_east / speed, mean_north / speed
     else:
-        ce, cn = parameters[2], parameters[3]
+        ce, cn = parameters[TURBULENCE_HEADING_AT], parameters[TURBULENCE_HEADING_AT + 1]
     return u * ce - v * cn, u * cn + v * ce, w, 0
 
 

@@ -34,7 +34,7 @@ class Integrator:
 
 ADAPTIVE_STEP = "auto"
 """The step that asks for adaptive steps (``--dt auto``, ``step = "auto"``, a study's ``steps = ["auto"]``): an RK4
-run without a step gets them anyway (``physics.step_control``)."""
+run without a step gets them anyway (``physics.step_rule``)."""
 
 INTEGRATORS = {integrator.name: integrator for integrator in (Integrator("rk4", explicit=True),
                                                                Integrator("implicit", explicit=False))}

@@ -16,7 +16,7 @@ from ..engine.state import initial_confluence_state, initial_point
 from ..errors import InputError
 from ..methods.base import line_arrays
 from ..methods.full import FullMass
-from ..physics.equilibrium import NoEquilibriumError, equilibrium_point
+from ..physics.equilibrium_point import NoEquilibriumError, equilibrium_point
 from ..physics.linearization import linearize, max_stable_step_rk4, modes, sp_eigenvalues
 from .outputs import attach_points
 

@@ -28,7 +28,7 @@ from ..physics.aerodynamics import angles_of_attack_deg, dynamic_pressure_of_spe
 from ..physics.kinematics import body_point, relative_to_body
 from ..physics.lines import line_states
 from ..physics.rotations import attitude_angles_deg, tilt_deg
-from ..physics.step_control import merge_summaries
+from ..physics.step_rule import merge_summaries
 from ..registries.columns import POINT_QUANTITIES, column, derived, method_column, unit
 
 MAX_LINE_STRAIN = 1.0

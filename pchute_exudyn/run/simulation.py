@@ -18,13 +18,12 @@ from ..case.model import Case
 from ..case.plausible import check_time_scales
 from ..engine.bodies import Touchdown
 from ..engine.solver import integrate, versions
-from ..engine.state import BODY_VALUES, CONFLUENCE_VALUES, initial_confluence_state, initial_point
+from ..engine.state import BODY_VALUES, CONFLUENCE_VALUES
 from ..engine.triggers import TriggerMonitor
 from ..errors import InputError, Interrupted, SimulationError, short_repr
 from ..kernels import selection
-from ..methods.base import Method, line_arrays, line_constants, unstable_step_message
-from ..physics.linearization import damped_line_step_limit, sp_step_limit, spectral_step_bound
-from ..physics.step_control import StepRule
+from ..methods.base import Method
+from ..physics.step_rule import StepRule
 from ..registries.columns import column, owner
 from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
 from ..results.result import Result
@@ -45,19 +44,8 @@ from .analysis import cluster_columns, cluster_summary, descent_summary, pendulu
 from .outputs import check_history, concatenate, derive_columns, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase, retime_openings
 from .sequence import Sequence
-from .step_control import AdaptiveSteps
+from .step_control import AdaptiveSteps, add_step_monitor, stability_step
 
-MONITOR_INTERVAL = 0.1
-"""Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
-moves with the line loads, over seconds; a check costs about 0.3 ms). At least MONITOR_STEPS steps apart: 5 s at
-SP's 1e-2 s (a check every 100 steps was 4 % of a PA1 SP run once the stages got cheap, issue 14), 0.25 s at full
-mass's 5e-4 s."""
-MONITOR_STEPS = 500
-STEP_FRACTION = 0.5
-"""A case without a step for the method runs at this fraction of the stability limit (``stability_step``): the limit
-falls as the lines stretch under load (MER's confluence: by 8 % over 60 s) and the bound is taken at free length.
-For MER: 1e-2 s SP (the thesis's step) and 5e-5 s full mass (the any-layout bound, 1.99e-4 s, is below the 4.28e-4 s of
-the real layout; the thesis ran 1e-4 s)."""
 MAX_STEPS = 2**31 - 1
 """Steps the engine can count in one run (its step counter is a 32-bit integer)."""
 MAX_OUTPUT_BYTES = 4e9
@@ -165,59 +153,6 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     return RunPlan(resolved, integrator, step, duration, limit, control)
 
 
-def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, float]:
-    """The step (s) of a case that sets none for the method, and the stability limit (s) it comes from.
-
-    The limit is the smallest of: each body on the lines attached to it and each full-mass confluence by a bound that
-    holds in any layout (``physics.linearization.spectral_step_bound``; a body's rotation is left out), an SP
-    confluence by its damped mode at free length (``damped_line_step_limit``), and for a system present from the
-    start the method's limit at the case's initial geometry. For the implicit integrator (stable at any step: the
-    step is for accuracy) a confluence counts with the damped mode SP resolves. The step is STEP_FRACTION of the
-    limit, rounded down to 1, 2 or 5 x 10^k.
-    """
-    key = INTEGRATORS[integrator].step_key(method.name)
-    limits = [math.inf]
-    moving = {name for name, body in case.bodies.items() if not body.fixed}
-    for system in case.systems.values():
-        limits.append(_confluence_limit(case, method, integrator, system, key))
-        stiffness, damping = line_constants(system)
-        for body in {line.body for line in system.lines} & moving:
-            own = [i for i, line in enumerate(system.lines) if line.body == body]
-            limits.append(spectral_step_bound(case.bodies[body].mass, [stiffness[i] for i in own],
-                                              [damping[i] for i in own]))
-    limit = min(limits)
-    if not math.isfinite(limit):
-        raise InputError(f"no step given, the case sets no simulation.steps.{key} and nothing in it limits the step "
-                         "(no line stiffness on a moving body or confluence): pass --dt")
-    return _round_down(STEP_FRACTION * limit), limit
-
-
-def _confluence_limit(case: Case, method: Method, integrator: str, system, key: str) -> float:
-    """A confluence's stability limit (s) for ``stability_step``."""
-    explicit = INTEGRATORS[integrator].explicit
-    bound = method.lumped_step_limit(system) if explicit else damped_line_step_limit(*line_constants(system))
-    limits = [math.inf if bound is None else bound]
-    if system.deploy_time is None:   # present from the start: its initial geometry is known
-        attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
-        where = initial_confluence_state(case, system).position
-        if explicit:
-            found = step_limit_at(method, system, attach, where)
-            limits.append(math.inf if found is None else found.step)
-        else:
-            limits.append(sp_step_limit(attach, where, *line_arrays(system, attach, where))[0])
-    elif bound is None:
-        raise InputError(f"no step given and the case sets no simulation.steps.{key}: the {system.name} system, "
-                         "deployed during the run, has a line with stiffness but no damping, which leaves its step "
-                         "limit unknown before deployment; pass --dt")
-    return min(limits)
-
-
-def _round_down(value: float) -> float:
-    """``value`` rounded down to 1, 2 or 5 x 10^k."""
-    decade = 10.0 ** math.floor(math.log10(value))
-    return max(m for m in (1.0, 2.0, 5.0, 10.0) if m * decade <= value * (1.0 + 1e-12)) * decade
-
-
 def _check_size(case: Case, step: float, duration: float) -> None:
     """Refuse, before any work, a run the engine cannot count or whose histories would not fit in memory."""
     steps = duration / step
@@ -244,47 +179,6 @@ def _check_samples(case: Case, duration: float) -> None:
                              f"{rate * duration:.3g} samples; a trigger takes at most {MAX_TRIGGER_SAMPLES:.0e} in a "
                              f"run: lower the rate (at most {MAX_TRIGGER_SAMPLES / duration:.3g} Hz here) or shorten "
                              "the run")
-
-
-_LIMITS: dict = {}
-"""Step limits by method, system and geometry: a phase's first check, and the step chosen from the stability limit
-before the run, look at the same geometry (``step_limit_at``)."""
-
-
-def step_limit_at(method: Method, system, attach_position, confluence_position):
-    """``method.step_limit`` at this geometry (attach points and confluence, m), computed once per geometry."""
-    key = (type(method), method.options, system, tuple(np.ravel(attach_position).tolist()),
-           tuple(np.ravel(confluence_position).tolist()))
-    if key not in _LIMITS:
-        if len(_LIMITS) > 1000:
-            _LIMITS.clear()
-        _LIMITS[key] = method.step_limit(system, attach_position, confluence_position)
-    return _LIMITS[key]
-
-
-def add_step_monitor(model, method: Method, step: float, interval: float = MONITOR_INTERVAL) -> None:
-    """Stop an RK4 run as soon as ``step`` (s) exceeds a confluence's current stability limit (``method.step_limit``).
-
-    Checked before the first step and then after a step every ``interval`` s of simulated time (about 0.25 ms per
-    check; a post-step hook, so that an RK4 run needs no pre-step call), on the current geometry: lines stretch under
-    load and the limit falls with them. Beyond the limit RK4 does not always
-    blow up at once: it can return plausible but wrong tensions for seconds (MER case 1 at 1e-3 s gave 4.6 times the
-    true peak tensions in the first 3 s without any NaN), so the run stops instead.
-    """
-    next_check = [0.0]
-
-    def monitor(mbs, t):
-        if t < next_check[0]:
-            return
-        next_check[0] = t + max(interval, MONITOR_STEPS * step)
-        for system in model.systems:
-            where = model.confluences[system.name].state_position()
-            limit = step_limit_at(method, system, model.attach_positions(system), where)
-            if step > limit.step:   # t: the end of the step just taken, the start of the coming one
-                raise SimulationError(unstable_step_message(method, step, limit, t), t)
-
-    monitor(model.mbs, model.phase.start)   # the check before the first step, before the timed solve
-    model.add_post_step(monitor)
 
 
 def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None, solution_file=None,

@@ -1,19 +1,26 @@
-"""A run's adaptive steps: the step rule of ``physics.step_control`` with the model's stability limits as caps.
+"""A run's steps: the one home of the step policy. Every limit is a method's (``Method.confluence_limits``,
+``lumped_limit``, ``state_limits``, typed ``StepLimit``s with their cause and remedy) or a body's on its lines
+(below); this module takes their minimum and never reads a method's constants.
 
-After every step ``AdaptiveSteps.after_step`` reads the bodies' velocity coordinates (one engine read), updates the
-indicator and returns the coming step, never beyond CAP_FRACTION of the smallest stability limit of the phase:
+* **A fixed step** (``stability_step``): a case that sets no step for the method runs at STEP_FRACTION of the smallest
+  limit at its start; a fixed RK4 run is watched by a step monitor (``add_step_monitor``) that stops it as soon as
+  the step exceeds a confluence's current limit.
+* **Adaptive steps** (``AdaptiveSteps``): after every step ``after_step`` reads the bodies' velocity coordinates (one
+  engine read), updates the indicator of ``physics.step_rule`` and returns the coming step, never beyond
+  CAP_FRACTION of the smallest stability limit of the phase:
 
-* each moving body's translational mode on its lines (their stiffness and damping summed, as if they pulled along
-  one direction) with its drag's damping rho V S C_A, S the drag area open now
-  (``physics.linearization.body_line_step_limit``; the mass with the air it carries along its axis when it has an
-  apparent mass);
-* each moving body pitching on its lines (``_rotation_limits``: a light canopy on its riser wobbles at 20 Hz);
-* each confluence by its method's limit at the current geometry (``Method.step_limit``: SP's damped mode, a full-mass
-  confluence's modes), with the lines as the method damps them at that step (``Method.relaxed``).
+  * each moving body's translational mode on its lines (their stiffness and damping summed, as if they pulled along
+    one direction) with its drag's damping rho V S C_A, S the drag area open now
+    (``physics.linearization.body_line_step_limit``; the mass with the air it carries along its axis when it has an
+    apparent mass);
+  * each moving body pitching on its lines (``_rotation_limits``: a light canopy on its riser wobbles at 20 Hz);
+  * each confluence by its method's limits at the current geometry (SP's damped mode, a full-mass confluence's
+    modes), with the lines as the method damps them at that step (``Method.relaxed``), and the method's own states
+    (``Method.state_limits``: a reduced canopy's drag point).
 
-The limits that move with the state (geometry, air speed) are checked again every CAP_INTERVAL of simulated time
-(longer while they stay put), at least CAP_STEPS steps apart. A limit below the rule's smallest step stops the
-run, naming what sets it.
+  The limits that move with the state (geometry, air speed) are checked again every CAP_INTERVAL of simulated time
+  (longer while they stay put), at least CAP_STEPS steps apart. A limit below the rule's smallest step stops the
+  run, naming what sets it.
 """
 
 from __future__ import annotations
@@ -23,16 +30,15 @@ import math
 import numpy as np
 
 from ..case.model import Case
-from ..engine.model import Model
-from ..engine.state import TensionChannel
-from ..errors import SimulationError
-from ..methods.base import Method, line_constants
-from ..methods.sp import RATE_MEMORY, RELAXED_STEPS
+from ..engine.phase_model import Model
+from ..engine.state import TensionChannel, initial_confluence_state, initial_point
+from ..errors import InputError, SimulationError
+from ..methods.base import Method, line_constants, unstable_step_message
 from ..physics.compiled import machine_code
 from ..physics.kinematics import ROW_POSITION, ROW_VELOCITY
-from ..physics.linearization import body_line_step_limit
-from ..physics.singular_perturbation import relaxed_damping
-from ..physics.step_control import CAP_FRACTION, StepRule, extrapolation_error, next_step
+from ..physics.linearization import body_line_step_limit, spectral_step_bound
+from ..physics.step_rule import CAP_FRACTION, StepRule, extrapolation_error, next_step
+from ..registries.methods import INTEGRATORS
 
 CAP_INTERVAL = 1.0
 """Simulated time (s) between checks of the limits that move with the state, after a check that found them moved
@@ -54,6 +60,108 @@ parachute behind 3.1 t: twice the opening load at the indicator's steps; docs/mo
 RELAXATION_SHARE = 0.01
 """Largest share (-) of a line's tension that the relaxation's extra damping may add at the current stretch rates
 (``_relaxation_cap``)."""
+
+
+MONITOR_INTERVAL = 0.1
+"""Simulated time (s) between checks of the RK4 step against the confluences' current stability limit (the limit
+moves with the line loads, over seconds; a check costs about 0.3 ms). At least MONITOR_STEPS steps apart: 5 s at
+SP's 1e-2 s (a check every 100 steps was 4 % of a PA1 SP run once the stages got cheap, issue 14), 0.25 s at full
+mass's 5e-4 s."""
+MONITOR_STEPS = 500
+STEP_FRACTION = 0.5
+"""A case without a step for the method runs at this fraction of the stability limit (``stability_step``): the limit
+falls as the lines stretch under load (MER's confluence: by 8 % over 60 s) and the bound is taken at free length.
+For MER: 1e-2 s SP (the thesis's step) and 5e-5 s full mass (the any-layout bound, 1.99e-4 s, is below the 4.28e-4 s of
+the real layout; the thesis ran 1e-4 s)."""
+def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, float]:
+    """The step (s) of a case that sets none for the method, and the stability limit (s) it comes from.
+
+    The limit is the smallest of: each body on the lines attached to it by a bound that holds in any layout
+    (``physics.linearization.spectral_step_bound``; a body's rotation is left out), and each system's confluence by
+    its method's limits (``Method.lumped_limit``, and ``Method.confluence_limits`` at the case's initial geometry for
+    a system present from the start): for the implicit integrator (stable at any step) the method's accuracy limit.
+    The step is STEP_FRACTION of the limit, rounded down to 1, 2 or 5 x 10^k.
+    """
+    key = INTEGRATORS[integrator].step_key(method.name)
+    limits = [math.inf]
+    moving = {name for name, body in case.bodies.items() if not body.fixed}
+    for system in case.systems.values():
+        limits.append(_confluence_limit(case, method, integrator, system, key))
+        stiffness, damping = line_constants(system)
+        for body in {line.body for line in system.lines} & moving:
+            own = [i for i, line in enumerate(system.lines) if line.body == body]
+            limits.append(spectral_step_bound(case.bodies[body].mass, [stiffness[i] for i in own],
+                                              [damping[i] for i in own]))
+    limit = min(limits)
+    if not math.isfinite(limit):
+        raise InputError(f"no step given, the case sets no simulation.steps.{key} and nothing in it limits the step "
+                         "(no line stiffness on a moving body or confluence): pass --dt")
+    return _round_down(STEP_FRACTION * limit), limit
+
+
+def _confluence_limit(case: Case, method: Method, integrator: str, system, key: str) -> float:
+    """A confluence's stability limit (s) for ``stability_step``."""
+    explicit = INTEGRATORS[integrator].explicit
+    bound = method.lumped_limit(system, explicit)
+    limits = [math.inf if bound is None else bound.value]
+    if system.deploy_time is None:   # present from the start: its initial geometry is known
+        attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
+        where = initial_confluence_state(case, system).position
+        limits += [limit.value for limit in confluence_limits_at(method, system, attach, where, explicit)]
+    elif bound is None:
+        raise InputError(f"no step given and the case sets no simulation.steps.{key}: the {system.name} system, "
+                         "deployed during the run, has a line with stiffness but no damping, which leaves its step "
+                         "limit unknown before deployment; pass --dt")
+    return min(limits)
+
+
+def _round_down(value: float) -> float:
+    """``value`` rounded down to 1, 2 or 5 x 10^k."""
+    decade = 10.0 ** math.floor(math.log10(value))
+    return max(m for m in (1.0, 2.0, 5.0, 10.0) if m * decade <= value * (1.0 + 1e-12)) * decade
+
+
+_LIMITS: dict = {}
+"""Confluence limits by method, system and geometry: a phase's first check, and the step chosen from the stability
+limit before the run, look at the same geometry (``confluence_limits_at``)."""
+
+
+def confluence_limits_at(method: Method, system, attach_position, confluence_position, explicit: bool = True) -> list:
+    """``method.confluence_limits`` at this geometry (attach points and confluence, m), computed once per
+    geometry."""
+    key = (type(method), method.options, system, tuple(np.ravel(attach_position).tolist()),
+           tuple(np.ravel(confluence_position).tolist()), explicit)
+    if key not in _LIMITS:
+        if len(_LIMITS) > 1000:
+            _LIMITS.clear()
+        _LIMITS[key] = method.confluence_limits(system, attach_position, confluence_position, explicit)
+    return _LIMITS[key]
+
+
+def add_step_monitor(model, method: Method, step: float, interval: float = MONITOR_INTERVAL) -> None:
+    """Stop an RK4 run as soon as ``step`` (s) exceeds a confluence's current stability limit
+    (``Method.confluence_limits``).
+
+    Checked before the first step and then after a step every ``interval`` s of simulated time (about 0.25 ms per
+    check; a post-step hook, so that an RK4 run needs no pre-step call), on the current geometry: lines stretch under
+    load and the limit falls with them. Beyond the limit RK4 does not always
+    blow up at once: it can return plausible but wrong tensions for seconds (MER case 1 at 1e-3 s gave 4.6 times the
+    true peak tensions in the first 3 s without any NaN), so the run stops instead.
+    """
+    next_check = [0.0]
+
+    def monitor(mbs, t):
+        if t < next_check[0]:
+            return
+        next_check[0] = t + max(interval, MONITOR_STEPS * step)
+        for system in model.systems:
+            where = model.confluences[system.name].state_position()
+            for limit in confluence_limits_at(method, system, model.attach_positions(system), where):
+                if step > limit.value:   # t: the end of the step just taken, the start of the coming one
+                    raise SimulationError(unstable_step_message(method, step, limit, t), t)
+
+    monitor(model.mbs, model.phase.start)   # the check before the first step, before the timed solve
+    model.add_post_step(monitor)
 
 
 class AdaptiveSteps:
@@ -147,16 +255,14 @@ class AdaptiveSteps:
         return math.inf if self.allowance is None else self.allowance
 
     def _allowance(self, t: float) -> float:
-        """The longest step (s) whose relaxation (``Method.relaxation_for_step``) keeps each relaxing confluence's
-        tensions within RELAXATION_SHARE of their own (``relaxation_allowed``): its extra damping acts on the lines'
+        """The longest step (s) whose relaxation (``Method.relaxation``) keeps each relaxing confluence's tensions
+        within RELAXATION_SHARE of their own (``Method.relaxation_cap``): its extra damping acts on the lines'
         stretch rates, nil in a steady descent, not at a cluster's flyout or a swing; never below the step the lines'
-        own damping allows (``unrelaxed``). For the first RATE_MEMORY s of a phase (a deployment, a cut-away, a
-        cluster's flyout) the envelope has not seen the lines move yet: the lines keep their own damping."""
+        own damping allows (``unrelaxed``)."""
         cap = math.inf
-        settling = t - self.model.phase.start < RATE_MEMORY
+        systems = {system.name: system for system in self.model.systems}
         for name, unrelaxed in self.unrelaxed.items():
-            allowed = self.model.confluences[name].relaxation_allowed(RELAXATION_SHARE, t)
-            cap = min(cap, unrelaxed if settling else max(unrelaxed, RELAXED_STEPS * allowed))
+            cap = min(cap, self.method.relaxation_cap(self.model, systems[name], t, unrelaxed, RELAXATION_SHARE))
         return cap
 
     def _relax(self, step: float) -> None:
@@ -165,14 +271,14 @@ class AdaptiveSteps:
         lines as they are."""
         for system in self.model.systems:
             own = step <= self.unrelaxed.get(system.name, 0.0)
-            tau = self.method.relaxation_for_step(0.0 if own else step, system)
+            tau = self.method.relaxation(0.0 if own else step, system)
             if tau != self.relaxation.get(system.name, 0.0):
                 self.relaxation[system.name] = tau
                 self.model.confluences[system.name].relax(tau)
 
     def _check_caps(self, t: float) -> None:
         """The caps at the current state. Where the method relaxes the lines at long steps
-        (``Method.relaxation_for_step``) their damping grows with the step, and a light body's limit on them falls
+        (``Method.relaxation``) their damping grows with the step, and a light body's limit on them falls
         with it: the bodies' cap is the largest limit c with c >= its own limit at the damping of a step CAP_FRACTION
         c, found by bisection (in log c, to 10 %); the confluences' limits (which grow with that damping) are then
         taken at it, twice."""
@@ -185,7 +291,7 @@ class AdaptiveSteps:
         def bodies_at(cap):
             return min([fixed] + self._body_limits(CAP_FRACTION * cap, drag), key=lambda item: item[0])
         cap = bodies_at(fixed[0])
-        relaxing = any(self.method.relaxation_for_step(CAP_FRACTION * fixed[0], s) > 0.0 for s in self.model.systems)
+        relaxing = any(self.method.relaxation(CAP_FRACTION * fixed[0], s) > 0.0 for s in self.model.systems)
         if cap[0] < fixed[0] and relaxing:
             low, high = cap[0], fixed[0]
             while high > 1.1 * low:
@@ -197,7 +303,7 @@ class AdaptiveSteps:
         self.unrelaxed = {system.name: CAP_FRACTION * min([math.inf] + [limit for limit, _ in
                                                                       self._confluence_limits(0.0, system)])
                           for system in self.model.systems
-                          if self.method.relaxation_for_step(CAP_FRACTION * cap[0], system) > 0.0}
+                          if self.method.relaxation(CAP_FRACTION * cap[0], system) > 0.0}
         self.cap, self.cause = cap
         steady = abs(self.cap - previous) <= CAP_STEADY * self.cap
         self.interval = min(2.0 * self.interval, CAP_INTERVAL_LONGEST) if steady and not self._schedules_moving() \
@@ -206,7 +312,7 @@ class AdaptiveSteps:
         if CAP_FRACTION * self.cap < self.rule.smallest:
             what = f"at t = {t:.3f} s {self.cause} limits RK4 to {self.cap:.3g} s, below the smallest adaptive step " \
                    f"{self.rule.smallest:g} s"
-            remedy = self._remedies.get(self.cause)   # a layout or a setting the method names (``StepLimit.cause``)
+            remedy = self._remedies.get(self.cause)   # a layout or a setting the method names (``StepLimit.remedy``)
             raise SimulationError(f"{what}. {remedy}" if remedy else
                                   f"{what}: the model has a mode too fast to integrate explicitly (check the masses, "
                                   "inertias and line stiffnesses), or use --method full --integrator implicit", t)
@@ -218,9 +324,9 @@ class AdaptiveSteps:
         sums: dict = {}
         for system in self.model.systems:
             stiffness, damping = self._constants[system.name]
-            tau = self.method.relaxation_for_step(step, system)
-            if tau > 0.0:
-                damping = relaxed_damping(stiffness, damping, tau)
+            tau = self.method.relaxation(step, system)
+            if tau > 0.0:   # the lines as the method damps them at that step
+                stiffness, damping = line_constants(self.method.relaxed(system, tau))
             for line, k, c in zip(system.lines, stiffness, damping):
                 if line.body in self.model.massless:   # a reduced canopy: its own limit (``_confluence_limits``)
                     continue
@@ -255,28 +361,25 @@ class AdaptiveSteps:
                 for body, rates in stiff.items()]
 
     def _confluence_limits(self, step: float, only=None) -> list:
-        """Each confluence's limit (or ``only``'s) with its lines as the method relaxes them at ``step`` (s), kept per
-        system and relaxation until the next check of the caps; a reduced canopy's at ``step``."""
+        """(limit, cause) of each confluence (or ``only``'s) with its lines as the method relaxes them at ``step``
+        (s), kept per system and relaxation until the next check of the caps, and of the method's own states at
+        ``step`` (``Method.state_limits``)."""
         limits = []
         for system in self.model.systems if only is None else [only]:
             confluence = self.model.confluences.get(system.name)
             if confluence is None:
                 continue
-            key = (system.name, self.method.relaxation_for_step(step, system))
+            key = (system.name, self.method.relaxation(step, system))
             if key not in self._limits:
                 relaxed = self.method.relaxed(system, key[1])
-                self._limits[key] = self.method.step_limit(relaxed, self.model.attach_positions(system),
-                                                           confluence.state_position())
-            found = self._limits[key]
-            if found is not None and math.isfinite(found.step):
-                what = f"the {system.name} confluence ({self.method.name} method, mode {found.eigenvalue:.4g} 1/s)"
-                limits.append((found.step, what))
-                if found.cause:
-                    self._remedies[what] = found.cause
-            canopy = getattr(confluence, "step_limit", None)
-            limit = canopy(step) if canopy is not None else None
-            if limit is not None:
-                limits.append((limit, f"the {system.name} system's reduced canopy"))
+                self._limits[key] = self.method.confluence_limits(relaxed, self.model.attach_positions(system),
+                                                                  confluence.state_position())
+            for found in self._limits[key]:
+                if math.isfinite(found.value):
+                    limits.append((found.value, found.cause))
+                    if found.remedy:
+                        self._remedies[found.cause] = found.remedy
+            limits += [(found.value, found.cause) for found in self.method.state_limits(self.model, system, step)]
         return limits
 
     def _drag_damping(self) -> dict:

@@ -45,7 +45,7 @@ def test_ruff_finds_nothing():
 
 @pytest.mark.parametrize("module, violation", [
     ("physics/lines.py", "from ..engine import model  # noqa\n"),          # physics reaching up to the engine
-    ("engine/model.py", "from ..run import simulation  # noqa\n"),        # the engine reaching up
+    ("engine/phase_model.py", "from ..run import simulation  # noqa\n"),        # the engine reaching up
     ("run/simulation.py", "import exudyn  # noqa\n"),                      # Exudyn outside the engine
 ])
 def test_a_crossed_layer_breaks_the_contracts(tmp_path, module, violation):
@@ -135,24 +135,71 @@ def test_no_module_exceeds_its_limit():
     assert not [entry for entry in long if entry[0] > MAX_MODULE_LINES], long[-3:]
 
 
-PACKED_READ = re.compile(r"row\[[0-9]+(:[0-9]+)?\]|memory\[[0-9]+\]")
-LAYOUT_HOMES = {"pchute_exudyn/physics/kinematics.py", "pchute_exudyn/physics/singular_perturbation.py",
-                "pchute_exudyn/physics/sp_stepping.py", "pchute_exudyn/physics/aerodynamics.py"}
-"""The modules that define a packed layout (the body state row, SP's memory, the aerodynamics row): the only
-places a position in one may be written as a number."""
+PACKED_READ = re.compile(r"\b(parameters|params|memory|record|records|row|layout)\[[0-9]+\]")
+"""A packed layout's position written as a number (issue 54's check): every layout names its positions where it is
+defined (``physics.atmosphere.KIND_AT``, ``physics.air.AIR_RATE``, ``methods.sp.memory``, ...) and is read by name."""
 INTEGRATOR_COMPARISON = re.compile(r"""(==|!=)\s*["'](rk4|implicit)["']|["'](rk4|implicit)["']\s*(==|!=)""")
 
 
-def _lines_matching(pattern):
-    for path in sorted(PACKAGE.rglob("*.py")):
+def _lines_matching(pattern, package=PACKAGE):
+    for path in sorted(package.rglob("*.py")):
         for number, line in enumerate(path.read_text().splitlines(), start=1):
             if pattern.search(line):
-                yield str(path.relative_to(ROOT)), f"{path.relative_to(ROOT)}:{number}: {line.strip()}"
+                yield str(path.relative_to(package.parent)), f"{path.relative_to(package.parent)}:{number}: {line.strip()}"
 
 
-def test_packed_layouts_are_read_by_name_outside_their_home():
-    found = [text for path, text in _lines_matching(PACKED_READ) if path not in LAYOUT_HOMES]
+def test_packed_layouts_are_read_by_name():
+    found = [text for _, text in _lines_matching(PACKED_READ)]
     assert not found, "positions of a packed layout written as numbers:\n" + "\n".join(found)
+
+
+def test_a_planted_packed_read_by_number_is_caught(tmp_path):
+    shutil.copytree(PACKAGE, tmp_path / "pchute_exudyn", ignore=shutil.ignore_patterns("__pycache__", "_compiled"))
+    target = tmp_path / "pchute_exudyn" / "physics" / "air.py"
+    target.write_text(target.read_text() + "\n\ndef planted(parameters):\n    return parameters[12]\n")
+    found = [text for _, text in _lines_matching(PACKED_READ, tmp_path / "pchute_exudyn")]
+    assert found == ["pchute_exudyn/physics/air.py:" + str(len(target.read_text().splitlines()))
+                     + ": return parameters[12]"], found
+
+
+def _names_used(path: Path) -> set:
+    """Every name a module reads, imports or defines (identifiers and attribute names)."""
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Name):
+            names.add(node.id)
+        elif isinstance(node, ast.Attribute):
+            names.add(node.attr)
+        elif isinstance(node, ast.alias):
+            names.add(node.name.rsplit(".", 1)[-1])
+    return names
+
+
+def _memory_offsets() -> set:
+    """The positions SP's named memory defines (``methods/sp/memory.py``: its integer constants)."""
+    from pchute_exudyn.methods.sp import memory
+
+    return {name for name, value in vars(memory).items() if name.isupper() and type(value) is int}
+
+
+def test_no_module_outside_sps_package_names_its_memory_offsets():
+    offsets = _memory_offsets()
+    assert {"MEMORY_POSITION", "WORK_TENSION", "RECORD_TENSIONS", "LAYOUT_DAMPING"} <= offsets
+    sp = PACKAGE / "methods" / "sp"
+    found = sorted(f"{path.relative_to(ROOT)}: {', '.join(sorted(_names_used(path) & offsets))}"
+                   for path in PACKAGE.rglob("*.py") if sp not in path.parents and _names_used(path) & offsets)
+    assert not found, "SP's memory offsets named outside its package:\n" + "\n".join(found)
+
+
+def test_inside_sps_package_only_the_kernels_and_memory_index_it():
+    """The runtime half of SP's package (the confluence, the reduced canopy, the method) reads the memory by name
+    (``memory.Memory``, ``Work``, ``Record``), never by an offset constant."""
+    offsets = _memory_offsets() - {"BRIDLE_ROW", "RISER_ROW"}   # a reduced canopy's two lines, by name
+    kernels = {"memory.py", "balance.py", "stepping.py", "canopy_kernels.py"}
+    found = sorted(f"{path.name}: {', '.join(sorted(_names_used(path) & offsets))}"
+                   for path in (PACKAGE / "methods" / "sp").glob("*.py")
+                   if path.name not in kernels and _names_used(path) & offsets)
+    assert not found, found
 
 
 def test_integrators_are_compared_only_in_their_table():

@@ -11,7 +11,7 @@ from pchute_exudyn.cli import main
 from pchute_exudyn.engine.linearized import exudyn_eigenvalues
 from pchute_exudyn.engine.state import initial_point
 from pchute_exudyn.physics.analytic import analytic_response
-from pchute_exudyn.physics.equilibrium import equilibrium_point
+from pchute_exudyn.physics.equilibrium_point import equilibrium_point
 from pchute_exudyn.physics.linearization import linearize, modes
 from pchute_exudyn.run.phases import initial_phase
 from tests.helpers import MER, ROOT

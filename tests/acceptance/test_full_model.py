@@ -5,7 +5,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import pchute_exudyn as pc
-from pchute_exudyn.engine.full import build_full_model
+from pchute_exudyn.engine.full_model import build_full_model
 from pchute_exudyn.engine.solver import integrate
 from pchute_exudyn.engine.state import initial_confluence_state, initial_point
 from pchute_exudyn.methods.full import FullMass
@@ -151,8 +151,8 @@ def test_unstable_rk4_step_is_refused_before_it_spoils_results():
     case = pc.load_case(MER / "case1.toml")
     system = case.systems["main"]
     attach = [initial_point(case, line.body, line.point) for line in system.lines]
-    limit = FullMass().step_limit(system, attach, initial_confluence_state(case, system).position)
-    assert 4.2e-4 < limit.step < 4.3e-4                       # fastest mode -6511 1/s at free length
+    [limit] = FullMass().confluence_limits(system, attach, initial_confluence_state(case, system).position)
+    assert 4.2e-4 < limit.value < 4.3e-4                      # fastest mode -6511 1/s at free length
     with pytest.raises(pc.SimulationError, match=r"exceeds the stability limit .* t = 0\.000 s"):
         pc.simulate(case, "full", "rk4", 1e-3, 5.0)
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.engine.full import build_full_model
+from pchute_exudyn.engine.full_model import build_full_model
 from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.run.phases import boundaries, deploy, initial_states, next_phase
 from tests.helpers import ROOT

@@ -11,8 +11,7 @@ PACKED = {"end_of_step", "end", "memory", "layout", "work", "record", "records",
           "solution"}
 """Names that hold a packed record in the package (a list of records named so elsewhere is not subscripted by a
 number either)."""
-HOMES = {"physics/kinematics.py", "physics/singular_perturbation.py", "physics/sp_stepping.py",
-         "physics/aerodynamics.py", "physics/reduced_canopy.py", "physics/lines.py"}
+HOMES = {"physics/kinematics.py", "methods/sp/memory.py", "physics/aerodynamics.py", "physics/lines.py"}
 """The modules that define the packed layouts: the only places a position in one may be written as a number."""
 
 

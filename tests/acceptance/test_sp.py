@@ -116,11 +116,11 @@ def test_sp_order1_passes_its_acceleration_to_the_next_phase(mer_case1):
     _, states = items.end_state()
     np.testing.assert_allclose(states["main"].acceleration, (velocity[-1] - velocity[-2]) / 1e-2, rtol=1e-9)
     assert abs(states["main"].acceleration[2]) > 0.1       # still decelerating at 3 s
-    from pchute_exudyn.physics.sp_stepping import _mass_term
+    from pchute_exudyn.methods.sp.stepping import _mass_term
     nxt = build_sp_model(mer_case1, next_phase(mer_case1, 3.0, 6.0, *items.end_state()), SPOptions(order=1))
     sp = nxt.confluences["main"]
-    np.testing.assert_array_equal(sp.memory[12], states["main"].acceleration)   # carried into the next phase
-    rate, *weight = _mass_term(sp.memory, 3.0, *states["main"].position.tolist())
+    np.testing.assert_array_equal(sp.memory.acceleration, states["main"].acceleration)   # carried into the phase
+    rate, *weight = _mass_term(sp.memory.array, 3.0, *states["main"].position.tolist())
     g = mer_case1.start.gravity_scalar(*states["main"].position.tolist())
     np.testing.assert_allclose(weight, 0.1539 * (np.array(g) - states["main"].acceleration), rtol=1e-12)
     assert rate == 0.0

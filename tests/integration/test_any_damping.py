@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from pchute_exudyn import load_case, simulate
-from pchute_exudyn.physics.equilibrium import equilibrium_point
+from pchute_exudyn.physics.equilibrium_point import equilibrium_point
 from tests.helpers import ROOT
 
 SIMPLE = ROOT / "cases" / "simple" / "simple.toml"

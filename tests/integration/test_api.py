@@ -8,7 +8,7 @@ import pytest
 
 import pchute_exudyn as pc
 from pchute_exudyn.cli import main
-from pchute_exudyn.physics.step_control import StepRule
+from pchute_exudyn.physics.step_rule import StepRule
 from tests.helpers import MER
 
 TWIN = """

@@ -294,7 +294,7 @@ def test_deferring_the_end_of_step_work_to_the_next_stage_changes_nothing(monkey
 @pytest.mark.parametrize("method", ["sp", "equilibrium"])
 def test_channels_sampled_together_equal_the_channels_read_one_by_one(monkeypatch, method):
     """The sampled channel groups (the stage's body rows, the SP record) against every channel's own reader."""
-    from pchute_exudyn.engine.model import Model
+    from pchute_exudyn.engine.phase_model import Model
 
     case = pc.load_case(ROOT / "cases" / "cev_pa1.toml")
     grouped = pc.simulate(case, method, "rk4", 1e-2, 12.0).columns

@@ -78,7 +78,7 @@ def test_every_recorded_signature_names_an_existing_kernel_with_its_argument_cou
 def test_every_kernel_call_of_every_method_runs_compiled_code():
     """Small models of every method, a cluster, a load-elongation line, winds and turbulence, the rocket's reduced
     canopies at adaptive steps, with outputs and summaries: no call fell back to the Python form (the signatures cover what the package calls)."""
-    from pchute_exudyn.kernels.record import BRIDLE, CASE, CLUSTER
+    from pchute_exudyn.tools.record_signatures import BRIDLE, CASE, CLUSTER
 
     compiled.FALLBACKS.clear()
     base = CASE.replace("{bridles}", "".join(BRIDLE.format(name=n) for n in "abc"))

@@ -15,7 +15,7 @@ from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.registries.methods import METHODS
 from pchute_exudyn.results.compare import compare_results, descent_metrics
 from pchute_exudyn.results.csv_dialects import parse_column_map, read_csv_columns
-from pchute_exudyn.run.simulation import stability_step
+from pchute_exudyn.run.step_control import stability_step
 from tests.helpers import ROOT
 
 ROCKETPY = ROOT / "validation" / "rocketpy" / "descent.csv"
@@ -55,7 +55,7 @@ def test_new_case_runs_with_each_method_as_written(payload, method, integrator, 
     printed = capsys.readouterr().out
     case = pc.load_case(payload[0])
     step, limit = stability_step(case, METHODS[method](), integrator)
-    if integrator == "rk4":   # the case sets no step: adaptive steps (physics.step_control)
+    if integrator == "rk4":   # the case sets no step: adaptive steps (physics.step_rule)
         assert f"{method}/rk4 adaptive steps " in printed
     else:
         assert f"step {step:g} s (none set: from the stability limit {limit:.3g} s)" in printed
@@ -164,7 +164,7 @@ def test_stability_steps_stay_below_the_limit_at_the_start(name):
             if system.deploy_time is None:
                 attach = np.array([initial_point(case, line.body, line.point) for line in system.lines])
                 where = initial_confluence_state(case, system).position
-                assert step <= 0.5 * method.step_limit(system, attach, where).step
+                assert step <= 0.5 * min(limit.value for limit in method.confluence_limits(system, attach, where))
     if name.startswith("mer"):
         assert stability_step(case, METHODS["sp"](), "rk4")[0] == 1e-2
         assert stability_step(case, METHODS["full"](), "rk4")[0] == 5e-5

@@ -312,7 +312,7 @@ def test_a_run_leaves_no_engine_model_behind():
     every run (it grew by 7 MB a PA1 run)."""
     import gc
 
-    from pchute_exudyn.engine.model import Model
+    from pchute_exudyn.engine.phase_model import Model
 
     def models() -> set:
         gc.collect()

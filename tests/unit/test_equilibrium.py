@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from pchute_exudyn.physics.analytic import analytic_response
-from pchute_exudyn.physics.equilibrium import (
+from pchute_exudyn.physics.equilibrium_point import (
     NoEquilibriumError,
     equilibrium_point,
     equilibrium_velocity,

@@ -13,11 +13,11 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.cli import main
 from pchute_exudyn.engine.bodies import add_bodies
-from pchute_exudyn.engine.model import Model
+from pchute_exudyn.engine.phase_model import Model
 from pchute_exudyn.engine.reduced import ReducedConfluence
 from pchute_exudyn.engine.state import initial_point
 from pchute_exudyn.methods import Method
-from pchute_exudyn.physics.equilibrium import equilibrium_point
+from pchute_exudyn.physics.equilibrium_point import equilibrium_point
 from pchute_exudyn.physics.lines import line_states, line_tensions
 from pchute_exudyn.registries.methods import METHODS
 from tests.helpers import MER

@@ -5,13 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.physics.singular_perturbation import (
-    MassTerm,
-    condition_number,
-    confluence_velocity,
-    minimum_damping,
-    symmetric_eigenvalues,
-)
+from pchute_exudyn.methods.sp.balance import MassTerm, confluence_velocity
+from pchute_exudyn.physics.conditioning import condition_number, minimum_damping
+from pchute_exudyn.physics.lines import LineLaw
+from pchute_exudyn.physics.small_linalg import symmetric_eigenvalues
 
 # MER geometry (mer.md, exactly symmetric) about a confluence at the origin, body x = down = -z here
 _DROP = -math.sqrt(0.7152 ** 2 - 0.6 ** 2)
@@ -20,6 +17,7 @@ RISER = np.array([[0.0, 0.0, 1.832]])
 L0 = np.array([0.7152, 0.7152, 0.7152, 1.832])
 K = np.array([47000.0, 47000.0, 47000.0, 60000.0])
 C = np.array([470.0, 470.0, 470.0, 600.0])
+LAWS = [LineLaw(*constants) for constants in zip(L0, K, C)]
 
 
 def geometry(stretch=(0.01, 0.01, 0.01, 0.02)):
@@ -42,7 +40,7 @@ def numpy_reference(points, velocities, v0, c_c, taut):
 
 
 def solve(points, velocities, v0=(0.0, 0.0, 0.0), **kw):
-    return confluence_velocity(points.tolist(), velocities.tolist(), (0.0, 0.0, 0.0), v0, L0, K, C, **kw)
+    return confluence_velocity(points.tolist(), velocities.tolist(), (0.0, 0.0, 0.0), v0, LAWS, **kw)
 
 
 def test_all_taut_closed_form_on_the_symmetric_geometry():
@@ -118,11 +116,11 @@ def test_rank_one_alpha_is_detected_and_conditioned():
     assert sol.velocity[0] == pytest.approx(0.0, abs=1e-12)   # no lateral force: keeps the previous lateral velocity
     # all taut but only collinear lines (a riser and two bridles straight below): rank 1, conditioned too
     three = confluence_velocity([(0, 0, 1.1), (0, 0, -1.1), (0, 0, -1.1)], np.zeros((3, 3)), (0, 0, 0), (1.0, 0, 0),
-                                [1.0, 1.0, 1.0], [1000.0, 1000.0, 1000.0], [10.0, 10.0, 10.0])
+                                [LineLaw(1.0, 1000.0, 10.0)] * 3)
     assert all(three.taut) and three.damping > 0 and three.velocity[0] == pytest.approx(1.0)
     # two lines are a pair in series (solve_series): no alpha, the confluence on the line between the attach points
     two = confluence_velocity([(0, 0, 1.1), (0, 0, -1.1)], [(0, 0, 0), (0, 0, 0)], (0, 0, 0), (1.0, 0, 0),
-                              [1.0, 1.0], [1000.0, 1000.0], [10.0, 10.0])
+                              [LineLaw(1.0, 1000.0, 10.0)] * 2)
     assert all(two.taut) and two.damping == 0.0 and two.velocity == pytest.approx((0.0, 0.0, 0.0), abs=1e-15)
     assert two.tensions == pytest.approx([100.0, 100.0], rel=1e-12)   # 0.2 m stretch on 2000 N/m in series
 

@@ -17,7 +17,7 @@ from exudyn.utilities import CreateSymbolicUserFunction
 from ..case.model import Case
 from ..physics.lines import Arithmetic, LineLaw
 from .bodies import PointConfluence, add_bodies
-from .model import CURRENT, OV, Model
+from .phase_model import CURRENT, OV, Model
 from .state import Phase, TensionChannel
 
 esym = exu.symbolic
@@ -87,3 +87,34 @@ def build_full_model(case: Case, phase: Phase, symbolic_line_law: bool = True) -
                 visualization=eii.VObjectConnectorSpringDamper(show=True, drawSize=0.05, color=LINE_COLOUR)))
             model.add_channel(TensionChannel(system.name, line.name), _force_reader(mbs, connector))
     return model.assemble()
+
+
+def line_connector_force(law: LineLaw, lengths, rates, symbolic: bool = True) -> list:
+    """The tension (N) the engine computes with the full-mass model's user function of ``law`` (``_line_law``) in a
+    spring-damper from the ground to a point mass, at each length (m) and rate of lengthening (m/s): the law as the
+    engine evaluates it, for checking that form against the record (``tests/unit/test_line_law.py``)."""
+    container = exu.SystemContainer()
+    mbs = container.AddSystem()
+    ground = mbs.AddObject(eii.ObjectGround())
+    node = mbs.AddNode(eii.NodePoint(referenceCoordinates=[0.0, 0.0, 0.0]))
+    mbs.AddObject(eii.MassPoint(nodeNumber=node, mass=1.0))
+    markers = [mbs.AddMarker(eii.MarkerBodyPosition(bodyNumber=ground, localPosition=[0.0, 0.0, 0.0])),
+               mbs.AddMarker(eii.MarkerNodePosition(nodeNumber=node))]
+    kept: list = []
+
+    class Holder:   # what ``_line_law`` needs of a model: the system and somewhere to keep the function
+        def keep_alive(self, item):
+            kept.append(item)
+    holder = Holder()
+    holder.mbs = mbs
+    connector = mbs.AddObject(eii.ObjectConnectorSpringDamper(
+        markerNumbers=markers, referenceLength=law.free_length, stiffness=law.stiffness, damping=law.damping,
+        springForceUserFunction=_line_law(holder, law, {}, symbolic)))
+    mbs.Assemble()
+    forces = []
+    for length, rate in zip(lengths, rates):
+        mbs.systemData.SetODE2Coordinates([length, 0.0, 0.0], CURRENT)
+        mbs.systemData.SetODE2Coordinates_t([rate, 0.0, 0.0], CURRENT)
+        forces.append(float(mbs.GetObjectOutput(connector, OV.Force, CURRENT)[0]))
+    container.Reset()
+    return forces

@@ -1,6 +1,6 @@
 """Record the argument types the package calls each kernel with from Python: a developer tool.
 
-``python -m pchute_exudyn.kernels.record [CASE ...]`` runs small models of every method (two bodies, a
+``python -m pchute_exudyn.tools.record_signatures [CASE ...]`` runs small models of every method (two bodies, a
 load-elongation line, SP of either order and slack rule, equilibrium point, full mass RK4 and implicit, a cluster),
 the rocket case (reduced canopies at adaptive steps), then each CASE file with each method, and formats a table
 (``number_text``), with numba compiling each kernel on first call, and adds the argument types each kernel was called
@@ -18,13 +18,13 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .build import describe_type, in_jit_process, numba_type
-from .selection import KERNEL_MODULES, SIGNATURES, VARIABLE
+from ..kernels.build import describe_type, in_jit_process, numba_type
+from ..kernels.selection import KERNEL_MODULES, SIGNATURES, VARIABLE
 
 ROCKET = Path(__file__).resolve().parents[2] / "cases" / "rocket" / "dual_deploy.toml"
 """A shipped case with reduced canopies, run whole with its own step control (its kernels are recorded too)."""
 
-COMMAND = "pchute_exudyn.kernels.record"
+COMMAND = "pchute_exudyn.tools.record_signatures"
 """This module as a command (``python -m``), run again in the jit form."""
 
 CASE = """
@@ -111,7 +111,8 @@ def record(cases=()) -> dict:
     import numpy as np
 
     import pchute_exudyn as pc
-    from pchute_exudyn.physics.singular_perturbation import confluence_velocity
+    from pchute_exudyn.methods.sp.balance import confluence_velocity
+    from pchute_exudyn.physics.lines import LineLaw
     from pchute_exudyn.results.number_text import table_text
 
     with tempfile.TemporaryDirectory() as folder:
@@ -121,9 +122,9 @@ def record(cases=()) -> dict:
         every_method(pc.load_case(path))
         path.write_text(base + CLUSTER)
         every_method(pc.load_case(path), variants=False)
-    pc.simulate(pc.load_case(ROCKET), "sp")   # reduced canopies (physics.reduced_canopy), adaptive steps, triggers
-    confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [1.0], [1e4],
-                        [1e2])
+    pc.simulate(pc.load_case(ROCKET), "sp")   # reduced canopies (methods.sp.canopy_kernels), adaptive steps, triggers
+    confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0),
+                        [LineLaw(1.0, 1e4, 1e2)])
     table_text(["a", "b"], [np.zeros(2), np.ones(2)])
     for path in cases:
         case = pc.load_case(path)
@@ -138,7 +139,7 @@ def every_method(case, duration: float | None = 0.05, variants: bool = True) -> 
     that fixed step (full mass RK4 at its limit would take hours on a whole descent)."""
     import pchute_exudyn as pc
     from pchute_exudyn.registries.methods import METHODS
-    from pchute_exudyn.run.simulation import stability_step
+    from pchute_exudyn.run.step_control import stability_step
 
     for name, method_class in METHODS.items():
         for options in method_class.record_variants if variants else ({},):

@@ -9,12 +9,9 @@ keeps the solve well-posed while a line is slack::
 
 n is the unit vector from the confluence to the attach point i, v0 the confluence velocity at the end of the
 previous step. C_c = 0 while every line is taut; while any line is slack (or alpha is singular, e.g. with two taut
-lines along one direction), C_c is the smallest value >= 0 for which the condition number
-kappa = sqrt(trace(alpha^2) trace(alpha^-2)) (Eq. 3.13) is at most kappa_max. kappa falls monotonically with C_c:
-with x_k = mu_k + C_c (mu_k the eigenvalues of sum C n n^T),
-d/dC_c [sum x^2 sum x^-2] = 2 (sum x sum x^-2 - sum x^2 sum x^-3) <= 0, so the smallest C_c is found by a bracketed
-Newton iteration on kappa^2 = kappa_max^2 (bracket [0, 3 mu_max / (kappa_max - 3)], from kappa <= 3 (1 + mu_max/C_c)).
-The Frobenius condition number of a 3x3 matrix is at least 3, so kappa_max must exceed 3.
+lines along one direction), C_c is the smallest value >= 0 for which the condition number of alpha (Eq. 3.13) is at
+most kappa_max (``physics.conditioning``). The line law is ``physics.lines``'s (``LineLaw``): T_el, the pull and the
+clip come from its kernels.
 
 Slack rules: ``stretch`` (the thesis): taut means L > L0. ``force`` (active set): a line counts as taut when it is
 stretched and its linear-law tension K (L - L0) + C (v_i - v) . n at the solved v is >= 0. Starting from the stretched
@@ -46,18 +43,37 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .compiled import kernel
-from .kinematics import LAYOUT_DAMPING, LAYOUT_FREE_LENGTH, LAYOUT_TABLE, POINT_COLUMNS, add_point_forces, point_motions
-from .lines import line_elastic, line_pull, line_tension, pack_tables, series_pair
-from .small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
+from ...physics.compiled import kernel
+from ...physics.conditioning import SINGULAR, minimum_damping_of
+from ...physics.kinematics import POINT_COLUMNS, add_point_forces, point_motions
+from ...physics.lines import (
+    LINE_DAMPING,
+    LINE_FREE_LENGTH,
+    LINE_STIFFNESS,
+    line_elastic,
+    line_pull,
+    line_tension,
+    pack_lines,
+    solve_series,
+)
+from ...physics.small_linalg import solve_symmetric_kernel, symmetric_eigenvalues
+from .memory import (
+    LAYOUT_DAMPING,
+    LAYOUT_FREE_LENGTH,
+    LAYOUT_TABLE,
+    WORK_ATTACH_POSITION,
+    WORK_ATTACH_VELOCITY,
+    WORK_DIRECTION,
+    WORK_FORCE,
+    WORK_FRACTION,
+    WORK_SCRATCH,
+    WORK_TAUT,
+    WORK_TENSION,
+)
 
 SLACK_RULES = ("stretch", "force")
 SP_ORDERS = (0, 1)
 """Order in the confluence mass: 0, the massless balance of Eq. 3.10 (the thesis); 1, the mass kept to first order."""
-
-SINGULAR = 1e-12
-"""Relative singularity test: alpha counts as singular when its condition number exceeds 1/SINGULAR (its smallest
-eigenvalue is below about SINGULAR times its largest) or its determinant is not positive."""
 
 def relaxed_damping(stiffness, damping, relaxation_time: float) -> list:
     """Each line's damping (N s/m) raised to at least tau K (K in N/m, tau = ``relaxation_time`` in s): the
@@ -118,64 +134,6 @@ class SPSolution(NamedTuple):
 
 
 @kernel
-def _condition_number(m0, m1, m2, damping):
-    x0, x1, x2 = m0 + damping, m1 + damping, m2 + damping
-    if min(x0, x1, x2) <= 0.0:
-        return math.inf
-    return math.sqrt((x0 * x0 + x1 * x1 + x2 * x2) * (1.0 / (x0 * x0) + 1.0 / (x1 * x1) + 1.0 / (x2 * x2)))
-
-
-def condition_number(eigenvalues, damping: float = 0.0) -> float:
-    """kappa = sqrt(sum x^2 sum x^-2) (Eq. 3.13) for alpha with eigenvalues ``eigenvalues`` + ``damping``."""
-    return _condition_number(*(float(mu) for mu in eigenvalues), float(damping))
-
-
-@kernel
-def _minimum_damping(m0, m1, m2, kappa_max):
-    """``minimum_damping`` for three eigenvalues; -1 when alpha is zero."""
-    m0, m1, m2 = max(m0, 0.0), max(m1, 0.0), max(m2, 0.0)
-    mu_max = max(m0, m1, m2)
-    if mu_max <= 0.0:
-        return -1.0
-    if min(m0, m1, m2) > SINGULAR * mu_max and _condition_number(m0, m1, m2, 0.0) <= kappa_max:
-        return 0.0
-    target = kappa_max * kappa_max
-    lo, hi = 0.0, 3.0 * mu_max / (kappa_max - 3.0)
-    c = hi
-    for _ in range(100):
-        x0, x1, x2 = m0 + c, m1 + c, m2 + c
-        s1 = x0 + x1 + x2
-        s2 = x0 * x0 + x1 * x1 + x2 * x2
-        sm2 = 1.0 / (x0 * x0) + 1.0 / (x1 * x1) + 1.0 / (x2 * x2)
-        sm3 = 1.0 / (x0 * x0 * x0) + 1.0 / (x1 * x1 * x1) + 1.0 / (x2 * x2 * x2)
-        f = s2 * sm2 - target
-        if f > 0.0:
-            lo = c
-        else:
-            hi = c
-        slope = 2.0 * (s1 * sm2 - s2 * sm3)
-        newton = c - f / slope if slope < 0.0 else 0.5 * (lo + hi)
-        # kappa^2 is convex and falling in C_c: Newton from the upper bound walks down to the root from the
-        # feasible side (f <= 0), so a negligible step there is convergence
-        if f <= 0.0 and abs(newton - c) <= 1e-13 * c or hi - lo <= 1e-13 * hi:
-            break
-        c = newton if lo < newton < hi else 0.5 * (lo + hi)
-    return hi  # the bracket's upper end: kappa(hi) <= kappa_max holds exactly
-
-
-def minimum_damping(eigenvalues, kappa_max: float) -> float:
-    """Smallest C_c >= 0 with condition_number(eigenvalues, C_c) <= kappa_max (N s/m); three eigenvalues >= 0.
-
-    Exact for the given eigenvalues; with eigenvalues from ``symmetric_eigenvalues`` of a (near-)singular alpha,
-    kappa recomputed from alpha itself can exceed kappa_max by a few parts in 1e9 (eigenvalue round-off).
-    """
-    damping = _minimum_damping(*(float(mu) for mu in eigenvalues), float(kappa_max))
-    if damping < 0.0:
-        raise ValueError("alpha is zero: no taut line has damping")
-    return damping
-
-
-@kernel
 def _assemble(attach, attach_velocity, cx, cy, cz, lines, tables, table_counts, active, forced, rate, b0x, b0y, b0z,
               geometry):
     """One pass over the lines: their geometry into ``geometry`` (rows nx, ny, nz, stretch, attach velocity along n,
@@ -189,7 +147,7 @@ def _assemble(attach, attach_velocity, cx, cy, cz, lines, tables, table_counts, 
         dx, dy, dz = attach[i, 0] - cx, attach[i, 1] - cy, attach[i, 2] - cz
         length = math.sqrt(dx * dx + dy * dy + dz * dz)
         nx, ny, nz = dx / length, dy / length, dz / length
-        l0, k, c = lines[i, 0], lines[i, 1], lines[i, 2]
+        l0, k, c = lines[i, LINE_FREE_LENGTH], lines[i, LINE_STIFFNESS], lines[i, LINE_DAMPING]
         stretch = length - l0
         vn = attach_velocity[i, 0] * nx + attach_velocity[i, 1] * ny + attach_velocity[i, 2] * nz
         elastic = line_elastic(tables[i], int(table_counts[i]), stretch, l0, k)   # 0 when slack: never read then
@@ -225,7 +183,7 @@ def _solve_balance(alpha_b, all_active, any_active, rate, v0x, v0y, v0z, kappa_m
         if kappa >= 0.0 and kappa < 1.0 / SINGULAR:  # every line taut and alpha regular: C_c = 0
             return x0, x1, x2, 0.0, kappa
     m0, m1, m2 = symmetric_eigenvalues(a00, a01, a02, a11, a12, a22)
-    c_c = _minimum_damping(m0, m1, m2, kappa_max)
+    c_c = minimum_damping_of(m0, m1, m2, kappa_max)
     x0, x1, x2, kappa = solve_symmetric_kernel(a00 + c_c, a01, a02, a11 + c_c, a12, a22 + c_c,
                                                bx + c_c * v0x, by + c_c * v0y, bz + c_c * v0z)
     return x0, x1, x2, c_c, kappa
@@ -248,7 +206,7 @@ def _next_active_set(geometry, lines, active, velocity, visited, seen):
             geometry[i, 4], geometry[i, 5]
         if stretch <= 0.0:
             continue
-        linear = line_pull(elastic, lines[i, 2], vn - wx * nx - wy * ny - wz * nz)
+        linear = line_pull(elastic, lines[i, LINE_DAMPING], vn - wx * nx - wy * ny - wz * nz)
         if active[i] and linear < 0.0:
             drop |= 1 << i
         elif not active[i] and linear > 0.0:
@@ -278,42 +236,6 @@ def _mask(active):
         if active[i]:
             mask |= 1 << i
     return mask
-
-
-@kernel
-def solve_series(attach, attach_velocity, lines, tables, table_counts, tensions, directions, active, wx, wy, wz):
-    """Two lines in series through the massless confluence (docs/models/step_control.md, "Lines in series"): the
-    pair acts as one tension-only line between their attach points A (line 0) and B (line 1), ``lines.series_pair``,
-    and the confluence sits on AB where the lines' elastic stretches put it, moving with that point. (wx, wy, wz) is
-    the confluence's weight (N; 0 massless): its component along AB makes line 0's tension exceed line 1's; the
-    caller shares the rest between A and B. Writes both tensions (N), the unit vectors n from the confluence to each
-    attach point (-u and u, u from A to B) and the lines counted taut; returns (vx, vy, vz) of the confluence (m/s)
-    and its fraction (-) of the way from A to B.
-
-    The massless balance T_1 n_1 + T_2 n_2 = 0 has no solution off AB with a tension: the confluence has no
-    stiffness across the pair, so Eq. 3.10's alpha is singular there and a state of its own would only follow the
-    line with a fast, artificial mode. In the massless limit this is exact."""
-    ax, ay, az = attach[0, 0], attach[0, 1], attach[0, 2]
-    dx, dy, dz = attach[1, 0] - ax, attach[1, 1] - ay, attach[1, 2] - az
-    length = math.sqrt(dx * dx + dy * dy + dz * dz)
-    ux, uy, uz = dx / length, dy / length, dz / length
-    rx = attach_velocity[1, 0] - attach_velocity[0, 0]
-    ry = attach_velocity[1, 1] - attach_velocity[0, 1]
-    rz = attach_velocity[1, 2] - attach_velocity[0, 2]
-    length_rate = rx * ux + ry * uy + rz * uz
-    first, second, stretch, stretch_rate = series_pair(lines, tables, table_counts, length, length_rate,
-                                                       wx * ux + wy * uy + wz * uz)
-    along = lines[0, 0] + stretch        # from A to the confluence (m)
-    tensions[0], tensions[1] = first, second
-    for i in range(2):
-        active[i] = tensions[i] > 0.0
-        sign = -1.0 if i == 0 else 1.0
-        directions[i, 0], directions[i, 1], directions[i, 2] = sign * ux, sign * uy, sign * uz
-    turn = along / length                # the confluence turns with u: (r - (r.u) u) along / length
-    vx = attach_velocity[0, 0] + stretch_rate * ux + turn * (rx - length_rate * ux)
-    vy = attach_velocity[0, 1] + stretch_rate * uy + turn * (ry - length_rate * uy)
-    vz = attach_velocity[0, 2] + stretch_rate * uz + turn * (rz - length_rate * uz)
-    return vx, vy, vz, along / length
 
 
 @kernel
@@ -357,14 +279,13 @@ def solve_confluence(attach, attach_velocity, cx, cy, cz, v0x, v0y, v0z, lines, 
         nx, ny, nz, stretch, vn, elastic = geometry[i, 0], geometry[i, 1], geometry[i, 2], geometry[i, 3], \
             geometry[i, 4], geometry[i, 5]
         directions[i, 0], directions[i, 1], directions[i, 2] = nx, ny, nz
-        tensions[i] = line_tension(stretch, elastic, lines[i, 2], vn - vx * nx - vy * ny - vz * nz)
+        tensions[i] = line_tension(stretch, elastic, lines[i, LINE_DAMPING], vn - vx * nx - vy * ny - vz * nz)
     return vx, vy, vz, c_c, kappa
 
 
-def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity,
-                        free_length, stiffness, damping, kappa_max: float = 5.0,
-                        slack_rule: str = "stretch", mass_term: MassTerm | None = None,
-                        tables=None) -> SPSolution:
+def confluence_velocity(attach_position, attach_velocity, confluence_position, previous_velocity, laws,
+                        kappa_max: float = 5.0, slack_rule: str = "stretch",
+                        mass_term: MassTerm | None = None) -> SPSolution:
     """SP confluence velocity (Eq. 3.10) with the minimal confluence damping of Eq. 3.13 (``solve_confluence``
     for sequences of floats).
 
@@ -376,52 +297,35 @@ def confluence_velocity(attach_position, attach_velocity, confluence_position, p
         Confluence position (m).
     previous_velocity : (x, y, z)
         Confluence velocity at the end of the previous step, v0 (m/s).
-    free_length, stiffness, damping : sequence of float
-        L0 (m), K (N/m), C (N s/m) per line; every C must be > 0.
+    laws : sequence of LineLaw
+        The lines (``case.model.Line.law``); every C must be > 0.
     kappa_max : float
         Largest condition number accepted while a line is slack (> 3).
     slack_rule : {"stretch", "force"}
     mass_term : MassTerm, optional
         The confluence mass to first order (see the module docstring); None for the massless balance of Eq. 3.10.
-    tables : sequence of LoadElongation or None, optional
-        Per line, a load-elongation table whose tension replaces K (L - L0); None: every line linear.
 
     Returns
     -------
     SPSolution
     """
-    n = len(free_length)
+    n = len(laws)
     if mass_term is None:
         rate, b0 = 0.0, (0.0, 0.0, 0.0)
     else:
         rate, (rx, ry, rz), (gx, gy, gz) = mass_term
         b0 = (gx + rate * rx, gy + rate * ry, gz + rate * rz)
-    table_points, table_counts = pack_tables(tables if tables is not None else [None] * n)
+    constants, table_points, table_counts = pack_lines(laws)
     tensions, directions, active = np.empty(n), np.empty((n, 3)), np.zeros(n, np.bool_)
     cx, cy, cz = (float(x) for x in list(confluence_position)[:3])
     v0x, v0y, v0z = (float(x) for x in previous_velocity)
     vx, vy, vz, c_c, kappa = solve_confluence(
         np.asarray(attach_position, float).reshape(n, 3), np.asarray(attach_velocity, float).reshape(n, 3),
-        cx, cy, cz, v0x, v0y, v0z, np.column_stack([free_length, stiffness, damping]).astype(float), table_points,
+        cx, cy, cz, v0x, v0y, v0z, constants, table_points,
         table_counts, float(kappa_max), slack_rule == "force", float(rate), *(float(b) for b in b0), tensions,
         directions, active, np.empty((n, 6)))
     return SPSolution((vx, vy, vz), c_c, kappa, tuple(bool(a) for a in active), tensions.tolist(),
                       [tuple(d) for d in directions.tolist()])
-
-
-STAGE_COLUMNS = 21
-"""Columns of ``sp_stage``'s per-line work array: tension (N), n (3), taut (1 or 0), attach position (3, m) and
-velocity (3, m/s), the force on the body -T n (3, N), the solve's scratch (6), and the tension of the last
-end-of-step solve (N, column END_TENSION: ``sp_end_of_step``; a later stage's solve leaves it)."""
-(WORK_TENSION, WORK_DIRECTION, WORK_TAUT, WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_FORCE,
- WORK_SCRATCH) = 0, 1, 4, 5, 8, 11, 14
-"""Where each part of a work row starts (three columns each for n, the attach motion and the force; six of scratch)."""
-WORK_ELASTIC = WORK_SCRATCH + 5
-"""The solve's elastic tension K (L - L0) of each line (N; the last of its scratch columns)."""
-END_TENSION = 20
-WORK_COLUMNS = (WORK_TENSION, WORK_DIRECTION, WORK_TAUT, WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_FORCE,
-                WORK_SCRATCH)
-"""The work row's columns as one tuple, for kernels that fill it (``reduced_canopy.canopy_stage``)."""
 
 
 @kernel
@@ -471,7 +375,7 @@ def _series_stage(states, layout, tables, work, generalized, active, wx, wy, wz)
                                         layout[:, LAYOUT_FREE_LENGTH:LAYOUT_DAMPING + 1], tables,
                                         layout[:, LAYOUT_TABLE], work[:, WORK_TENSION], work[:, d:d + 3], active,
                                         wx, wy, wz)
-    work[0, WORK_SCRATCH] = fraction   # for the end-of-step position (``sp_stepping.sp_end_of_step``)
+    work[0, WORK_FRACTION] = fraction   # for the end-of-step position (``stepping.sp_end_of_step``)
     ux, uy, uz = work[1, d], work[1, d + 1], work[1, d + 2]
     along = wx * ux + wy * uy + wz * uz
     cx, cy, cz = wx - along * ux, wy - along * uy, wz - along * uz   # the weight across AB

@@ -1,82 +1,78 @@
-"""SP's confluence integrated in step with the engine's RK4 stages (``methods.sp``, ``docs/architecture.md``, "One
-crossing per solver stage"): the confluence's memory (its position, the stage velocities, v0, the order-1 record, the
-step's bookkeeping) by named rows, the stage count, the RK4 update and the end-of-step work, and the one-call stage
-kernels of a model whose only confluence is SP's. The SP solve itself, one stage's lines and forces, is
-``singular_perturbation`` (``sp_stage``)."""
+"""SP's confluence integrated in step with the engine's RK4 stages (``docs/architecture.md``, "One crossing per solver
+stage"): the stage count, the RK4 update and the end-of-step work on the confluence's memory (``memory``), and the
+one-call stage kernels of a model whose only confluence is SP's. The SP solve itself, one stage's lines and forces,
+is ``balance.sp_stage``; a reduced canopy's, ``canopy_kernels.canopy_stage``."""
 
 from __future__ import annotations
 
-from .aerodynamics import HEADER_BODY_COUNT, WORK_STATUS, aerodynamics_stage
-from .compiled import kernel
-from .gravity import normal_gravity
-from .kinematics import add_gravity_forces, add_normal_gravity_forces, body_states
-from .planet import gravity_acceleration
-from .reduced_canopy import canopy_stage
-from .singular_perturbation import (
-    END_TENSION,
-    WORK_ATTACH_POSITION,
-    WORK_COLUMNS,
-    WORK_SCRATCH,
-    WORK_TENSION,
-    sp_stage,
+from ...physics.aerodynamics import (
+    HEADER_BODY_COUNT,
+    STAGE_AERODYNAMICS_FAILED,
+    STAGE_SETTLED,
+    WORK_STATUS,
+    aerodynamics_stage,
 )
-
-(MEMORY_POSITION, MEMORY_STAGE_VELOCITIES, MEMORY_V0, MEMORY_SETTINGS, MEMORY_ORDER, MEMORY_GRAVITY, MEMORY_TIMES,
- MEMORY_NEWER, MEMORY_OLDER, MEMORY_ACCELERATION, MEMORY_CLOCK, MEMORY_DUE, MEMORY_RUN, MEMORY_END,
- MEMORY_END_SOLVE, MEMORY_CANOPY, MEMORY_AIR, MEMORY_NORMAL) = (0, 1, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
-                                                                18, 19, 20)
-"""The rows of an SP confluence's memory by name (see MEMORY_ROWS; MEMORY_STAGE_VELOCITIES is k_1, the first of
-four)."""
-MEMORY_ROWS = 24
-"""Rows (of 3 floats) of an SP confluence's memory for ``sp_rk_stage``:
-
-0 the confluence position q_n at the start of the step under way (m); 1-4 the stage velocities k_1 .. k_4 of the
-step (m/s; row 1 is also the end-of-step solve's velocity); 5 v0 (m/s); 6 (m_c in kg, kappa_max, 1 for the force
-slack rule else 0); 7 (order, gravity mu in m^3/s^2, number of recorded end-of-step velocities, at most 2); 8 the
-planet centre (m; mu > 0) or the uniform gravity (m/s^2; mu = 0); 9 (times of the newer and the older recorded
-end-of-step velocities in s, -); 10 and 11 those velocities (m/s); 12 the acceleration carried from the previous
-phase (m/s^2).
-
-The step's bookkeeping, kept here so that a stage's call from Python passes nothing but the time (``sp_step_stage``):
-13 (the index of the coming RK stage, 0-4; t_n, the start of the step under way in s; its step h in s); 14 (1 when
-the end-of-step work of the last step is due, else 0; that step's end time in s; 1 when it completed its four
-stages); 15 (the run's step as the engine holds it in s, 0 until the solver sets it; the phase start in s; -);
-16 and 17 the last end-of-step solve's (vx, vy, vz) in m/s and (C_c in N s/m, kappa, lines counted taut).
-
-A reduced canopy (``physics.reduced_canopy``; the confluence's state is then its drag point P at the riser's end):
-18 (its state row in the stage's states + 1, 0 without a reduced canopy; its drag coefficient 1/2 rho S C_A in kg/m;
-the distance from P back to its centre of mass in m); 19 the air's velocity at it (m/s). The air is the one at the
-start of the step, set before each step (``methods.sp``).
-
-20-23 normal gravity (``gravity.NORMAL_COLUMNS``: planet centre, spin axis, a and b, gamma_e, k, m, the frame's
-rotation rate), all 0 with spherical or uniform gravity (rows 7 and 8 then): ``confluence_gravity``."""
-
-# The columns of the memory rows that hold three different things (the other rows hold x, y, z):
-SETTING_MASS, SETTING_KAPPA, SETTING_FORCE_SLACK = 0, 1, 2      # MEMORY_SETTINGS: m_c (kg), kappa_max, force rule
-ORDER_FIRST, ORDER_MU, ORDER_RECORDED = 0, 1, 2                 # MEMORY_ORDER: order 1?, mu, end velocities kept
-TIME_NEWER, TIME_OLDER = 0, 1                                   # MEMORY_TIMES: their times (s)
-CLOCK_STAGE, CLOCK_START, CLOCK_STEP = 0, 1, 2                  # MEMORY_CLOCK: coming stage, t_n (s), h (s)
-DUE_PENDING, DUE_TIME, DUE_COMPLETED = 0, 1, 2                  # MEMORY_DUE: work due?, its step's end (s), 4 stages?
-RUN_STEP, RUN_START = 0, 1                                      # MEMORY_RUN: the engine's step (s), the phase start
-SOLVE_DAMPING, SOLVE_KAPPA, SOLVE_TAUT = 0, 1, 2                # MEMORY_END_SOLVE: C_c (N s/m), kappa, taut lines
-CANOPY_STATE_ROW, CANOPY_DRAG, CANOPY_OFFSET = 0, 1, 2          # MEMORY_CANOPY: row + 1, 1/2 rho S C_A, P to CG (m)
-
-# A solve's tuple (``sp_rk_stage``): (vx, vy, vz, C_c, kappa, lines counted taut)
-SOLVED_VELOCITY, SOLVED_DAMPING, SOLVED_KAPPA, SOLVED_TAUT = 0, 3, 4, 5
-
-# The end-of-step record (``_record``) after the body states: the confluence position (3), the solve's velocity (3),
-# C_c, kappa and taut lines, then one tension per line.
-RECORD_POSITION, RECORD_VELOCITY, RECORD_DAMPING, RECORD_KAPPA, RECORD_TAUT, RECORD_TENSIONS = 0, 3, 6, 7, 8, 9
-
-# What ``sp_step_stage_with_bodies`` returns: the sum of these flags (0: neither)
-STAGE_SETTLED = 1.0
-"""It did the last step's deferred end-of-step work."""
-STAGE_AERODYNAMICS_FAILED = 2.0
-"""The aerodynamics met a problem and added nothing (nor the gravity): the caller mends and adds them."""
-
-RK4_STAGE_FRACTIONS = (0.0, 0.5, 0.5, 1.0)
-"""a_k of the classical RK4 tableau (Exudyn's RK44): stage k's state is q_n + h a_k k_(k-1) (stage 1: q_n)."""
-RK4_WEIGHTS = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
+from ...physics.compiled import kernel
+from ...physics.gravity import normal_gravity
+from ...physics.kinematics import add_gravity_forces, add_normal_gravity_forces, body_states
+from ...physics.planet import gravity_acceleration
+from ...physics.rk4 import RK4_STAGE_FRACTIONS, RK4_WEIGHTS
+from .balance import sp_stage
+from .canopy_kernels import canopy_stage
+from .memory import (
+    CANOPY_DRAG,
+    CANOPY_OFFSET,
+    CANOPY_STATE_ROW,
+    CLOCK_STAGE,
+    CLOCK_START,
+    CLOCK_STEP,
+    DUE_COMPLETED,
+    DUE_PENDING,
+    DUE_TIME,
+    END_TENSION,
+    MEMORY_ACCELERATION,
+    MEMORY_AIR,
+    MEMORY_CANOPY,
+    MEMORY_CLOCK,
+    MEMORY_DUE,
+    MEMORY_END,
+    MEMORY_END_SOLVE,
+    MEMORY_GRAVITY,
+    MEMORY_NEWER,
+    MEMORY_NORMAL,
+    MEMORY_OLDER,
+    MEMORY_ORDER,
+    MEMORY_POSITION,
+    MEMORY_RUN,
+    MEMORY_SETTINGS,
+    MEMORY_STAGE_VELOCITIES,
+    MEMORY_TIMES,
+    MEMORY_V0,
+    ORDER_FIRST,
+    ORDER_MU,
+    ORDER_RECORDED,
+    RECORD_DAMPING,
+    RECORD_KAPPA,
+    RECORD_POSITION,
+    RECORD_TAUT,
+    RECORD_TENSIONS,
+    RECORD_VELOCITY,
+    RUN_START,
+    RUN_STEP,
+    SETTING_FORCE_SLACK,
+    SETTING_KAPPA,
+    SETTING_MASS,
+    SOLVE_DAMPING,
+    SOLVE_KAPPA,
+    SOLVE_TAUT,
+    SOLVED_DAMPING,
+    SOLVED_TAUT,
+    TIME_NEWER,
+    TIME_OLDER,
+    WORK_ATTACH_POSITION,
+    WORK_FRACTION,
+    WORK_TENSION,
+)
 
 
 @kernel
@@ -143,7 +139,7 @@ def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
         vx, vy, vz, c_c, kappa, taut = canopy_stage(
             states, layout, tables, work, part, qx, qy, qz, memory[v0, 0], memory[v0, 1], memory[v0, 2],
             memory[canopy, CANOPY_DRAG], memory[air, 0], memory[air, 1], memory[air, 2], rate, bx, by, bz,
-            int(memory[canopy, CANOPY_STATE_ROW]) - 1, memory[canopy, CANOPY_OFFSET], WORK_COLUMNS)
+            int(memory[canopy, CANOPY_STATE_ROW]) - 1, memory[canopy, CANOPY_OFFSET])
         k = MEMORY_STAGE_VELOCITIES + index
         memory[k, 0], memory[k, 1], memory[k, 2] = vx, vy, vz
         return vx, vy, vz, c_c, kappa, taut
@@ -188,7 +184,7 @@ def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, 
     work[:, END_TENSION] = work[:, WORK_TENSION]
     if layout.shape[0] == 2 and memory[MEMORY_CANOPY, CANOPY_STATE_ROW] < 0.5:   # a pair in series: the confluence
         # is where the solve put it on AB, not a state
-        fraction, a = work[0, WORK_SCRATCH], WORK_ATTACH_POSITION
+        fraction, a = work[0, WORK_FRACTION], WORK_ATTACH_POSITION
         for i in range(3):
             memory[MEMORY_POSITION, i] = work[0, a + i] + fraction * (work[1, a + i] - work[0, a + i])
     if t > start_time:
@@ -205,11 +201,6 @@ def sp_end_of_step(states, layout, tables, work, part, memory, t, h, completed, 
     return vx, vy, vz, c_c, kappa, taut
 
 
-def record_size(states, lines: int) -> int:
-    """Length of an SP confluence's end-of-step record (``_record``) for ``states`` and ``lines`` lines."""
-    return states.size + RECORD_TENSIONS + lines
-
-
 @kernel
 def _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record):
     """An SP confluence's outputs at the end of a step, as one array: the stage's body states (rows of
@@ -222,7 +213,7 @@ def _record(states, memory, work, vx, vy, vz, c_c, kappa, taut, record):
             k += 1
     p, v = k + RECORD_POSITION, k + RECORD_VELOCITY
     if work.shape[0] == 2:   # two lines in series (a reduced canopy's too): on AB where the solve put it
-        fraction, a = work[0, WORK_SCRATCH], WORK_ATTACH_POSITION
+        fraction, a = work[0, WORK_FRACTION], WORK_ATTACH_POSITION
         for i in range(3):
             record[p + i] = work[0, a + i] + fraction * (work[1, a + i] - work[0, a + i])
     else:

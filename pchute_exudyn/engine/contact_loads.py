@@ -11,7 +11,7 @@ from ..case.model import Case, ParachuteSystem
 from ..physics.compiled import bound
 from ..physics.contact import PAIR_COLUMNS, contact_forces, default_stiffness_damping, envelope_radius
 from ..physics.kinematics import add_point_forces, point_motions
-from .model import Model
+from .phase_model import Model
 
 
 class CanopyContact:

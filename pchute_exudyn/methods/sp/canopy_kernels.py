@@ -11,7 +11,7 @@ riser's end P,
 with u the unit vector from the bridle's attach point A on the vehicle to P, w the air's velocity at P and T the
 tension of the bridle and riser in series (``lines.series_pair``: one line from A to P), T = T_el(e) + C_s de/dt with
 de/dt = u . (v - v_A), tension only. The weight m g and the inertia (m / tau)(v - v_r), a backward difference from the
-reference velocity v_r (SP's order 1: ``sp_stepping._mass_term``; m the canopy's and the confluence's masses), are the
+reference velocity v_r (SP's order 1: ``stepping._mass_term``; m the canopy's and the confluence's masses), are the
 first order in m; order 0 drops both. Solved for the velocity v of P by Newton's method on this strictly monotone
 function (its Jacobian, -d (|v_r| I + v_r v_r^T / |v_r|) - C_s u u^T - (m / tau) I, is negative definite), from the
 velocity of the last end of step; P itself is a state integrated with RK4 (as SP's confluence). The canopy's
@@ -23,13 +23,10 @@ from __future__ import annotations
 
 import math
 
-from .compiled import kernel
-from .kinematics import (
+from ...physics.compiled import kernel
+from ...physics.kinematics import (
     ANGULAR_VELOCITY_AT,
     BODY_RATE_AT,
-    LAYOUT_DAMPING,
-    LAYOUT_FREE_LENGTH,
-    LAYOUT_TABLE,
     POINT_COLUMNS,
     POSITION_AT,
     ROTATION_AT,
@@ -37,12 +34,23 @@ from .kinematics import (
     add_point_forces,
     point_motions,
 )
-from .lines import line_pull, series_constants
-from .small_linalg import solve_symmetric_kernel
+from ...physics.lines import LINE_FREE_LENGTH, line_pull, series_constants
+from ...physics.small_linalg import solve_symmetric_kernel
+from .memory import (
+    BRIDLE_ROW,
+    LAYOUT_DAMPING,
+    LAYOUT_FREE_LENGTH,
+    LAYOUT_TABLE,
+    RISER_ROW,
+    WORK_ATTACH_POSITION,
+    WORK_ATTACH_VELOCITY,
+    WORK_DIRECTION,
+    WORK_FORCE,
+    WORK_FRACTION,
+    WORK_TAUT,
+    WORK_TENSION,
+)
 
-BRIDLE_ROW, RISER_ROW = 0, 1
-"""The pair's rows in the work array: the bridle (from the vehicle; its scratch holds the confluence's fraction of
-AP) and the riser (whose end is P)."""
 NEWTON_ITERATIONS = 30
 """Most Newton iterations of one solve (3 to 6 in practice from the last end-of-step velocity)."""
 
@@ -96,19 +104,19 @@ def canopy_velocity(drag, wx, wy, wz, rate, bx, by, bz, ux, uy, uz, elastic, dam
 
 @kernel
 def canopy_stage(states, layout, tables, work, generalized, px, py, pz, gx, gy, gz, drag, wx, wy, wz, rate, bx, by, bz,
-                 row, offset, columns):
+                 row, offset):
     """One solver stage of a reduced canopy at P = (px, py, pz) (m): the bridle's attach point A on its body (layout
-    row 0; row 1 is the riser, whose end is P), the pair's tension (``lines.series_constants``), the balance solved
-    for P's velocity from the guess (gx, gy, gz) (``canopy_velocity``), the tension's pull T u at A into
-    ``generalized`` (zeroed first), and the canopy's state row ``row`` of ``states`` (its centre of mass ``offset``
-    m behind P along its axis, its attitude along its air-relative velocity, its rates zero). ``work`` as
-    ``singular_perturbation.sp_stage`` writes it (``columns``: its tension, direction, taut, attach position and
-    velocity, force and scratch columns), P in row 1's attach position and the confluence's fraction of AP in row 0's
-    scratch. Returns (vx, vy, vz, 0, 0, lines counted taut)."""
-    tension_at, direction_at, taut_at, position_at, velocity_at, force_at, scratch_at = columns
-    point_motions(states, layout[:1, :POINT_COLUMNS], work[:1, position_at:velocity_at + 3])
-    ax, ay, az = work[0, position_at], work[0, position_at + 1], work[0, position_at + 2]
-    avx, avy, avz = work[0, velocity_at], work[0, velocity_at + 1], work[0, velocity_at + 2]
+    row BRIDLE_ROW; RISER_ROW is the riser, whose end is P), the pair's tension (``lines.series_constants``), the
+    balance solved for P's velocity from the guess (gx, gy, gz) (``canopy_velocity``), the tension's pull T u at A
+    into ``generalized`` (zeroed first), and the canopy's state row ``row`` of ``states`` (its centre of mass
+    ``offset`` m behind P along its axis, its attitude along its air-relative velocity, its rates zero). ``work`` as
+    ``balance.sp_stage`` writes it (``memory``'s work columns), P in the riser's attach position and the confluence's
+    fraction of AP in the bridle's. Returns (vx, vy, vz, 0, 0, lines counted taut)."""
+    p, v, d, f = WORK_ATTACH_POSITION, WORK_ATTACH_VELOCITY, WORK_DIRECTION, WORK_FORCE
+    a, r = BRIDLE_ROW, RISER_ROW
+    point_motions(states, layout[:1, :POINT_COLUMNS], work[:1, p:v + 3])
+    ax, ay, az = work[a, p], work[a, p + 1], work[a, p + 2]
+    avx, avy, avz = work[a, v], work[a, v + 1], work[a, v + 2]
     dx, dy, dz = px - ax, py - ay, pz - az
     length = math.sqrt(dx * dx + dy * dy + dz * dz)
     ux, uy, uz = dx / length, dy / length, dz / length
@@ -117,19 +125,19 @@ def canopy_stage(states, layout, tables, work, generalized, px, py, pz, gx, gy, 
     rest = damping * (ux * avx + uy * avy + uz * avz)
     vx, vy, vz, tension = canopy_velocity(drag, wx, wy, wz, rate, bx, by, bz, ux, uy, uz, elastic, damping, rest,
                                           gx, gy, gz)
-    work[1, position_at], work[1, position_at + 1], work[1, position_at + 2] = px, py, pz
-    work[1, velocity_at], work[1, velocity_at + 1], work[1, velocity_at + 2] = vx, vy, vz
-    work[0, scratch_at] = (lines[0, 0] + first) / length
+    work[r, p], work[r, p + 1], work[r, p + 2] = px, py, pz
+    work[r, v], work[r, v + 1], work[r, v + 2] = vx, vy, vz
+    work[a, WORK_FRACTION] = (lines[a, LINE_FREE_LENGTH] + first) / length
     for i in range(2):
-        sign = -1.0 if i == 0 else 1.0
-        work[i, tension_at] = tension
-        work[i, taut_at] = 1.0 if tension > 0.0 else 0.0
-        work[i, direction_at], work[i, direction_at + 1], work[i, direction_at + 2] = sign * ux, sign * uy, sign * uz
+        sign = -1.0 if i == a else 1.0
+        work[i, WORK_TENSION] = tension
+        work[i, WORK_TAUT] = 1.0 if tension > 0.0 else 0.0
+        work[i, d], work[i, d + 1], work[i, d + 2] = sign * ux, sign * uy, sign * uz
         for k in range(3):
-            work[i, force_at + k] = 0.0
-    work[0, force_at], work[0, force_at + 1], work[0, force_at + 2] = tension * ux, tension * uy, tension * uz
+            work[i, f + k] = 0.0
+    work[a, f], work[a, f + 1], work[a, f + 2] = tension * ux, tension * uy, tension * uz
     generalized[:] = 0.0
-    add_point_forces(states, layout[:1, :POINT_COLUMNS], work[:1, force_at:force_at + 3], generalized)
+    add_point_forces(states, layout[:1, :POINT_COLUMNS], work[:1, f:f + 3], generalized)
     _canopy_row(states[row], px, py, pz, vx - wx, vy - wy, vz - wz, -ux, -uy, -uz, vx, vy, vz, offset)
     taut = 2 if tension > 0.0 else 0
     return vx, vy, vz, 0.0, 0.0, taut

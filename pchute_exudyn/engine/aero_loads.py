@@ -34,7 +34,7 @@ from ..physics.aerodynamics import (
 from ..physics.compiled import bound, machine_code, python_form
 from ..physics.kinematics import ROW_BODY_RATE, point_motion
 from ..physics.runaway import RUNAWAY
-from .model import CURRENT, OV, Model
+from .phase_model import CURRENT, OV, Model
 
 EDGE_ON_DEG = 5.0
 """How close to 90 deg (deg) a body's angle of attack counts as edge-on for a failed implicit step's message."""

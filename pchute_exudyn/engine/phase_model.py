@@ -60,8 +60,9 @@ class Confluence:
         """Facts for the run summary (counts add up over phases: see ``summary.merge_facts``)."""
         return {}
 
-    def warm_up(self) -> None:
-        """Work to do before the timed solve (a reduced confluence solves at the start state)."""
+    def warm_up(self, step: float | None) -> None:
+        """Work to do before the timed solve, with the phase's fixed step (s; None for adaptive steps): a reduced
+        confluence solves at the start state."""
 
     def finish(self) -> None:
         """Work left after the solve (a reduced confluence's deferred end-of-step work)."""
@@ -100,9 +101,6 @@ class Model:
         self.post_step_hooks: list = []   # (mbs, t) after every step and once at the start
         self.stop_conditions: list = []   # (t) -> True ends the run after this step
         self.post_step_count = [0]        # bumped by the solver at every post-step call
-        self.step = None   # s: the phase's fixed step, None for adaptive steps: set once by ``engine.solver.integrate``
-        #                    from the run plan and read from here by everything in the phase (SP's memory keeps a
-        #                    copy for its kernels, which read no Python object)
         self.stage = None                 # engine.stage.Stage: body states and the Python-computed loads
         self.aerodynamic_loads: dict = {}  # body -> its engine.bodies.BodyAerodynamics (to evaluate it alone)
         self.failure: Exception | None = None
@@ -151,13 +149,17 @@ class Model:
             self.stage.assembled()
         return self
 
-    def warm_up(self) -> None:
-        """Before the timed solve: load the compiled kernels and make each confluence's first solve (at the start
-        state, which the first post-step call then reuses)."""
+    def warm_up(self, step: float | None) -> None:
+        """Before the timed solve, with the step the engine takes (s; None for adaptive steps): load the compiled
+        kernels, make each confluence's first solve (at the start state, which the first post-step call then reuses)
+        and hand the step to every confluence and stop condition that reads it (``warm_up(step)``)."""
         if self.stage is not None and self.stage.global_layout is not None:
             self.stage.warm_up()
         for confluence in self.confluences.values():
-            confluence.warm_up()
+            confluence.warm_up(step)
+        for condition in self.stop_conditions:
+            if hasattr(condition, "warm_up"):
+                condition.warm_up(step)
 
     def finish(self) -> None:
         """After the solve, before the samples are read: each confluence's work left over."""
@@ -174,7 +176,7 @@ class Model:
         """A weight per velocity coordinate of the engine (``GetODE2Coordinates_t``): sqrt(m) (kg^0.5) for a body's
         or a full-mass confluence's velocity, sqrt(I_jj) (kg^0.5 m) for a body's body-axis angular rate about its
         axis j; then sum (w u)^2 is twice the kinetic energy (exactly for principal axes) and a weighted norm of
-        velocity errors is the kinetic-energy norm (``physics.step_control``)."""
+        velocity errors is the kinetic-energy norm (``physics.step_rule``)."""
         weights = np.zeros(len(self.mbs.systemData.GetODE2Coordinates_t()))
         for name, items in self.bodies.items():
             body = self.case.bodies[name]

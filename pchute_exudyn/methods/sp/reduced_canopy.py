@@ -1,0 +1,97 @@
+"""A reduced canopy at run time (``canopy_kernels``; docs/models/reduced_canopy.md): the SP confluence of a system
+whose canopy is reduced integrates the canopy's drag point P instead of the confluence, and this object keeps what the
+kernel reads of the canopy in the confluence's memory (``memory.Memory``: its ``canopy`` and ``air`` rows): its stage
+row, its drag coefficient 1/2 rho S C_A and the air's velocity at it, set before every step from the air at P then
+(the start of the step: the density over one step changes by parts in 1e5, and a gust or turbulence cell reaches the
+canopy one step late at most)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from ...case.model import Case, ParachuteSystem
+from ...engine.phase_model import Model
+from ...physics.aerodynamics import mach_number
+from ...physics.compiled import python_form
+from ...physics.linearization import max_stable_step_rk4
+from ...physics.lines import series_damping as series_damping_kernel
+from .memory import BRIDLE_ROW, RISER_ROW, Memory, Work
+
+series_damping = python_form(series_damping_kernel)
+
+
+def reduced_canopy(case: Case, system: ParachuteSystem) -> str | None:
+    """The canopy of ``system`` that flies reduced (``canopy_model = "reduced"``, a single canopy on a riser in series
+    with one bridle; the reader checks the layout), or None."""
+    if system.canopy_model != "reduced" or len(system.lines) != 2 or len(system.canopies) != 1:
+        return None
+    return system.canopies[0]
+
+
+def bridle_first(system: ParachuteSystem) -> ParachuteSystem:
+    """A reduced canopy's system with its bridle as line 0 and its riser as line 1 (``canopy_kernels``' order): the
+    lines' names and outputs are unchanged."""
+    lines = sorted(system.lines, key=lambda line: line.body in system.canopies)
+    return system if tuple(lines) == system.lines else replace(system, lines=tuple(lines))
+
+
+class ReducedCanopy:
+    """The canopy ``name`` of an SP confluence's system, reduced; sets the confluence's ``memory`` to fly it."""
+
+    def __init__(self, model: Model, case: Case, system: ParachuteSystem, name: str, memory: Memory):
+        self.model, self.case, self.name, self.memory = model, case, name, memory
+        body = case.bodies[name]
+        riser = system.lines[RISER_ROW]
+        point = np.asarray(body.points[riser.point], float)
+        state = model.phase.body_states[name]
+        memory.position = state.position + state.attitude @ point   # P: the riser's end
+        memory.v0 = state.velocity
+        memory.mass = body.mass + system.confluence.mass     # kg: first order in them
+        memory.canopy = (model.stage.row[name] + 1.0, 0.0, float(np.linalg.norm(point)))
+        if memory.first_order > 0.5:   # its inertia from the phase's start: the start velocity is the first reference
+            # (SP's confluence carries an acceleration instead; the canopy deploys at rest in the vehicle's frame,
+            # and its drag must speed it up)
+            memory.newer_time, memory.newer = model.phase.start, state.velocity
+            memory.recorded = 1.0
+        self.area, self.coefficient = body.aerodynamics.reference_area, body.aerodynamics.axial_coefficient
+        self.air, self.altitude = case.air_motion(), case.start.altitude_scalar
+        self.mass = body.mass + system.confluence.mass
+        self.laws = [line.law for line in system.lines]
+
+    def update_air(self, t: float) -> None:
+        """The drag coefficient and the air's velocity at P for the coming step (s: ``t`` its start)."""
+        memory = self.memory
+        x, y, z = memory.position.tolist()
+        h = self.altitude(x, y, z)
+        density, sound = self.case.atmosphere.state(h)
+        wind = (0.0, 0.0, 0.0) if self.air.still else self.air(x, y, z, h, t)
+        mach = 0.0
+        if self.coefficient.uses_mach:
+            vx, vy, vz = memory.v0.tolist()
+            mach = mach_number(math.dist((vx, vy, vz), wind), sound)
+        memory.canopy_drag = 0.5 * density * self.area * self.coefficient(0.0, mach)
+        memory.air = wind
+
+    def position_of_confluence(self, work: Work) -> list:
+        """The confluence on AP, where the lines' elastic stretches put it (the kernel's fraction)."""
+        start, end = work.attach_positions[BRIDLE_ROW], work.attach_positions[RISER_ROW]
+        return (start + work.fraction * (end - start)).tolist()
+
+    def step_limit(self, work: Work, step: float) -> float:
+        """RK4's limit (s) on P's first-order modes at a step ``step`` (s): along AP the pair's stiffness against the
+        drag's slope 2 d V, the pair's damping and the inertia m / h; across it the tension over the length against
+        d V and m / h (K_s from the lines' stiffest slopes: ``LineLaw.stiffest``)."""
+        memory = self.memory
+        drag = memory.canopy_drag
+        speed = math.dist(memory.v0.tolist(), memory.air.tolist())
+        (k1, c1), (k2, c2) = ((law.stiffest, law.damping) for law in self.laws)
+        stiffness, damping = k1 * k2 / (k1 + k2), series_damping(k1, k2, c1, c2)
+        inertia = self.mass / step
+        positions = work.attach_positions
+        length = float(np.linalg.norm(positions[RISER_ROW] - positions[BRIDLE_ROW]))
+        along = stiffness / (2.0 * drag * speed + damping + inertia)
+        across = work.tensions[RISER_ROW] / length / (drag * speed + inertia)
+        return max_stable_step_rk4([-max(along, across)])
