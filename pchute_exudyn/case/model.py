@@ -167,11 +167,8 @@ class Line:
 
     Attributes
     ----------
-    name : str
-    body : str
-        Body holding the attach point.
-    point : str
-        Name of the attach point on that body.
+    name, body, point : str
+        The line's name, the body holding its attach point and that point's name on it.
     free_length : float
         Unstretched length L0 (m).
     stiffness : float

@@ -176,10 +176,13 @@ def _names_used(path: Path) -> set:
 
 
 def _memory_offsets() -> set:
-    """The positions SP's named memory defines (``methods/sp/memory.py``: its integer constants)."""
+    """The positions SP's named memory defines (``methods/sp/memory.py``: the integer constants it assigns)."""
+    tree = ast.parse((PACKAGE / "methods" / "sp" / "memory.py").read_text())
+    names = {target.id for node in tree.body if isinstance(node, ast.Assign) for target in ast.walk(node)
+             if isinstance(target, ast.Name) and isinstance(target.ctx, ast.Store) and target.id.isupper()}
     from pchute_exudyn.methods.sp import memory
 
-    return {name for name, value in vars(memory).items() if name.isupper() and type(value) is int}
+    return {name for name in names if type(getattr(memory, name)) is int}
 
 
 def test_no_module_outside_sps_package_names_its_memory_offsets():

@@ -11,7 +11,8 @@ PACKED = {"end_of_step", "end", "memory", "layout", "work", "record", "records",
           "solution"}
 """Names that hold a packed record in the package (a list of records named so elsewhere is not subscripted by a
 number either)."""
-HOMES = {"physics/kinematics.py", "methods/sp/memory.py", "physics/aerodynamics.py", "physics/lines.py"}
+HOMES = {"physics/kinematics.py", "physics/aerodynamics.py", "physics/lines.py", "methods/sp/memory.py",
+         "methods/sp/balance.py", "methods/sp/stepping.py", "methods/sp/canopy_kernels.py"}
 """The modules that define the packed layouts: the only places a position in one may be written as a number."""
 
 

@@ -100,7 +100,7 @@ def test_a_short_limit_the_any_damping_preset_lifts_names_it(tmp_path, monkeypat
     (MER case 3 at 10 % line damping with only that rule: 0.0139 s relaxed against 0.00279 s)."""
     from pchute_exudyn.methods.sp import SingularPerturbation
 
-    monkeypatch.setattr("pchute_exudyn.run.simulation._LIMITS", {})   # limits are kept by geometry, with their cause
+    monkeypatch.setattr("pchute_exudyn.run.step_control._LIMITS", {})   # limits are kept by geometry, with their cause
     monkeypatch.setattr(SingularPerturbation, "_cause", lambda self, system, step, attach, confluence, lines:
                         self._relaxed_remedy(system, step, attach, confluence))
     code, err, seconds, touched = run_bad_input(lambda t: ["run", MER3, "--method", "sp", *DAMPING_10, "--out",
