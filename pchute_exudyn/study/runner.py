@@ -22,8 +22,8 @@ import numpy as np
 
 from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
 from ..errors import InputError, PchuteError
-from ..physics.triggers import QUANTITIES
 from ..registries.columns import column
+from ..registries.quantities import QUANTITIES
 from ..results.io import ensure_writable_dir
 from ..results.journal import WriteFailed
 from .spec import RunSpec, StudySpec
