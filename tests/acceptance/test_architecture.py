@@ -290,3 +290,51 @@ def test_study_and_fit_import_no_private_name_of_the_case_layer():
                 if (node.level, module.split(".")[0]) in ((2, "case"), (0, "pchute_exudyn")) and ".case" in f".{module}":
                     found += [f"{path.name}: {alias.name}" for alias in node.names if alias.name.startswith("_")]
     assert not found, found
+
+
+# -- the unit tier's budget (issue 54) -------------------------------------------------------------------------
+
+BUDGETED_TESTS = '''
+import time
+
+
+def test_quick():
+    pass
+
+
+def test_computes():
+    end = time.process_time() + 0.3
+    while time.process_time() < end:
+        pass
+
+
+def test_waits():
+    time.sleep(0.3)
+
+
+def test_fails_on_its_own():
+    time.sleep(0.3)
+    assert False, "its own failure"
+'''
+
+
+def test_the_unit_tier_fails_a_test_over_its_budget(tmp_path):
+    """tests/unit/conftest.py, its budgets scaled down to 0.1 s, in a pytest run of its own: a test that computes or
+    waits past them fails naming the budget; a quick one passes; one that fails keeps its own failure."""
+    conftest = (ROOT / "tests" / "unit" / "conftest.py").read_text()
+    for name in ("CPU_BUDGET", "WALL_BUDGET"):
+        conftest, found = re.subn(rf"^{name} = .*$", f"{name} = 0.1", conftest, flags=re.MULTILINE)
+        assert found == 1, name
+    (tmp_path / "conftest.py").write_text(conftest)
+    (tmp_path / "test_budgeted.py").write_text(BUDGETED_TESTS)
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-rA", "-p", "no:cacheprovider", str(tmp_path)],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    outcomes = {name: outcome for outcome, name in re.findall(r"^(PASSED|FAILED) \S+::(\w+)", run.stdout,
+                                                              re.MULTILINE)}
+    assert outcomes == {"test_quick": "PASSED", "test_computes": "FAILED", "test_waits": "FAILED",
+                        "test_fails_on_its_own": "FAILED"}, run.stdout
+    budget = "a unit test's budget is 0.1 s and 0.1 s (tests/unit/conftest.py)"
+    for name in ("test_computes", "test_waits"):
+        assert re.search(rf"::{name} took [0-9.]+ s of processor time and [0-9.]+ s on the clock: {re.escape(budget)}",
+                         run.stdout), run.stdout
+    assert "its own failure" in run.stdout
