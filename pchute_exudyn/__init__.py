@@ -31,7 +31,7 @@ from .registries.methods import METHODS  # noqa: E402
 
 METHODS.fill_with(lambda: import_module(".methods", __name__).register_builtin())   # when the table is first read
 
-_HOMES = {"Case": "case", "load_case": "boundary", "NewCase": "case.new",
+_HOMES = {"Case": "case", "load_case": "boundary", "NewCase": "authoring.choices",
           "new_case": "boundary", "new_case_text": "boundary", "CaseError": "errors", "InputError": "errors",
           "PchuteError": "errors", "SimulationError": "errors", "Result": "results.result",
           "simulate": "run.simulation", "compare_results": "results.compare"}

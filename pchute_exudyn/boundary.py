@@ -13,11 +13,11 @@ from concurrent.futures import Executor
 from dataclasses import fields
 from pathlib import Path
 
+from .authoring.choices import NewCase
+from .authoring.write import new_case as _new_case
+from .authoring.write import new_case_text as _new_case_text
 from .case import Case, parse_override
 from .case import load_case as _load_case
-from .case.new import NewCase
-from .case.new import new_case as _new_case
-from .case.new import new_case_text as _new_case_text
 from .errors import InputError, short_repr
 
 

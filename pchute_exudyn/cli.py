@@ -163,8 +163,8 @@ def _run_case(args, figure) -> int:
 
 
 def _add_new(subparsers) -> None:
-    from .case.new_help import choice_fields, command_help
-    from .case.new_planets import PLANETS
+    from .authoring.options import choice_fields, command_help
+    from .authoring.planets import PLANETS
     from .registries.canopy_types import CANOPY_TYPES
 
     new = subparsers.add_parser(
@@ -194,8 +194,8 @@ def _add_new(subparsers) -> None:
 
 
 def _new(args) -> int:
-    from .case.new import layout
-    from .case.new_checks import checked_case_text, new_choices
+    from .authoring.layout import layout
+    from .authoring.write import checked_case_text, new_choices
     from .results.io import atomic_write_text
 
     given = {key.removeprefix("new_"): value for key, value in vars(args).items()
@@ -203,7 +203,7 @@ def _new(args) -> int:
     given.setdefault("name", Path(args.file).stem)
     choices = new_choices(given)
     if choices.from_rocketpy is not None:
-        from .case.new_rocket import started_from
+        from .authoring.rocket_start import started_from
         from .results.rocketpy_export import apogee_state
 
         source = choices.from_rocketpy
@@ -219,7 +219,7 @@ def _new(args) -> int:
         raise InputError(f"{path}: the folder {path.parent} does not exist")
     atomic_write_text(path, checked_case_text(choices))
     if choices.dual_deploy:
-        from .case.new_rocket import start_height
+        from .authoring.rocket_start import start_height
         print(f"wrote {path}: {choices.mass:g} kg rocket, dual deploy from {start_height(choices):.1f} m above the "
               f"ground, main at {choices.main_height:g} m; run it with `pchute run {path}`")
         return 0

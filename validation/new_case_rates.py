@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.new import NewCase, layout
+from pchute_exudyn.authoring.choices import NewCase
+from pchute_exudyn.authoring.layout import layout
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.run.simulation import versions
 

@@ -465,7 +465,7 @@ class SimulationSettings:
     descent_rate_events : tuple of float
         Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
     seed : int
-        Seed of the triggers' sensor noise (``physics.triggers``).
+        Seed of the triggers' sensor noise (``triggers.sensors``).
     step_rule : StepRule
         The adaptive steps of an RK4 run that sets no step (``physics.step_rule``).
     """
@@ -526,9 +526,9 @@ class Case:
         One line per implausible (but possible) value (``case.plausible``): printed with the run line and kept in
         ``summary.json``.
     triggers : dict of str to Trigger
-        The events fired by a trigger (``physics.triggers``), by event name (``<system>.deploy``, ``<system>.cutaway``,
-        ``<system>.disreef<k>``, ``<canopy>.cutaway``, ``<body>.separation``). Until it fires, such an event's time in
-        the case is ``math.inf`` (pending); ``with_event_times`` sets it.
+        The events fired by a trigger (``triggers.definition``), by event name (``<system>.deploy``,
+        ``<system>.cutaway``, ``<system>.disreef<k>``, ``<canopy>.cutaway``, ``<body>.separation``). Until it fires,
+        such an event's time in the case is ``math.inf`` (pending); ``with_event_times`` sets it.
     separations : dict of str to Separation
         The bodies carried by the vehicle until they separate, by body name.
     bodies : dict of str to Body

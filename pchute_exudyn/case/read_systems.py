@@ -8,7 +8,7 @@ from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
 from ..physics.inflation import Inflation, InflationError, InflationStage
 from ..physics.line_materials import LINE_MATERIALS, RatedLine
 from ..physics.lines import LoadElongation, LoadElongationError
-from ..physics.triggers import At
+from ..triggers.definition import At
 from .events import DISREEF
 from .fields import NO_VALUE, Table, check_number, default_of, dotted
 from .model import (

@@ -1,4 +1,4 @@
-"""Readers of triggers (``physics.triggers``; docs/case-format.md, "Triggers and sensors") and of
+"""Readers of triggers (``triggers.definition``; docs/case-format.md, "Triggers and sensors") and of
 ``[separations.<body>]``, and the check of the event graph (names, cycles)."""
 
 from __future__ import annotations
@@ -11,20 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..physics.triggers import (
-    QUANTITY,
-    THRESHOLD_QUANTITIES,
-    After,
-    AllOf,
-    AnyOf,
-    Apogee,
-    At,
-    Sensor,
-    Threshold,
-    Trigger,
-    UserFunction,
-    leaves,
-)
+from ..registries.quantities import QUANTITY, THRESHOLD_QUANTITIES
+from ..triggers.definition import After, AllOf, AnyOf, Apogee, At, Sensor, Threshold, Trigger, UserFunction, leaves
 from .events import DISREEF, known_times
 from .fields import Table, default_of
 from .model import Separation

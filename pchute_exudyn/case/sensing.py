@@ -1,6 +1,6 @@
-"""The true values a trigger's sensor reads of a body of a case (``physics.triggers.QUANTITIES``): from its position
-and velocity, the case's planet, atmosphere and air motion. Pure computation on a case (no engine): the engine's
-trigger monitor samples it, the run's sequence records it at a triggered deployment."""
+"""The true values a trigger's sensor reads of a body of a case (``registries.quantities.QUANTITIES``): from its
+position and velocity, the case's planet, atmosphere and air motion. Pure computation on a case (no engine): the
+engine's trigger monitor samples it, the run's sequence records it at a triggered deployment."""
 
 from __future__ import annotations
 
@@ -9,12 +9,12 @@ import math
 import numpy as np
 
 from ..physics.atmosphere import pressure_of
-from ..physics.triggers import derive_quantities
+from ..registries.quantities import derive_quantities
 from .model import Case
 
 
 def true_values(case: Case, position, velocity, time: float, air_motion=None) -> dict:
-    """The true values a sensor reads (``physics.triggers.SENSED``, plus density in kg/m^3, speed of sound in m/s,
+    """The true values a sensor reads (``registries.quantities.SENSED``, plus density in kg/m^3, speed of sound in m/s,
     gravity in m/s^2, position and velocity) of a body at start-frame ``position`` (m) and ``velocity`` (m/s) at
     ``time`` (s); ``air_motion``: the case's (``Case.air_motion``), made once by a caller that samples often."""
     x, y, z = (float(v) for v in position)
@@ -32,7 +32,7 @@ def true_values(case: Case, position, velocity, time: float, air_motion=None) ->
              "speed": float(np.linalg.norm(ground)), "airspeed": airspeed,
              "gravity": math.hypot(*case.start.gravity_scalar(x, y, z)),
              "position": np.array([x, y, z]), "velocity": velocity}
-    derive_quantities(truth, truth)   # Mach number, dynamic pressure (``physics.triggers.QUANTITIES``)
+    derive_quantities(truth, truth)   # Mach number, dynamic pressure (``registries.quantities.QUANTITIES``)
     return truth
 
 

@@ -4,16 +4,17 @@
 Only what the start state decides is judged here (a threshold whose quantity depends on the flight to come, such
 as a speed that grows in free fall, is not): an altitude threshold below the ground the run ends on, and one above
 the start that a vehicle not climbing never reaches. An apogee trigger is never in doubt: its first sample fires
-when the vehicle already descends or hangs at apogee (``physics.triggers.Apogee``).
+when the vehicle already descends or hangs at apogee (``triggers.definition.Apogee``).
 """
 
 from __future__ import annotations
 
-from ..physics.triggers import QUANTITY, Apogee, Threshold, UserFunction, leaves
+from ..registries.quantities import QUANTITY
+from ..triggers.definition import Apogee, Threshold, UserFunction, leaves
 
 SENSOR_ERRORS = {"pressure_noise": "pressure", "pressure_bias": "pressure", "correlation_time": "pressure",
                  "speed_noise": "speed", "speed_bias": "speed"}
-"""A trigger's sensor keys of an error, and the error each is of (``physics.triggers.Quantity.error``)."""
+"""A trigger's sensor keys of an error, and the error each is of (``registries.quantities.Quantity.error``)."""
 
 
 def unreachable_triggers(triggers: dict, initial, ground_altitude: float | None) -> tuple:

@@ -401,7 +401,7 @@ _MARS_PARAMETERS = np.array([MARS_KIND, SOUND_FROM_TEMPERATURE, MARS_GAMMA, MARS
 
 def pressure_of(density: float, sound: float, gamma: float) -> float:
     """p = rho a^2 / gamma (Pa) of an ideal gas from its density (kg/m^3), speed of sound (m/s) and gamma (-):
-    rho R T, what a barometric sensor reads (``physics.triggers``)."""
+    rho R T, what a barometric sensor reads (``triggers.sensors``)."""
     return density * sound * sound / gamma
 
 

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
 
-from ..physics.triggers import QUANTITIES
+from .quantities import QUANTITIES
 
 
 @dataclass(frozen=True)

@@ -1,11 +1,11 @@
 """A run's sequence of events as it unfolds: the times known so far (fixed ones, and each trigger's once it fires),
-the sensed triggers still watching (``physics.triggers.Watch``), and the case with the fired events in place
+the sensed triggers still watching (``triggers.watch.Watch``), and the case with the fired events in place
 (``case.events.with_event_times``), from which the phases are built.
 
-A sensed trigger that fires stops its phase after the step that decided (``engine.triggers.TriggerMonitor``). The
-event then happens exactly at the firing time t_f = sample time + lag: the run goes on to t_f in a new phase when t_f
-lies ahead, or integrates the phase again from its start to t_f when the firing time falls inside the step just taken
-(a lag shorter than that step, ``run.simulation.run``). Either way the phase boundary lands on t_f.
+A sensed trigger that fires stops its phase after the step that decided (``engine.trigger_monitor.TriggerMonitor``).
+The event then happens exactly at the firing time t_f = sample time + lag: the run goes on to t_f in a new phase
+when t_f lies ahead, or integrates the phase again from its start to t_f when the firing time falls inside the step
+just taken (a lag shorter than that step, ``run.simulation.run``). Either way the phase boundary lands on t_f.
 """
 
 from __future__ import annotations
@@ -18,7 +18,9 @@ from ..case.events import DISREEF, armed_by, known_times, with_event_times
 from ..case.model import Case
 from ..case.sensing import true_values
 from ..errors import SimulationError
-from ..physics.triggers import RECORDED, After, Watch
+from ..registries.quantities import RECORDED
+from ..triggers.definition import After
+from ..triggers.watch import Watch
 
 
 class Sequence:
@@ -42,7 +44,7 @@ class Sequence:
         return [watch for watch in self.watches if watch.event not in self.times]
 
     def fire(self, firings: list, earliest: float) -> float:
-        """Record ``firings`` (``physics.triggers.Firing``; none before ``earliest``, s); returns the earliest event
+        """Record ``firings`` (``triggers.watch.Firing``; none before ``earliest``, s); returns the earliest event
         time among them."""
         for firing in firings:
             self.times[firing.event] = max(firing.time, earliest)

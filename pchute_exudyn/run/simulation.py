@@ -19,7 +19,7 @@ from ..case.plausible import check_time_scales
 from ..engine.bodies import Touchdown
 from ..engine.solver import integrate, versions
 from ..engine.state import BODY_VALUES, CONFLUENCE_VALUES
-from ..engine.triggers import TriggerMonitor
+from ..engine.trigger_monitor import TriggerMonitor
 from ..errors import InputError, Interrupted, SimulationError, short_repr
 from ..kernels import selection
 from ..methods.base import Method

@@ -176,7 +176,7 @@ class AdaptiveSteps:
     rule : StepRule
     landing : callable, optional
         ``landing(t)``: the next time (s) after ``t`` a step must end on (a sensed trigger's sample time while it
-        can fire: ``engine.triggers.TriggerMonitor.landing``); inf: none.
+        can fire: ``engine.trigger_monitor.TriggerMonitor.landing``); inf: none.
     """
 
     def __init__(self, model: Model, case: Case, method: Method, rule: StepRule, landing=None):

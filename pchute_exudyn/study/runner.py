@@ -22,8 +22,8 @@ import numpy as np
 
 from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
 from ..errors import InputError, PchuteError
-from ..physics.triggers import QUANTITIES
 from ..registries.columns import column
+from ..registries.quantities import QUANTITIES
 from ..results.io import ensure_writable_dir
 from ..results.journal import WriteFailed
 from .spec import RunSpec, StudySpec
@@ -53,7 +53,7 @@ def scalar_outputs(result) -> dict:
 
 
 STUDIED = tuple(q.name for q in QUANTITIES if q.studied)
-"""The recorded quantities a study keeps of each triggered deployment (``physics.triggers.Quantity.studied``)."""
+"""The recorded quantities a study keeps of each triggered deployment (``registries.quantities.Quantity.studied``)."""
 
 
 def sequence_outputs(summary: dict) -> dict:

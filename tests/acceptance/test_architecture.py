@@ -2,6 +2,7 @@
 name compared outside the method table."""
 
 import ast
+import functools
 import os
 import re
 import shutil
@@ -47,6 +48,9 @@ def test_ruff_finds_nothing():
     ("physics/lines.py", "from ..engine import model  # noqa\n"),          # physics reaching up to the engine
     ("engine/phase_model.py", "from ..run import simulation  # noqa\n"),        # the engine reaching up
     ("run/simulation.py", "import exudyn  # noqa\n"),                      # Exudyn outside the engine
+    ("physics/air.py", "import threading  # noqa\n"),                      # a thread in the pure layer
+    ("triggers/watch.py", "from ..case import model  # noqa\n"),          # triggers reaching up to the case reader
+    ("case/loader.py", "from ..authoring import write  # noqa\n"),        # the case reader reaching up to authoring
 ])
 def test_a_crossed_layer_breaks_the_contracts(tmp_path, module, violation):
     shutil.copytree(PACKAGE, tmp_path / "pchute_exudyn", ignore=shutil.ignore_patterns("__pycache__"))
@@ -55,6 +59,120 @@ def test_a_crossed_layer_breaks_the_contracts(tmp_path, module, violation):
     target.write_text(target.read_text() + "\n" + violation)
     run = _lint_imports(tmp_path)
     assert run.returncode != 0 and "BROKEN" in run.stdout.upper(), run.stdout + run.stderr
+
+
+# -- no import cycle (issue 54) --------------------------------------------------------------------------------
+
+
+def _modules(root: Path) -> dict:
+    """Dotted name -> (path, whether it is a package's __init__) of every module of the package under ``root``."""
+    found = {}
+    for path in sorted((root / "pchute_exudyn").rglob("*.py")):
+        parts = path.relative_to(root).with_suffix("").parts
+        package = parts[-1] == "__init__"
+        found[".".join(parts[:-1] if package else parts)] = (path, package)
+    return found
+
+
+@functools.cache
+def _import_statements(text: str) -> tuple:
+    """(level, module, names) of every import statement anywhere in a module's ``text``: ``import a.b`` is
+    (None, None, ("a.b",)); ``from ..a import b, c`` (2, "a", ("b", "c")). Kept by text, so that a copy of the
+    package is parsed again only where it differs."""
+    statements = []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Import):
+            statements.append((None, None, tuple(alias.name for alias in node.names)))
+        elif isinstance(node, ast.ImportFrom):
+            statements.append((node.level, node.module, tuple(alias.name for alias in node.names)))
+    return tuple(statements)
+
+
+def import_graph(root: Path) -> dict:
+    """Module -> the package's modules it imports anywhere in its text: at module level, inside functions, classes,
+    ``if`` and ``try`` alike, relative or absolute; ``from a import b`` imports a.b when b is a submodule, else a.
+    (An import by name at run time, ``importlib.import_module``, is not seen.)"""
+    modules = _modules(root)
+    graph = {}
+    for name, (path, package) in modules.items():
+        here = name.split(".") if package else name.split(".")[:-1]   # what ``from .`` means in this module
+        targets = set()
+        for level, module, names in _import_statements(path.read_text()):
+            if level is None:
+                targets.update(names)
+                continue
+            base = ".".join(here[:len(here) - level + 1] + ([module] if module else [])) if level else module
+            targets.update(f"{base}.{alias}" if f"{base}.{alias}" in modules else base for alias in names)
+        graph[name] = {target for target in targets if target in modules and target != name}
+    return graph
+
+
+def import_cycles(graph: dict) -> list:
+    """The modules that import each other in a circle, as sorted lists: each strongly connected component of more
+    than one module (Tarjan's algorithm); ``circle`` traces one circle through it."""
+    index, low, stack, components = {}, {}, [], []
+
+    def visit(module):
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        for target in sorted(graph[module]):
+            if target not in index:
+                visit(target)
+                low[module] = min(low[module], low[target])
+            elif target in stack:
+                low[module] = min(low[module], index[target])
+        if low[module] == index[module]:
+            component = set()
+            while module not in component:
+                component.add(stack.pop())
+            if len(component) > 1:
+                components.append(component)
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return sorted(sorted(component) for component in components)
+
+
+def circle(graph: dict, component) -> list:
+    """A shortest circle of imports through the first module (by name) of a strongly connected ``component``, the
+    first module repeated at the end."""
+    component = set(component)
+    start = min(component)
+    paths = {start: [start]}
+    queue = [start]
+    for module in queue:   # breadth first, inside the component
+        for target in sorted(graph[module] & component):
+            if target == start:
+                return paths[module] + [start]
+            if target not in paths:
+                paths[target] = paths[module] + [target]
+                queue.append(target)
+    raise AssertionError(f"no circle through {start}")   # a strongly connected component always has one
+
+
+def test_no_module_imports_itself_through_others():
+    """No circle of imports in the package, counting those inside functions: each layer's modules import in one
+    order (a circle is a misfiled name; issue 54 found `pchute new`'s six modules in one)."""
+    graph = import_graph(ROOT)
+    cycles = import_cycles(graph)
+    assert not cycles, "modules that import each other in a circle:\n" + "\n".join(
+        f"{', '.join(cycle)} (e.g. {' -> '.join(circle(graph, cycle))})" for cycle in cycles)
+
+
+@pytest.mark.parametrize("planted", ["from .cli import main", "from . import cli", "import pchute_exudyn.cli"])
+def test_a_planted_import_cycle_is_caught(tmp_path, planted):
+    """errors.py importing the command inside a function (the command imports errors at its top) closes a circle
+    the check names, in each form an import can take."""
+    shutil.copytree(PACKAGE, tmp_path / "pchute_exudyn", ignore=shutil.ignore_patterns("__pycache__", "_compiled"))
+    target = tmp_path / "pchute_exudyn" / "errors.py"
+    target.write_text(target.read_text() + f"\n\ndef _planted():\n    {planted}  # noqa\n")
+    graph = import_graph(tmp_path)
+    cycles = import_cycles(graph)
+    assert len(cycles) == 1, cycles   # the package had none: every circle now runs through the planted import
+    assert {"pchute_exudyn.errors", "pchute_exudyn.cli"} <= set(cycles[0])
+    traced = circle(graph, cycles[0])
+    assert ("pchute_exudyn.errors", "pchute_exudyn.cli") in zip(traced, traced[1:]), traced
 
 
 def _functions():
@@ -222,3 +340,51 @@ def test_study_and_fit_import_no_private_name_of_the_case_layer():
                 if (node.level, module.split(".")[0]) in ((2, "case"), (0, "pchute_exudyn")) and ".case" in f".{module}":
                     found += [f"{path.name}: {alias.name}" for alias in node.names if alias.name.startswith("_")]
     assert not found, found
+
+
+# -- the unit tier's budget (issue 54) -------------------------------------------------------------------------
+
+BUDGETED_TESTS = '''
+import time
+
+
+def test_quick():
+    pass
+
+
+def test_computes():
+    end = time.process_time() + 0.3
+    while time.process_time() < end:
+        pass
+
+
+def test_waits():
+    time.sleep(0.3)
+
+
+def test_fails_on_its_own():
+    time.sleep(0.3)
+    assert False, "its own failure"
+'''
+
+
+def test_the_unit_tier_fails_a_test_over_its_budget(tmp_path):
+    """tests/unit/conftest.py, its budgets scaled down to 0.1 s, in a pytest run of its own: a test that computes or
+    waits past them fails naming the budget; a quick one passes; one that fails keeps its own failure."""
+    conftest = (ROOT / "tests" / "unit" / "conftest.py").read_text()
+    for name in ("CPU_BUDGET", "WALL_BUDGET"):
+        conftest, found = re.subn(rf"^{name} = .*$", f"{name} = 0.1", conftest, flags=re.MULTILINE)
+        assert found == 1, name
+    (tmp_path / "conftest.py").write_text(conftest)
+    (tmp_path / "test_budgeted.py").write_text(BUDGETED_TESTS)
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-rA", "-p", "no:cacheprovider", str(tmp_path)],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    outcomes = {name: outcome for outcome, name in re.findall(r"^(PASSED|FAILED) \S+::(\w+)", run.stdout,
+                                                              re.MULTILINE)}
+    assert outcomes == {"test_quick": "PASSED", "test_computes": "FAILED", "test_waits": "FAILED",
+                        "test_fails_on_its_own": "FAILED"}, run.stdout
+    budget = "a unit test's budget is 0.1 s and 0.1 s (tests/unit/conftest.py)"
+    for name in ("test_computes", "test_waits"):
+        assert re.search(rf"::{name} took [0-9.]+ s of processor time and [0-9.]+ s on the clock: {re.escape(budget)}",
+                         run.stdout), run.stdout
+    assert "its own failure" in run.stdout

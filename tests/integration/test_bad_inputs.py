@@ -395,7 +395,7 @@ BATTERY = [
 
 def _released(tmp: Path, extra: str = "") -> str:
     """A cargo release written by `pchute new`, extended by ``extra`` (TOML lines)."""
-    from pchute_exudyn.case.new import new_case_text
+    from pchute_exudyn.authoring.write import new_case_text
 
     base = _file(tmp, "release_base.toml", new_case_text(planet="earth", mass=500.0, canopy_diameter=15.0,
                                                          canopy_type="flat_circular", altitude=800.0,

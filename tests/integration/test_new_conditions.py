@@ -1,5 +1,5 @@
 """`pchute new --mach M --dynamic-pressure Q`: a new case that starts at line stretch at flight conditions
-(case.new_conditions) starts at that Mach number and dynamic pressure and flies to touchdown; choices the start cannot
+(authoring.flight_start) starts at that Mach number and dynamic pressure and flies to touchdown; choices the start cannot
 take are one-line errors with a non-zero exit."""
 
 from __future__ import annotations

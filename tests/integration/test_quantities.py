@@ -1,4 +1,4 @@
-"""The quantities a trigger's sensor reads (``physics.triggers.QUANTITIES``, issue 47): one record each, complete —
+"""The quantities a trigger's sensor reads (``registries.quantities.QUANTITIES``, issue 47): one record each, complete —
 its true value computed, its sensed value formed, its unit in the column registry when a study keeps it, its line in
 docs/case-format.md, and a threshold on it read from a case."""
 
@@ -8,8 +8,10 @@ import pytest
 
 import pchute_exudyn as pc
 from pchute_exudyn.case.sensing import true_values
-from pchute_exudyn.physics.triggers import QUANTITIES, SENSED, THRESHOLD_QUANTITIES, Sensor, sense
 from pchute_exudyn.registries.columns import unit
+from pchute_exudyn.registries.quantities import QUANTITIES, SENSED, THRESHOLD_QUANTITIES
+from pchute_exudyn.triggers.definition import Sensor
+from pchute_exudyn.triggers.sensors import sense
 from tests.helpers import ROOT
 
 

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.case.new import NewCase, layout
+from pchute_exudyn.authoring.choices import NewCase
+from pchute_exudyn.authoring.layout import layout
 from pchute_exudyn.case.overrides import Scale, apply_override, tomllib
 from tests.helpers import ROOT
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from pchute_exudyn.physics.user_calls import IDLE, CallTimedOut, UserCalls
+from pchute_exudyn.triggers.user_calls import IDLE, CallTimedOut, UserCalls
 from tests.bad_input_harness import assert_one_line, run_bad_input
 from tests.helpers import ROOT, start_cli
 
@@ -111,7 +111,7 @@ def test_misbehaving_trigger_function_gives_one_line(tmp_path, name, make_args, 
 
 
 def test_the_thread_of_a_user_function_answers_and_ends_when_idle():
-    """``physics.user_calls``: answers and exceptions come back, a call past its limit is left behind, and no
+    """``triggers.user_calls``: answers and exceptions come back, a call past its limit is left behind, and no
     worker thread outlives its work by more than IDLE s (a study's process runs thousands of runs)."""
     calls, before = UserCalls(), set(threading.enumerate())   # (a test before may have left a sleeping call)
     assert calls.call(lambda a: a + 1, (1,), 1.0) == 2

@@ -67,7 +67,7 @@ def test_sequence_outputs_of_a_synthetic_summary():
     assert sequence_outputs({"events": summary["events"][:3]}) == {}   # nothing triggered: no new columns
     labels = [output_label(name) for name in sequence_outputs(summary)][:4]
     assert labels == ["deploy_altitude_main (m)", "deploy_mach_main (-)", "deploy_dynamic_pressure_main (Pa)",
-                      "deploy_time_main (s)"]   # the recorded quantities in their table's order (physics.triggers)
+                      "deploy_time_main (s)"]   # the recorded quantities in their table's order (registries.quantities)
     assert output_label("separation_clearance_heat_shield") == "separation_clearance_heat_shield (m)"
     assert output_label("separation_time_heat_shield") == "separation_time_heat_shield (s)"
 

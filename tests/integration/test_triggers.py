@@ -12,7 +12,8 @@ import pytest
 
 from pchute_exudyn import SimulationError, load_case, simulate
 from pchute_exudyn.physics.atmosphere import US76
-from pchute_exudyn.physics.triggers import Sensor, Threshold, Trigger, Watch
+from pchute_exudyn.triggers.definition import Sensor, Threshold, Trigger
+from pchute_exudyn.triggers.watch import Watch
 from tests.helpers import ROOT
 
 G = 9.80665
@@ -246,7 +247,7 @@ def _fire_time(trigger: Trigger, fired: dict, step: float = 0.01) -> float:
 
 
 def test_all_any_and_speed_sensing():
-    from pchute_exudyn.physics.triggers import After, AllOf, AnyOf
+    from pchute_exudyn.triggers.definition import After, AllOf, AnyOf
     below_two = Threshold("mach", True, 2.0)
     assert _fire_time(Trigger(below_two, Sensor(rate=100.0)), {}) == pytest.approx(1.0, abs=1e-9)
     waits = AllOf((below_two, After("drogue.deploy", 1.0)))

@@ -1,7 +1,7 @@
 """Aerodynamics at every attitude (docs/models/aerodatabase.md, "Every attitude"): the force never adds energy to a
 body's motion through the air for C_A, C_N >= 0 at any of 10,000 random attitudes and air velocities; a body
-symmetric fore and aft, turned round, gets the same force and moment; a runaway is named with its body, quantity,
-value and time."""
+symmetric fore and aft, turned round, gets the same force and moment. The runs (a runaway named, an implicit step
+across a jump) are tests/integration/test_attitude_runs.py."""
 
 from __future__ import annotations
 
@@ -10,10 +10,7 @@ import math
 import numpy as np
 import pytest
 
-import pchute_exudyn as pc
-from pchute_exudyn.errors import SimulationError
 from pchute_exudyn.physics.aerodynamics import CoefficientTable, aerodynamic_load, pack_body, pack_tables
-from pchute_exudyn.physics.runaway import SPEED_MULTIPLE
 
 SAMPLES = 10_000
 ANGLES = [0.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 90.0]
@@ -45,12 +42,19 @@ def random_tables(rng, kind: str) -> tuple:
             CoefficientTable(tuple(TOTAL), tuple(rng.uniform(-0.5, 0.5, 9))))
 
 
-def load(tables, velocity, rotation, rates=(0.0, 0.0, 0.0), density=1.1, area=30.0):
-    """(force in N, start frame; moment in N m, body axes) of ``aerodynamic_load`` for these coefficients."""
-    packed, offsets = pack_tables(list(tables) + [CoefficientTable.constant(-0.3)])
+def packed(tables, area=30.0) -> tuple:
+    """(tables, body row) of ``aerodynamic_load`` for these coefficients (C_mq -0.3, reference length 2 m)."""
+    tables, offsets = pack_tables(list(tables) + [CoefficientTable.constant(-0.3)])
     body = np.array(pack_body(area, 2.0, {"axial": offsets[0], "normal": offsets[1], "moment": offsets[2],
                                           "pitch_damping": offsets[3]}))
-    out = aerodynamic_load(packed, body, *map(float, velocity), np.ascontiguousarray(rotation).ravel(),
+    return tables, body
+
+
+def load(tables, velocity, rotation, rates=(0.0, 0.0, 0.0), density=1.1, area=30.0, packing=None):
+    """(force in N, start frame; moment in N m, body axes) of ``aerodynamic_load`` for these coefficients
+    (``packing``: theirs from ``packed``, when already made)."""
+    table_row, body = packing or packed(tables, area)
+    out = aerodynamic_load(table_row, body, *map(float, velocity), np.ascontiguousarray(rotation).ravel(),
                            np.asarray(rates, float), density, 340.0, 1.0)
     return np.array(out[:3]), np.array(out[3:6])
 
@@ -60,14 +64,15 @@ def test_the_force_never_adds_energy_to_the_motion_through_the_air(kind):
     """F . V <= 0 (to round-off) at random attitudes, air velocities (0.1 to 500 m/s) and C_A, C_N >= 0: the axial
     force opposes the axial airspeed at every angle, the normal force the cross-flow."""
     rng = np.random.default_rng(33)
-    worst, beyond_90, tables = -math.inf, 0, None
+    worst, beyond_90, tables, packing = -math.inf, 0, None, None
     for i in range(SAMPLES):
-        if i % 100 == 0:   # a hundred coefficient sets, each at a hundred attitudes
+        if i % 100 == 0:   # a hundred coefficient sets, each at a hundred attitudes (packed once)
             tables = random_tables(rng, kind)
+            packing = packed(tables)
         rotation = random_rotation(rng)
         velocity = rng.standard_normal(3)
         velocity *= rng.uniform(0.1, 500.0) / np.linalg.norm(velocity)
-        force, _ = load(tables, velocity, rotation)
+        force, _ = load(tables, velocity, rotation, packing=packing)
         beyond_90 += velocity @ rotation[:, 0] < 0.0
         worst = max(worst, force @ velocity / (np.linalg.norm(force) * np.linalg.norm(velocity) + 1e-300))
     assert worst <= 1e-12
@@ -106,39 +111,3 @@ def test_the_axial_force_below_90_degrees_is_the_constant_coefficient_law():
         perp = velocity - (velocity @ e) * e
         expected = -q_s * tables[0](alpha) * e - q_s * tables[1](alpha) * perp / np.linalg.norm(perp)
         np.testing.assert_allclose(load(tables, velocity, rotation)[0], expected, rtol=1e-13, atol=1e-9)
-
-
-def test_a_model_that_adds_energy_is_stopped_as_a_named_runaway(tmp_path):
-    """A total C_A table kept positive beyond 90 deg (the old constant-C_A law, with MER's C_N) pumps energy into a
-    cluster's canopy that a sudden 10 m/s crosswind turns past 90 deg (the issue's cargo drop, started still over the
-    ground): the run stops with one line naming the body, the quantity, its value and the time (not 'altitude
-    outside the atmosphere'); with the law of every attitude the same start flies on."""
-    path = tmp_path / "cargo.toml"
-    path.write_text(pc.new_case_text(planet="earth", mass=2000.0, canopy_diameter=30.5, canopy_type="flat_circular",
-                                     canopies=3, altitude=1500.0))
-    overrides = {"start.velocities_relative_to": "ground", "atmosphere.wind.east": 10.0, "simulation.duration": 2.0}
-    for i in (1, 2, 3):   # C_A positive beyond 90 deg (a total table), C_N of MER's canopy (0 at 90 deg)
-        overrides[f"canopy{i}.aerodynamics.axial_coefficient"] = {"alpha_deg": [0.0, 180.0], "value": [0.77, 0.77]}
-        overrides[f"canopy{i}.aerodynamics.normal_coefficient.value"] = [0, 0.04, 0.08, 0.11, 0.13, 0.15, 0.14, 0.11, 0]
-    with pytest.raises(SimulationError) as caught:
-        pc.simulate(pc.load_case(path, overrides), "sp")
-    text = str(caught.value)
-    assert text.startswith("body canopy") and "ran away at t = " in text and "its speed reached" in text
-    assert f"{SPEED_MULTIPLE:g} times" in text and "\n" not in text
-    with_the_law = pc.load_case(path, {key: value for key, value in overrides.items() if "axial" not in key})
-    assert pc.simulate(with_the_law, "sp").summary["end"] == "duration"   # the same start, every attitude's law
-
-
-def test_an_implicit_step_across_a_constant_coefficients_jump_names_the_edge_on_canopy(tmp_path):
-    """A constant C_A changes sign at 90 deg: the implicit integrator's step has no solution while a canopy slides
-    along it, so the run stops naming the canopy and its angle, and what to use instead (`pchute new`'s table, which
-    falls to 0 at 90 deg, runs: tests/integration/test_starts.py and validation/release.py)."""
-    path = tmp_path / "release.toml"
-    path.write_text(pc.new_case_text(planet="earth", mass=2000.0, canopy_diameter=30.5, canopy_type="flat_circular",
-                                     canopies=3, altitude=1500.0, release_airspeed=65.0, release_heading_deg=90.0))
-    constant = {f"canopy{i}.aerodynamics.axial_coefficient": 0.77 for i in (1, 2, 3)}
-    with pytest.raises(SimulationError) as caught:
-        pc.simulate(pc.load_case(path, constant), "full", "implicit", 1e-2, duration=10.0)
-    text = str(caught.value)
-    assert "flies edge-on to the air (angle of attack" in text and "use RK4" in text and text.startswith(
-        "the implicit integration stopped at t = ")

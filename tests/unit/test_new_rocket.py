@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.case.new import NewCase
-from pchute_exudyn.case.new_rocket import nose_attitude_deg, nose_direction, start_height
+from pchute_exudyn.authoring.choices import NewCase
+from pchute_exudyn.authoring.rocket_start import nose_attitude_deg, nose_direction, start_height
 from pchute_exudyn.physics.rotations import attitude_matrix
 from pchute_exudyn.physics.shapes import hemispherical_shell_inertia, solid_cylinder_inertia
 from pchute_exudyn.results import rocketpy_export

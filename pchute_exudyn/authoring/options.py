@@ -1,11 +1,11 @@
-"""``pchute new``'s options from NewCase (case.new): each field's metavar and help from the class docstring's
-Attributes (their one home), and the fields with their defaults in order (``choice_fields``)."""
+"""``pchute new``'s options from NewCase (``authoring.choices``): each field's metavar and help from the class
+docstring's Attributes (their one home), and the fields with their defaults in order (``choice_fields``)."""
 
 from __future__ import annotations
 
 from dataclasses import asdict, fields
 
-from .new import NewCase
+from .choices import NewCase
 
 UNIT_METAVARS = (("(kg", "KG"), ("(m^2", "M2"), ("(m/s", "M/S"), ("(m)", "M"), ("(m,", "M"), ("(deg", "DEG"),
                  ("(s,", "S"), ("(s)", "S"), ("(-)", "C"), ("(Pa", "PA"))

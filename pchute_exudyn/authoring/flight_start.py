@@ -16,8 +16,9 @@ import math
 
 from ..errors import InputError, short_repr
 from ..physics.conditions import ConditionsError, altitude_and_speed
-from .new_checks import check_number, check_positive
-from .new_planets import PLANETS
+from .choice_checks import check_number, check_positive
+from .planets import PLANETS
+from .text import number as _n
 
 GROUND = 0.0
 """m: the altitude where a case of ``pchute new`` ends (touchdown of the vehicle's centre of mass), which the start
@@ -61,7 +62,7 @@ def start_state(c) -> tuple:
     ``physics.conditions``) when they are given, else ``c.altitude`` and None. InputError (one line) when no altitude
     of the atmosphere gives them, the one that does is not above the ground (GROUND), or the speed is beyond the
     case reader's range of a velocity (``case.plausible``)."""
-    from .plausible import check_value
+    from ..case.plausible import check_value
 
     if c.mach is None:
         return c.altitude, None
@@ -93,8 +94,6 @@ def header_words(c, altitude: float, speed: float) -> list:
 def vehicle_rows(c, altitude: float, speed: float) -> list:
     """The vehicle's ``initial`` table at flight conditions and its load-free ``aerodynamics`` table, which makes
     the run record ``vehicle_mach`` and ``vehicle_dynamic_pressure``."""
-    from .new import _n
-
     atmosphere = PLANETS[c.planet][1]
     return ["[bodies.vehicle.initial]                   # attitude: body +x down (the descent attitude)",
             f"# Mach {c.mach:g} at {c.dynamic_pressure:g} Pa: {altitude:.1f} m, {speed:.2f} m/s through the air "

@@ -1,5 +1,6 @@
-"""The checks of ``pchute new``'s choices (case.new, case.new_rocket): each refuses a value with one line naming
-the field, the value and what is allowed (InputError)."""
+"""The checks of ``pchute new``'s choices (``authoring.choices``, ``authoring.flight_start``,
+``authoring.rocket_start``): each refuses a value with one line naming the field, the value and what is allowed
+(InputError)."""
 
 from __future__ import annotations
 
@@ -58,14 +59,14 @@ NEEDS = {"static_line_time": ("release_airspeed", "a static line deploys the can
          "flight_path_deg": ("mach", "the flight path is the start's at flight conditions"),
          "heading_deg": ("mach", "the heading is the start's at flight conditions")}
 """A NewCase field that means something only with another: field -> (that field, what the first is)."""
-EXCLUDES = {"altitude": ("mach", "the flight conditions give the start altitude (case.new_conditions)")}
+EXCLUDES = {"altitude": ("mach", "the flight conditions give the start altitude (authoring.flight_start)")}
 """A NewCase field given (even at its default) that another, when set, refuses: field -> (that field, why)."""
 
 
 def check_reader_ranges(c) -> None:
     """InputError for a NewCase field outside the range the case reader allows for the key it becomes (a mass of
     1e30 kg, a speed of 1e6 m/s): ``pchute new`` never writes a file ``pchute run`` refuses."""
-    from .plausible import check_value
+    from ..case.plausible import check_value
 
     for field, key in READER_KEYS.items():
         value = getattr(c, field, None)
@@ -91,28 +92,3 @@ def check_needs(c, given) -> None:
             raise InputError(f"{field} = {short_repr(getattr(c, field))}: only with {needed} "
                              f"(--{needed.replace('_', '-')}): {what}; without it the file would drop it")
 
-
-def new_choices(given: dict):
-    """The NewCase of ``pchute new``'s options ``given`` (field -> value), each option that needs another checked
-    even at its default value."""
-    from .new import NewCase
-
-    choices = NewCase(**given)
-    check_needs(choices, given)
-    return choices
-
-
-def checked_case_text(choices) -> str:
-    """``new_case_text(choices)``, read back by the case reader first: a file ``pchute run`` would refuse is an
-    InputError naming the reader's complaint, never written."""
-    from ..errors import CaseError
-    from .files import tomllib
-    from .loader import build_case
-    from .new import new_case_text
-
-    text = new_case_text(choices)
-    try:
-        build_case(tomllib.loads(text), {}, f"the case `pchute new` would write for {choices.name!r}")
-    except CaseError as exc:
-        raise InputError(f"these choices make a case `pchute run` refuses: {exc}") from None
-    return text

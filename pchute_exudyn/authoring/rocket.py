@@ -1,4 +1,5 @@
-"""``pchute new --dual-deploy``: a rocket's dual-deploy recovery from a state over the ground, as one case file.
+"""``pchute new --dual-deploy``: a rocket's dual-deploy recovery from a state over the ground, as one case file's
+lines (``dual_deploy_lines``; its choices and start: ``authoring.rocket_start``).
 
 The rocket is a slender cylinder of the given length and diameter, its body +x the symmetry axis toward the nose.
 Two systems ride packed in it (``packed = true``), each one bridle from the rocket's harness to a confluence and one
@@ -12,7 +13,7 @@ Sizing rules, each written beside its number:
 * rocket: a solid cylinder, uniform (``physics.shapes.solid_cylinder_inertia``; a rocket's mass sits nearer its
   skin, so its axial inertia is larger); the harness HARNESS_FRACTION of the length aft of the centre of mass;
   bridle BRIDLE_FRACTION and riser RISER_FRACTION of the length unless given;
-* canopies: as ``pchute new``'s (case.new): S0 = C_D0 S0 / C_D0 of the canopy type, a hemispherical shell's
+* canopies: as ``pchute new``'s (authoring.descent): S0 = C_D0 S0 / C_D0 of the canopy type, a hemispherical shell's
   inertia, CANOPY_AREAL_MASS x S0 unless a mass is given; lines stretched LINE_STRAIN under the rocket's weight;
 * the start: position (latitude, longitude, altitude or height above the ground), velocity over the ground
   (``[start] velocities_relative_to = "ground"``: east, north, up) and the nose's pitch and heading.
@@ -23,24 +24,23 @@ from __future__ import annotations
 import json
 import math
 
-import numpy as np
-
+from ..case.model import Contact
 from ..errors import InputError
 from ..physics.inflation import nominal_diameter
 from ..physics.shapes import hemispherical_shell_inertia, solid_cylinder_inertia
-from .model import Contact
-from .new import (
+from ..registries.canopy_types import CANOPY_TYPES
+from .planets import PLANETS, gravity_at
+from .rocket_start import ground, nose_attitude_deg, nose_direction, start_altitude, start_height
+from .rules import (
     AXIAL_FLAT_TO_DEG,
     CANOPY_AREAL_MASS,
     CONFLUENCE_MASS_FRACTION,
     LINE_DAMPING_TIME,
     LINE_STRAIN,
     NORMAL_COEFFICIENT,
-    _n,
-    _vector,
 )
-from .new_checks import check_number, check_positive
-from .new_planets import PLANETS, gravity_at
+from .text import number as _n
+from .text import vector as _vector
 
 TRIGGER_RATE = 100.0
 """Both triggers' sampling rate (Hz): RocketPy's usual 100 Hz."""
@@ -50,113 +50,6 @@ BRIDLE_FRACTION = 0.4
 """A system's bridle (shock cord from the harness) per rocket length (-, assumed: 1 m on a 2.5 m rocket)."""
 RISER_FRACTION = 2.0
 """A system's riser (confluence to the canopy) per rocket length (-, assumed: 5 m on a 2.5 m rocket)."""
-ROCKET_ONLY = ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
-               "latitude", "longitude", "ground_elevation", "height", "velocity_east", "velocity_north",
-               "velocity_up", "nose_pitch_deg", "nose_heading_deg", "from_rocketpy")
-"""NewCase fields of the dual-deploy form only."""
-START_FIELDS = ("altitude", "height", "latitude", "longitude", "velocity_east", "velocity_north", "velocity_up",
-                "nose_pitch_deg", "nose_heading_deg")
-"""The start state's NewCase fields, which a RocketPy export gives (``started_from``)."""
-
-
-def check_choices(c) -> None:
-    """InputError, one line naming the field, its value and what is allowed, for a NewCase's dual-deploy fields
-    (or for any of them given without ``dual_deploy``)."""
-    if not c.dual_deploy:
-        given = [key for key in ROCKET_ONLY if getattr(c, key) is not None]
-        if given:
-            raise InputError(f"{given[0]} = {getattr(c, given[0])!r}: only with dual_deploy (--dual-deploy)")
-        return
-    if c.planet == "mars":
-        raise InputError("planet = 'mars': a dual deploy flies on Earth; give planet 'earth' (--planet earth) or "
-                         "'flat'")
-    for key in ("length", "drogue_drag_area", "main_drag_area", "main_height"):
-        if getattr(c, key) is None:
-            raise InputError(f"{key}: required with dual_deploy ({_UNITS[key]})")
-    for key in ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
-                "height"):
-        check_positive(key, getattr(c, key), optional=True, unit=_UNITS[key])
-    for key, low, high, unit in (("latitude", -90.0, 90.0, "deg"), ("longitude", -360.0, 360.0, "deg"),
-                                 ("nose_pitch_deg", -90.0, 90.0, "deg, above the horizontal"),
-                                 ("nose_heading_deg", -360.0, 360.0, "deg, clockwise from north"),
-                                 ("ground_elevation", -12000.0, 20000.0, "m"),
-                                 *((key, -3000.0, 3000.0, "m/s, over the ground") for key in
-                                   ("velocity_east", "velocity_north", "velocity_up"))):
-        value = getattr(c, key)
-        if value is not None:
-            check_number(key, value, low <= value <= high, f"must be a number from {low:g} to {high:g} ({unit})")
-    check_number("apogee_lag", c.apogee_lag, c.apogee_lag >= 0.0, "must be a number >= 0 (s)")
-    for key, value in (("canopies", c.canopies != 1), ("release_airspeed", c.release_airspeed is not None),
-                       ("speed", c.speed is not None)):
-        if value:
-            raise InputError(f"{key} = {getattr(c, key)!r}: not with dual_deploy (one drogue, one main, a start "
-                             "state over the ground)")
-    height = start_height(c)
-    if height <= 0.0:
-        raise InputError(f"altitude = {c.altitude!r}: must be above the ground ({ground(c):g} m)")
-    if c.main_height >= height:
-        raise InputError(f"main_height = {c.main_height!r}: must be below the start's height above the ground, "
-                         f"{height:g} m (the main deploys on the way down)")
-
-
-_UNITS = {"length": "m", "drogue_drag_area": "m^2", "main_drag_area": "m^2", "main_height": "m",
-          "drogue_mass": "kg", "main_mass": "kg", "height": "m"}
-
-
-def ground(c) -> float:
-    """The ground's altitude (m)."""
-    return 0.0 if c.ground_elevation is None else float(c.ground_elevation)
-
-
-def start_altitude(c) -> float:
-    """The rocket's start altitude (m): the ground's plus ``height``, else ``altitude``."""
-    return ground(c) + c.height if c.height is not None else float(c.altitude)
-
-
-def start_height(c) -> float:
-    """The start's height above the ground (m)."""
-    return start_altitude(c) - ground(c)
-
-
-def started_from(c, state, source: str):
-    """``c`` (a NewCase) with its start from a RocketPy export's ``state`` (``results.rocketpy_export
-    .RocketPyStart``; ``source`` its file, for messages): position, velocity over the ground, the nose's pitch and
-    heading where exported, the ground's altitude where the export has it and ``c`` does not. InputError if ``c``
-    gives a start field too."""
-    from dataclasses import replace
-
-    from .new import NewCase
-
-    given = [key for key in START_FIELDS if getattr(c, key) != getattr(NewCase, key)]
-    if given:
-        raise InputError(f"{given[0]} = {getattr(c, given[0])!r}: the start comes from from_rocketpy ({source}); "
-                         "give one or the other")
-    fields = {"altitude": state.altitude, "latitude": state.latitude_deg, "longitude": state.longitude_deg,
-              "velocity_east": state.velocity_east, "velocity_north": state.velocity_north,
-              "velocity_up": state.velocity_up, "nose_pitch_deg": state.nose_pitch_deg,
-              "nose_heading_deg": state.nose_heading_deg}
-    if c.ground_elevation is None:
-        fields["ground_elevation"] = state.ground_elevation
-    return replace(c, **fields)
-
-
-def nose_direction(c) -> np.ndarray:
-    """The nose (body +x) as (east, north, up) (-): ``nose_pitch_deg`` above the horizontal (0 if not given),
-    ``nose_heading_deg`` clockwise from north (if not given: along the horizontal velocity, north at none)."""
-    pitch = math.radians(c.nose_pitch_deg or 0.0)
-    east, north = c.velocity_east or 0.0, c.velocity_north or 0.0
-    heading = (math.radians(c.nose_heading_deg) if c.nose_heading_deg is not None
-               else math.atan2(east, north) if math.hypot(east, north) > 0.0 else 0.0)
-    return np.array([math.cos(pitch) * math.sin(heading), math.cos(pitch) * math.cos(heading), math.sin(pitch)])
-
-
-def nose_attitude_deg(nose) -> tuple:
-    """Attitude angles (yaw, pitch, roll) (deg, relative to the descent frame x down, y east, z south;
-    docs/case-format.md) that put body +x on ``nose`` (east, north, up; a unit vector), no roll (the rocket is
-    symmetric about its axis)."""
-    east, north, up = (float(v) for v in nose)
-    yaw, pitch = math.degrees(math.atan2(east, -up)), math.degrees(math.asin(max(-1.0, min(1.0, north))))
-    return round(yaw, 9) + 0.0, round(pitch, 9) + 0.0, 0.0   # no float noise (1e-15 deg) in the file
 
 
 def steady_rate(c, drag_area: float, altitude: float) -> float:
@@ -174,8 +67,6 @@ def dual_deploy_lines(c) -> list:
 
 def _sizes(c, which: str) -> tuple:
     """(S0 (m^2), mass (kg), projected radius (m), apex distance (m)) of the ``which`` canopy."""
-    from ..registries.canopy_types import CANOPY_TYPES
-
     drag_coefficient = CANOPY_TYPES[c.canopy_type].drag_coefficient if c.drag_coefficient is None \
         else c.drag_coefficient
     area = getattr(c, f"{which}_drag_area") / drag_coefficient
@@ -193,8 +84,8 @@ def _header(c) -> list:
     nose = nose_direction(c)
     drogue = steady_rate(c, c.drogue_drag_area, ground(c))
     main = steady_rate(c, c.main_drag_area, ground(c))
-    return [f"# {c.name}: a rocket's dual deploy, written by `pchute new --dual-deploy` (pchute_exudyn.case."
-            "new_rocket; docs/tutorial.md).", "# Units SI; angles in degrees only where named _deg.",
+    return [f"# {c.name}: a rocket's dual deploy, written by `pchute new --dual-deploy` (pchute_exudyn.authoring."
+            "rocket; docs/tutorial.md).", "# Units SI; angles in degrees only where named _deg.",
             f"# Start {_n(start_height(c))} m above a ground at {_n(ground(c))} m, velocity over the ground east "
             f"{_n(c.velocity_east or 0.0)}, north {_n(c.velocity_north or 0.0)}, up {_n(c.velocity_up or 0.0)} m/s, "
             f"nose {math.degrees(math.asin(nose[2])):.4g} deg above the horizontal.",

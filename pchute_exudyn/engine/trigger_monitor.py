@@ -1,5 +1,5 @@
 """The sensed triggers of a phase as a stop condition: after every accepted step, each trigger that is armed and due
-samples the true state of its body (``physics.triggers.Watch``); the first firing stops the phase after that step,
+samples the true state of its body (``triggers.watch.Watch``); the first firing stops the phase after that step,
 and the run places the event at its firing time (``run.simulation``)."""
 
 from __future__ import annotations
@@ -9,14 +9,14 @@ import math
 from ..case.model import Case
 from ..case.sensing import pressure_function, true_values
 from ..errors import SimulationError
-from ..physics.triggers import TIME_TOLERANCE, TriggerFailed, TriggerInterrupted
+from ..triggers.watch import TIME_TOLERANCE, TriggerFailed, TriggerInterrupted
 from .bodies import MAX_DESCENT_ACCELERATION
 from .phase_model import Model
 from .state import BodyChannel
 
 
 class TriggerMonitor:
-    """Stop condition of the sensed triggers of a phase (``watches``: ``physics.triggers.Watch``; ``fired``: event ->
+    """Stop condition of the sensed triggers of a phase (``watches``: ``triggers.watch.Watch``; ``fired``: event ->
     time of the events fired so far, updated by the run). ``firings`` holds what fired at the step that stopped."""
 
     def __init__(self, model: Model, case: Case, watches: list, fired: dict):
@@ -36,7 +36,7 @@ class TriggerMonitor:
         self.window: set = set()     # adaptive steps: the events that can fire now, sampled at their sample times
         self.horizon = math.inf      # adaptive steps: the longest step (s; set by the run)
         self.step = None             # s: the phase's fixed step, None for adaptive steps (``warm_up``)
-        for watch in watches:        # a user function's wait ends on Ctrl-C or SIGTERM (``physics.user_calls``)
+        for watch in watches:        # a user function's wait ends on Ctrl-C or SIGTERM (``triggers.user_calls``)
             watch.calls.stopped = self._stopped
 
     def _stopped(self) -> bool:

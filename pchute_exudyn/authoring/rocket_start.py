@@ -1,0 +1,119 @@
+"""The dual deploy's own choices (``pchute new --dual-deploy``; its rows: ``authoring.rocket``): their checks, the
+ground and the start's altitude and height above it, the nose's direction and attitude, and a start taken from a
+RocketPy export (``started_from``). NewCase checks them when made (``authoring.choices``)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import fields, replace
+
+import numpy as np
+
+from ..errors import InputError
+from .choice_checks import check_number, check_positive
+
+ROCKET_ONLY = ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
+               "latitude", "longitude", "ground_elevation", "height", "velocity_east", "velocity_north",
+               "velocity_up", "nose_pitch_deg", "nose_heading_deg", "from_rocketpy")
+"""NewCase fields of the dual-deploy form only."""
+START_FIELDS = ("altitude", "height", "latitude", "longitude", "velocity_east", "velocity_north", "velocity_up",
+                "nose_pitch_deg", "nose_heading_deg")
+"""The start state's NewCase fields, which a RocketPy export gives (``started_from``)."""
+
+
+def check_choices(c) -> None:
+    """InputError, one line naming the field, its value and what is allowed, for a NewCase's dual-deploy fields
+    (or for any of them given without ``dual_deploy``)."""
+    if not c.dual_deploy:
+        given = [key for key in ROCKET_ONLY if getattr(c, key) is not None]
+        if given:
+            raise InputError(f"{given[0]} = {getattr(c, given[0])!r}: only with dual_deploy (--dual-deploy)")
+        return
+    if c.planet == "mars":
+        raise InputError("planet = 'mars': a dual deploy flies on Earth; give planet 'earth' (--planet earth) or "
+                         "'flat'")
+    for key in ("length", "drogue_drag_area", "main_drag_area", "main_height"):
+        if getattr(c, key) is None:
+            raise InputError(f"{key}: required with dual_deploy ({_UNITS[key]})")
+    for key in ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
+                "height"):
+        check_positive(key, getattr(c, key), optional=True, unit=_UNITS[key])
+    for key, low, high, unit in (("latitude", -90.0, 90.0, "deg"), ("longitude", -360.0, 360.0, "deg"),
+                                 ("nose_pitch_deg", -90.0, 90.0, "deg, above the horizontal"),
+                                 ("nose_heading_deg", -360.0, 360.0, "deg, clockwise from north"),
+                                 ("ground_elevation", -12000.0, 20000.0, "m"),
+                                 *((key, -3000.0, 3000.0, "m/s, over the ground") for key in
+                                   ("velocity_east", "velocity_north", "velocity_up"))):
+        value = getattr(c, key)
+        if value is not None:
+            check_number(key, value, low <= value <= high, f"must be a number from {low:g} to {high:g} ({unit})")
+    check_number("apogee_lag", c.apogee_lag, c.apogee_lag >= 0.0, "must be a number >= 0 (s)")
+    for key, value in (("canopies", c.canopies != 1), ("release_airspeed", c.release_airspeed is not None),
+                       ("speed", c.speed is not None)):
+        if value:
+            raise InputError(f"{key} = {getattr(c, key)!r}: not with dual_deploy (one drogue, one main, a start "
+                             "state over the ground)")
+    height = start_height(c)
+    if height <= 0.0:
+        raise InputError(f"altitude = {c.altitude!r}: must be above the ground ({ground(c):g} m)")
+    if c.main_height >= height:
+        raise InputError(f"main_height = {c.main_height!r}: must be below the start's height above the ground, "
+                         f"{height:g} m (the main deploys on the way down)")
+
+
+_UNITS = {"length": "m", "drogue_drag_area": "m^2", "main_drag_area": "m^2", "main_height": "m",
+          "drogue_mass": "kg", "main_mass": "kg", "height": "m"}
+
+
+def ground(c) -> float:
+    """The ground's altitude (m)."""
+    return 0.0 if c.ground_elevation is None else float(c.ground_elevation)
+
+
+def start_altitude(c) -> float:
+    """The rocket's start altitude (m): the ground's plus ``height``, else ``altitude``."""
+    return ground(c) + c.height if c.height is not None else float(c.altitude)
+
+
+def start_height(c) -> float:
+    """The start's height above the ground (m)."""
+    return start_altitude(c) - ground(c)
+
+
+def started_from(c, state, source: str):
+    """``c`` (a NewCase) with its start from a RocketPy export's ``state`` (``results.rocketpy_export
+    .RocketPyStart``; ``source`` its file, for messages): position, velocity over the ground, the nose's pitch and
+    heading where exported, the ground's altitude where the export has it and ``c`` does not. InputError if ``c``
+    gives a start field too."""
+    defaults = {field.name: field.default for field in fields(c)}
+    given = [key for key in START_FIELDS if getattr(c, key) != defaults[key]]
+    if given:
+        raise InputError(f"{given[0]} = {getattr(c, given[0])!r}: the start comes from from_rocketpy ({source}); "
+                         "give one or the other")
+    start = {"altitude": state.altitude, "latitude": state.latitude_deg, "longitude": state.longitude_deg,
+              "velocity_east": state.velocity_east, "velocity_north": state.velocity_north,
+              "velocity_up": state.velocity_up, "nose_pitch_deg": state.nose_pitch_deg,
+              "nose_heading_deg": state.nose_heading_deg}
+    if c.ground_elevation is None:
+        start["ground_elevation"] = state.ground_elevation
+    return replace(c, **start)
+
+
+def nose_direction(c) -> np.ndarray:
+    """The nose (body +x) as (east, north, up) (-): ``nose_pitch_deg`` above the horizontal (0 if not given),
+    ``nose_heading_deg`` clockwise from north (if not given: along the horizontal velocity, north at none)."""
+    pitch = math.radians(c.nose_pitch_deg or 0.0)
+    east, north = c.velocity_east or 0.0, c.velocity_north or 0.0
+    heading = (math.radians(c.nose_heading_deg) if c.nose_heading_deg is not None
+               else math.atan2(east, north) if math.hypot(east, north) > 0.0 else 0.0)
+    return np.array([math.cos(pitch) * math.sin(heading), math.cos(pitch) * math.cos(heading), math.sin(pitch)])
+
+
+def nose_attitude_deg(nose) -> tuple:
+    """Attitude angles (yaw, pitch, roll) (deg, relative to the descent frame x down, y east, z south;
+    docs/case-format.md) that put body +x on ``nose`` (east, north, up; a unit vector), no roll (the rocket is
+    symmetric about its axis)."""
+    east, north, up = (float(v) for v in nose)
+    yaw, pitch = math.degrees(math.atan2(east, -up)), math.degrees(math.asin(max(-1.0, min(1.0, north))))
+    return round(yaw, 9) + 0.0, round(pitch, 9) + 0.0, 0.0   # no float noise (1e-15 deg) in the file
+
