@@ -14,7 +14,7 @@ out = output_folder()
 case = pc.load_case(ROOT / "cases" / "mer" / "case3.toml")
 result = pc.simulate(case, "sp", "rk4", 1e-2, duration=6.0)
 result.save(out / "mer_case3", plot=False, overwrite=True)
-print(f"peak riser tension {result.summary['peak_tension']['riser']:.0f} N")
+print(f"peak riser tension {result.summary.peak_tension['riser']:.0f} N")
 
 animation = Animation(Run.load(out / "mer_case3"), end=3.0, speed=1.0)
 animation.save(out / "mer_case3.gif")

@@ -40,4 +40,4 @@ relative = true                # x the case's C_A
 shutil.rmtree(out / "study", ignore_errors=True)
 counts = run_study(load_study(study_file), out / "study", progress=False)
 paths = study_report(out / "study")
-print(f"{counts['executed']} runs, {counts['failed']} failed; report {paths['report']}")
+print(f"{counts.executed} runs, {counts.failed} failed; report {paths['report']}")

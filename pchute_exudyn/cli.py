@@ -155,7 +155,7 @@ def _run_case(args, figure) -> int:
     finally:
         if progress is not None:
             progress.close()
-    for warning in result.summary["warnings"][len(case.warnings):]:   # the run's own: a trigger that never fired
+    for warning in result.summary.warnings[len(case.warnings):]:   # the run's own: a trigger that never fired
         print(f"pchute run: warning: {warning}", file=sys.stderr)
     result.save(out, plot=not args.no_plot, overwrite=args.overwrite, draw=figure.draw if figure else None)
     print(run_line(result.summary, out, plan.stability_limit))
@@ -293,9 +293,8 @@ def _compare(args) -> int:
                 raise InputError(f"{flag} {theirs}={ours}: {label} has no column {ours!r}; its columns are: "
                                  f"{', '.join(other.names)}")
     mapped = [ours for mapping in maps.values() for ours, _, _ in mapping.values() if ours != "time"]
-    vehicle = next((str(r.summary["vehicle"]) for r in (a, b) if isinstance(r.summary.get("vehicle"), str)),
-                   "vehicle")
-    if vehicle != "vehicle":   # a RocketPy export read without a map: its columns as the named vehicle's
+    vehicle = next((r.vehicle for r in (a, b) if r.vehicle_named), columns.UNNAMED_VEHICLE)   # the first named
+    if vehicle != columns.UNNAMED_VEHICLE:   # a RocketPy export read without a map: its columns as the named vehicle's
         a, b = (Result.load(path, mapping, vehicle) if not mapping and not Path(path).is_dir() else result
                 for path, mapping, result in ((args.a, maps["--map-a"], a), (args.b, maps["--map"], b)))
     comparison = compare_results(a, b, args.a, args.b, settle, vehicle=vehicle, columns=mapped or None,
@@ -477,28 +476,28 @@ def _study(args) -> int:
     spec = load_study(args.study_file)
     out = Path(args.out) if args.out else Path("studies") / Path(args.study_file).stem
     lock.start_background_build()   # the runs after this command's get the compiled module
-    counts, stopped = _interruptible(args, out, "finished runs are recorded in", lambda executor: run_study(
+    outcome, stopped = _interruptible(args, out, "finished runs are recorded in", lambda executor: run_study(
         spec, out, executor, args.workers, progress=not args.no_progress, retry_failed=args.retry_failed))
     if stopped is not None:
         return stopped
-    print(f"{spec.name}: {counts['executed']} runs in {counts['wall_time']:.1f} s ({counts['skipped']} already done, "
-          f"{counts['failed']} failed of {counts['planned']}{_rate(counts)}) -> {out}")
-    return _failures_status(counts, args.allow_failures)
+    print(f"{spec.name}: {outcome.executed} runs in {outcome.wall_time:.1f} s ({outcome.skipped} already done, "
+          f"{outcome.failed} failed of {outcome.planned}{_rate(outcome)}) -> {out}")
+    return _failures_status(outcome, args.allow_failures)
 
 
-def _rate(counts: dict) -> str:
-    """': 37.5 % of the finished runs' when runs failed, else nothing."""
-    finished = counts["skipped"] + counts["executed"]
-    return f": {100.0 * counts['failed'] / finished:.1f} % of the finished runs" if counts["failed"] else ""
+def _rate(outcome) -> str:
+    """': 37.5 % of the finished runs' when runs failed, else nothing (``outcome``: a ``StudyOutcome``)."""
+    finished = outcome.skipped + outcome.executed
+    return f": {100.0 * outcome.failed / finished:.1f} % of the finished runs" if outcome.failed else ""
 
 
-def _failures_status(counts: dict, allowed: float) -> int:
+def _failures_status(outcome, allowed: float) -> int:
     """Exit status 1, with a line saying so, when more of the finished runs failed than the fraction ``allowed``."""
-    finished = counts["skipped"] + counts["executed"]
-    if counts["failed"] == 0 or counts["failed"] / finished <= allowed:   # (29 / 100 <= 0.29; 0.29 x 100 is not 29)
+    finished = outcome.skipped + outcome.executed
+    if outcome.failed == 0 or outcome.failed / finished <= allowed:   # (29 / 100 <= 0.29; 0.29 x 100 is not 29)
         return 0
-    rate = 100.0 * counts["failed"] / finished
-    print(f"pchute study: {counts['failed']} of {finished} finished runs failed ({rate:.1f} %), more than "
+    rate = 100.0 * outcome.failed / finished
+    print(f"pchute study: {outcome.failed} of {finished} finished runs failed ({rate:.1f} %), more than "
           f"--allow-failures {allowed:g} allows: `pchute study-report` lists them", file=sys.stderr)
     return 1
 
@@ -581,9 +580,9 @@ def _fit(args) -> int:
     if stopped is not None:
         return stopped
     paths = write_report(spec, result, out)
-    fitted = ", ".join(f"{k} = {v:.6g} +- {e:.2g}" for k, v, e in zip(result["keys"], result["fitted"],
-                                                                       result["standard_error"]))
-    print(f"{spec.name}: {fitted} ({result['runs']} runs, {result['reused']} read back) -> {paths['report']}")
+    fitted = ", ".join(f"{k} = {v:.6g} +- {e:.2g}" for k, v, e in zip(result.keys, result.fitted,
+                                                                       result.standard_error))
+    print(f"{spec.name}: {fitted} ({result.runs} runs, {result.reused} read back) -> {paths['report']}")
     return 0
 
 

@@ -58,11 +58,12 @@ def record(name, case_file, method, integrator, duration, overrides=()) -> dict:
     return summary_record(result.summary)
 
 
-def summary_record(summary: dict, keys=("final", "peak_tension", "events")) -> dict:
-    """``keys`` of a run's summary as plain JSON values."""
+def summary_record(summary, keys=("final", "peak_tension", "events")) -> dict:
+    """``keys`` of a run's summary (``RunSummary``) as ``summary.json`` holds them, plain JSON values."""
     from pchute_exudyn.results.io import _finite
+    written = summary.to_dict()   # the file's form: what the recording holds
     # NaN (a quantity absent at the end, e.g. a cut-away system) as None: strict JSON, as the result files write it
-    return _finite({key: summary[key] for key in keys})
+    return _finite({key: written[key] for key in keys})
 
 
 def _leaves(value, path=""):

@@ -41,20 +41,20 @@ def _run(path, overrides, duration, method, integrator, step, **options):
 def _row(label, scale, name, result, reference, implicit=None) -> str:
     if isinstance(result, str):
         return f"| {label} | {scale:g} | {name} | failed: {result} | | | | | |"
-    final, ref = result.summary["final"], reference.summary["final"]
-    peaks = [result.summary["peak_tension"][k] / v - 1.0 for k, v in reference.summary["peak_tension"].items()
-             if v and result.summary["peak_tension"].get(k)]
+    final, ref = result.summary.final, reference.summary.final
+    peaks = [result.summary.peak_tension[k] / v - 1.0 for k, v in reference.summary.peak_tension.items()
+             if v and result.summary.peak_tension.get(k)]
     worst = max(peaks, key=abs) if peaks else math.nan
-    return (f"| {label} | {scale:g} | {name} | {final['vehicle_altitude'] - ref['vehicle_altitude']:+.3f} | "
-            f"{final['vehicle_east'] - ref['vehicle_east']:+.3f} | {100 * worst:+.2f} | {final['time']:.2f} | "
-            f"{result.summary['wall_time']:.3f} | {_speed(result, implicit)} |")
+    return (f"| {label} | {scale:g} | {name} | {final.altitude - ref.altitude:+.3f} | "
+            f"{final.east - ref.east:+.3f} | {100 * worst:+.2f} | {final.time:.2f} | "
+            f"{result.summary.wall_time:.3f} | {_speed(result, implicit)} |")
 
 
 def _speed(result, implicit) -> str:
     """Full mass implicit's solve time over this run's (''): how many times faster than it."""
     if implicit is None or isinstance(implicit, str):
         return ""
-    return f"{implicit.summary['wall_time'] / result.summary['wall_time']:.2f}x"
+    return f"{implicit.summary.wall_time / result.summary.wall_time:.2f}x"
 
 
 def main() -> None:
@@ -77,7 +77,7 @@ def main() -> None:
             continue
         implicit = _run(path, overrides, duration, "full", "implicit", 1e-2)
         lines.append(f"| {label} | {scale:g} | full RK4 {step:g} (reference) | 0 | 0 | 0 | "
-                     f"{reference.summary['final']['time']:.2f} | {reference.summary['wall_time']:.3f} | "
+                     f"{reference.summary.final.time:.2f} | {reference.summary.wall_time:.3f} | "
                      f"{_speed(reference, implicit)} |")
         lines.append(_row(label, scale, "full implicit 1e-2", implicit, reference, implicit))
         for name, method, options in (("SP accurate 1e-2", "sp", {"preset": "accurate"}),

@@ -33,17 +33,17 @@ def main(argv=None) -> None:
     for integrator, step, law in RUNS:
         result = pc.simulate(case, "full", integrator, step, args.duration, line_law=law)
         results.append((integrator, step, law, result))
-        print(f"  {integrator:8s} {step:7.0e} {law:8s} {result.summary['wall_time']:8.2f} s", flush=True)
+        print(f"  {integrator:8s} {step:7.0e} {law:8s} {result.summary.wall_time:8.2f} s", flush=True)
     reference = results[0][3]
     rows = ["| integrator | step (s) | line law | wall time (s) | steps | steps/s | time vs RK4 1e-4 | "
             "final altitude - ref (m) | max tension diff (N) |", "|---|---|---|---|---|---|---|---|---|"]
     for integrator, step, law, result in results:
         s = result.summary
         tension = max(m["max"] for m in compare_results(reference, result).lines.values())
-        rows.append(f"| {integrator} | {step:g} | {law} | {s['wall_time']:.2f} | {s['steps']} | "
-                    f"{s['steps'] / s['wall_time']:,.0f} | {s['wall_time'] / reference.summary['wall_time']:.3f} | "
+        rows.append(f"| {integrator} | {step:g} | {law} | {s.wall_time:.2f} | {s.steps} | "
+                    f"{s.steps / s.wall_time:,.0f} | {s.wall_time / reference.summary.wall_time:.3f} | "
                     f"{result.final('vehicle_altitude') - reference.final('vehicle_altitude'):+.2e} | {tension:.3g} |")
-    versions = reference.summary["versions"]
+    versions = reference.summary.versions
     text = "\n".join([
         f"# Full-mass model benchmark: MER case 1, {args.duration:g} s",
         "",

@@ -13,7 +13,7 @@ Run:  python validation/benchmark_rocketpy.py [--repeat 5] [--out DIR]
    case's heading and inclination, zero rates).
 2. Our side: ``pc.simulate(case)`` with the case's defaults (SP, adaptive steps).
 3. ``--repeat`` interleaved rounds after one unrecorded warm-up of each: our whole ``pc.simulate`` call, our engine's
-   solve (``summary["wall_time"]``) and RocketPy's ``Flight(...)`` construction (its solve); medians.
+   solve (``summary.wall_time``) and RocketPy's ``Flight(...)`` construction (its solve); medians.
 4. Deployment times, descent rates at altitudes where each canopy's descent is steady, touchdown time and drift.
 
 Writes validation/output/rocketpy/benchmark.md and benchmark.json. Needs RocketPy: ``pip install -e ".[bench]"``.
@@ -148,9 +148,9 @@ def timed_rounds(case, env, inputs: dict, repeat: int) -> dict:
         result, call = fly_ours(case)
         flight, seconds = fly_rocketpy(env, inputs)
         times["ours_call"].append(call)
-        times["ours_solve"].append(result.summary["wall_time"])
+        times["ours_solve"].append(result.summary.wall_time)
         times["rocketpy_flight"].append(seconds)
-        print(f"  round {k + 1}/{repeat}: pc.simulate {call:.3f} s (solve {result.summary['wall_time']:.3f} s), "
+        print(f"  round {k + 1}/{repeat}: pc.simulate {call:.3f} s (solve {result.summary.wall_time:.3f} s), "
               f"RocketPy Flight {seconds:.3f} s", flush=True)
     return {"result": result, "flight": flight, "times": times}
 
@@ -190,12 +190,12 @@ def rate_at(track: dict, level: float) -> float | None:
 def our_events(result) -> dict:
     """System -> {"trigger": time the trigger fired (s), "deploy": deployment (s)}, and "touchdown" -> time (s)."""
     out = {}
-    for event in result.summary["events"]:
-        if event["event"] == "deploy":
-            fired = (event.get("trigger") or {}).get("time")
-            out[event["system"]] = {"trigger": fired, "deploy": event["time"]}
-        elif event["event"] == "touchdown":
-            out["touchdown"] = event["time"]
+    for event in result.summary.events:
+        if event.kind == "deploy":
+            fired = (event.trigger or {}).get("time")
+            out[event.system] = {"trigger": fired, "deploy": event.time}
+        elif event.kind == "touchdown":
+            out["touchdown"] = event.time
     return out
 
 
@@ -322,7 +322,7 @@ def comparison(case, inputs: dict, runs: dict) -> dict:
     return {"deployments": deploys, "descent_rates": rates, "touchdown": touchdown,
             "packed": all(system.packed for system in case.systems.values()),
             "rocketpy_touchdown_z": float(flight.z(flight.t_final)), "rocketpy_steps": len(flight.solution),
-            "ours_steps": result.summary["steps"], "phase_masses": masses,
+            "ours_steps": result.summary.steps, "phase_masses": masses,
             "canopy_offsets": canopy_offsets(case, result, ours_events),
             "models": gravity_and_air(case, env, (DROGUE_ALTITUDES[0], case.simulation.ground_altitude)),
             "gravity_model": case.planet.gravity_model,
@@ -340,7 +340,7 @@ def timing_rows(times: dict) -> tuple[list, dict]:
     rocketpy = med["rocketpy_flight"]
     rows = ["| run | median (s) | min (s) | max (s) | this / RocketPy's `Flight(...)` |", "|---|---|---|---|---|"]
     for key, label in (("ours_call", "ours: the whole `pc.simulate(case)` call"),
-                       ("ours_solve", "ours: the engine's solve (`summary[\"wall_time\"]`)"),
+                       ("ours_solve", "ours: the engine's solve (`summary.wall_time`)"),
                        ("rocketpy_flight", "RocketPy: `Flight(...)` (its solve)")):
         v = times[key]
         rows.append(f"| {label} | {med[key]:.3f} | {min(v):.3f} | {max(v):.3f} | {med[key] / rocketpy:.2f} |")
@@ -349,7 +349,7 @@ def timing_rows(times: dict) -> tuple[list, dict]:
 
 def report(args, inputs: dict, runs: dict, c: dict) -> tuple[str, dict]:
     result = runs["result"]
-    versions = result.summary.get("versions", {})
+    versions = result.summary.versions or {}
     timing, med = timing_rows(runs["times"])
     prefix = f"PCHUTE_KERNELS={os.environ['PCHUTE_KERNELS']} " if os.environ.get("PCHUTE_KERNELS") else ""
     command = f"{prefix}python validation/benchmark_rocketpy.py --repeat {args.repeat}"
@@ -377,7 +377,7 @@ def report(args, inputs: dict, runs: dict, c: dict) -> tuple[str, dict]:
         f"`initial_solution` x east, y north, z = {inputs['position'][2]:g} m above sea level (RocketPy's z is above "
         f"sea level; it ends the flight where z falls below the elevation: touchdown at z = "
         f"{c['rocketpy_touchdown_z']:.3f} m), velocity {inputs['velocity']} m/s, nose level east, `max_time=600`. "
-        f"Ours: `pc.simulate(case)` with the case's defaults ({result.summary['method']}, adaptive steps).",
+        f"Ours: `pc.simulate(case)` with the case's defaults ({result.summary.method}, adaptive steps).",
         "",
         "## Solve time", "",
         *timing,
@@ -402,7 +402,7 @@ def report(args, inputs: dict, runs: dict, c: dict) -> tuple[str, dict]:
         f"RocketPy's rates are read linearly between its solver's {c['rocketpy_steps']} points (`flight.solution`); "
         "its `flight.vz` Function, a cubic spline through the same points, rings around the main's deployment "
         f"(last column: up to {worst_spline:.1f} m/s off). Ours: the rocket's output columns every "
-        f"{result.summary['output_step']:g} s. \"From mass, g and rho alone\": sqrt(m g / rho) of ours over "
+        f"{result.summary.output_step:g} s. \"From mass, g and rho alone\": sqrt(m g / rho) of ours over "
         "RocketPy's at that altitude, with our suspended mass of that phase (below); the rest is our canopies' "
         "drag in the thinner air 7-10 m above the rocket.",
         "",

@@ -70,8 +70,8 @@ def timed_rounds(cases: dict, repeat: int, duration: float) -> dict:
                 result = pc.simulate(case, method, integrator, step, duration if name == "mer" else None,
                                      **options)
                 previous = out.get((name, label), (None, []))[1]
-                out[(name, label)] = (result, [*previous, result.summary["wall_time"]])
-                print(f"  {name} {label:22s} {result.summary['wall_time']:7.3f} s", flush=True)
+                out[(name, label)] = (result, [*previous, result.summary.wall_time])
+                print(f"  {name} {label:22s} {result.summary.wall_time:7.3f} s", flush=True)
     return out
 
 
@@ -106,7 +106,7 @@ def speed_table(name: str, timed: dict) -> list:
             tension = max(m["max_settled"] for m in c.lines.values() if math.isfinite(m["max_settled"]))
             accuracy = (f"{result.time[-1] - reference.time[-1]:+.3f} | {attitude_difference(reference, result):.3f}"
                         f" | {tension:.3g}")
-        rows.append(f"| {name} {label} | {wall:.3f} | {result.summary['steps']} | {ref_wall / wall:.1f}x | "
+        rows.append(f"| {name} {label} | {wall:.3f} | {result.summary.steps} | {ref_wall / wall:.1f}x | "
                     f"{implicit / wall:.2f}x | {accuracy} |")
     return rows
 
@@ -177,7 +177,7 @@ CATEGORIES = [  # (label, function names as py-spy reports them; the first liste
     ("pre-step: step monitor, NaN check", ("pre_step",)),
 ]
 WORKLOAD = ("import pchute_exudyn as pc; case = pc.load_case({case!r}); pc.simulate(case, 'sp', 'rk4', 1e-2, 5.0)\n"
-            "for _ in range(4): print('WALL', pc.simulate(case, 'sp', 'rk4', 1e-2, {duration}).summary['wall_time'])")
+            "for _ in range(4): print('WALL', pc.simulate(case, 'sp', 'rk4', 1e-2, {duration}).summary.wall_time)")
 
 
 def profile(checkout: Path, duration: float) -> tuple[dict, float, int]:
@@ -330,7 +330,7 @@ for label, case in cases:   # load the compiled kernels first
     pc.simulate(case, "sp", "rk4", 1e-2, 1.0)
 for label, case in cases:
     duration = {duration} if label.startswith("mer") else None
-    print(f"WALL|{{label}}|{{pc.simulate(case, 'sp', 'rk4', 1e-2, duration).summary['wall_time']}}", flush=True)
+    print(f"WALL|{{label}}|{{pc.simulate(case, 'sp', 'rk4', 1e-2, duration).summary.wall_time}}", flush=True)
 """
 
 

@@ -43,8 +43,8 @@ for _ in range(repeat):
     started = time.perf_counter()
     result = pc.simulate(case, "sp", None, step, duration)
     whole = time.perf_counter() - started
-    touchdown = [e["time"] for e in result.summary["events"] if e["event"] == "touchdown"]
-    rows.append({"solve": result.summary["wall_time"], "whole": whole, "steps": result.summary["steps"],
+    touchdown = [e.time for e in result.summary.events_of("touchdown")]
+    rows.append({"solve": result.summary.wall_time, "whole": whole, "steps": result.summary.steps,
                  "touchdown": touchdown[0] if touchdown else None, "end": result.final("time"),
                  "package": str(pc.__file__)})
 print(json.dumps(rows))

@@ -46,8 +46,8 @@ def timed(spec, label: str, root: Path, workers: int | None = None, dask: bool =
     else:
         counts = run_study(spec, folder, workers=workers, progress=False)
     wall = time.perf_counter() - started
-    if counts["failed"]:
-        raise SystemExit(f"{label}: {counts['failed']} runs failed; see {folder / 'runs.csv'}")
+    if counts.failed:
+        raise SystemExit(f"{label}: {counts.failed} runs failed; see {folder / 'runs.csv'}")
     return wall, outputs(folder), sum(float(r["wall_time"]) for r in csv.DictReader((folder / "runs.csv").open()))
 
 

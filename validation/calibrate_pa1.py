@@ -111,20 +111,20 @@ def main() -> int:
         result = run_fit(spec, OUT / name)
         write_report(spec, result, OUT / name)
         fitted[name] = (spec, result)
-        descent, touchdown = result["predictions_fitted"]
-        for i, key in enumerate(result["keys"]):
-            lines.append(f"| {name if i == 0 else ''} | {key} | {result['initial'][i]:.6g} | {result['fitted'][i]:.6g}"
-                         f" | {result['standard_error'][i]:.2g} | {descent:.2f} | {touchdown:.2f} | {result['runs']} |"
-                         if i == 0 else f"| | {key} | {result['initial'][i]:.6g} | {result['fitted'][i]:.6g} | "
-                                        f"{result['standard_error'][i]:.2g} | | | |")
-        print(f"{name}: {result['fitted']} -> descent rate {descent:.2f} s, touchdown {touchdown:.2f} s", flush=True)
+        descent, touchdown = result.predictions_fitted
+        for i, key in enumerate(result.keys):
+            lines.append(f"| {name if i == 0 else ''} | {key} | {result.initial[i]:.6g} | {result.fitted[i]:.6g}"
+                         f" | {result.standard_error[i]:.2g} | {descent:.2f} | {touchdown:.2f} | {result.runs} |"
+                         if i == 0 else f"| | {key} | {result.initial[i]:.6g} | {result.fitted[i]:.6g} | "
+                                        f"{result.standard_error[i]:.2g} | | | |")
+        print(f"{name}: {result.fitted} -> descent rate {descent:.2f} s, touchdown {touchdown:.2f} s", flush=True)
     spec, result = fitted[FITS[0]]
     case_file = ROOT / "cases" / "cev_pa1_calibrated.toml"
     header = ("# Orion/CEV PA1 (cases/cev_pa1.toml) calibrated to the two event times of thesis Table 3.9, the thesis's\n"
               "# 2009 pre-flight timeline (not flight data): the mains' full-open drag coefficient and full-open time\n"
               "# fitted by `python validation/calibrate_pa1.py` (validation/fits/pa1_calibration.toml; report in\n"
               "# validation/output/fits/pa1_calibration/).\n")
-    body = committed_if_noise(case_file, calibrated_case(spec, result["fitted"], case_file.parent).split("\n", 1)[1])
+    body = committed_if_noise(case_file, calibrated_case(spec, result.fitted, case_file.parent).split("\n", 1)[1])
     atomic_write_text(case_file, header + body + '\n[case]\nname = "CEV PA1 calibrated"\n'
                       'description = "Orion Pad Abort 1, the mains\' drag and full-open time fitted to the thesis\'s '
                       'Table 3.9 timeline"\n')

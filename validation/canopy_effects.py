@@ -41,40 +41,40 @@ PA1_APPARENT = [
     "main_canopy.apparent_mass={projected_radius = 17.1, axial = 1.0, lateral = 0.5, rotational = 0.1}"]
 
 
-def touchdown(summary: dict) -> dict:
-    return next(e for e in summary["events"] if e["event"] == "touchdown")
+def touchdown(summary):
+    return summary.touchdown
 
 
 def pa1_inflation(lines: list) -> None:
     case = load_case(PA1_INFLATION)
     rounds = [{method: simulate(case, method) for method in ("full", "sp")} for _ in range(3)]
     runs = rounds[-1]
-    ratio = statistics.median(r["full"].summary["wall_time"] / r["sp"].summary["wall_time"] for r in rounds)
+    ratio = statistics.median(r["full"].summary.wall_time / r["sp"].summary.wall_time for r in rounds)
     sp, full = runs["sp"].summary, runs["full"].summary
     lines += ["## 1. PA1 with fill-constant openings: SP against full mass", "",
               "`cases/cev_pa1_inflation.toml`; full mass RK4 at 5e-4 s, SP (order 1) RK4 at 1e-2 s. Engine solve "
               f"times, three rounds side by side: full/SP median **{ratio:.1f}x** (last round full "
-              f"{full['wall_time']:.2f} s, SP {sp['wall_time']:.2f} s).", "",
+              f"{full.wall_time:.2f} s, SP {sp.wall_time:.2f} s).", "",
               "| | full mass | SP | difference |", "|---|---|---|---|"]
     t_full, t_sp = touchdown(full), touchdown(sp)
-    lines += [f"| touchdown time (s) | {t_full['time']:.3f} | {t_sp['time']:.3f} | "
-              f"{t_sp['time'] - t_full['time']:+.3f} s |",
-              f"| touchdown speed (m/s) | {t_full['speed']:.3f} | {t_sp['speed']:.3f} | "
-              f"{t_sp['speed'] - t_full['speed']:+.3f} m/s |"]
-    for a, b in zip(full["opening_loads"]["main"], sp["opening_loads"]["main"]):
+    lines += [f"| touchdown time (s) | {t_full.time:.3f} | {t_sp.time:.3f} | "
+              f"{t_sp.time - t_full.time:+.3f} s |",
+              f"| touchdown speed (m/s) | {t_full.speed:.3f} | {t_sp.speed:.3f} | "
+              f"{t_sp.speed - t_full.speed:+.3f} m/s |"]
+    for a, b in zip(full.opening_loads["main"], sp.opening_loads["main"]):
         pa, pb = a["peaks"]["riser"], b["peaks"]["riser"]
         lines.append(f"| main riser peak, stage {a['stage']} (N, at s) | {pa['tension']:.0f} at {pa['time']:.2f} | "
                      f"{pb['tension']:.0f} at {pb['time']:.2f} | {100 * (pb['tension'] / pa['tension'] - 1):+.2f} % |")
-    drogue_full, drogue_sp = full["opening_loads"]["drogue"][0], sp["opening_loads"]["drogue"][0]
+    drogue_full, drogue_sp = full.opening_loads["drogue"][0], sp.opening_loads["drogue"][0]
     lines.append(f"| drogue riser peak (N) | {drogue_full['peaks']['riser']['tension']:.0f} | "
                  f"{drogue_sp['peaks']['riser']['tension']:.0f} | "
                  f"{100 * (drogue_sp['peaks']['riser']['tension'] / drogue_full['peaks']['riser']['tension'] - 1):+.2f}"
                  " % |")
     lines += ["", "Stage starts and fills (SP run):", "", "| event | system | stage | time (s) | speed (m/s) | "
               "fill time (s) |", "|---|---|---|---|---|---|"]
-    lines += [f"| {e['event']} | {e['system']} | {e['stage']} | {e['time']:.3f} | {e.get('speed', float('nan')):.2f} | "
-              f"{e.get('fill_time', float('nan')):.3f} |" for e in sp["events"]
-              if e["event"] in ("stage_start", "disreef", "fill_end")]
+    lines += [f"| {e.kind} | {e.system} | {e.stage} | {e.time:.3f} | {getattr(e, 'speed', float('nan')):.2f} | "
+              f"{getattr(e, 'fill_time', float('nan')):.3f} |" for e in sp.events
+              if e.kind in ("stage_start", "disreef", "fill_end")]
     plot_openings(runs)
     lines += ["", "![opening loads](opening_loads.png)", ""]
 
@@ -90,7 +90,7 @@ def plot_openings(runs: dict) -> None:
             result = runs[method]
             ax.plot(result.columns["time"], result.columns[f"tension_{system}_riser"] / 1e3, style,
                     label=f"{method} riser")
-            for stage in result.summary["opening_loads"][system]:
+            for stage in result.summary.opening_loads[system]:
                 peak = stage["peaks"]["riser"]
                 ax.plot(peak["time"], peak["tension"] / 1e3, "o" if method == "full" else "x", color="k")
                 if method == "full":
@@ -131,10 +131,10 @@ def mer_apparent_mass(lines: list) -> None:
         for label, overrides in (("without", []), ("with", MER_APPARENT)):
             result = simulate(load_case(MER / f"case{number}.toml", overrides), method, integrator)
             results[(number, method, label)] = result
-            final = result.summary["final"]
+            final = result.summary.final
             lines.append(f"| case {number} {method} {integrator}, {label} apparent mass | "
-                         f"{final['vehicle_altitude']:.3f} | {final['vehicle_east']:.4f} | "
-                         f"{result.summary['peak_tension']['riser']:.1f} | "
+                         f"{final.altitude:.3f} | {final.east:.4f} | "
+                         f"{result.summary.peak_tension['riser']:.1f} | "
                          f"{result.columns['tension_riser'][-1]:.1f} | "
                          f"{swing_period(result) if number == 5 else float('nan'):.3f} |")
     on = results[(1, "sp", "with")]
@@ -167,9 +167,9 @@ def pa1_apparent_mass(lines: list) -> None:
         for label, overrides in (("without", []), ("with", PA1_APPARENT)):
             summary = simulate(load_case(PA1, overrides), method).summary
             down = touchdown(summary)
-            lines.append(f"| {method}, {label} | {down['time']:.3f} | {down['speed']:.3f} | "
-                         f"{summary['peak_tension']['main_riser']:.0f} | "
-                         f"{summary['peak_tension']['drogue_riser']:.0f} |")
+            lines.append(f"| {method}, {label} | {down.time:.3f} | {down.speed:.3f} | "
+                         f"{summary.peak_tension['main_riser']:.0f} | "
+                         f"{summary.peak_tension['drogue_riser']:.0f} |")
     lines.append("")
 
 
@@ -193,7 +193,7 @@ def costs(lines: list) -> None:
         times = {}
         for key, case in (("without", load_case(case_file)),
                           ("with", load_case(case_file, overrides) if overrides else load_case(PA1_INFLATION))):
-            times[key] = min(simulate(case, method, integrator, duration=duration).summary["wall_time"]
+            times[key] = min(simulate(case, method, integrator, duration=duration).summary.wall_time
                              for _ in range(2))
         lines.append(f"| {label} | {times['without']:.3f} | {times['with']:.3f} | "
                      f"{times['with'] / times['without']:.2f}x |")

@@ -57,24 +57,25 @@ def timing_rounds(case) -> list:
     """Wall times (s) of full RK4 5e-4, SP order 1 and SP order 0 at 1e-2, run one after the other, per round."""
     rounds = []
     for _ in range(TIMING_ROUNDS):
-        rounds.append([pc.simulate(case, "full", "rk4", 5e-4).summary["wall_time"],
-                       pc.simulate(case, "sp", "rk4", 1e-2, **SP_PRESET[1]).summary["wall_time"],
-                       pc.simulate(case, "sp", "rk4", 1e-2, **SP_PRESET[0]).summary["wall_time"]])
+        rounds.append([pc.simulate(case, "full", "rk4", 5e-4).summary.wall_time,
+                       pc.simulate(case, "sp", "rk4", 1e-2, **SP_PRESET[1]).summary.wall_time,
+                       pc.simulate(case, "sp", "rk4", 1e-2, **SP_PRESET[0]).summary.wall_time])
         full, order1, order0 = rounds[-1]
         print(f"  timing round: full {full:.2f} s, sp order 1 {order1:.2f} s, sp order 0 {order0:.2f} s", flush=True)
     return rounds
 
 
 def event_time(result, key):
-    for e in result.summary["events"]:
-        label = e["event"] if "system" not in e else f"{e['event']} {e['system']}"
+    for e in result.summary.events:
+        system = getattr(e, "system", None)
+        label = e.kind if system is None else f"{e.kind} {system}"
         if label == key:
-            return e["time"]
+            return e.time
     return None
 
 
 def touchdown(result):
-    return next(e for e in result.summary["events"] if e["event"] == "touchdown")
+    return result.summary.touchdown
 
 
 def plot_lines(results, system, title, t_range=None):
@@ -113,7 +114,7 @@ def main(argv=None) -> int:
     results = {}
     for label, method, integrator, step, rule, order in RUNS:
         results[label] = pc.simulate(case, method, integrator, step, slack_rule=rule, **SP_PRESET.get(order, {}))
-        print(f"  {label:22s} {results[label].summary['wall_time']:7.2f} s", flush=True)
+        print(f"  {label:22s} {results[label].summary.wall_time:7.2f} s", flush=True)
     rounds = timing_rounds(case)
     light = pc.load_case(CASE, {"systems.main.confluence.mass": 0.08, "systems.drogue.confluence.mass": 0.03})
     results_light = pc.simulate(light, "full", "implicit", 1e-3)
@@ -161,7 +162,7 @@ def main(argv=None) -> int:
             ours.append("" if t is None else f"{t:.2f}")
         rows.append(f"| {name} | {'' if since_ignition is None else f'{since_ignition:.2f}'} | "
                     f"{'' if simulated is None else f'{simulated:.2f}'} | " + " | ".join(ours) + " |")
-    rows.append("| touchdown speed (m/s) | | | " + " | ".join(f"{touchdown(r)['speed']:.3f}" for r in results.values())
+    rows.append("| touchdown speed (m/s) | | | " + " | ".join(f"{touchdown(r).speed:.3f}" for r in results.values())
                 + " |")
 
     # steady-descent hand calculation: the weight of everything under way (capsule, main canopy, main confluence)
@@ -185,12 +186,12 @@ def main(argv=None) -> int:
         c = compare_results(reference, result, settle_time=FULL_OPEN, vehicle="capsule", confluence="main_confluence")
         worst = max(((k, m) for k, m in c.lines.items() if np.isfinite(m["max_settled"])),
                     key=lambda item: item[1]["max_settled"])
-        agree.append(f"| {label} | {td['time'] - ref_td['time']:+.3f} | {c.final['capsule lateral position']:.3f} "
+        agree.append(f"| {label} | {td.time - ref_td.time:+.3f} | {c.final['capsule lateral position']:.3f} "
                      f"(altitude {c.final['capsule altitude']:+.2f}) | "
                      f"{angles[0]:.2f} / {angles[1]:.3f} / {angles[2]:.2f} | {worst[0]}: "
                      f"{worst[1]['max_settled']:.0f} ({worst[1]['rms_settled']:.0f}) | "
-                     f"{result.summary['wall_time']:.2f} | "
-                     f"{reference.summary['wall_time'] / result.summary['wall_time']:.1f}x |")
+                     f"{result.summary.wall_time:.2f} | "
+                     f"{reference.summary.wall_time / result.summary.wall_time:.1f}x |")
     per_line = ["| line | " + " | ".join(k for k in results if k != "full rk4 5e-4") + " |",
                 "|---|" + "---|" * (len(results) - 1)]
     comparisons = {k: compare_results(reference, r, settle_time=FULL_OPEN, vehicle="capsule",
@@ -226,7 +227,7 @@ def main(argv=None) -> int:
         "",
         f"Steady-descent hand calculation with the model's main drag area (C_A S = 0.76 x 2946 m^2, rho = {rho:.4f} "
         f"kg/m^3 at the 1200 m ground, carrying the weight of capsule, main canopy and confluence): {hand:.3f} m/s; "
-        f"the full-mass touchdown speed is {ref_td['speed']:.3f} m/s ({100 * (ref_td['speed'] / hand - 1):+.1f}%: the "
+        f"the full-mass touchdown speed is {ref_td.speed:.3f} m/s ({100 * (ref_td.speed / hand - 1):+.1f}%: the "
         "capsule's own drag).",
         "",
         "## Agreement with the full-mass RK4 5e-4 s reference",

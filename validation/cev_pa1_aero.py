@@ -47,7 +47,7 @@ METHODS = [("full rk4 5e-4", "full", "rk4", 5e-4), ("full implicit 1e-2", "full"
 
 
 def touchdown(result) -> float:
-    return next(e["time"] for e in result.summary["events"] if e["event"] == "touchdown")
+    return result.summary.touchdown.time
 
 
 def swing(columns, column: str, start: float, end: float = np.inf) -> tuple:
@@ -72,7 +72,7 @@ def pa1_rows() -> tuple[list, dict]:
             drogues = swing(c, "capsule_pendulum_deg", DROGUES_OPEN, MAINS_DEPLOY)
             rows.append(f"| {name} | {label} | {touchdown(result):.3f} | {mains[0][0]:.3f} / {mains[0][1]:.3f} | "
                         f"{mains[1][0]:.3f} / {mains[1][1]:.3f} | {drogues[0]:.2f} / {drogues[1]:.2f} | "
-                        f"{result.summary['wall_time']:.2f} |")
+                        f"{result.summary.wall_time:.2f} |")
             print(rows[-1], flush=True)
     return rows, results
 
@@ -100,7 +100,7 @@ def mer_rows() -> list:
             late = result["time"] >= MER_SETTLED
             rows.append(f"| {name} | {label} | {amplitudes[label][0]:.3f} | {amplitudes[label][1]:.3f} | "
                         f"{np.mean(result['parachute_angle_of_attack_deg'][late]):.2f} | "
-                        f"{result['vehicle_east'][-1]:+.2f} | {result.summary['wall_time']:.2f} |")
+                        f"{result['vehicle_east'][-1]:+.2f} | {result.summary.wall_time:.2f} |")
             print(rows[-1], flush=True)
         rows.append(f"| {name} | sp - full rk4 | {amplitudes['sp'][0] - amplitudes['full rk4 1e-4'][0]:+.3f} | | | | |")
     return rows

@@ -42,30 +42,30 @@ MAINS = ("main1", "main2", "main3")
 TIMING_ROUNDS = 3   # interleaved (full RK4, SP) rounds: each ratio from runs next to each other, the median reported
 
 
-def touchdown(result) -> dict:
-    return next(e for e in result.summary["events"] if e["event"] == "touchdown")
+def touchdown(result):
+    return result.summary.touchdown
 
 
 def riser_peaks(result) -> dict:
     """Each main's riser peak (N) from the summary (the lumped case: its one riser's peak, shared by three)."""
-    cluster = result.summary.get("cluster", {}).get("main")
+    cluster = result.summary.cluster.get("main")
     if cluster is None:
-        return {"lumped riser / 3": result.summary["peak_tension"]["main_riser"] / 3.0}
-    return {canopy: (None if peak is None else peak["tension"]) for canopy, peak in cluster["riser_peak"].items()}
+        return {"lumped riser / 3": result.summary.peak_tension["main_riser"] / 3.0}
+    return {canopy: (None if peak is None else peak["tension"]) for canopy, peak in cluster.riser_peak.items()}
 
 
 def row(label: str, result) -> str:
     s = result.summary
     td = touchdown(result)
     peaks = riser_peaks(result)
-    cluster = s.get("cluster", {}).get("main")
-    flyout = "" if cluster is None else " / ".join("-" if cluster["flyout_deg"][c] is None else
-                                                    f"{cluster['flyout_deg'][c]['mean']:.1f}" for c in MAINS)
-    share = "" if cluster is None else f"{cluster['peak_load_share']:.3f} at {cluster['peak_load_share_time']:.2f} s"
-    return (f"| {label} | {td['time']:.3f} | {td['speed']:.3f} | {s['descent']['mean_rate']:.3f} | "
+    cluster = s.cluster.get("main")
+    flyout = "" if cluster is None else " / ".join("-" if cluster.flyout_deg[c] is None else
+                                                    f"{cluster.flyout_deg[c]['mean']:.1f}" for c in MAINS)
+    share = "" if cluster is None else f"{cluster.peak_load_share:.3f} at {cluster.peak_load_share_time:.2f} s"
+    return (f"| {label} | {td.time:.3f} | {td.speed:.3f} | {s.descent.mean_rate:.3f} | "
             + " / ".join("-" if v is None else f"{v / 1e3:.2f}" for v in peaks.values())
-            + f" | {share} | {flyout} | {s['pendulum']['max_vertical_deg']:.2f} / {s['pendulum']['rms_vertical_deg']:.2f}"
-            f" | {s['wall_time']:.2f} |")
+            + f" | {share} | {flyout} | {s.pendulum.max_vertical_deg:.2f} / {s.pendulum.rms_vertical_deg:.2f}"
+            f" | {s.wall_time:.2f} |")
 
 
 def plot_mains(nominal, main_out, reference) -> object:
@@ -101,25 +101,25 @@ def main(argv=None) -> int:
     results = {}
     for label, case_file, method, integrator, step in RUNS:
         results[label] = pc.simulate(pc.load_case(case_file), method, integrator, step)
-        print(f"  {label:30s} {results[label].summary['wall_time']:7.2f} s", flush=True)
+        print(f"  {label:30s} {results[label].summary.wall_time:7.2f} s", flush=True)
     case = pc.load_case(CLUSTER)
     rounds = []
     for _ in range(TIMING_ROUNDS):
-        rounds.append((pc.simulate(case, "full", "rk4", 5e-4).summary["wall_time"],
-                       pc.simulate(case, "sp", "rk4", 1e-2).summary["wall_time"]))
+        rounds.append((pc.simulate(case, "full", "rk4", 5e-4).summary.wall_time,
+                       pc.simulate(case, "sp", "rk4", 1e-2).summary.wall_time))
         print(f"  timing round: full RK4 {rounds[-1][0]:.2f} s, SP {rounds[-1][1]:.2f} s", flush=True)
     save_figure(plot_mains(results[SP], results[OUT_SP], results[REFERENCE]), OUT / "mains.png")
 
     reference = results[REFERENCE]
     agree = ["| run | touchdown - full RK4 (s) | main riser peaks - full RK4 (%) | peak load share - full RK4 |",
              "|---|---|---|---|"]
-    ref_peaks, ref_share = riser_peaks(reference), reference.summary["cluster"]["main"]["peak_load_share"]
+    ref_peaks, ref_share = riser_peaks(reference), reference.summary.cluster["main"].peak_load_share
     for label in ("full implicit 1e-2", SP, "equilibrium 1e-2"):
         result = results[label]
         peaks = riser_peaks(result)
-        agree.append(f"| {label} | {touchdown(result)['time'] - touchdown(reference)['time']:+.3f} | "
+        agree.append(f"| {label} | {touchdown(result).time - touchdown(reference).time:+.3f} | "
                      + " / ".join(f"{100 * (peaks[c] / ref_peaks[c] - 1):+.2f}" for c in MAINS)
-                     + f" | {result.summary['cluster']['main']['peak_load_share'] - ref_share:+.3f} |")
+                     + f" | {result.summary.cluster['main'].peak_load_share - ref_share:+.3f} |")
     ratios = [full / sp for full, sp in rounds]
     timing = ["| round | full RK4 5e-4 s (s) | SP 1e-2 s (s) | speed-up |", "|---|---|---|---|"]
     timing += [f"| {i} | {full:.2f} | {sp:.2f} | {full / sp:.1f}x |" for i, (full, sp) in enumerate(rounds, 1)]

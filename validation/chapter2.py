@@ -72,7 +72,7 @@ def integrated_and_analytic(case, r_eq, c_bar, k_bar, mass):
     for _ in range(repeats):
         offset, _ = analytic_response(mass, c_bar, k_bar, dr0, dv0, result.time)
     analytic_time = (time.perf_counter() - started) / repeats
-    return result.time, offset, offset_integrated, analytic_time, integration_time, result.summary["wall_time"]
+    return result.time, offset, offset_integrated, analytic_time, integration_time, result.summary.wall_time
 
 
 def figures(label, t, analytic, integrated, suffix=""):

@@ -65,9 +65,9 @@ def main(argv=None) -> int:
         "",
         "| executor | runs | failed | wall time (s) | sum of the runs' solve times (s) |",
         "|---|---|---|---|---|",
-        f"| 2 worker processes | {pool['executed']} | {pool['failed']} | {pool['wall_time']:.1f} | "
+        f"| 2 worker processes | {pool.executed} | {pool.failed} | {pool.wall_time:.1f} | "
         f"{solve_time(OUT):.1f} |",
-        f"| Dask LocalCluster, 2 workers | {dask['executed']} | {dask['failed']} | {dask['wall_time']:.1f} | "
+        f"| Dask LocalCluster, 2 workers | {dask.executed} | {dask.failed} | {dask.wall_time:.1f} | "
         f"{dask_solve:.1f} |",
         "",
         f"Run tables identical (every input and output column but the wall time): {'yes' if same else 'NO'}; "

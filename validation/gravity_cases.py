@@ -37,9 +37,9 @@ def landing(case_file: str, gravity_model: str, extra: dict) -> tuple:
     overrides = {"planet.gravity_model": gravity_model, **(extra if gravity_model == "normal" else {})}
     case = pc.load_case(ROOT / case_file, overrides)
     result = pc.simulate(case)
-    events = [e for e in result.summary["events"] if e["event"] == "touchdown"]
+    events = result.summary.events_of("touchdown")
     columns, vehicle = result.columns, case.vehicle
-    time = events[0]["time"] if events else float(columns["time"][-1])
+    time = events[0].time if events else float(columns["time"][-1])
     east, north, altitude = (float(np.interp(time, columns["time"], columns[f"{vehicle}_{axis}"]))
                              for axis in ("east", "north", "altitude"))
     return ("touchdown" if events else "end"), time, east, north, altitude

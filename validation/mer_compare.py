@@ -82,19 +82,19 @@ def table_rows(case_number: int, results: dict) -> list:
         if label == reference_label:
             rows.append(f"| {case_number} | {label} | reference: {reference.final('vehicle_altitude'):.2f} m | | "
                         f"{np.hypot(reference.final('vehicle_east'), reference.final('vehicle_north')):.3f} m | | "
-                        "| | | | " f"{reference.summary['wall_time']:.2f} | 1 |")
+                        "| | | | " f"{reference.summary.wall_time:.2f} | 1 |")
             continue
         c = compare_results(reference, result, reference_label, label, settle_time=2.0)
-        step = result.summary["step"]
-        massless = result.summary["method"] == "sp" and result.summary.get("sp_order", 0) == 0
+        step = result.summary.step
+        massless = result.summary.method == "sp" and result.summary.method_settings.get("sp_order", 0) == 0
         thesis = THESIS.get((case_number, step)) if massless else None
         thesis_alt, thesis_lat = (f"{thesis[0]:g}", f"{thesis[1]:g}") if thesis else ("", "")
         tension = [f"{c.lines[line]['max_settled']:.2f} ({c.lines[line]['rms_settled']:.2f})"
                    for line in ("bridle1", "bridle2", "bridle3", "riser")]
-        speedup = reference.summary["wall_time"] / result.summary["wall_time"]
+        speedup = reference.summary.wall_time / result.summary.wall_time
         rows.append(f"| {case_number} | {label} | {c.final['vehicle altitude']:+.3f} | {thesis_alt} | "
                     f"{c.final['vehicle lateral position']:.3f} | {thesis_lat} | " + " | ".join(tension)
-                    + f" | {result.summary['wall_time']:.2f} | {speedup:.1f} |")
+                    + f" | {result.summary.wall_time:.2f} | {speedup:.1f} |")
     return rows
 
 

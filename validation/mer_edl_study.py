@@ -56,8 +56,8 @@ def main(argv=None) -> None:
         f"`python validation/mer_edl_study.py` ({spec.runs} runs of `cases/mer/edl.toml`, SP RK4 5e-3 s). Exudyn "
         f"{v['exudyn']}, pchute-exudyn {v['pchute_exudyn']}, Python {v['python']}, {v['platform']}.", "",
         "| executor | ok | failed | study wall time (s) |", "|---|---|---|---|",
-        f"| 2 worker processes | {pool['executed'] - pool['failed']} | {pool['failed']} | {pool_wall:.1f} |",
-        f"| Dask LocalCluster, 2 workers | {dask['executed'] - dask['failed']} | {dask['failed']} | {dask_wall:.1f} |", "",
+        f"| 2 worker processes | {pool.executed - pool.failed} | {pool.failed} | {pool_wall:.1f} |",
+        f"| Dask LocalCluster, 2 workers | {dask.executed - dask.failed} | {dask.failed} | {dask_wall:.1f} |", "",
         f"Stored inputs and outputs (every column but wall_time and run_time) identical: {'yes' if identical else 'NO'}.",
         "", f"Report: `{Path(paths['report']).relative_to(HERE.parent).as_posix()}`.", ""])
     print(text)

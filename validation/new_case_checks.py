@@ -95,8 +95,8 @@ def main() -> int:
     case = pc.load_case(case_path)
     results = run_all(case_path)
     rates, mass = rate_rows(case, results)
-    runs = [f"| {m} {i} | {step:g} | {limit:.3g} | {r.summary['end']} at {r.final('time'):.2f} s | "
-            f"{r.final('vehicle_altitude'):.2f} | {r.summary['wall_time']:.2f} |"
+    runs = [f"| {m} {i} | {step:g} | {limit:.3g} | {r.summary.end} at {r.final('time'):.2f} s | "
+            f"{r.final('vehicle_altitude'):.2f} | {r.summary.wall_time:.2f} |"
             for (m, i), (r, step, limit, _) in results.items()]
     lines = ["# A new case from `pchute new`, run as written", "",
              f"`python validation/new_case_checks.py`; Exudyn {versions()['exudyn']}, pchute-exudyn {pc.__version__}. "

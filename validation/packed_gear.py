@@ -27,11 +27,11 @@ CASES = ("cev_pa1.toml", "cev_pa1_inflation.toml", "cev_pa1_winds.toml", "cev_pa
 
 def _figures(result) -> dict:
     summary = result.summary
-    touchdown = next((e for e in summary["events"] if e["event"] == "touchdown"), None)
-    peaks = summary["peak_tension"]
-    return {"touchdown (s)": touchdown["time"] if touchdown else math.nan,
-            "east (m)": summary["final"]["vehicle_east"], "north (m)": summary["final"]["vehicle_north"],
-            "final rate (m/s)": summary["descent"]["final_rate"],
+    touchdown = summary.touchdown
+    peaks = summary.peak_tension
+    return {"touchdown (s)": touchdown.time if touchdown else math.nan,
+            "east (m)": summary.final.east, "north (m)": summary.final.north,
+            "final rate (m/s)": summary.descent.final_rate,
             "peak line load (N)": max(peaks.values()) if peaks else math.nan}
 
 

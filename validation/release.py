@@ -38,7 +38,7 @@ LOAD_TOLERANCE, RATE_TOLERANCE, CALM = 0.03, 0.01, 2.0   # -, -, deg
 def opening_loads(result) -> dict:
     """Each canopy's opening load (N) and its time (s) from summary.json's opening_loads."""
     loads = {}
-    for canopy, stages in result.summary["opening_loads"].items():
+    for canopy, stages in result.summary.opening_loads.items():
         (peak,) = stages[0]["peaks"].values()
         loads[canopy] = (peak["tension"], peak["time"])
     return loads
@@ -104,17 +104,17 @@ def main(argv=None) -> int:
         rows.append(f"| {canopy} | " + " | ".join(cells) + " |")
     settle_rows = []
     for label, result in results.items():
-        descent = result.summary["descent"]
+        descent = result.summary.descent
         stated = plan.steady_rate(0.0)
         rate_error = descent["mean_rate"] / stated - 1.0
         if label == "SP" and abs(rate_error) > RATE_TOLERANCE:
             failed.append(f"settled rate {rate_error:+.2%} from the stated one")
         when = np.interp(-500.0, -result["vehicle_altitude"], result.time)
         at_500 = float(np.interp(when, result.time, result["vehicle_velocity_down"]))
-        settle_rows.append(f"| {label} | {result.summary['step']:g} | {result.summary['final']['time']:.2f} | "
+        settle_rows.append(f"| {label} | {result.summary.step:g} | {result.summary.final.time:.2f} | "
                            f"{calm_after(result):.1f} | {at_500:.4f} ({at_500 / plan.steady_rate(500.0) - 1:+.2%}) | "
                            f"{descent['mean_rate']:.4f} ({rate_error:+.2%}) | "
-                           f"{result.summary['final']['vehicle_east']:.1f} | {walls[label]:.1f} |")
+                           f"{result.summary.final.east:.1f} | {walls[label]:.1f} |")
     figure(results, OUT / "release.png")
     v = versions()
     text = "\n".join([
@@ -124,8 +124,8 @@ def main(argv=None) -> int:
         "`pchute new`'s (cargo_release.toml beside this file): 2000 kg under three 30.5 m flat circular canopies, "
         "released at 65 m/s in level flight heading east from 1500 m in still air; line stretch after a 1 s static "
         "line; each canopy fills by the flat circular canopy's fill constant n = 8 (t_fill = n D0 / V = "
-        f"{results['SP'].summary['events'][2]['fill_time']:.2f} s at the measured "
-        f"{results['SP'].summary['events'][2]['speed']:.1f} m/s), drag area growing as (t / t_fill)^2, overshooting "
+        f"{results['SP'].summary.events[2].fill_time:.2f} s at the measured "
+        f"{results['SP'].summary.events[2].speed:.1f} m/s), drag area growing as (t / t_fill)^2, overshooting "
         "to 1.7 and falling back.",
         "",
         f"Checks: each canopy's opening load by SP within {LOAD_TOLERANCE:.0%} of full mass RK4's; the settled rate "

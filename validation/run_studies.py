@@ -29,7 +29,8 @@ def main(argv=None) -> int:
         out = HERE / "output" / "studies" / name
         counts = run_study(spec, out, workers=args.workers)
         paths = study_report(out)
-        print(f"{name}: {counts}; report {paths['report']}", flush=True)
+        print(f"{name}: {counts.executed} runs ({counts.skipped} already done, {counts.failed} failed of "
+              f"{counts.planned}) in {counts.wall_time:.1f} s; report {paths['report']}", flush=True)
     return 0
 
 

@@ -55,7 +55,7 @@ whole = [float(r["run_time"]) for r in rows if r["status"] == "ok" and r.get("ru
 import pchute_exudyn
 touchdowns = {key: [float(r[key]) for r in rows if r["status"] == "ok" and r.get("touchdown_time")]
               for key in OUTCOMES}
-print(json.dumps({"runs": runs, "wall": wall, "solves": sum(solves), "failed": counts["failed"],
+print(json.dumps({"runs": runs, "wall": wall, "solves": sum(solves), "failed": counts.failed,
                   "run_times": sum(whole) if len(whole) == len(solves) else None,
                   "package": str(Path(pchute_exudyn.__file__).parent), "outcomes": touchdowns}))
 """

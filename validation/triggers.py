@@ -33,8 +33,8 @@ EVENTS = ("deploy", "cutaway", "touchdown")
 
 
 def _events(result) -> dict:
-    return {f"{e['event']} {e.get('system', '')}".strip(): e["time"] for e in result.summary["events"]
-            if e["event"] in EVENTS}
+    return {f"{e.kind} {getattr(e, 'system', '')}".strip(): e.time for e in result.summary.events
+            if e.kind in EVENTS}
 
 
 def pa1_lines() -> list:
@@ -63,7 +63,7 @@ def cost_lines(repeat: int = 5) -> list:
             started = time.perf_counter()
             result = simulate(case, method="sp", history=False)
             whole[name].append(time.perf_counter() - started)
-            solve[name].append(result.summary["wall_time"])
+            solve[name].append(result.summary.wall_time)
     base = statistics.median(whole[next(iter(cases))])
     lines = ["## What sensing costs (PA1 to touchdown, SP, medians of "
              f"{repeat} interleaved runs)", "", "| case | solve (s) | simulate() (s) | ratio to fixed times |",
@@ -88,7 +88,7 @@ def user_function_lines() -> list:
     same = sum(np.array_equal(builtin[n], user[n], equal_nan=True) for n in builtin.columns)
     return ["## A user function equal to the built-in trigger", "",
             f"PA1 by triggers to touchdown, SP: {same} of {len(builtin.columns)} columns bitwise equal "
-            f"(last sample {builtin.summary['final']['time']:.4f} s and {user.summary['final']['time']:.4f} s).", ""]
+            f"(last sample {builtin.summary.final.time:.4f} s and {user.summary.final.time:.4f} s).", ""]
 
 
 def edl_lines() -> list:
@@ -99,20 +99,20 @@ def edl_lines() -> list:
     runs = [("sp", "rk4", 5e-3), ("full", "rk4", 1e-4), ("full", "implicit", 1e-2), ("equilibrium", "rk4", 1e-2)]
     results = {run: simulate(load_case(ROOT / "cases" / "mer" / "edl.toml"), run[0], run[1], run[2]) for run in runs}
     def touchdown_of(result):
-        return next(e["time"] for e in result.summary["events"] if e["event"] == "touchdown")
+        return result.summary.touchdown.time
 
     reference = touchdown_of(results[runs[1]])
     for (method, integrator, step), result in results.items():
         s = result.summary
-        deploy = next(e for e in s["events"] if e["event"] == "deploy")
-        conditions = deploy["trigger"]["conditions"]
+        deploy = s.events_of("deploy")[0]
+        conditions = deploy.trigger["conditions"]
         touchdown = touchdown_of(result)
-        speed = next(e["speed"] for e in s["events"] if e["event"] == "touchdown")
+        speed = s.touchdown.speed
         lines.append(f"| {method} {integrator} | {step:g} | {touchdown:.5f} | "
-                     f"{100 * (touchdown - reference) / reference:+.4f} % | {speed:.3f} | {deploy['time']:.4f} | "
+                     f"{100 * (touchdown - reference) / reference:+.4f} % | {speed:.3f} | {deploy.time:.4f} | "
                      f"{conditions['mach']:.4f} | {conditions['dynamic_pressure']:.1f} | "
-                     f"{s['peak_tension']['riser']:.0f} | {s['peak_tension']['bridle1']:.0f} | "
-                     f"{s['separations']['heat_shield']['clearance']:.3f} | {s['wall_time']:.2f} |")
+                     f"{s.peak_tension['riser']:.0f} | {s.peak_tension['bridle1']:.0f} | "
+                     f"{s.separations['heat_shield'].clearance:.3f} | {s.wall_time:.2f} |")
     return lines + [""]
 
 
@@ -129,8 +129,8 @@ def closed_form_lines() -> list:
                 ("apogee, thrown up at 30 m/s", '{ quantity = "apogee" }', -30.0, 30.0 / G)):
             path = Path(folder) / "vacuum.toml"
             path.write_text(VACUUM.format(g=G, altitude=3000.0, down=down, trigger=trigger, duration=12.0, speed=0.0))
-            event = next(e for e in simulate(load_case(path)).summary["events"] if e["event"] == "separation")
-            lines.append(f"| {label} | {expected:.9f} | {event['time']:.9f} | {event['time'] - expected:+.2e} |")
+            event = simulate(load_case(path)).summary.events_of("separation")[0]
+            lines.append(f"| {label} | {expected:.9f} | {event.time:.9f} | {event.time - expected:+.2e} |")
     fired, propagated = noise_draws(500)
     spread = float(np.std(fired, ddof=1))
     return lines + ["", f"Barometric noise, 500 seeded draws (50 Pa, AR(1), 100 Hz, 2000 m, 10 m/s): standard deviation "

@@ -31,8 +31,8 @@ def geometric_as_geopotential(self, altitude: float) -> float:
 
 def landing(result) -> tuple:
     """(touchdown time s, touchdown speed m/s, 30 ft/s crossing time s) of a PA1 run."""
-    events = {e["event"]: e for e in result.summary["events"]}
-    return events["touchdown"]["time"], events["touchdown"]["speed"], events["descent_rate"]["time"]
+    events = {e.kind: e for e in result.summary.events}
+    return events["touchdown"].time, events["touchdown"].speed, events["descent_rate"].time
 
 
 def main() -> int:

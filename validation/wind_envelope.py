@@ -79,12 +79,12 @@ def run(job) -> dict:
     except pc.PchuteError as exc:
         return dict(job=job, error=str(exc), seconds=time.perf_counter() - started)
     s = result.summary
-    vehicle = s["vehicle"]
+    vehicle = s.vehicle
     angles = [np.nanmax(result[c]) for c in result.columns if c.endswith("_angle_of_attack_deg")
               and c != f"{vehicle}_angle_of_attack_deg" and np.isfinite(result[c]).any()]
-    return dict(job=job, end=s["end"], time=s["final"]["time"], east=s["final"]["vehicle_east"],
-                north=s["final"]["vehicle_north"], peak=max(v for v in s["peak_tension"].values() if v is not None),
-                angle=max(angles), step=s["step"], seconds=time.perf_counter() - started)
+    return dict(job=job, end=s.end, time=s.final.time, east=s.final.east, north=s.final.north,
+                peak=max(v for v in s.peak_tension.values() if v is not None), angle=max(angles), step=s.step,
+                seconds=time.perf_counter() - started)
 
 
 def wind_vector(speed: float, direction) -> np.ndarray:

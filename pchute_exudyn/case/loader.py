@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from ..physics.conditions import ConditionsError
+from ..registries.columns import UNNAMED_VEHICLE
 from .carried import own_vehicle, packed_by_default
 from .checks import (
     check_connections,
@@ -82,7 +83,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     info = top.table("case", {})
     name = info.string("name", Path(source.split(" ")[0]).stem)
     description = info.string("description", "")
-    vehicle = info.string("vehicle", "vehicle")
+    vehicle = info.string("vehicle", UNNAMED_VEHICLE)
     info.finish()
 
     planet = read_planet(top.table("planet"))

@@ -3,21 +3,25 @@
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
 from ..errors import PchuteError
+from ..results.summary import RunSummary
 
 
-def event_times(summary: dict) -> dict:
+def event_times(summary: RunSummary) -> dict:
     """Event label -> time (s) of a run's summary: 'deploy main', 'cutaway drogue', 'descent_rate', 'touchdown'
     (the first of each), 'separation <body>'; a cluster's canopy events name the canopy too ('disreef main main2')."""
     times = {}
-    for e in summary.get("events", []):
-        label = " ".join(str(e[key]) for key in ("event", "system", "canopy") if key in e)
-        times.setdefault(label, e["time"])
-        if "body" in e:   # 'separation heat_shield'; 'separation' alone is the only separating body's
-            times.setdefault(f"{label} {e['body']}", e["time"])
+    for event in summary.events:
+        names = (getattr(event, key, None) for key in ("system", "canopy"))
+        label = " ".join([event.kind, *(str(name) for name in names if name is not None)])
+        times.setdefault(label, event.time)
+        body = getattr(event, "body", None)
+        if body is not None:   # 'separation heat_shield'; 'separation' alone is the only separating body's
+            times.setdefault(f"{label} {body}", event.time)
     return times
 
 
@@ -48,24 +52,76 @@ def predictions(result, targets) -> tuple[list, list]:
     return values, missing
 
 
-def evaluate(case_file: str, overrides: dict, configuration, targets) -> dict:
+@dataclass(frozen=True)
+class Evaluation:
+    """One run of a fit: a line of ``evaluations.jsonl`` (``to_dict``; ``from_dict`` reads it back).
+
+    Attributes
+    ----------
+    status : str
+        "ok" or "failed".
+    error : str
+        Why the run failed ("" for an ok run).
+    values : list of float
+        The free keys' values the run was made at (in the keys' units, ``FitSpec.free`` order).
+    predictions : list of float or None
+        The model's value of each target's measured value(s) (``predictions``; the targets' units); None: failed.
+    missing_events : list of str or None
+        The targets the run did not have (events that never happened, columns it lacks).
+    columns : list of str or None
+        The run's columns (``registries.columns``), for the message naming a mistyped target column.
+    events : dict or None
+        The run's event labels and times (s, ``event_times``).
+    end_time : float or None
+        The run's last sample (s).
+    wall_time : float or None
+        The whole evaluation in its worker (s).
+    evaluation : int or None
+        Its number in the fit folder (``FitStore.add``), None until recorded.
+    """
+
+    status: str
+    error: str
+    values: list
+    predictions: list | None = None
+    missing_events: list | None = None
+    columns: list | None = None
+    events: dict | None = None
+    end_time: float | None = None
+    wall_time: float | None = None
+    evaluation: int | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    def to_dict(self) -> dict:
+        """The evaluation's line of ``evaluations.jsonl``: its fields in order, each only when set."""
+        return {f.name: getattr(self, f.name) for f in fields(self)
+                if getattr(self, f.name) is not None or f.name in ("status", "error", "values")}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Evaluation:
+        """A line of ``evaluations.jsonl`` (checked by ``FitStore``), of this version or an earlier one."""
+        return cls(**{f.name: data.get(f.name, "" if f.name == "error" else None) for f in fields(cls)})
+
+
+def evaluate(case_file: str, overrides: dict, configuration, targets) -> Evaluation:
     """Run the case with ``overrides``; never raises: a failure is a record with its error text."""
     from ..case import load_case
     from ..run.simulation import simulate
 
     started = time.perf_counter()
-    record = {"status": "ok", "error": "", "values": list(overrides.values())}
+    values = list(overrides.values())
     try:
         case = load_case(case_file, overrides)
         c = configuration
         result = simulate(case, c.method, c.integrator, c.step, **dict(c.options))
-        record["predictions"], record["missing_events"] = predictions(result, targets)
-        record["columns"] = [name for name in result.names]
-        record["events"] = event_times(result.summary)
-        record["end_time"] = float(result.time[-1])
+        predicted, missing = predictions(result, targets)
+        record = Evaluation("ok", "", values, predicted, missing, list(result.names), event_times(result.summary),
+                            float(result.time[-1]))
     except PchuteError as exc:
-        record.update(status="failed", error=str(exc))
+        record = Evaluation("failed", str(exc), values)
     except Exception as exc:  # a bug, not a user mistake: still recorded
-        record.update(status="failed", error=f"internal error: {exc!r}")
-    record["wall_time"] = time.perf_counter() - started
-    return record
+        record = Evaluation("failed", f"internal error: {exc!r}", values)
+    return replace(record, wall_time=time.perf_counter() - started)

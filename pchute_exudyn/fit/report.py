@@ -12,17 +12,18 @@ from ..case.loader import override_leaves
 from ..results.io import atomic_write_text, json_text
 from ..views.fit_figures import fit_targets_figure
 from ..views.plotting import save_figure
+from .solve import FitOutcome
 from .spec import FitSpec
 
 
-def write_report(spec: FitSpec, result, folder) -> dict:
-    """Write the report files of ``result`` (``fit.solve.run_fit``) into ``folder``; returns their paths."""
+def write_report(spec: FitSpec, result: FitOutcome, folder) -> dict:
+    """Write the report files of ``result`` (``fit.solve.run_fit``; a ``fit.json`` read back:
+    ``FitOutcome.from_dict``) into ``folder``; returns their paths."""
     folder = Path(folder)
     paths = {"json": folder / "fit.json", "report": folder / "fit_report.md", "plot": folder / "targets.png",
              "case": folder / "calibrated.toml"}
-    data = result.to_dict() if hasattr(result, "to_dict") else result   # a FitOutcome, or fit.json read back
-    atomic_write_text(paths["json"], json_text(data, indent=2) + "\n")
-    atomic_write_text(paths["case"], calibrated_case(spec, result["fitted"], folder))
+    atomic_write_text(paths["json"], json_text(result.to_dict(), indent=2) + "\n")
+    atomic_write_text(paths["case"], calibrated_case(spec, result.fitted, folder))
     _plot_targets(spec, result, paths["plot"])
     atomic_write_text(paths["report"], _markdown(spec, result, paths))
     return paths
@@ -48,17 +49,17 @@ def _toml(value) -> str:
     return repr(float(value)) if isinstance(value, float) else repr(value)
 
 
-def _rows(spec: FitSpec, result: dict):
+def _rows(spec: FitSpec, result: FitOutcome):
     """(target, measured, initial, fitted) per target, arrays for histories."""
     start = 0
     for target in spec.targets:
         stop = start + target.size
-        yield (target, np.asarray(target.measured), np.asarray(result["predictions_initial"][start:stop]),
-               np.asarray(result["predictions_fitted"][start:stop]))
+        yield (target, np.asarray(target.measured), np.asarray(result.predictions_initial[start:stop]),
+               np.asarray(result.predictions_fitted[start:stop]))
         start = stop
 
 
-def _plot_targets(spec: FitSpec, result: dict, path: Path) -> None:
+def _plot_targets(spec: FitSpec, result: FitOutcome, path: Path) -> None:
     """``targets.png``: each target's history against time (y label its column) or single value (its label)."""
     panels = [(target.times if target.kind == "history" else None,
                target.name if target.kind == "history" else target.label(), target.std, measured, initial, fitted)
@@ -66,18 +67,17 @@ def _plot_targets(spec: FitSpec, result: dict, path: Path) -> None:
     save_figure(fit_targets_figure(spec.name, panels), path)
 
 
-def _markdown(spec: FitSpec, result: dict, paths: dict) -> str:
+def _markdown(spec: FitSpec, result: FitOutcome, paths: dict) -> str:
     lines = [f"# Fit: {spec.name}", "",
              f"`pchute fit {spec.source.name}`: case `{spec.case.name}`, {spec.configuration.label or 'the case'}; "
-             f"{result['runs']} runs recorded ({result['runs_this_time']} run now, {result['reused']} read back). "
-             f"Least squares: {result['message']} (status {result['status']}).", "",
+             f"{result.runs} runs recorded ({result.runs_this_time} run now, {result.reused} read back). "
+             f"Least squares: {result.message} (status {result.status}).", "",
              "| free key | bounds | start | fitted | standard error |", "|---|---|---|---|---|"]
-    for key, (low, high), start, fitted, error, bound in zip(result["keys"], result["bounds"], result["initial"],
-                                                             result["fitted"], result["standard_error"],
-                                                             result["at_bound"]):
+    for key, (low, high), start, fitted, error, bound in zip(result.keys, result.bounds, result.initial,
+                                                             result.fitted, result.standard_error, result.at_bound):
         lines.append(f"| {key} | [{low:g}, {high:g}] | {start:.6g} | {fitted:.6g}{' (at a bound)' if bound else ''}"
                      f" | {error:.3g} |")
-    scaled = "scaled by the residuals' variance" if result["covariance_scaled_by_residuals"] else \
+    scaled = "scaled by the residuals' variance" if result.covariance_scaled_by_residuals else \
         "from the targets' standard deviations"
     lines += ["", f"Standard errors from the Jacobian at the fit, (J^T J)^-1 {scaled}.", "",
               "| target | target value | std | start | fitted | fitted - target |", "|---|---|---|---|---|---|"]

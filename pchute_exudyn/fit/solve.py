@@ -13,7 +13,7 @@ import difflib
 import os
 import sys
 from concurrent.futures import Executor
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -24,7 +24,7 @@ from ..results import journal as journal
 from ..results.io import atomic_write_text, json_text
 from ..results.journal import RecordFolder, digests, writing
 from ..study.runner import stop_pool, worker_pool
-from .evaluate import evaluate
+from .evaluate import Evaluation, evaluate
 from .spec import MAX_RUNS, FitSpec
 
 DIFFERENCE_STEP = 1e-3
@@ -58,7 +58,7 @@ class FitStore(RecordFolder):
                 atomic_write_text(manifest, json_text({"name": self.spec.name, "fingerprint": fingerprint,
                                                        "files": files}, indent=2) + "\n")
         for record in journal.read(self.journal, self._check, _label, _note):
-            self.records[_key(record["values"])] = record
+            self.records[_key(record["values"])] = Evaluation.from_dict(record)
 
     def _check(self, record: dict) -> str | None:
         """Why ``record`` is not an evaluation of this fit (None when it is one)."""
@@ -72,12 +72,12 @@ class FitStore(RecordFolder):
             return "is not an evaluation record"
         return None
 
-    def add(self, record: dict) -> None:
+    def add(self, record: Evaluation) -> None:
         # numbered after the last recorded (not counted: a line set aside on resume leaves a gap, not a repeat)
-        record["evaluation"] = 1 + max((r.get("evaluation", -1) for r in self.records.values()
-                                        if isinstance(r.get("evaluation"), int)), default=-1)
-        journal.append(self.journal, record)
-        self.records[_key(record["values"])] = record
+        record = replace(record, evaluation=1 + max((r.evaluation for r in self.records.values()
+                                                     if isinstance(r.evaluation, int)), default=-1))
+        journal.append(self.journal, record.to_dict())
+        self.records[_key(record.values)] = record
 
 
 def _label(record, line) -> str:
@@ -117,19 +117,17 @@ class Problem:
         futures = {k: self.executor.submit(evaluate, str(self.spec.case), self.spec.overrides(v),
                                            self.spec.configuration, self.spec.targets) for k, v in pending.items()}
         for k, future in futures.items():
-            record = future.result()
-            record["values"] = pending[k]
-            self.store.add(record)
+            self.store.add(replace(future.result(), values=pending[k]))
             self.ran += 1
         return [self.store.records[_key(v)] for v in wanted]
 
-    def residuals_of(self, record: dict) -> np.ndarray:
-        if record["status"] != "ok":
-            raise InputError(f"the run at {self._describe(record['values'])} failed: {record['error']}")
-        residuals = (np.asarray(record["predictions"], float) - self.measured) / self.scales
+    def residuals_of(self, record: Evaluation) -> np.ndarray:
+        if not record.ok:
+            raise InputError(f"the run at {self._describe(record.values)} failed: {record.error}")
+        residuals = (np.asarray(record.predictions, float) - self.measured) / self.scales
         if not np.isfinite(residuals).all():
             target = self._target_of(int(np.flatnonzero(~np.isfinite(residuals))[0]))
-            raise InputError(f"the run at {self._describe(record['values'])} gives no finite value for {target}: "
+            raise InputError(f"the run at {self._describe(record.values)} gives no finite value for {target}: "
                              "the least-squares fit needs one for every target")
         return residuals
 
@@ -205,18 +203,18 @@ def _solve(spec: FitSpec, problem: Problem) -> FitOutcome:
     return outcome(spec, problem, start, np.asarray(u), status, message)
 
 
-def _check_base_run(spec: FitSpec, record: dict) -> None:
+def _check_base_run(spec: FitSpec, record: Evaluation) -> None:
     """Before fitting: the run at the starting values must work and show every target event and column."""
-    if record["status"] != "ok":
-        raise InputError(f"the run at the starting values failed: {record['error']}")
+    if not record.ok:
+        raise InputError(f"the run at the starting values failed: {record.error}")
     for i, target in enumerate(spec.targets):
-        _check_history_span(i, target, record.get("end_time"))
-        if target.name not in record["missing_events"]:
+        _check_history_span(i, target, record.end_time)
+        if target.name not in record.missing_events:
             continue
         if target.kind == "event":
             raise InputError(f"targets[{i}].event = {target.name!r}: never happens in the run at the starting "
-                             f"values; its events are: {', '.join(record['events'])}")
-        similar = difflib.get_close_matches(target.name, record["columns"], n=3)
+                             f"values; its events are: {', '.join(record.events)}")
+        similar = difflib.get_close_matches(target.name, record.columns, n=3)
         raise InputError(f"targets[{i}].{'final' if target.kind == 'final' else 'column'} = {target.name!r}: the run "
                          f"has no such column{'; similar: ' + ', '.join(similar) if similar else ''}")
 
@@ -252,17 +250,39 @@ def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str
         covariance=covariance.tolist(), covariance_scaled_by_residuals=weighted and m > n,
         bounds=[[f.low, f.high] for f in spec.free], at_bound=[bool(v <= 1e-9 or v >= 1 - 1e-9) for v in u],
         cost=0.5 * float(residuals @ residuals), residuals=residuals.tolist(),
-        predictions_initial=initial["predictions"], predictions_fitted=fitted["predictions"],
+        predictions_initial=initial.predictions, predictions_fitted=fitted.predictions,
         runs=len(problem.store.records), runs_this_time=problem.ran, reused=problem.reused)
 
 
 @dataclass(frozen=True)
 class FitOutcome:
-    """What ``run_fit`` found (``fit.report`` writes it): the fitted values of ``keys`` (their units the case keys'),
-    their standard errors and covariance (from the Jacobian at the solution, scaled by the residuals when the
-    targets are weighted), the bounds and which were reached, the cost and residuals, the targets' predictions at
-    the start and at the fit, and the runs made (this time, read back). ``to_dict`` is ``fit.json``; its entries
-    are also read by name (``outcome["fitted"]``)."""
+    """What ``run_fit`` found (``fit.report`` writes it); ``to_dict`` is ``fit.json``, ``from_dict`` reads it back.
+
+    Attributes
+    ----------
+    name : str
+        The fit's name.
+    status, message
+        scipy's least-squares status (an int; -2: stopped at ``max_runs``) and its message.
+    keys : list of str
+        The free case keys, in the order of every list below.
+    initial, fitted, standard_error : list of float
+        Each key's starting value, fitted value and standard error (the case key's unit).
+    covariance : list of lists
+        The fitted values' covariance (from the Jacobian at the solution; the keys' units squared).
+    covariance_scaled_by_residuals : bool
+        Whether it is scaled by the residuals' variance (weighted targets) rather than from the targets' std.
+    bounds, at_bound : list
+        Each key's [low, high] and whether the fit ended on one.
+    cost : float
+        Half the sum of the squared residuals at the fit (-).
+    residuals : list of float
+        (model - measured) / std per measured value (-).
+    predictions_initial, predictions_fitted : list of float
+        The model's value of each measured value at the start and at the fit (the targets' units).
+    runs, runs_this_time, reused : int
+        The runs the fit folder records, those run now, and those read back instead of run.
+    """
 
     name: str
     status: int
@@ -283,10 +303,10 @@ class FitOutcome:
     runs_this_time: int
     reused: int
 
-    def __getitem__(self, key):
-        if key not in self.__dataclass_fields__:
-            raise KeyError(key)
-        return getattr(self, key)
-
     def to_dict(self) -> dict:
-        return {name: getattr(self, name) for name in self.__dataclass_fields__}
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> FitOutcome:
+        """The outcome of a ``fit.json`` (``to_dict``'s inverse)."""
+        return cls(**{f.name: data.get(f.name) for f in fields(cls)})

@@ -65,8 +65,18 @@ def _each(template: str, unit: str, meaning: str, of: str, axes=("x", "y", "z"))
     return [Column(template.replace("{axis}", axis), unit, meaning.replace("{axis}", axis), of) for axis in axes]
 
 
-POINT_QUANTITIES = ("altitude", "height", "east", "north", "velocity_north", "velocity_east", "velocity_down")
-"""The columns of every body and confluence (``{owner}_<quantity>``)."""
+UNNAMED_VEHICLE = "vehicle"
+"""The vehicle's name (the owner of its columns) where nothing names it: a case without ``case.vehicle``, another
+tool's file read without a summary (``Result.vehicle``), and ``summary.json``'s ``final``, which names the vehicle's
+altitude, east and north by this owner whatever the vehicle is called (``results.summary.FinalState``)."""
+
+DEPLOY_CONDITIONS = {q.name: f"deploy_{q.name}_{{owner}}" for q in QUANTITIES if q.studied}
+"""The template of the column of each recorded quantity at a system's triggered deployment
+(``registries.quantities.Quantity.studied``: altitude, mach, dynamic_pressure), by the quantity's name."""
+
+POINT_COLUMNS = ("{owner}_altitude", "{owner}_height", "{owner}_east", "{owner}_north", "{owner}_velocity_north",
+                 "{owner}_velocity_east", "{owner}_velocity_down")
+"""The templates of the columns of every body and confluence, in the order a run writes them."""
 
 COLUMNS = (
     Column("time", "s", "run time since the start", "run"),
@@ -133,7 +143,7 @@ COLUMNS = (
         ("deploy_time_{owner}", "s", "time of a system's deployment", "system"),
         ("separation_time_{owner}", "s", "time of a separation", "run"),
         ("separation_clearance_{owner}", "m", "clearance after a separation", "run"))],
-    *[Column(f"deploy_{q.name}_{{owner}}", q.unit, f"the vehicle's {q.meaning} at a system's triggered deployment",
+    *[Column(DEPLOY_CONDITIONS[q.name], q.unit, f"the vehicle's {q.meaning} at a system's triggered deployment",
              "system") for q in QUANTITIES if q.studied],
 )
 """Every kind of column (a method's own: ``register``)."""

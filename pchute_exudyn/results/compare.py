@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..registries.columns import column, owner
+from ..registries.columns import UNNAMED_VEHICLE, column, owner
 from .csv_dialects import time_problem
 from .result import Result
 from .summary import first_fall_through
@@ -141,7 +141,7 @@ def check_values(result: Result, label: str, columns) -> None:
     NaN marks a system not present."""
     for name in columns:
         values = result[name]
-        wrong = np.isinf(values) if result.summary else ~np.isfinite(values)
+        wrong = np.isinf(values) if result.summary is not None else ~np.isfinite(values)
         if wrong.any():
             i = int(np.argmax(wrong))
             raise InputError(f"{label}: column {name} is {float(values[i])} at t = {result.time[i]:g} s; compared "
@@ -164,7 +164,7 @@ def column_differences(a: Result, b: Result, names, time) -> dict:
     return found
 
 
-def descent_profile(result: Result, vehicle: str = "vehicle") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def descent_profile(result: Result, vehicle: str = UNNAMED_VEHICLE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(time s, altitude m, rate of descent m/s) of a side: its ``<vehicle>_velocity_down`` where it has one, else
     -d(altitude)/dt; samples without an altitude left out."""
     time, altitude = result.time, result[column("{owner}_altitude", vehicle)]
@@ -196,7 +196,7 @@ def descent_side(result: Result, vehicle: str, altitudes, ground: float) -> dict
             "note": note}
 
 
-def descent_metrics(a: Result, b: Result, vehicle: str = "vehicle", altitudes=None, ground: float = 0.0) -> dict:
+def descent_metrics(a: Result, b: Result, vehicle: str = UNNAMED_VEHICLE, altitudes=None, ground: float = 0.0) -> dict:
     """Both sides' descent figures (``descent_side``) at ``altitudes`` (m; default: a quarter, half and three
     quarters of the way down the altitudes both sides cover, above the ground); {} when a side has no altitude."""
     name = column("{owner}_altitude", vehicle)
@@ -213,7 +213,7 @@ def descent_metrics(a: Result, b: Result, vehicle: str = "vehicle", altitudes=No
 
 
 def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B", settle_time: float = 2.0,
-                    vehicle: str = "vehicle", confluence: str = "confluence", columns=None, altitudes=None,
+                    vehicle: str = UNNAMED_VEHICLE, confluence: str = "confluence", columns=None, altitudes=None,
                     ground: float | None = None) -> Comparison:
     """Compare result ``b`` against result ``a`` (see the module docstring): ``columns`` (default every shared
     one) column by column; a descent at ``altitudes`` (m) with the ground at ``ground`` (m; default the ground of
@@ -243,11 +243,11 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     comparison = Comparison(label_a, label_b, time, settle_time, common=common)
     comparison.columns = column_differences(a, b, common if columns is None else columns, time)
     if ground is None:   # a summary's ground that is not a finite number (a file edited by hand) is not used
-        ground = next((float(r.summary["ground_altitude"]) for r in (a, b)
-                       if _finite_number(r.summary.get("ground_altitude"))), 0.0)
+        grounds = (getattr(r.summary, "ground_altitude", None) for r in (a, b))
+        ground = next((float(value) for value in grounds if _finite_number(value)), 0.0)
     comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)
-    for suffix in ("altitude", "east", "north"):
-        name = column("{owner}_" + suffix, vehicle)
+    for template, suffix in (("{owner}_altitude", "altitude"), ("{owner}_east", "east"), ("{owner}_north", "north")):
+        name = column(template, vehicle)
         if name in common:
             va, vb = aligned(a, b, name, time[-1:])   # at the end of the common span
             comparison.final[f"{vehicle} {suffix}"] = float(vb[0] - va[0])

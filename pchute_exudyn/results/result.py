@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..registries.columns import owner
+from ..registries.columns import UNNAMED_VEHICLE, owner
 from . import rocketpy_export
 from .csv_dialects import map_columns, parse_column_map  # noqa: F401  (parse_column_map: API)
 from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
@@ -124,24 +124,25 @@ class Result:
         Time histories, ``time`` (s) first; see ``pchute_exudyn.run.outputs`` for the names.
     units : dict of str to str
         Unit of each column.
-    summary : dict
-        Run metadata (see the module docstring), as ``summary.json`` holds it.
-    run_summary : summary.RunSummary, optional
-        The same as a typed object, for a result just simulated (None for one loaded from files).
+    summary : summary.RunSummary, optional
+        What the run was and how it ended (``summary.json``, read back by ``RunSummary.from_dict``); None for a
+        result without one (a CSV file of another tool).
     scene : (dict, dict), optional
         Arrays and description of the bodies and lines in the start frame (``outputs.scene``), for animations.
     attachments : dict of str to str, optional
         Further text files of the run (Exudyn's own solution files), saved beside the others under their names.
     """
 
-    def __init__(self, columns: dict, units: dict | None = None, summary: dict | None = None, run_summary=None,
-                 scene=None, attachments=None):
+    def __init__(self, columns: dict, units: dict | None = None, summary: RunSummary | None = None, scene=None,
+                 attachments=None):
         if "time" not in columns:
             raise InputError("a result needs a 'time' column")
+        if summary is not None and not isinstance(summary, RunSummary):
+            raise InputError(f"summary: a RunSummary (RunSummary.from_dict reads a summary.json's), not "
+                             f"{type(summary).__name__}")
         self.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
         self.units = dict(units or {})
-        self.summary = dict(summary or {})
-        self.run_summary = run_summary
+        self.summary = summary
         self.scene_arrays, self.scene = scene if scene is not None else ({}, None)
         self.attachments = dict(attachments or {})
 
@@ -149,6 +150,17 @@ class Result:
     def time(self) -> np.ndarray:
         """Sample times (s)."""
         return self.columns["time"]
+
+    @property
+    def vehicle(self) -> str:
+        """The vehicle's name, the owner of its columns (``registries.columns``): its summary's, else
+        ``UNNAMED_VEHICLE`` (a file of another tool)."""
+        return self.summary.vehicle if self.vehicle_named else UNNAMED_VEHICLE
+
+    @property
+    def vehicle_named(self) -> bool:
+        """Whether the result's summary names its vehicle (a CSV file of another tool has no summary)."""
+        return isinstance(getattr(self.summary, "vehicle", None), str)
 
     @property
     def names(self) -> list:
@@ -208,6 +220,7 @@ class Result:
         return {key: folder / path.name for key, path in written.items()}
 
     def _write(self, folder: Path, plot: bool, csv: bool, draw=None) -> dict:
+        summary = {} if self.summary is None else self.summary.to_dict()   # the files' form of the summary
         paths = {"npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
         if csv:
             paths["csv"] = folder / CSV_NAME
@@ -217,10 +230,10 @@ class Result:
             scene[SCENE] = json_text(self.scene)
         with atomic_writer(paths["npz"], "wb") as handle:
             # not compressed: deflate takes 40 times longer to write a history (0.1 s for MER's 60 s) and saves 20 %
-            np.savez(handle, **self.columns, units=json_text(self.units), summary=json_text(self.summary), **scene)
+            np.savez(handle, **self.columns, units=json_text(self.units), summary=json_text(summary), **scene)
         written = [p.name for p in paths.values()] + list(self.attachments) + ([PLOT_NAME, TRACK_NAME] if plot else [])
         # the folder's own summary.json lists its files: all that a later --overwrite replaces (io.result_files)
-        atomic_write_text(paths["summary"], json_text({**self.summary, FILES_KEY: written}, indent=2) + "\n")
+        atomic_write_text(paths["summary"], json_text({**summary, FILES_KEY: written}, indent=2) + "\n")
         for name, text in self.attachments.items():
             paths[name] = folder / name
             atomic_write_text(paths[name], text)
@@ -233,7 +246,7 @@ class Result:
         return paths
 
     @classmethod
-    def load(cls, path, column_map: dict | None = None, vehicle: str = "vehicle") -> Result:
+    def load(cls, path, column_map: dict | None = None, vehicle: str = UNNAMED_VEHICLE) -> Result:
         """Read a result folder (its ``timeseries.csv`` and ``summary.json``) or any CSV file.
 
         ``column_map`` (``csv_dialects.parse_column_map``) renames and rescales another tool's columns to this
@@ -251,8 +264,7 @@ class Result:
                 units = _units(data, path / NPZ_NAME)
                 if "time" not in columns:
                     raise InputError(f"{path / NPZ_NAME}: holds no time array: not a {NPZ_NAME} written by pchute run")
-                return cls(map_columns(columns, column_map or {}, path)[0], units, summary,
-                           run_summary=typed_summary(summary))
+                return cls(map_columns(columns, column_map or {}, path)[0], units, typed_summary(summary))
             if not (path / CSV_NAME).is_file():
                 raise InputError(f"{path}: a folder without {CSV_NAME} or {NPZ_NAME}: not a result folder of "
                                  "`pchute run` (a study folder is read by `pchute study-report`)")
@@ -266,18 +278,15 @@ class Result:
         if "time" not in columns:
             raise InputError(f"{path}: no 'time' column (name it with a column map, e.g. --map t=time); columns "
                              f"are: {', '.join(columns)}")
-        return cls(columns, summary.get("units") or {n: u for n, u in units.items() if u}, summary,
-                   run_summary=typed_summary(summary))
+        typed = typed_summary(summary)
+        file_units = typed.units if typed is not None and isinstance(typed.units, dict) else None
+        return cls(columns, file_units or {n: u for n, u in units.items() if u}, typed)
 
 
-def typed_summary(summary: dict):
-    """The ``summary.RunSummary`` of a result folder's ``summary.json`` (None for none, or one another tool wrote)."""
-    if not summary or "method" not in summary or "final" not in summary:
-        return None
-    try:
-        return RunSummary.from_dict(summary)
-    except (TypeError, ValueError):   # a summary from another version: the dict stands alone
-        return None
+def typed_summary(summary: dict) -> RunSummary | None:
+    """The ``summary.RunSummary`` of a result folder's ``summary.json`` (``read_summary``), of this version or an
+    earlier one (what it lacks is None); None for no summary."""
+    return RunSummary.from_dict(summary) if summary else None
 
 
 def _units(data: dict, path: Path) -> dict:

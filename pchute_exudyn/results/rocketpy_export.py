@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..registries.columns import column
+from ..registries.columns import UNNAMED_VEHICLE, column
 from .csv_dialects import read_csv_columns
 
 SOLVER_HEADER = ("Time (s),X (m),Y (m),Z (m),E0,E1,E2,E3,W1 (rad/s),W2 (rad/s),W3 (rad/s)")
@@ -82,7 +82,7 @@ def is_rocketpy(texts: dict) -> bool:
     return {"Time (s)", "Z (m)", "Vz (m/s)"} <= headers or set(SOLVER_COLUMNS) <= headers
 
 
-def column_map(vehicle: str = "vehicle", names=None) -> dict:
+def column_map(vehicle: str = UNNAMED_VEHICLE, names=None) -> dict:
     """RocketPy's columns as this package's (``csv_dialects.parse_column_map``'s form, theirs -> (ours, factor,
     offset)): Z the vehicle's altitude (m; both above the reference surface, sea level), Vx, Vy, Vz its velocity
     east, north and up over the ground (m/s). X and Y (from the launch site; ours run from the start point) are

@@ -26,7 +26,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..case.events import DISREEF
-from ..registries.columns import column
+from ..registries.columns import UNNAMED_VEHICLE, column
 
 
 @dataclass(frozen=True)
@@ -46,20 +46,28 @@ class Event:
 @dataclass(frozen=True)
 class RecordedEvent(Event):
     """An event read back from a ``summary.json`` whose entries no Event class holds (a kind of a later version):
-    its kind and entries as written."""
+    its ``kind`` and entries as written, each entry also read as an attribute (``event.system``)."""
 
-    name: str = ""
+    kind: str = ""
     entries: dict = field(default_factory=dict)
 
+    def __getattr__(self, name: str):
+        if name.startswith("__") or name == "entries":   # not an entry: copy and pickle look these up
+            raise AttributeError(name)
+        try:
+            return self.entries[name]
+        except KeyError:
+            raise AttributeError(f"{self.kind} event has no entry {name!r}") from None
+
     def to_dict(self) -> dict:
-        return {"event": self.name, "time": self.time, **self.entries}
+        return {"event": self.kind, "time": self.time, **self.entries}
 
 
 def event_from_dict(data: dict) -> Event:
     """The Event of a ``summary.json`` event entry: its class by ``kind``, else a ``RecordedEvent``."""
     kinds = {c.kind: c for c in _subclasses(Event) if c.kind}
     entries = {k: v for k, v in data.items() if k not in ("event", "time")}
-    kind = kinds.get(data.get("event"))
+    kind = kinds.get(data["event"]) if isinstance(data.get("event"), str) else None
     if kind is not None and set(entries) <= {f.name for f in fields(kind)}:
         return kind(data.get("time"), **entries)
     return RecordedEvent(data.get("time"), data.get("event", ""), entries)
@@ -292,7 +300,7 @@ def merge_facts(total: dict, facts: dict) -> None:
 def failures_flown(failures) -> dict:
     """The case's ``[failures]`` (``case.model.Failures``) as ``summary.json`` records them: only what is set
     (canopies that never inflate, with their model and trailing drag-area fraction; cut-away times in s; disreef
-    delays in s; skipped stages); {} for a run without failures, so a tool can test ``summary["failures"]``."""
+    delays in s; skipped stages); {} for a run without failures, so a tool can test ``summary.failures``."""
     flown = {}
     if failures.not_inflated:
         flown.update(not_inflated=list(failures.not_inflated), not_inflated_model=failures.not_inflated_model,
@@ -309,10 +317,41 @@ CLEARANCE_AFTER = 2.0
 """s after a separation at which its clearance (the distance between the two centres of mass) is reported."""
 
 
+class SummaryEntry:
+    """An entry of ``summary.json`` held as a frozen dataclass: ``to_dict`` gives its fields in order under their
+    names in the file (``FILE_NAMES``: a field whose name is not the file's), an ``OPTIONAL`` field only when set;
+    ``from_dict`` reads one back, None for a field the entry lacks (a file of an earlier version)."""
+
+    FILE_NAMES: ClassVar[dict] = {}
+
+    def to_dict(self) -> dict:
+        return {self.FILE_NAMES.get(f.name, f.name): getattr(self, f.name) for f in fields(self)
+                if not (f.metadata.get("optional") and getattr(self, f.name) is None)}
+
+    @classmethod
+    def from_dict(cls, data):
+        """The entry of ``data`` (None when ``data`` is not a JSON object: a file edited by hand)."""
+        if not isinstance(data, dict):
+            return None
+        return cls(**{f.name: data.get(cls.FILE_NAMES.get(f.name, f.name)) for f in fields(cls)})
+
+
+@dataclass(frozen=True)
+class Separation(SummaryEntry):
+    """A body's separation (``separation_summary``): its ``time`` (s), its ``relative_speed`` (m/s, along the
+    separation direction) and its ``clearance`` (m), the distance between its centre of mass and the vehicle's
+    ``clearance_after`` s later (None: no finite sample)."""
+
+    time: float
+    relative_speed: float
+    clearance: float | None
+    clearance_after: float
+
+
 def separation_summary(case, raw, events: list) -> dict:
-    """Per body that separated: the time (s), the relative speed (m/s) and the clearance (m), the distance between
-    its centre of mass and the vehicle's ``CLEARANCE_AFTER`` s later (at the output sample nearest; at the run's end
-    when that comes first: ``clearance_after`` says how long after), from the engine history ``raw``."""
+    """Per body that separated, its ``Separation``: the clearance ``CLEARANCE_AFTER`` s after the separation (at the
+    output sample nearest; at the run's end when that comes first: ``clearance_after`` says how long after), from
+    the engine history ``raw``."""
     out = {}
     time = raw.time
     for event in events:
@@ -320,9 +359,108 @@ def separation_summary(case, raw, events: list) -> dict:
             continue
         i = int(np.argmin(np.abs(time - min(event.time + CLEARANCE_AFTER, float(time[-1])))))
         apart = raw.bodies[event.body]["position"][i] - raw.bodies[case.vehicle]["position"][i]
-        out[event.body] = {"time": event.time, "relative_speed": event.relative_speed,
-                           "clearance": float(np.linalg.norm(apart)), "clearance_after": float(time[i] - event.time)}
+        out[event.body] = Separation(event.time, event.relative_speed, float(np.linalg.norm(apart)),
+                                     float(time[i] - event.time))
     return out
+
+
+@dataclass(frozen=True)
+class Descent(SummaryEntry):
+    """The vehicle's rate of descent (m/s, relative to the ground, down positive) averaged over the last ``window``
+    s of the run (``mean_rate``) and at its end (``final_rate``); None: no finite sample (``analysis``)."""
+
+    mean_rate: float | None
+    window: float
+    final_rate: float | None
+
+
+@dataclass(frozen=True)
+class Pendulum(SummaryEntry):
+    """The vehicle's pendulum angles (deg) from ``start`` (s; ``from`` in the file: once the last configuration
+    flies, ``analysis.settled_after``): the largest, the RMS and the swing amplitude (``analysis.swing_amplitude``)
+    of its angle to gravity (``vertical``) and to its airspeed (``airspeed``); None: no finite sample."""
+
+    start: float
+    max_vertical_deg: float | None
+    rms_vertical_deg: float | None
+    amplitude_vertical_deg: float | None
+    max_airspeed_deg: float | None
+    rms_airspeed_deg: float | None
+    amplitude_airspeed_deg: float | None
+    FILE_NAMES: ClassVar[dict] = {"start": "from"}
+
+
+@dataclass(frozen=True)
+class ClusterLoads(SummaryEntry):
+    """A cluster's loads and geometry (``analysis.cluster_summary``): its ``canopies``; the largest canopy's peak
+    share of the risers' load (-, None: no sample under a real load) and when (s); the time (s) from which its
+    canopies are open (``open_from``), per canopy its flyout once open (deg: ``{'max', 'mean'}``, None: never open)
+    and its riser's peak (``{'tension': N, 'time': s}``, None: never loaded); with contact modelled, per pair of
+    canopies (``<first>_<second>``) the largest overlap (m, >= 0; None: never both present)."""
+
+    canopies: list
+    peak_load_share: float | None
+    peak_load_share_time: float | None
+    open_from: float
+    flyout_deg: dict
+    riser_peak: dict
+    max_overlap: dict | None = field(default=None, metadata=OPTIONAL)
+
+
+@dataclass(frozen=True)
+class FinalState:
+    """The run's last sample (``summary.json``'s ``final``): its ``time`` (s) and the altitude, east and north (m) of
+    the vehicle's centre of mass and of each confluence, by their columns (``values``: ``registries.columns``,
+    ``<owner>_altitude``, ``<owner>_east``, ``<owner>_north``; NaN, null in the file, for a confluence whose system
+    has left). ``altitude``, ``east``, ``north`` and ``lateral`` are the vehicle's."""
+
+    time: float
+    vehicle: str
+    values: dict
+
+    POSITION: ClassVar[tuple] = ("{owner}_altitude", "{owner}_east", "{owner}_north")
+
+    def value(self, template: str, owner: str | None = None) -> float:
+        """The last sample (m) of column ``template`` (``'{owner}_altitude'``) of ``owner`` (default the vehicle; a
+        confluence label, ``Case.confluence_label``)."""
+        return self.values[column(template, self.vehicle if owner is None else owner)]
+
+    @property
+    def altitude(self) -> float:
+        """The vehicle's altitude (m) above the reference surface at the end."""
+        return self.value("{owner}_altitude")
+
+    @property
+    def east(self) -> float:
+        """The vehicle's east (m) of the start point at the end."""
+        return self.value("{owner}_east")
+
+    @property
+    def north(self) -> float:
+        """The vehicle's north (m) of the start point at the end."""
+        return self.value("{owner}_north")
+
+    @property
+    def lateral(self) -> float:
+        """The vehicle's horizontal distance (m) from the start point at the end."""
+        return math.hypot(self.east, self.north)
+
+    def to_dict(self) -> dict:
+        """As ``summary.json`` holds it: the vehicle's values under ``UNNAMED_VEHICLE``'s columns (the file's keys
+        are the same whatever the vehicle is called)."""
+        renamed = {column(t, self.vehicle): column(t, UNNAMED_VEHICLE) for t in self.POSITION}
+        return {column("time"): self.time, **{renamed.get(name, name): value for name, value in self.values.items()}}
+
+    @classmethod
+    def from_dict(cls, data, vehicle: str | None) -> FinalState | None:
+        """``to_dict``'s inverse for the run of ``vehicle`` (None: ``UNNAMED_VEHICLE``); None unless ``data`` is a
+        JSON object."""
+        if not isinstance(data, dict):
+            return None
+        vehicle = vehicle if isinstance(vehicle, str) else UNNAMED_VEHICLE
+        renamed = {column(t, UNNAMED_VEHICLE): column(t, vehicle) for t in cls.POSITION}
+        return cls(data.get(column("time")), vehicle,
+                   {renamed.get(name, name): value for name, value in data.items() if name != column("time")})
 
 
 def events_planned(systems: dict, triggers: dict | None = None) -> dict:
@@ -343,12 +481,58 @@ def events_planned(systems: dict, triggers: dict | None = None) -> dict:
 
 @dataclass(frozen=True)
 class RunSummary:
-    """What a run was and how it ended (``summary.json``; units SI: s, m, N).
+    """What a run was and how it ended: ``Result.summary``, written as ``summary.json`` (``to_dict``) and read back
+    from it (``from_dict``). Units SI: s, m, N, m/s.
 
-    ``method_settings`` are the method's options as it reports them (SP: kappa_max, slack_rule, sp_order),
-    ``method_facts`` the counts it keeps (equilibrium point: solves and iterations per system); both sit at the top
-    level of ``summary.json``. ``final`` holds the last sample's time and the vehicle's and confluences' altitude,
-    east and north; ``peak_tension`` the largest tension per line (None for a line never present).
+    Attributes
+    ----------
+    case, case_file, description : str
+        The case's name, file and description.
+    vehicle : str
+        The vehicle body's name: the owner of its columns (``registries.columns``).
+    method, integrator : str
+        The confluence method and integrator run.
+    step, duration, output_step : float
+        The integration step (s; adaptive steps: the largest allowed), the simulated time (s), the output step (s).
+    ground_altitude : float or None
+        The ground's altitude (m); None: the run flies on below the ground (``stop_at_ground = false``).
+    end : str
+        "touchdown" or "duration".
+    steps : int
+        Integration steps taken.
+    wall_time : float
+        The engine's solve (s); ``steps_per_second`` follows from it.
+    final : FinalState
+        The last sample: ``final.time`` (s), ``final.altitude``, ``final.east``, ``final.north``, ``final.lateral``
+        (m, the vehicle's), ``final.value(template, owner)`` (a confluence's).
+    peak_tension : dict
+        The largest tension (N) per line label (None for a line never present).
+    events : tuple of Event
+        In time order (see the module docstring); ``touchdown`` is the TouchdownEvent, ``events_of(kind)`` the
+        events of one kind.
+    units : dict
+        The unit of each column.
+    versions, created
+        The versions of this package, Exudyn, numpy and Python; when the run ended (ISO 8601, UTC).
+    method_settings, method_facts : dict
+        The method's options as it reports them (SP: kappa_max, slack_rule, sp_order) and the counts it keeps
+        (equilibrium point: solves and iterations per system); both sit at the top level of ``summary.json``.
+    opening_loads : dict
+        Per opening, per stage its window and the lines' peak tensions (``opening_loads``); {} without inflations.
+    cluster : dict of ClusterLoads
+        Per cluster system; {} without clusters.
+    pendulum : Pendulum or None
+        The vehicle's pendulum angles; None for a fixed vehicle.
+    descent : Descent or None
+        The vehicle's rate of descent at the end.
+    warnings : tuple of str
+        One line per implausible case value (``Case.warnings``) and per trigger that never fired.
+    failures, events_planned : dict
+        The [failures] the run flew with (``failures_flown``); per system its fixed deploy and cut-away times (s).
+    separations : dict of Separation
+        Per separated body; {} without separations.
+    step_control : dict or None
+        Adaptive steps: the rule, the smallest, largest and mean step (s) and their count; None: a fixed step.
     """
 
     case: str
@@ -360,11 +544,11 @@ class RunSummary:
     step: float
     duration: float
     output_step: float
-    ground_altitude: float | None   # m; None: the run flies on below the ground (stop_at_ground = false)
-    end: str                 # "touchdown" or "duration"
+    ground_altitude: float | None
+    end: str
     steps: int
-    wall_time: float         # s
-    final: dict
+    wall_time: float
+    final: FinalState | None
     peak_tension: dict
     events: tuple
     units: dict
@@ -372,76 +556,103 @@ class RunSummary:
     created: str
     method_settings: dict = field(default_factory=dict)
     method_facts: dict = field(default_factory=dict)
-    opening_loads: dict = field(default_factory=dict)   # see ``opening_loads``; {} without inflations
-    cluster: dict = field(default_factory=dict)         # per cluster (``analysis.cluster_summary``); {} without
-    pendulum: dict = field(default_factory=dict)        # the vehicle's pendulum angles (``analysis``)
-    descent: dict = field(default_factory=dict)         # the vehicle's rate of descent at the end (``analysis``)
-    warnings: tuple = ()    # one line per implausible case value (``Case.warnings``, ``case.plausible``)
-    failures: dict = field(default_factory=dict)        # the [failures] the run flew with (``failures_flown``)
-    events_planned: dict = field(default_factory=dict)  # per system its fixed deploy and cut-away times (s)
-    separations: dict = field(default_factory=dict)     # per separated body (``separation_summary``); {} without
-    step_control: dict | None = None   # adaptive steps: smallest, largest, mean (s) and count; None: a fixed step
+    opening_loads: dict = field(default_factory=dict)
+    cluster: dict = field(default_factory=dict)
+    pendulum: Pendulum | None = None
+    descent: Descent | None = None
+    warnings: tuple = ()
+    failures: dict = field(default_factory=dict)
+    events_planned: dict = field(default_factory=dict)
+    separations: dict = field(default_factory=dict)
+    step_control: dict | None = None
 
     @property
     def steps_per_second(self) -> float | None:
-        return self.steps / self.wall_time if self.wall_time > 0 else None
+        """Integration steps per second of the engine's solve (None: no solve time, or a summary without them)."""
+        timed = self.steps is not None and isinstance(self.wall_time, (int, float)) and self.wall_time > 0
+        return self.steps / self.wall_time if timed else None
+
+    @property
+    def touchdown(self) -> TouchdownEvent | None:
+        """The vehicle's touchdown (its velocity relative to the ground, m/s), None for a run that did not land."""
+        return next(iter(self.events_of("touchdown")), None)
+
+    def events_of(self, kind: str) -> list:
+        """The events of ``kind`` ('deploy', 'separation', ...: ``Event.kind``), in time order."""
+        return [event for event in self.events if event.kind == kind]
 
     @classmethod
     def from_dict(cls, data: dict) -> RunSummary:
-        """The typed summary of a ``summary.json`` (``to_dict``'s inverse): each event as its Event class
-        (``event_from_dict``), the method's settings and facts (top-level keys of no field) in ``method_settings``."""
+        """The typed summary of a ``summary.json`` (``to_dict``'s inverse), of this version or an earlier one: each
+        event as its Event class (``event_from_dict``), each entry as its class, the method's settings and facts
+        (top-level keys of no field) in ``method_settings``; a field the file lacks is None (empty for a mapping)."""
         names = {f.name for f in fields(cls)}
         known = {k: v for k, v in data.items() if k in names}
         extra = {k: v for k, v in data.items() if k not in names and k != "steps_per_second"}
-        known["events"] = tuple(event_from_dict(event) for event in data.get("events", []))
-        known["warnings"] = tuple(data.get("warnings", ()))
         defaults = {f.name: None for f in fields(cls) if f.default is MISSING and f.default_factory is MISSING}
-        return cls(**{**defaults, **known, "method_settings": extra})
+        events = data.get("events")
+        return cls(**{**defaults, **known, "method_settings": extra,
+                      "events": tuple(event_from_dict(e) for e in events if isinstance(e, dict))
+                      if isinstance(events, list) else (),
+                      "warnings": tuple(data["warnings"]) if isinstance(data.get("warnings"), list) else (),
+                      "final": FinalState.from_dict(data.get("final"), data.get("vehicle")),
+                      "pendulum": Pendulum.from_dict(data.get("pendulum")),
+                      "descent": Descent.from_dict(data.get("descent")),
+                      "cluster": _entries(ClusterLoads, data.get("cluster")),
+                      "separations": _entries(Separation, data.get("separations"))})
 
     def to_dict(self) -> dict:
+        """What ``summary.json`` holds (strict JSON once ``io.json_text`` writes it)."""
         return {"case": self.case, "case_file": self.case_file, "description": self.description,
                 "vehicle": self.vehicle, "method": self.method, "integrator": self.integrator, "step": self.step,
                 **({"step_control": self.step_control} if self.step_control is not None else {}),
                 "duration": self.duration, **self.method_settings, **self.method_facts,
                 "output_step": self.output_step, "ground_altitude": self.ground_altitude, "end": self.end,
-                "steps": self.steps, "wall_time": self.wall_time,
-                "steps_per_second": self.steps_per_second, "final": self.final, "peak_tension": self.peak_tension,
+                "steps": self.steps, "wall_time": self.wall_time, "steps_per_second": self.steps_per_second,
+                "final": None if self.final is None else self.final.to_dict(), "peak_tension": self.peak_tension,
                 "events": [event.to_dict() for event in self.events],
                 **({"opening_loads": self.opening_loads} if self.opening_loads else {}),
-                **({"cluster": self.cluster} if self.cluster else {}),
-                **({"pendulum": self.pendulum} if self.pendulum else {}),
-                **({"descent": self.descent} if self.descent else {}),
-                **({"separations": self.separations} if self.separations else {}), "warnings": list(self.warnings),
+                **({"cluster": {k: v.to_dict() for k, v in self.cluster.items()}} if self.cluster else {}),
+                **({"pendulum": self.pendulum.to_dict()} if self.pendulum is not None else {}),
+                **({"descent": self.descent.to_dict()} if self.descent is not None else {}),
+                **({"separations": {k: v.to_dict() for k, v in self.separations.items()}} if self.separations
+                   else {}), "warnings": list(self.warnings),
                 "failures": self.failures, "events_planned": self.events_planned,
                 "units": self.units,
                 "versions": self.versions, "created": self.created}
 
 
-def run_line(summary: dict, out, stability_limit: float | None = None) -> str:
+def _entries(kind: type, data) -> dict:
+    """Per name, the ``kind`` entry of ``data`` (a JSON object of entries; {} for anything else)."""
+    if not isinstance(data, dict):
+        return {}
+    return {name: entry for name, entry in ((k, kind.from_dict(v)) for k, v in data.items()) if entry is not None}
+
+
+def run_line(summary: RunSummary, out, stability_limit: float | None = None) -> str:
     """The one-line account of a finished run (``pchute run``): its method, step (adaptive: the steps taken, smallest
     to largest, and their mean; chosen from the stability limit: that limit), end, wall time and final position."""
-    s, f = summary, summary["final"]
-    ending = "touchdown at" if s.get("end") == "touchdown" else "ended at"
-    control = s.get("step_control")
+    s, f = summary, summary.final
+    ending = "touchdown at" if s.end == "touchdown" else "ended at"
+    control = s.step_control
     if control and control.get("count"):
         step = (f"adaptive steps {control['smallest']:.3g} to {control['largest']:.3g} s (mean "
                 f"{control['mean']:.3g} s)")
     else:
         chosen = "" if stability_limit is None else f" (none set: from the stability limit {stability_limit:.3g} s)"
-        step = f"step {s['step']:g} s{chosen}"
-    return (f"{s['case']}: {s['method']}/{s['integrator']} {step}, {ending} {f['time']:.2f} s in "
-            f"{s['wall_time']:.2f} s of wall time ({s['steps']} steps); final {s['vehicle']} altitude "
-            f"{f['vehicle_altitude']:.2f} m, east {f['vehicle_east']:.3f} m, north {f['vehicle_north']:.3f} m"
-            f"{touchdown_text(s.get('events', []))} -> {out}"
-            + (f" ({len(s['warnings'])} warning(s): see summary.json)" if s.get("warnings") else ""))
+        step = f"step {s.step:g} s{chosen}"
+    return (f"{s.case}: {s.method}/{s.integrator} {step}, {ending} {f.time:.2f} s in "
+            f"{s.wall_time:.2f} s of wall time ({s.steps} steps); final {s.vehicle} altitude "
+            f"{f.altitude:.2f} m, east {f.east:.3f} m, north {f.north:.3f} m"
+            f"{touchdown_text(s.touchdown)} -> {out}"
+            + (f" ({len(s.warnings)} warning(s): see summary.json)" if s.warnings else ""))
 
 
-def touchdown_text(events: list) -> str:
-    """The run line's account of the touchdown (``summary.json`` events): the descent rate, the horizontal speed over
-    the ground and the total speed (m/s); '' for a run that did not touch down (or a summary from before the split)."""
-    touchdown = next((e for e in events if e.get("event") == "touchdown"), None)
-    if touchdown is None or touchdown.get("descent_rate") is None:
+def touchdown_text(touchdown: TouchdownEvent | None) -> str:
+    """The run line's account of the touchdown: the descent rate, the horizontal speed over the ground and the total
+    speed (m/s); '' for a run that did not touch down (or a summary from before the split)."""
+    if touchdown is None or getattr(touchdown, "descent_rate", None) is None:
         return ""
-    return (f"; at touchdown descent rate {touchdown['descent_rate']:.2f} m/s, horizontal speed "
-            f"{touchdown['horizontal_speed_over_ground']:.2f} m/s, total speed {touchdown['speed']:.2f} m/s "
+    return (f"; at touchdown descent rate {touchdown.descent_rate:.2f} m/s, horizontal speed "
+            f"{touchdown.horizontal_speed_over_ground:.2f} m/s, total speed {touchdown.speed:.2f} m/s "
             "(over the ground)")

@@ -24,7 +24,7 @@ from ..physics.cluster import flyout_angles, load_share, present_mean
 from ..physics.contact import envelope_radius, overlaps
 from ..physics.kinematics import body_point
 from ..registries.columns import column
-from ..results.summary import ContactEndEvent, ContactStartEvent
+from ..results.summary import ClusterLoads, ContactEndEvent, ContactStartEvent, Descent, Pendulum
 from .outputs import units_of
 
 LOAD_SHARE_FLOOR = 0.1
@@ -142,44 +142,48 @@ def settled_after(events: list, case: Case | None = None) -> float:
 
 
 def cluster_summary(case: Case, columns: dict, events: list) -> dict:
-    """Per cluster: its peak load share and when (over samples above LOAD_SHARE_FLOOR), each canopy's largest and
-    mean flyout (deg) from the system's last fill end to its cut-away or the run's end, each canopy's risers' peak
-    tension (N) over the whole run and when, and each pair's largest overlap (m)."""
+    """Per cluster its ``ClusterLoads``: its peak load share and when (over samples above LOAD_SHARE_FLOOR), each
+    canopy's largest and mean flyout (deg) from the system's last fill end to its cut-away or the run's end, each
+    canopy's risers' peak tension (N) over the whole run and when, and each pair's largest overlap (m)."""
     time, out = columns["time"], {}
     for system in clusters(case):
         share = columns[column("{owner}_load_share", system.name)]
         tensions = riser_tensions(case, system, columns)
         mean = present_mean(tensions)
         strong = np.isfinite(share) & (mean >= LOAD_SHARE_FLOOR * mean.max())
-        entry = {"canopies": list(system.canopies), "peak_load_share": None, "peak_load_share_time": None}
+        peak = (None, None)
         if strong.any():
             k = int(np.flatnonzero(strong)[np.argmax(share[strong])])
-            entry["peak_load_share"], entry["peak_load_share_time"] = float(share[k]), float(time[k])
+            peak = (float(share[k]), float(time[k]))
         start = open_from(system, events)
         end = system.cutaway_time if system.cutaway_time is not None else np.inf
         window = (time >= start) & (time < end)
-        entry["open_from"] = float(start)
-        entry["flyout_deg"], entry["riser_peak"] = {}, {}
+        flyouts, risers = {}, {}
         for k, canopy in enumerate(system.canopies):
             flyout = columns[column("{owner}_flyout_deg", canopy)][window]
             flyout = flyout[np.isfinite(flyout)]
-            entry["flyout_deg"][canopy] = ({"max": float(flyout.max()), "mean": float(flyout.mean())} if len(flyout)
-                                           else None)
+            flyouts[canopy] = {"max": float(flyout.max()), "mean": float(flyout.mean())} if len(flyout) else None
             finite = np.isfinite(tensions[:, k])
             if finite.any():
                 j = int(np.flatnonzero(finite)[np.argmax(tensions[finite, k])])
-                entry["riser_peak"][canopy] = {"tension": float(tensions[j, k]), "time": float(time[j])}
+                risers[canopy] = {"tension": float(tensions[j, k]), "time": float(time[j])}
             else:
-                entry["riser_peak"][canopy] = None
-        if system.contact is not None:
-            entry["max_overlap"] = {}
-            for a, first in enumerate(system.canopies):
-                for second in system.canopies[a + 1:]:
-                    overlap = columns[column("{owner}_{other}_overlap", first, second)]
-                    largest = float(np.nanmax(overlap)) if np.isfinite(overlap).any() else None
-                    entry["max_overlap"][f"{first}_{second}"] = largest if largest is None else max(largest, 0.0)
-        out[system.name] = entry
+                risers[canopy] = None
+        out[system.name] = ClusterLoads(list(system.canopies), *peak, float(start), flyouts, risers,
+                                        None if system.contact is None else _largest_overlaps(system, columns))
     return out
+
+
+def _largest_overlaps(system, columns: dict) -> dict:
+    """Per pair of the cluster's canopies (``<first>_<second>``), their largest overlap (m, >= 0; None: never both
+    present)."""
+    found = {}
+    for a, first in enumerate(system.canopies):
+        for second in system.canopies[a + 1:]:
+            overlap = columns[column("{owner}_{other}_overlap", first, second)]
+            largest = float(np.nanmax(overlap)) if np.isfinite(overlap).any() else None
+            found[f"{first}_{second}"] = largest if largest is None else max(largest, 0.0)
+    return found
 
 
 def open_from(system, events: list) -> float:
@@ -203,31 +207,29 @@ def swing_amplitude(angles) -> float | None:
     return float(peaks.mean()) if len(peaks) else float(values.max())
 
 
-def pendulum_summary(case: Case, columns: dict, events: list) -> dict:
+def pendulum_summary(case: Case, columns: dict, events: list) -> Pendulum | None:
     """The vehicle's largest and RMS pendulum angles (deg) and their swing amplitude (``swing_amplitude``) to
-    gravity and to its airspeed once the last configuration flies (``settled_after``); {} for a fixed vehicle."""
+    gravity and to its airspeed once the last configuration flies (``settled_after``); None for a fixed vehicle."""
     name = case.vehicle
     vertical = column("{owner}_pendulum_deg", name)
     if vertical not in columns:
-        return {}
+        return None
     start = settled_after(events, case)
     window = columns["time"] >= start
-    out = {"from": float(start)}
-    for key, angle in (("vertical", vertical), ("airspeed", column("{owner}_pendulum_airspeed_deg", name))):
+    angles = []
+    for angle in (vertical, column("{owner}_pendulum_airspeed_deg", name)):
         values = columns[angle][window]
         values = values[np.isfinite(values)]
-        out[f"max_{key}_deg"] = float(values.max()) if len(values) else None
-        out[f"rms_{key}_deg"] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
-        out[f"amplitude_{key}_deg"] = swing_amplitude(values)
-    return out
+        angles += [float(values.max()) if len(values) else None,
+                   float(np.sqrt(np.mean(values ** 2))) if len(values) else None, swing_amplitude(values)]
+    return Pendulum(float(start), *angles)
 
 
-def descent_summary(case: Case, columns: dict) -> dict:
+def descent_summary(case: Case, columns: dict) -> Descent:
     """The vehicle's rate of descent (m/s, relative to the ground, downward positive) averaged over the last
     DESCENT_WINDOW s of the run, and at its end."""
     time, rate = columns["time"], columns[column("{owner}_velocity_down", case.vehicle)]
     window = time >= time[-1] - DESCENT_WINDOW
     values = rate[window][np.isfinite(rate[window])]
-    return {"mean_rate": float(values.mean()) if len(values) else None, "window": DESCENT_WINDOW,
-            "final_rate": float(rate[-1]) if np.isfinite(rate[-1]) else None}
-
+    return Descent(float(values.mean()) if len(values) else None, DESCENT_WINDOW,
+                   float(rate[-1]) if np.isfinite(rate[-1]) else None)

@@ -29,7 +29,7 @@ from ..physics.kinematics import body_point, relative_to_body
 from ..physics.lines import line_states
 from ..physics.rotations import attitude_angles_deg, tilt_deg
 from ..physics.step_rule import merge_summaries
-from ..registries.columns import POINT_QUANTITIES, column, derived, method_column, unit
+from ..registries.columns import POINT_COLUMNS, column, derived, method_column, unit
 
 MAX_LINE_STRAIN = 1.0
 """A line without a material stretched beyond (1 + MAX_LINE_STRAIN) times its free length is over-stretched: no
@@ -201,8 +201,8 @@ def _point_columns(case: Case, owner: str, time, position, velocity, columns: di
     altitude = case.start.altitude(position)
     values = (altitude, altitude - case.simulation.ground_elevation, fixed[:, 0], fixed[:, 1], ground_velocity[:, 1],
               ground_velocity[:, 0], -ground_velocity[:, 2])
-    for quantity, value in zip(POINT_QUANTITIES, values):
-        columns[column("{owner}_" + quantity, owner)] = value
+    for template, value in zip(POINT_COLUMNS, values):
+        columns[column(template, owner)] = value
 
 
 def derive_columns(case: Case, raw: RawHistory, history: bool = True) -> tuple[dict, dict]:
@@ -250,22 +250,25 @@ def _attitude_columns(case: Case, name: str, raw: RawHistory, columns: dict) -> 
     velocity relative to the vehicle (a moving body other than the vehicle)."""
     body = raw.bodies[name]
     yaw, pitch, roll = attitude_angles_deg(body["rotation"])
-    for key, value in (("yaw_deg", yaw), ("pitch_deg", pitch), ("roll_deg", roll),
-                       ("tilt_deg", tilt_deg(body["rotation"]))):
-        columns[column("{owner}_" + key, name)] = value
-    for i, axis in enumerate("xyz"):
-        columns[column("{owner}_rate_" + axis, name)] = body["angular_velocity"][:, i]
+    for template, value in (("{owner}_yaw_deg", yaw), ("{owner}_pitch_deg", pitch), ("{owner}_roll_deg", roll),
+                            ("{owner}_tilt_deg", tilt_deg(body["rotation"]))):
+        columns[column(template, name)] = value
+    for i, template in enumerate(("{owner}_rate_x", "{owner}_rate_y", "{owner}_rate_z")):
+        columns[column(template, name)] = body["angular_velocity"][:, i]
     aero = case.bodies[name].aerodynamics
     if aero is not None and aero.enabled:
         total, alpha, beta, pressure, mach, wind, turbulence = _aero_columns(case, body, aero.center, raw.time)
-        for key, value in (("angle_of_attack_deg", total), ("alpha_deg", alpha), ("beta_deg", beta),
-                           ("dynamic_pressure", pressure), ("mach", mach)):
+        for template, value in (("{owner}_angle_of_attack_deg", total), ("{owner}_alpha_deg", alpha),
+                                ("{owner}_beta_deg", beta), ("{owner}_dynamic_pressure", pressure),
+                                ("{owner}_mach", mach)):
             if value is not None:
-                columns[column("{owner}_" + key, name)] = value
+                columns[column(template, name)] = value
         if wind is not None:   # the air's motion at the aerodynamic centre, relative to the ground
-            for kind, value in (("wind", wind), ("turbulence", turbulence)):
-                for i, axis in enumerate(("east", "north", "up")):
-                    columns[column("{owner}_" + kind + "_" + axis, name)] = value[:, i]
+            for templates, value in ((("{owner}_wind_east", "{owner}_wind_north", "{owner}_wind_up"), wind),
+                                     (("{owner}_turbulence_east", "{owner}_turbulence_north",
+                                       "{owner}_turbulence_up"), turbulence)):
+                for i, template in enumerate(templates):
+                    columns[column(template, name)] = value[:, i]
     if name != case.vehicle and not case.bodies[name].fixed and not case.bodies[case.vehicle].fixed:
         _relative_columns(name, raw.bodies[case.vehicle], body["position"], body["velocity"], columns)
     for entry in derived("body"):   # the registry's columns that say how they are computed
@@ -309,9 +312,11 @@ def _relative_columns(owner: str, vehicle: dict, position, velocity, columns: di
     seen from the vehicle, its rotation included."""
     body_arm, body_velocity = relative_to_body(vehicle["position"], vehicle["rotation"], vehicle["velocity"],
                                                vehicle["angular_velocity"], position, velocity)
-    for i, axis in enumerate("xyz"):
-        columns[column("{owner}_relative_position_" + axis, owner)] = body_arm[:, i]
-        columns[column("{owner}_relative_velocity_" + axis, owner)] = body_velocity[:, i]
+    positions = ("{owner}_relative_position_x", "{owner}_relative_position_y", "{owner}_relative_position_z")
+    velocities = ("{owner}_relative_velocity_x", "{owner}_relative_velocity_y", "{owner}_relative_velocity_z")
+    for i, (arm_template, velocity_template) in enumerate(zip(positions, velocities)):
+        columns[column(arm_template, owner)] = body_arm[:, i]
+        columns[column(velocity_template, owner)] = body_velocity[:, i]
 
 
 def line_tensions_from_states(case: Case, raw: RawHistory, system) -> np.ndarray:

@@ -28,6 +28,7 @@ from ..registries.columns import column, owner
 from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
 from ..results.result import Result
 from ..results.summary import (
+    FinalState,
     RunSummary,
     StartEvent,
     TouchdownEvent,
@@ -279,14 +280,12 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
     return raw, state.facts, sequence.attach(events), state.openings, sequence
 
 
-def _final_values(case: Case, columns: dict) -> dict:
-    vehicle = case.vehicle
-    labels = [case.confluence_label(system) for system in case.systems.values()]
-    where = [column("{owner}_" + key, label) for label in labels for key in ("altitude", "east", "north")]
-    return {"time": float(columns["time"][-1]),
-            **{f"vehicle_{key}": float(columns[column("{owner}_" + key, vehicle)][-1])
-               for key in ("altitude", "east", "north")},
-            **{name: float(columns[name][-1]) for name in where if name in columns}}
+def _final_values(case: Case, columns: dict) -> FinalState:
+    """The last sample's time (s) and the altitude, east and north (m) of the vehicle and of each confluence."""
+    owners = [case.vehicle] + [case.confluence_label(system) for system in case.systems.values()]
+    where = [column(template, name) for name in owners for template in FinalState.POSITION]
+    return FinalState(float(columns[column("time")][-1]), case.vehicle,
+                      {name: float(columns[name][-1]) for name in where if name in columns})
 
 
 def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns: dict, units: dict,
@@ -406,5 +405,4 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     pendulum_columns(flown, raw, columns, units)
     summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
                         opening_loads(flown, openings, columns), sequence)
-    return Result(columns, units, summary.to_dict(), run_summary=summary,
-                  scene=scene(flown, raw) if history else None, attachments=attachments)
+    return Result(columns, units, summary, scene=scene(flown, raw) if history else None, attachments=attachments)

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from ..registries.columns import owner
+from ..registries.columns import column, owner
 
 ELLIPSES = (("1 sigma", 1.0), ("3 sigma", 3.0), ("99 %", math.sqrt(-2.0 * math.log(0.01))))
 """(label, k): dispersion ellipses drawn and tabulated, k in standard deviations along the principal axes."""
@@ -24,9 +24,9 @@ MINIMUM_RUNS = 3
 
 def touchdown_points(rows: list) -> np.ndarray:
     """(n, 2) east, north (m) of the ok runs that touched down."""
-    return np.array([(r["final_east"], r["final_north"]) for r in rows
-                     if isinstance(r.get("touchdown_time"), float) and isinstance(r.get("final_east"), float)
-                     and isinstance(r.get("final_north"), float)], float).reshape(-1, 2)
+    east, north, landed = column("final_east"), column("final_north"), column("touchdown_time")
+    return np.array([(r[east], r[north]) for r in rows if isinstance(r.get(landed), float)
+                     and isinstance(r.get(east), float) and isinstance(r.get(north), float)], float).reshape(-1, 2)
 
 
 def footprint_statistics(points: np.ndarray) -> dict:
@@ -54,8 +54,8 @@ def footprint_statistics(points: np.ndarray) -> dict:
                               "p99": float(np.percentile(distance, 99)), "max": float(distance.max())}}
 
 
-TOUCHDOWN_PANELS = {"touchdown_speed": "touchdown speed, total over the ground (m/s)",
-                    "touchdown_descent_rate": "touchdown descent rate, down the local vertical (m/s)"}
+TOUCHDOWN_PANELS = {column("touchdown_speed"): "touchdown speed, total over the ground (m/s)",
+                    column("touchdown_descent_rate"): "touchdown descent rate, down the local vertical (m/s)"}
 """The touchdown histograms of a study's report (runs.csv columns and their x labels) before its peak loads'."""
 
 
@@ -67,9 +67,9 @@ def touchdown_histogram_panels(rows: list, loads: list) -> list:
     panels = []
     for name in list(TOUCHDOWN_PANELS) + list(loads):
         values = np.array([r[name] for r in rows if isinstance(r.get(name), float)
-                           and isinstance(r.get("touchdown_time"), float)])
+                           and isinstance(r.get(column("touchdown_time")), float)])
         if name in TOUCHDOWN_PANELS:
-            if name != "touchdown_speed" and not len(values):
+            if name != column("touchdown_speed") and not len(values):
                 continue
             label, scale = TOUCHDOWN_PANELS[name], 1.0
         else:

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..boundary import check_path
 from ..errors import InputError
+from ..registries.columns import DEPLOY_CONDITIONS, column
 from ..registries.columns import owner as column_owner
 from ..registries.columns import unit as column_unit
 from ..registries.methods import METHODS, option_names
@@ -81,13 +82,16 @@ def parameter_label(key: str, units: dict, relative: bool) -> str:
         return f"{name} (multiplier of the case's value)"
     unit = units.get(key)
     return f"{name} ({unit or '-'})" if unit is not None else name
-MAIN_OUTPUTS = ("final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed",
-                "touchdown_descent_rate", "touchdown_horizontal_speed", "descent_rate", "pendulum_max_deg")
-CLUSTER_OUTPUTS = ("peak_load_share_", "max_flyout_", "mean_flyout_")
-"""Per-cluster outputs the report's percentile table shows (``runner.cluster_outputs``), by prefix."""
-DEPLOY_OUTPUTS = ("deploy_mach_", "deploy_dynamic_pressure_", "deploy_altitude_", "deploy_time_")
-SEPARATION_OUTPUTS = ("separation_time_", "separation_clearance_")
-"""Per triggered deployment and per separation outputs (``runner.sequence_outputs``), by prefix: the report's
+MAIN_OUTPUTS = tuple(column(name) for name in (
+    "final_east", "final_north", "final_lateral", "final_altitude", "touchdown_time", "touchdown_speed",
+    "touchdown_descent_rate", "touchdown_horizontal_speed", "descent_rate", "pendulum_max_deg"))
+CLUSTER_OUTPUTS = ("peak_load_share_{owner}", "max_flyout_{owner}", "mean_flyout_{owner}")
+"""Per-cluster outputs the report's percentile table shows (``runner.cluster_outputs``), by template."""
+DEPLOY_TIME, SEPARATION_TIME = "deploy_time_{owner}", "separation_time_{owner}"
+DEPLOY_OUTPUTS = (DEPLOY_CONDITIONS["mach"], DEPLOY_CONDITIONS["dynamic_pressure"], DEPLOY_CONDITIONS["altitude"],
+                  DEPLOY_TIME)
+SEPARATION_OUTPUTS = (SEPARATION_TIME, "separation_clearance_{owner}")
+"""Per triggered deployment and per separation outputs (``runner.sequence_outputs``), by template: the report's
 percentile table shows them right after the main outputs, each system (body) in the order of its median time."""
 
 
@@ -222,14 +226,13 @@ def reference_errors(folder: Path, rows: list, grid: list) -> list:
         except InputError:
             continue
         settle = min(2.0, 0.2 * float(a.time[-1]))   # the start-up transient, shorter for short runs
-        c = compare_results(a, b, settle_time=settle, vehicle=a.summary.get("vehicle", "vehicle"))
+        c = compare_results(a, b, settle_time=settle, vehicle=a.vehicle)
         tension = [m["max_settled"] for m in c.lines.values() if np.isfinite(m["max_settled"])]
         errors.append({"run": int(row["run"]), "case": row["case"], "configuration": _configuration(row),
                        "family": _configuration(row, with_step=False), "step": row.get("step"),
                        "wall_time": row.get("wall_time"), "reference_wall_time": ref.get("wall_time"),
-                       "altitude_error": abs(c.final.get(f"{a.summary.get('vehicle', 'vehicle')} altitude", math.nan)),
-                       "lateral_error": c.final.get(f"{a.summary.get('vehicle', 'vehicle')} lateral position",
-                                                    math.nan),
+                       "altitude_error": abs(c.final.get(f"{a.vehicle} altitude", math.nan)),
+                       "lateral_error": c.final.get(f"{a.vehicle} lateral position", math.nan),
                        "max_tension_error": max(tension) if tension else math.nan,
                        **{key: row.get(key) for key in grid}})
     return errors
@@ -281,20 +284,23 @@ def study_report(folder) -> dict:
 def _outputs(ok: list) -> list:
     """The outputs the ok runs hold, in the report's order: the main ones, per triggered deployment and per
     separation (in the order they happen), per cluster, then every peak tension."""
-    systems = {k.removeprefix("peak_load_share_") for r in ok for k in r if k.startswith("peak_load_share_")}
-    clustered = [f"{prefix}{system}" for system in sorted(systems) for prefix in CLUSTER_OUTPUTS]
-    deployed = [f"{prefix}{system}" for system in _in_time_order(ok, "deploy_time_") for prefix in DEPLOY_OUTPUTS]
-    separated = [f"{prefix}{body}" for body in _in_time_order(ok, "separation_time_") for prefix in SEPARATION_OUTPUTS]
+    systems = {column_owner(k, CLUSTER_OUTPUTS[0]) for r in ok for k in r} - {None}
+    clustered = [column(template, system) for system in sorted(systems) for template in CLUSTER_OUTPUTS]
+    deployed = [column(template, system) for system in _in_time_order(ok, DEPLOY_TIME) for template in DEPLOY_OUTPUTS]
+    separated = [column(template, body) for body in _in_time_order(ok, SEPARATION_TIME)
+                 for template in SEPARATION_OUTPUTS]
     return [o for o in MAIN_OUTPUTS + tuple(deployed + separated + clustered)
             if any(isinstance(r.get(o), float) for r in ok)] + \
         sorted({k for r in ok for k in r if _is_peak_tension(k) and isinstance(r[k], float)})
 
 
-def _in_time_order(ok: list, prefix: str) -> list:
-    """The names after ``prefix`` (``deploy_time_``: systems, ``separation_time_``: bodies) in the ok runs' columns,
-    by their median time over the runs that have one (then by name; those without a time last)."""
-    names = {k.removeprefix(prefix) for r in ok for k in r if k.startswith(prefix)}
-    times = {name: [r[prefix + name] for r in ok if isinstance(r.get(prefix + name), float)] for name in names}
+def _in_time_order(ok: list, template: str) -> list:
+    """The owners of the ok runs' columns of ``template`` (``deploy_time_{owner}``: systems,
+    ``separation_time_{owner}``: bodies), by their median time over the runs that have one (then by name; those
+    without a time last)."""
+    names = {column_owner(k, template) for r in ok for k in r} - {None}
+    times = {name: [r[column(template, name)] for r in ok if isinstance(r.get(column(template, name)), float)]
+             for name in names}
     return sorted(names, key=lambda name: (0, float(np.median(times[name])), name) if times[name] else (1, 0.0, name))
 
 
@@ -302,8 +308,8 @@ def _deployment_boxes(ok: list, stats: dict, title: str, out: Path, paths: dict,
     """``deployment_box_<system>.png`` for each system whose triggered deployment the ok runs record with its Mach
     number and dynamic pressure (``failed`` runs have no values: counted, not drawn); returns the report lines."""
     rows = []
-    for system in _in_time_order(ok, "deploy_time_"):
-        mach, pressure = f"deploy_mach_{system}", f"deploy_dynamic_pressure_{system}"
+    for system in _in_time_order(ok, DEPLOY_TIME):
+        mach, pressure = (column(DEPLOY_CONDITIONS[quantity], system) for quantity in ("mach", "dynamic_pressure"))
         points = [(r[mach], r[pressure]) for r in ok if isinstance(r.get(mach), float)
                   and isinstance(r.get(pressure), float)]
         if not points or mach not in stats or pressure not in stats:
@@ -320,8 +326,8 @@ def _deployment_boxes(ok: list, stats: dict, title: str, out: Path, paths: dict,
                     f"{stats[mach]['p50']:.4g} | {stats[pressure]['p50']:.5g} | `{path.name}` |")
     if not rows:
         return []
-    few = any(not stats[f"deploy_mach_{system}"]["p1_enough"] for system in _in_time_order(ok, "deploy_time_")
-              if f"deploy_mach_{system}" in stats)
+    machs = [column(DEPLOY_CONDITIONS["mach"], system) for system in _in_time_order(ok, DEPLOY_TIME)]
+    few = any(not stats[mach]["p1_enough"] for mach in machs if mach in stats)
     return ["", "## Deployment box", "",
             "The vehicle's Mach number and dynamic pressure when each system's trigger deployed it (`trigger."
             "conditions` in each run's summary), over the ok runs: the 1st to 99th percentile of each, and the medians."
@@ -336,12 +342,13 @@ def _input_figures(ok: list, failed: list, drawn: list, grid: list, outputs: lis
     """Outputs against each drawn input (failed runs marked at their drawn value) and each grid parameter."""
     tensions = [o for o in outputs if _is_peak_tension(o)][:2]
     for key in drawn:
-        targets = [o for o in ("final_lateral", "final_altitude", "touchdown_speed") if o in outputs] + tensions
+        targets = [column(o) for o in ("final_lateral", "final_altitude", "touchdown_speed") if column(o) in outputs]
         path = out / f"scatter_{_safe(key)}.png"
-        save_figure(scatter_figure(ok, failed, key, labels[key], targets or ["final_altitude"]), path)
+        save_figure(scatter_figure(ok, failed, key, labels[key], targets + tensions or [column("final_altitude")]),
+                    path)
         paths[f"scatter {key}"] = path
     for key in grid:
-        targets = [o for o in ("final_altitude", "final_lateral") if o in outputs] + tensions
+        targets = [column(o) for o in ("final_altitude", "final_lateral") if column(o) in outputs] + tensions
         if targets:
             paths[f"grid {key}"] = _plot_grid(ok, key, labels[key], targets, out / f"grid_{_safe(key)}.png")
 
@@ -376,9 +383,10 @@ def _footprint(ok: list, outputs: list, title: str, out: Path, paths: dict, fail
         return []
     stats = footprint_statistics(points)
     loads = [o for o in outputs if _is_peak_tension(o)]
-    landed = [r for r in ok if isinstance(r.get("touchdown_time"), float)]
+    landed = [r for r in ok if isinstance(r.get(column("touchdown_time")), float)]
     rows = []
-    for name in ["touchdown_speed", "touchdown_descent_rate", "touchdown_horizontal_speed", "touchdown_time"] + loads:
+    touchdown = ("touchdown_speed", "touchdown_descent_rate", "touchdown_horizontal_speed", "touchdown_time")
+    for name in [column(name) for name in touchdown] + loads:
         values = np.array([r[name] for r in landed if isinstance(r.get(name), float)])
         if len(values):
             unit = column_unit(name)

@@ -13,36 +13,37 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Mapping
 from concurrent.futures import Executor, InvalidStateError, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..boundary import check_executor, check_flag, check_loaded, check_path, check_workers
 from ..errors import InputError, PchuteError
-from ..registries.columns import column
+from ..registries.columns import DEPLOY_CONDITIONS, column
 from ..registries.quantities import QUANTITIES
 from ..results.io import ensure_writable_dir
 from ..results.journal import WriteFailed
+from ..results.summary import RunSummary
 from .spec import RunSpec, StudySpec
-from .store import StudyStore
+from .store import RunRecord, StudyStore
 
 
 def scalar_outputs(result) -> dict:
-    """The scalar outputs a study keeps of a run (m, s, N, m/s)."""
-    s, f = result.summary, result.summary["final"]
-    out = {"final_time": f["time"], "final_altitude": f["vehicle_altitude"], "final_east": f["vehicle_east"],
-           "final_north": f["vehicle_north"], "final_lateral": math.hypot(f["vehicle_east"], f["vehicle_north"])}
-    touchdown = [e for e in s.get("events", []) if e["event"] == "touchdown"]
-    if touchdown:
-        out["touchdown_time"] = touchdown[0]["time"]
-        out["touchdown_speed"] = touchdown[0]["speed"]
-        for name, key in (("touchdown_descent_rate", "descent_rate"),
-                          ("touchdown_horizontal_speed", "horizontal_speed_over_ground")):
-            if touchdown[0].get(key) is not None:
-                out[name] = touchdown[0][key]
+    """The scalar outputs a study keeps of a run (m, s, N, m/s), by their columns (``registries.columns``)."""
+    s, f = result.summary, result.summary.final
+    out = {column("final_time"): f.time, column("final_altitude"): f.altitude, column("final_east"): f.east,
+           column("final_north"): f.north, column("final_lateral"): f.lateral}
+    touchdown = s.touchdown
+    if touchdown is not None:
+        out[column("touchdown_time")] = touchdown.time
+        out[column("touchdown_speed")] = touchdown.speed
+        for name, value in ((column("touchdown_descent_rate"), getattr(touchdown, "descent_rate", None)),
+                            (column("touchdown_horizontal_speed"),
+                             getattr(touchdown, "horizontal_speed_over_ground", None))):
+            if value is not None:
+                out[name] = value
     for label, name in result.tensions().items():
         values = result[name][np.isfinite(result[name])]
         out[column("peak_tension_{owner}", label)] = float(values.max()) if len(values) else None
@@ -56,41 +57,38 @@ STUDIED = tuple(q.name for q in QUANTITIES if q.studied)
 """The recorded quantities a study keeps of each triggered deployment (``registries.quantities.Quantity.studied``)."""
 
 
-def sequence_outputs(summary: dict) -> dict:
+def sequence_outputs(summary: RunSummary) -> dict:
     """The outputs of a run's triggered sequence (-, Pa, m, s): per system whose deployment a trigger fired (its
     event carries ``trigger.conditions``), the vehicle's Mach number, dynamic pressure and altitude at the deployment
-    and its time; per separated body (``summary["separations"]``), the separation time and the distance between the
+    and its time; per separated body (``summary.separations``), the separation time and the distance between the
     vehicle's and the body's centres of mass ``clearance_after`` s later. A run without triggered deployments or
     separations has none of these columns (its study table keeps exactly the columns it had)."""
     out = {}
-    for event in summary.get("events", []):
-        conditions = (event.get("trigger") or {}).get("conditions") if event.get("event") == "deploy" else None
-        system = event.get("system")
+    for event in summary.events_of("deploy"):
+        trigger = getattr(event, "trigger", None)
+        conditions = trigger.get("conditions") if isinstance(trigger, dict) else None
+        system = getattr(event, "system", None)
         if not conditions or not system or column("deploy_time_{owner}", system) in out:
             continue
         for quantity in STUDIED:
-            out[column(f"deploy_{quantity}_{{owner}}", system)] = _finite(conditions.get(quantity))
-        out[column("deploy_time_{owner}", system)] = _finite(event.get("time"))
-    for body, entry in (summary.get("separations") or {}).items():
-        out[column("separation_time_{owner}", body)] = _finite(entry.get("time"))
-        out[column("separation_clearance_{owner}", body)] = _finite(entry.get("clearance"))
+            out[column(DEPLOY_CONDITIONS[quantity], system)] = _finite(conditions.get(quantity))
+        out[column("deploy_time_{owner}", system)] = _finite(event.time)
+    for body, separation in summary.separations.items():
+        out[column("separation_time_{owner}", body)] = _finite(separation.time)
+        out[column("separation_clearance_{owner}", body)] = _finite(separation.clearance)
     return out
 
 
-def trigger_outcome(case, summary: dict) -> dict:
-    """What a run's triggers did, for the study's records: ``never_fired``, the triggered events that did not happen
-    (space-separated names, "" when all fired; only for a case with triggers: it explains the run's empty
-    ``deploy_time_<system>`` or ``separation_time_<body>`` cells), and ``warnings``, the run's warnings (the case's
-    and each trigger's "never fired" line; only when there are any: kept in ``runs.jsonl``, not in the tables)."""
-    from ..results.summary import event_from_dict
-
-    out = {}
+def trigger_outcome(case, summary: RunSummary) -> tuple[str | None, tuple]:
+    """What a run's triggers did, for the study's records: the triggered events that did not happen
+    (``never_fired``: space-separated names, "" when all fired; None for a case without triggers: it explains the
+    run's empty ``deploy_time_<system>`` or ``separation_time_<body>`` cells), and the run's warnings (the case's and
+    each trigger's "never fired" line; kept in ``runs.jsonl``, not in the tables)."""
+    never_fired = None
     if case.triggers:
-        fired = {getattr(event_from_dict(e), "name", None) for e in summary.get("events", [])}
-        out["never_fired"] = " ".join(event for event in case.triggers if event not in fired)
-    if summary.get("warnings"):
-        out["warnings"] = list(summary["warnings"])
-    return out
+        fired = {getattr(event, "name", None) for event in summary.events}
+        never_fired = " ".join(event for event in case.triggers if event not in fired)
+    return never_fired, tuple(summary.warnings)
 
 
 def _finite(value) -> float | None:
@@ -102,33 +100,34 @@ def _finite(value) -> float | None:
     return value if math.isfinite(value) else None
 
 
-def cluster_outputs(summary: dict) -> dict:
+def cluster_outputs(summary: RunSummary) -> dict:
     """The outputs an analyst reads of clusters and of the vehicle's swing (deg, -, m/s): per cluster its peak load
     share and its canopies' largest and mean flyout once open (the largest over its canopies, and each canopy's
     largest), the vehicle's largest and RMS pendulum angle and its swing amplitude to the vertical once the last
     system flies, and its rate of descent over the run's last seconds (``analysis``)."""
     out = {}
-    for system, entry in summary.get("cluster", {}).items():
-        out[column("peak_load_share_{owner}", system)] = entry["peak_load_share"]
-        flyout = {canopy: value for canopy, value in entry["flyout_deg"].items() if value is not None}
+    for system, loads in summary.cluster.items():
+        out[column("peak_load_share_{owner}", system)] = loads.peak_load_share
+        flyout = {canopy: value for canopy, value in loads.flyout_deg.items() if value is not None}
         out[column("max_flyout_{owner}", system)] = max((v["max"] for v in flyout.values()), default=None)
         out[column("mean_flyout_{owner}", system)] = (float(np.mean([v["mean"] for v in flyout.values()])) if flyout
                                                       else None)
-        for canopy, value in entry["flyout_deg"].items():
+        for canopy, value in loads.flyout_deg.items():
             out[column("max_flyout_{owner}", canopy)] = None if value is None else value["max"]
-    pendulum = summary.get("pendulum", {})
-    if pendulum:
-        out["pendulum_max_deg"], out["pendulum_rms_deg"] = pendulum["max_vertical_deg"], pendulum["rms_vertical_deg"]
-        out["pendulum_amplitude_deg"] = pendulum["amplitude_vertical_deg"]
-    if summary.get("descent"):
-        out["descent_rate"] = summary["descent"]["mean_rate"]
+    pendulum = summary.pendulum
+    if pendulum is not None:
+        out[column("pendulum_max_deg")], out[column("pendulum_rms_deg")] = (pendulum.max_vertical_deg,
+                                                                            pendulum.rms_vertical_deg)
+        out[column("pendulum_amplitude_deg")] = pendulum.amplitude_vertical_deg
+    if summary.descent is not None:
+        out[column("descent_rate")] = summary.descent.mean_rate
     return out
 
 
 _settled = [False]   # whether this worker process has frozen what its first run left (``execute``)
 
 
-def execute(run: RunSpec) -> dict:
+def execute(run: RunSpec) -> RunRecord:
     """Run one study run in a worker; never raises: a failure is a record with its error text.
 
     A worker keeps what its first run loaded (modules, the compiled kernels, the parsed case files, drawn graphics)
@@ -151,37 +150,39 @@ def execute(run: RunSpec) -> dict:
             gc.enable()
 
 
-def _execute(run: RunSpec, load_case, simulate) -> dict:
+def _execute(run: RunSpec, load_case, simulate) -> RunRecord:
     started = time.perf_counter()
-    record = {"run": run.index, "status": "ok", "error": ""}
+    outputs = {}
     try:
         case = load_case(run.case_file, run.overrides())
         c = run.configuration
         result = simulate(case, c.method, c.integrator, c.step, history=run.history_dir is not None,
                           **dict(c.options))
-        record.update(scalar_outputs(result))
-        record.update(trigger_outcome(case, result.summary))
-        record["wall_time"] = result.summary["wall_time"]
-        record["steps"] = result.summary["steps"]
+        outputs = scalar_outputs(result)
+        never_fired, warnings = trigger_outcome(case, result.summary)
+        record = RunRecord(run.index, "ok", "", outputs, never_fired, warnings, result.summary.wall_time,
+                           result.summary.steps)
     except PchuteError as exc:
-        record.update(status="failed", error=str(exc), wall_time=time.perf_counter() - started)
+        record = RunRecord(run.index, "failed", str(exc), outputs, wall_time=time.perf_counter() - started)
     except Exception as exc:  # a bug, not a user mistake: still recorded, the study goes on
-        record.update(status="failed", error=f"internal error: {exc!r}", wall_time=time.perf_counter() - started)
+        record = RunRecord(run.index, "failed", f"internal error: {exc!r}", outputs,
+                           wall_time=time.perf_counter() - started)
     else:
         if run.history_dir is not None:
-            _save_history(result, run.history_dir, record)
-    record["run_time"] = time.perf_counter() - started
-    return record
+            record = replace(record, write_error=_save_history(result, run.history_dir))
+    return replace(record, run_time=time.perf_counter() - started)
 
 
-def _save_history(result, folder: str, record: dict) -> None:
+def _save_history(result, folder: str) -> str | None:
     """Save a run's histories; a folder that cannot take them (a full disk) is the study folder's fault, not the
-    run's: marked ``write_error`` (the study stops with it, and its resume runs the run again)."""
+    run's: returns why (the record's ``write_error``: the study stops with it, and its resume runs the run again),
+    None when saved."""
     try:
         result.save(folder, plot=False, csv=False, overwrite=True)   # a retried run replaces its own
     except (PchuteError, OSError) as exc:
         where = exc.filename if isinstance(exc, OSError) and exc.filename else folder
-        record["write_error"] = str(exc) if isinstance(exc, PchuteError) else f"{where}: {exc.strerror}"
+        return str(exc) if isinstance(exc, PchuteError) else f"{where}: {exc.strerror}"
+    return None
 
 
 def warm() -> None:
@@ -277,11 +278,25 @@ def _check_arguments(spec, out, executor, workers, progress, retry_failed) -> No
 
 
 @dataclass(frozen=True)
-class StudyOutcome(Mapping):
-    """What ``run_study`` did: the counts of runs (planned, skipped because already done, executed, failed), its
-    wall time (s), the study folder, its table (``runs.csv``, every run's inputs, status and outputs, units in
-    ``registries.columns``), the failed runs with their errors ({run index: error text}) and the report folder
-    (``report/``, once ``study_report`` has written it, else None). Read as a mapping, it is its counts."""
+class StudyOutcome:
+    """What ``run_study`` did.
+
+    Attributes
+    ----------
+    planned, skipped, executed, failed : int
+        The study's runs; those skipped because already recorded; those run now; those recorded as failed (of
+        every recorded run).
+    wall_time : float
+        The time (s) the runs took now.
+    folder : str
+        The study folder.
+    table : Path
+        Its ``runs.csv``: every run's inputs, status and outputs (units in ``registries.columns``).
+    failures : dict
+        The failed runs' errors, {run index: error text}.
+    report : Path or None
+        The report folder (``report/``, once ``study_report`` has written it).
+    """
 
     planned: int
     skipped: int
@@ -292,19 +307,6 @@ class StudyOutcome(Mapping):
     table: Path
     failures: dict
     report: Path | None
-
-    _COUNTS = ("planned", "skipped", "executed", "failed", "wall_time", "folder")
-
-    def __getitem__(self, key):
-        if key not in self._COUNTS:
-            raise KeyError(key)
-        return getattr(self, key)
-
-    def __iter__(self):
-        return iter(self._COUNTS)
-
-    def __len__(self) -> int:
-        return len(self._COUNTS)
 
 
 def run_study(spec: StudySpec, out, executor: Executor | None = None, workers: int | None = None,
@@ -368,7 +370,7 @@ def _run_pending(executor: Executor, store: StudyStore, progress: bool, retry_fa
                  out: Path) -> StudyOutcome:
     done = store.done(retry_failed)
     pending = [r for r in store.runs if r.index not in done]
-    failed = sum(1 for i in done if store.records[i].get("status") != "ok")
+    failed = sum(1 for i in done if not store.records[i].ok)
     bar = _progress(len(store.runs), len(done), failed) if progress else None
     started = time.perf_counter()
     try:
@@ -383,7 +385,7 @@ def _run_pending(executor: Executor, store: StudyStore, progress: bool, retry_fa
         if bar is not None:
             bar.close()
     store.write_table(final=True)
-    failures = {i: str(r.get("error", "")) for i, r in sorted(store.records.items()) if r.get("status") != "ok"}
+    failures = {i: str(r.error or "") for i, r in sorted(store.records.items()) if not r.ok}
     report = out / "report"
     return StudyOutcome(len(store.runs), len(done), executed, failed, time.perf_counter() - started, str(out),
                         out / "runs.csv", failures, report if report.is_dir() else None)
@@ -403,13 +405,13 @@ def _record_as_they_finish(executor: Executor, pending: list, store: StudyStore,
             try:
                 record = future.result()
             except Exception as exc:  # the executor itself failed (a worker died, transport error)
-                record = {"run": run.index, "status": "failed", "error": f"executor error: {exc!r}"}
-            if record.get("write_error"):   # a worker could not write the run's histories: the disk, not the run
-                raise WriteFailed(f"run {run.index}: {record['write_error'].removesuffix('.')}; free space and "
+                record = RunRecord(run.index, "failed", f"executor error: {exc!r}")
+            if record.write_error:   # a worker could not write the run's histories: the disk, not the run
+                raise WriteFailed(f"run {run.index}: {record.write_error.removesuffix('.')}; free space and "
                                   "rerun the same command to resume")
             store.record(record)
             executed += 1
-            failed += record["status"] != "ok"
+            failed += not record.ok
             if bar is not None:
                 bar.update(1)
                 bar.set_postfix(failed=failed)

@@ -26,6 +26,7 @@ import math
 import os
 import shutil
 import sys
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from ..results import journal as journal
@@ -36,6 +37,69 @@ from .table import PARQUET_NAME, write_parquet
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
 JOURNAL_ONLY = ("warnings",)
 """Record entries kept in ``runs.jsonl`` alone (lists of text lines): not columns of ``runs.csv``."""
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """What a study records of one run: a line of ``runs.jsonl`` (``to_dict``; ``from_dict`` reads it back), a row
+    of ``runs.csv`` and ``runs.parquet`` beside the run's inputs.
+
+    Attributes
+    ----------
+    run : int
+        The run's index in the study.
+    status : str
+        "ok" or "failed".
+    error : str or None
+        Why the run failed ("" for an ok run; None in a record that has no entry for it).
+    outputs : dict
+        The run's scalar outputs by column (``registries.columns``, kind "study run" and the per line, system,
+        canopy and body ones: m, s, N, m/s, deg, -; None: no value, an empty cell).
+    never_fired : str or None
+        For a case with triggers, the triggered events that did not happen, space-separated ("" when all fired).
+    warnings : tuple of str
+        The run's warnings (``RunSummary.warnings``): in ``runs.jsonl`` only (``JOURNAL_ONLY``).
+    wall_time : float or None
+        The engine's solve (s; a failed run: the time until it failed).
+    steps : int or None
+        Integration steps taken.
+    run_time : float or None
+        The whole run in its worker (s): loading the case, the run and its outputs.
+    write_error : str or None
+        Why a worker could not save the run's histories (the study stops with it; never recorded).
+    """
+
+    run: int
+    status: str
+    error: str | None = ""
+    outputs: dict = field(default_factory=dict)
+    never_fired: str | None = None
+    warnings: tuple = ()
+    wall_time: float | None = None
+    steps: int | None = None
+    run_time: float | None = None
+    write_error: str | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    def to_dict(self) -> dict:
+        """The record's line of ``runs.jsonl``: run, status, error, the outputs, then what is set of the rest."""
+        rest = {"never_fired": self.never_fired, "warnings": list(self.warnings) or None,
+                "wall_time": self.wall_time, "steps": self.steps, "write_error": self.write_error,
+                "run_time": self.run_time}
+        return {"run": self.run, "status": self.status, **({"error": self.error} if self.error is not None else {}),
+                **self.outputs, **{key: value for key, value in rest.items() if value is not None}}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> RunRecord:
+        """A line of ``runs.jsonl`` (``journal.read``), of this version or an earlier one: every entry that is none
+        of the record's fields is an output."""
+        named = {f.name for f in fields(cls)} - {"outputs"}
+        return cls(**{k: v for k, v in data.items() if k in named and k not in ("error", "warnings")},
+                   error=data.get("error"), warnings=tuple(data.get("warnings") or ()),
+                   outputs={k: v for k, v in data.items() if k not in named})
 
 
 class StudyStore(RecordFolder):
@@ -76,10 +140,10 @@ class StudyStore(RecordFolder):
 
     @staticmethod
     def load_records(folder, runs: int | None = None, note=None) -> dict:
-        """Finished runs from ``runs.jsonl`` by run index. A line that is torn, fails its checksum or is not a record
-        of one of the ``runs`` planned runs is skipped (with ``note``, a resume: reported and set aside, its run runs
-        again). An index appears twice only when a failed run was retried (``--retry-failed``): the later record
-        wins."""
+        """Finished runs (``RunRecord``) from ``runs.jsonl`` by run index. A line that is torn, fails its checksum or
+        is not a record of one of the ``runs`` planned runs is skipped (with ``note``, a resume: reported and set
+        aside, its run runs again). An index appears twice only when a failed run was retried (``--retry-failed``):
+        the later record wins."""
         finished = set()   # runs recorded ok so far: only a failed run is recorded again (--retry-failed)
 
         def check(record):
@@ -103,20 +167,21 @@ class StudyStore(RecordFolder):
 
         records = {}
         for record in journal.read(Path(folder) / "runs.jsonl", check, label, note):
-            records[record["run"]] = record
+            records[record["run"]] = RunRecord.from_dict(record)
         return records
 
     def done(self, retry_failed: bool = False) -> set:
-        return {i for i, r in self.records.items() if not (retry_failed and r.get("status") != "ok")}
+        return {i for i, r in self.records.items() if not (retry_failed and not r.ok)}
 
     # -- recording ------------------------------------------------------------------------------------------------
 
-    def record(self, record: dict) -> None:
+    def record(self, record: RunRecord) -> None:
         """Append one finished run to disk at once: its line in ``runs.jsonl`` (flushed to the disk) and its row in
         ``runs.csv`` (nothing is read back: a study of thousands of runs records each in the same time)."""
-        journal.append(self.folder / "runs.jsonl", record)
-        self.records[record["run"]] = record
-        row = {**self._input_row(self.runs[record["run"]]), **record}
+        line = record.to_dict()
+        journal.append(self.folder / "runs.jsonl", line)
+        self.records[record.run] = record
+        row = {**self._input_row(self.runs[record.run]), **line}
         if self._columns is None or any(key not in self._columns and key not in JOURNAL_ONLY for key in row):
             self.write_table()   # a new column: the whole table with it
             return
@@ -125,7 +190,7 @@ class StudyStore(RecordFolder):
     def write_table(self, final: bool = False) -> None:
         """Rewrite ``runs.csv`` in run order; ``final`` (the study's end, or its interruption) also
         ``runs.parquet``."""
-        rows = [{**self._input_row(self.runs[i]), **self.records[i]} for i in sorted(self.records)]
+        rows = [{**self._input_row(self.runs[i]), **self.records[i].to_dict()} for i in sorted(self.records)]
         self._columns = self._keys(rows)
         with writing(self.folder / "runs.csv"):
             atomic_write_text(self.folder / "runs.csv", self._csv(rows, self._columns))

@@ -55,9 +55,9 @@ class Run:
         for body in description["bodies"].values():   # a cluster canopy's envelope grows with its opening
             if "envelope" in body:
                 body["envelope"]["values"] = result.columns.get(body["envelope"]["fraction"])
-        summary = result.summary
-        label = " ".join(str(summary.get(key, "")) for key in ("method", "integrator", "step")).strip()
-        label = f"{summary.get('case', Path(folder).name)}: {label}"
+        entries = [getattr(result.summary, key, None) for key in ("case", "method", "integrator", "step")]
+        label = " ".join("" if value is None else str(value) for value in entries[1:]).strip()
+        label = f"{Path(folder).name if entries[0] is None else entries[0]}: {label}"
         return cls(np.asarray(time, float), arrays, description, tensions, label)
 
     def index(self, t: float) -> int:

@@ -2,7 +2,7 @@
 most of what the figures cost) runs on another core while the case is loaded and run.
 
 ``FigureProcess()`` starts ``python -m pchute_exudyn.views.figure_process``, which imports the plotting module and
-waits; ``draw(result, path, track)`` sends it the columns and summary entries the figures show and waits for ``path``
+waits; ``draw(result, path, track)`` sends it the columns the figures show and the run's summary and waits for ``path``
 (the overview) and ``track`` (the ground track, when given) to be written (``plotting.plot_overview``,
 ``plotting.plot_ground_track``, ``plotting.save_figure``: the same figures as drawn in the command's own process).
 Where it cannot (one core, the process failed), ``draw`` returns False and the caller draws the figure itself.
@@ -16,9 +16,6 @@ import subprocess
 import sys
 
 from ..registries.columns import column
-
-SUMMARY_KEYS = ("vehicle", "case", "method", "integrator", "step", "events")
-"""What the figures read of the summary (their titles, the vehicle's name and the events they mark)."""
 
 VEHICLE_COLUMNS = ("{owner}_altitude", "{owner}_velocity_down", "{owner}_east", "{owner}_north", "{owner}_mach",
                    "{owner}_dynamic_pressure")
@@ -53,10 +50,10 @@ class FigureProcess:
         if self.process is None:
             return False
         names = ["time", *result.tension_names()]
-        vehicle = result.summary.get("vehicle", "vehicle")
-        names += [name for name in (column(template, vehicle) for template in VEHICLE_COLUMNS) if name in result]
-        message = {"columns": {name: result[name] for name in names},
-                   "summary": {key: result.summary[key] for key in SUMMARY_KEYS if key in result.summary},
+        names += [name for name in (column(template, result.vehicle) for template in VEHICLE_COLUMNS)
+                  if name in result]
+        # the typed summary whole (a few kB): the figures read its titles, the vehicle's name and the events
+        message = {"columns": {name: result[name] for name in names}, "summary": result.summary,
                    "path": str(path), "track": None if track is None else str(track)}
         try:
             self.process.stdin.write(pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))

@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from ..registries.columns import column
+from ..registries.columns import UNNAMED_VEHICLE, column
 from ..results.io import atomic_writer
 
 
@@ -29,7 +29,7 @@ def plot_overview(result, title: str | None = None) -> Figure:
     pressure (below) against time, with the run's events (``event_marks``) as vertical lines, and the vehicle's rate
     of descent against its altitude (right, altitude up). Fixed margins: every run draws it, and a layout engine would
     double the time to save it."""
-    vehicle = result.summary.get("vehicle", "vehicle")
+    vehicle = result.vehicle
     extra = [(name, label) for name, label in ((column("{owner}_mach", vehicle), f"{vehicle} Mach number (-)"),
                                                (column("{owner}_dynamic_pressure", vehicle),
                                                 f"{vehicle} dynamic pressure (Pa)"))
@@ -60,27 +60,33 @@ def plot_overview(result, title: str | None = None) -> Figure:
     panels[-1].set_xlabel("time (s)")
     mark_events(panels, event_marks(result.summary))
     _descent_panel(figure.add_subplot(grid[:, 1]), result, vehicle)
-    s = result.summary
-    figure.suptitle(title or f"{s.get('case', '')}: {s.get('method', '')} / {s.get('integrator', '')}, "
-                             f"step {s.get('step', '')} s")
+    case, method, integrator, step = (_text(result.summary, key) for key in ("case", "method", "integrator", "step"))
+    figure.suptitle(title or f"{case}: {method} / {integrator}, step {step} s")
     return figure
+
+
+def _text(summary, name: str):
+    """Entry ``name`` of a run's summary for a title ('' without a summary, or one without it)."""
+    value = getattr(summary, name, None)
+    return "" if value is None else value
 
 
 MARKED_EVENTS = ("deploy", "separation", "cutaway", "disreef", "touchdown")
 """The events (``summary.json``'s kinds, ``results.summary``) the figures of a run mark."""
 
 
-def event_marks(summary: dict) -> list:
-    """(time in s, label) of each event of a run's summary that its figures mark (``MARKED_EVENTS``)."""
+def event_marks(summary) -> list:
+    """(time in s, label) of each event of a run's summary (``results.summary.RunSummary``; None: no events) that
+    its figures mark (``MARKED_EVENTS``)."""
     marks = []
-    for event in summary.get("events", []):
-        kind = event.get("event")
-        if kind not in MARKED_EVENTS or event.get("time") is None:
+    for event in () if summary is None else summary.events:
+        kind = event.kind
+        if kind not in MARKED_EVENTS or event.time is None:
             continue
-        who = event.get("canopy") or event.get("system") or event.get("body") or ""
+        who = next((name for name in (getattr(event, key, None) for key in ("canopy", "system", "body")) if name), "")
         words = {"deploy": "deployment", "separation": "separation", "cutaway": "cut-away",
-                 "disreef": f"disreef {event.get('stage', '')}".strip(), "touchdown": "touchdown"}[kind]
-        marks.append((float(event["time"]), f"{who} {words}".strip()))
+                 "disreef": f"disreef {getattr(event, 'stage', '')}".strip(), "touchdown": "touchdown"}[kind]
+        marks.append((float(event.time), f"{who} {words}".strip()))
     return marks
 
 
@@ -102,7 +108,7 @@ def mark_events(panels: list, marks: list) -> None:
 def plot_ground_track(result, title: str | None = None) -> Figure:
     """The vehicle's track over the ground: north against east (m, relative to the ground, from the start point along
     its axes), equal scales, with its start and the run's events (``event_marks``) marked."""
-    vehicle = result.summary.get("vehicle", "vehicle")
+    vehicle = result.vehicle
     east, north = column("{owner}_east", vehicle), column("{owner}_north", vehicle)
     figure, axes = new_figure(1, 1, size=(7.0, 6.5))
     ax = axes[0, 0]
@@ -119,7 +125,7 @@ def plot_ground_track(result, title: str | None = None) -> Figure:
     ax.set_ylabel(f"{vehicle} north of the start point (m)")
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True, alpha=0.3)
-    figure.suptitle(title or f"{result.summary.get('case', '')}: ground track")
+    figure.suptitle(title or f"{_text(result.summary, 'case')}: ground track")
     return figure
 
 
@@ -152,7 +158,8 @@ def plot_tension_overlay(results: dict, lines=None, title: str = "", t_max: floa
 def plot_confluence_velocity_overlay(results: dict, prefix: str = "confluence", title: str = "",
                                      t_max: float | None = None) -> Figure:
     """Confluence east and north (lateral) velocity of each labelled result overlaid."""
-    panels = [(column("{owner}_velocity_" + c, prefix), f"{c} velocity (m/s)") for c in ("east", "north")]
+    panels = [(column(template, prefix), f"{axis} velocity (m/s)")
+              for template, axis in (("{owner}_velocity_east", "east"), ("{owner}_velocity_north", "north"))]
     return _overlay(results, panels, title or "confluence lateral velocity", (9.0, 5.5), t_max)
 
 
@@ -161,7 +168,7 @@ def plot_column_overlay(results: dict, name: str, unit: str = "", title: str = "
     return _overlay(results, [(name, f"{name} ({unit})" if unit else name)], title or name, (9.0, 5.0), None)
 
 
-def plot_descent_rates(sides: dict, vehicle: str = "vehicle") -> Figure:
+def plot_descent_rates(sides: dict, vehicle: str = UNNAMED_VEHICLE) -> Figure:
     """Rate of descent (m/s) against altitude (m) of each labelled side (``compare.descent_side``'s inputs):
     ``sides`` label -> (altitude array, rate array)."""
     figure, axes = new_figure(1, 1, size=(7.0, 6.0))

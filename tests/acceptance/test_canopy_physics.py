@@ -7,7 +7,6 @@ import dataclasses
 import json
 import math
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -172,7 +171,7 @@ def test_apparent_mass_changes_the_mer_descent():
     assert on.columns["parachute_apparent_mass_axial"][0] == pytest.approx(
         canopy_checks.volume() * load_case(ROOT / "cases" / "mer" / "case1.toml").atmosphere.density(
             on.columns["parachute_altitude"][0] - 1.57), rel=1e-3)
-    assert abs(on.summary["final"]["vehicle_altitude"] - off.summary["final"]["vehicle_altitude"]) > 0.01
+    assert abs(on.summary.final.altitude - off.summary.final.altitude) > 0.01
 
 
 # -- the PA1 inflation variant: SP against full mass ------------------------------------------------------------------
@@ -180,38 +179,31 @@ def test_apparent_mass_changes_the_mer_descent():
 @pytest.fixture(scope="module")
 def pa1_inflation():
     case = load_case(ROOT / "cases" / "cev_pa1_inflation.toml")
-    runs = {}
-    for method in ("sp", "full"):
-        started = time.perf_counter()
-        runs[method] = simulate(case, method)
-        runs[method].summary["measured"] = time.perf_counter() - started
-    return runs
+    return {method: simulate(case, method) for method in ("sp", "full")}
 
 
 def test_pa1_inflation_events_and_stage_loads(pa1_inflation):
     summary = pa1_inflation["sp"].summary
-    kinds = [(e["event"], e.get("system"), e.get("stage")) for e in summary["events"]]
+    kinds = [(e.kind, getattr(e, "system", None), getattr(e, "stage", None)) for e in summary.events]
     for expected in [("stage_start", "drogue", 1), ("fill_end", "drogue", 1), ("stage_start", "main", 1),
                      ("disreef", "main", 2), ("disreef", "main", 3), ("fill_end", "main", 3)]:
         assert expected in kinds
-    disreefs = [e for e in summary["events"] if e["event"] == "disreef"]
-    assert [e["time"] for e in disreefs] == [17.5, 25.5]
+    disreefs = summary.events_of("disreef")
+    assert [e.time for e in disreefs] == [17.5, 25.5]
     for event in disreefs:   # t_f = n D0 / V with the measured V
-        n = load_case(ROOT / "cases" / "cev_pa1_inflation.toml").systems["main"].inflation.stages[event["stage"] - 1]
-        assert event["fill_time"] == pytest.approx(n.fill_constant * math.sqrt(4 * 2946.0 / math.pi) / event["speed"])
-    stages = summary["opening_loads"]["main"]
+        n = load_case(ROOT / "cases" / "cev_pa1_inflation.toml").systems["main"].inflation.stages[event.stage - 1]
+        assert event.fill_time == pytest.approx(n.fill_constant * math.sqrt(4 * 2946.0 / math.pi) / event.speed)
+    stages = summary.opening_loads["main"]
     assert [s["stage"] for s in stages] == [1, 2, 3]
     for stage in stages:
         assert stage["start"] <= stage["peaks"]["riser"]["time"] < stage["end"]
-    assert summary["opening_loads"]["drogue"][0]["end"] == 9.5   # cut away
+    assert summary.opening_loads["drogue"][0]["end"] == 9.5   # cut away
 
 
 def test_pa1_inflation_sp_matches_full_mass(pa1_inflation):
     sp, full = pa1_inflation["sp"].summary, pa1_inflation["full"].summary
-    touchdown = {name: next(e["time"] for e in s["events"] if e["event"] == "touchdown")
-                 for name, s in (("sp", sp), ("full", full))}
-    assert abs(touchdown["sp"] - touchdown["full"]) <= 0.2
-    for a, b in zip(sp["opening_loads"]["main"], full["opening_loads"]["main"]):
+    assert abs(sp.touchdown.time - full.touchdown.time) <= 0.2
+    for a, b in zip(sp.opening_loads["main"], full.opening_loads["main"]):
         assert a["peaks"]["riser"]["tension"] == pytest.approx(b["peaks"]["riser"]["tension"], rel=0.03)
 
 
@@ -221,6 +213,6 @@ def test_pa1_inflation_sp_is_eight_times_faster_than_full_mass(pa1_inflation):
     # engine solve times side by side in this process, the best of repeated runs of each (best of 2 for full mass,
     # of 3 for the 1 s SP run, which a scheduler hiccup on a loaded 2-core machine moves the most)
     case = load_case(ROOT / "cases" / "cev_pa1_inflation.toml")
-    full_time = min(full["wall_time"], simulate(case, "full").summary["wall_time"])
-    sp_time = min([sp["wall_time"]] + [simulate(case, "sp").summary["wall_time"] for _ in range(2)])
+    full_time = min(full.wall_time, simulate(case, "full").summary.wall_time)
+    sp_time = min([sp.wall_time] + [simulate(case, "sp").summary.wall_time for _ in range(2)])
     assert full_time / sp_time >= 8.0, (full_time, sp_time)

@@ -104,7 +104,7 @@ def test_equilibrium_method_in_a_flight_case(mer_case1, case1_rk4_reference):
     settled = ref.time > 2.0
     for name in ref.tension_names():
         assert np.abs(np.interp(ref.time, result.time, result[name]) - ref[name])[settled].max() < 2.0
-    facts = result.summary["equilibrium_main"]
+    facts = result.summary.method_facts["equilibrium_main"]
     assert facts["failures"] == 0 and facts["solves"] >= 4 * 6000 and facts["max_iterations"] < 20
     assert "equilibrium_iterations" in result and result.units["equilibrium_failures"] == "-"
     with pytest.raises(pc.InputError, match="rk4 only"):

@@ -61,15 +61,15 @@ def test_phases_follow_the_event_times():
 
 def test_pa1_events_and_touchdown(pa1_sp):
     r = pa1_sp
-    events = {(e["event"], e.get("system")): e for e in r.summary["events"]}
-    assert events[("deploy", "drogue")]["time"] == 3.5
-    assert events[("deploy", "main")]["time"] == 9.5 and events[("cutaway", "drogue")]["time"] == 9.5
-    crossing = events[("descent_rate", None)]["time"]
-    touchdown = events[("touchdown", None)]
-    assert 9.5 < crossing < touchdown["time"]
+    events = {(e.kind, getattr(e, "system", None)): e for e in r.summary.events}
+    assert events[("deploy", "drogue")].time == 3.5
+    assert events[("deploy", "main")].time == 9.5 and events[("cutaway", "drogue")].time == 9.5
+    crossing = events[("descent_rate", None)].time
+    touchdown = r.summary.touchdown
+    assert 9.5 < crossing < touchdown.time
     # touchdown ends the run: the last sample is the step that reached the ground, long before the 200 s limit
-    assert r.summary["end"] == "touchdown" and r.final("time") < 100.0
-    assert abs(r.final("time") - touchdown["time"]) <= 0.01
+    assert r.summary.end == "touchdown" and r.final("time") < 100.0
+    assert abs(r.final("time") - touchdown.time) <= 0.01
     assert abs(r.final("capsule_altitude") - 1200.0) < 0.1
     # steady descent under the full mains: the weight of capsule, main canopy and confluence = 1/2 rho v^2 (C_A S)_main,
     # rho at the 1200 m ground (US76): 7.99 m/s
@@ -77,7 +77,7 @@ def test_pa1_events_and_touchdown(pa1_sp):
     rho = US76().density(1200.0)
     weight = (7500.0 + 423.0 + 8.0) * 3.986004418e14 / (6371000.0 + 1200.0) ** 2
     hand = math.sqrt(2.0 * weight / (rho * 0.76 * 2946.0))
-    assert touchdown["speed"] == pytest.approx(hand, rel=0.10)                        # measured: -0.3%
+    assert touchdown.speed == pytest.approx(hand, rel=0.10)                        # measured: -0.3%
     assert case.systems["main"].drag_area_schedule(18.0) == 1.0
 
 
@@ -199,13 +199,11 @@ def test_two_systems_with_the_same_name(tmp_path):
 
 
 def test_sp_agrees_with_the_implicit_full_mass_model(pa1_sp, pa1_implicit):
-    def touchdown(r):
-        return next(e for e in r.summary["events"] if e["event"] == "touchdown")
-    assert abs(touchdown(pa1_sp)["time"] - touchdown(pa1_implicit)["time"]) < 0.5       # measured 0.00 s
+    assert abs(pa1_sp.summary.touchdown.time - pa1_implicit.summary.touchdown.time) < 0.5   # measured 0.00 s
     gap = math.hypot(pa1_sp.final("capsule_east") - pa1_implicit.final("capsule_east"),
                      pa1_sp.final("capsule_north") - pa1_implicit.final("capsule_north"))
     assert gap < 5.0                                                                      # measured 0.01 m
-    assert pa1_sp.summary["sp_order"] == 1   # the case keeps the confluence mass to first order
+    assert pa1_sp.summary.method_settings["sp_order"] == 1   # the case keeps the confluence mass to first order
 
 
 def test_sp_order1_follows_the_capsule_rocking_that_massless_sp_drifts_from(pa1_sp, pa1_implicit):

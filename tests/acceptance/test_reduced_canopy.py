@@ -19,7 +19,7 @@ def test_a_reduced_drogue_opens_and_descends_as_the_rigid_one_of_full_mass():
     case = pc.load_case(ROCKET, {"systems.drogue.deploy_trigger": {"time": 1.01}})   # as sampled at 100 Hz, both
     full = pc.simulate(case, "full", "rk4", 1e-4, 9.0)
     reduced = pc.simulate(case, "sp", "rk4", None, 9.0)
-    assert reduced.summary["step_control"]["count"] < 0.01 * full.summary["steps"]
+    assert reduced.summary.step_control["count"] < 0.01 * full.summary.steps
     assert reduced.final("rocket_velocity_down") == pytest.approx(full.final("rocket_velocity_down"), rel=1e-3)
     assert reduced.final("rocket_altitude") == pytest.approx(full.final("rocket_altitude"), abs=0.5)
     peak = {r: float(np.nanmax(r["tension_drogue_riser"])) for r in (full, reduced)}

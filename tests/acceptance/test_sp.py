@@ -29,8 +29,7 @@ def test_sp_is_ten_times_faster_than_full_mass_rk4_at_the_thesis_step(mer_case1)
     """MER case 1, 60 s: SP at 1e-2 s against full-mass RK4 at 1e-4 s, each run's solve time (measured 24x)."""
     sp = pc.simulate(mer_case1, "sp", "rk4", 1e-2)
     full = pc.simulate(mer_case1, "full", "rk4", 1e-4)
-    assert sp.summary["wall_time"] * 10 < full.summary["wall_time"], (sp.summary["wall_time"],
-                                                                       full.summary["wall_time"])
+    assert sp.summary.wall_time * 10 < full.summary.wall_time, (sp.summary.wall_time, full.summary.wall_time)
 
 
 def test_full_mass_converges_to_sp_as_the_confluence_mass_vanishes():
@@ -55,7 +54,8 @@ def test_force_rule_runs_and_reports_conditioning():
     case = pc.load_case(MER / "case3.toml")
     for rule in ("stretch", "force"):
         result = pc.simulate(case, "sp", "rk4", 1e-2, 5.0, slack_rule=rule)
-        assert result.summary["slack_rule"] == rule and result.summary["kappa_max"] == 5.0
+        settings = result.summary.method_settings
+        assert settings["slack_rule"] == rule and settings["kappa_max"] == 5.0
         for name in result.tension_names():
             assert result[name].min() >= 0.0
         slack = result["taut_lines"] < 4
@@ -80,7 +80,7 @@ def test_sp_order1_carries_the_confluence_weight(mer_case1, case1_rk4_reference)
     it and lands on the full-mass altitude."""
     ref = case1_rk4_reference
     first = pc.simulate(mer_case1, "sp", "rk4", 1e-2, order=1)
-    assert first.summary["sp_order"] == 1
+    assert first.summary.method_settings["sp_order"] == 1
     assert abs(first.final("vehicle_altitude") - ref.final("vehicle_altitude")) < 0.02     # measured 0.0004 m
     settled = ref.time > 2.0
     for name in first.tension_names():

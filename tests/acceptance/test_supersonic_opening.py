@@ -107,8 +107,8 @@ def test_adaptive_steps_fly_a_supersonic_opening_and_its_supersonic_descent_as_t
 def test_a_line_stretch_outside_the_fitted_mach_range_is_flown_at_its_end_and_warned():
     case = load_case(ROOT / "cases" / "edl" / "msl.toml", {"bodies.vehicle.initial.mach": 1.3,
                                                           "bodies.vehicle.initial.dynamic_pressure": 300.0})
-    summary = simulate(case, duration=1.2).run_summary
-    start = next(event for event in summary.events if event.kind == "stage_start")
+    summary = simulate(case, duration=1.2).summary
+    start = summary.events_of("stage_start")[0]
     opening = case.systems["main"].inflation.supersonic
     assert start.mach < opening.mach_range[0]
     assert start.load_factor == pytest.approx(opening.load_factor + opening.mach_slope * (1.5 - 1.8), rel=1e-12)

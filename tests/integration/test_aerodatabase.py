@@ -185,18 +185,18 @@ def test_pa1_with_databases_sp_agrees_with_full_mass_and_reports_mach():
     sp, full = pc.simulate(case, "sp"), pc.simulate(case, "full", "implicit")
 
     def touchdown(result):
-        return next(e["time"] for e in result.summary["events"] if e["event"] == "touchdown")
+        return result.summary.touchdown.time
     assert abs(touchdown(sp) - touchdown(full)) < 0.2
     for kind in ("vertical", "airspeed"):
         key = f"amplitude_{kind}_deg"
-        assert abs(sp.summary["pendulum"][key] - full.summary["pendulum"][key]) < 0.5
-    assert sp.summary["pendulum"]["from"] == 27.5   # the mains' drag-area schedule ends at 9.5 + 18 s
+        assert abs(getattr(sp.summary.pendulum, key) - getattr(full.summary.pendulum, key)) < 0.5
+    assert sp.summary.pendulum.start == 27.5   # the mains' drag-area schedule ends at 9.5 + 18 s
     columns, atmosphere = sp.columns, US76()
     i = len(columns["time"]) // 2
     sound = atmosphere.speed_of_sound(columns["capsule_altitude"][i])   # the centre of mass: within 1 m of the centre
     speed = math.sqrt(2.0 * columns["capsule_dynamic_pressure"][i] / atmosphere.density(columns["capsule_altitude"][i]))
     assert columns["capsule_mach"][i] == pytest.approx(speed / sound, rel=1e-3)
-    assert sp.summary["units"]["capsule_mach"] == "-"
+    assert sp.summary.units["capsule_mach"] == "-"
 
 
 def test_the_compiled_hypot_is_cpythons_to_the_last_bit():

@@ -66,7 +66,8 @@ def test_where_every_line_is_damped_enough_it_is_sp_bit_for_bit(step):
     relaxed = simulate(case, "sp", step=step, duration=3.0, preset="any_damping")
     for name in sp.columns:
         assert np.array_equal(sp[name], relaxed[name], equal_nan=True), name
-    assert relaxed.summary["sp_relaxation_time"] == 0.005 and "sp_relaxation_time" not in sp.summary
+    assert relaxed.summary.method_settings["sp_relaxation_time"] == 0.005
+    assert "sp_relaxation_time" not in sp.summary.method_settings
 
 
 def test_undamped_mer_runs_at_the_thesis_step_and_stays_near_full_mass():
@@ -75,10 +76,10 @@ def test_undamped_mer_runs_at_the_thesis_step_and_stays_near_full_mass():
     full = simulate(load_case(MER1, overrides), "full", "rk4", 2e-5, 2.0, history=False)
     relaxed = simulate(load_case(MER1, overrides), "sp", step=1e-2, duration=2.0, preset="any_damping",
                        history=False)
-    for key in ("vehicle_altitude", "vehicle_east"):
-        assert relaxed.summary["final"][key] == pytest.approx(full.summary["final"][key], abs=0.1)
+    for key in ("altitude", "east"):
+        assert getattr(relaxed.summary.final, key) == pytest.approx(getattr(full.summary.final, key), abs=0.1)
     for name in NAMES:
-        assert relaxed.summary["peak_tension"][name] == pytest.approx(full.summary["peak_tension"][name], rel=0.03)
+        assert relaxed.summary.peak_tension[name] == pytest.approx(full.summary.peak_tension[name], rel=0.03)
 
 
 BATTERY = [

@@ -91,7 +91,7 @@ def test_api_input_errors(mer_case1):
     # largest step (before adaptive steps this case had no step to choose: "nothing in it limits the step")
     static = pc.simulate(pc.load_case(MER.parent / "simple" / "simple.toml", {"simulation.steps": {}}),
                          method="equilibrium", duration=1.0)
-    assert static.summary["step_control"]["largest"] == StepRule().largest
+    assert static.summary.step_control["largest"] == StepRule().largest
 
 
 def test_failed_run_writes_no_result(capsys, tmp_path):
@@ -108,7 +108,7 @@ def test_result_round_trip_and_permissions(tmp_path):
     assert loaded.names == result.names
     for name in result.names:
         np.testing.assert_allclose(loaded[name], result[name], rtol=1e-11, atol=1e-12)
-    assert loaded.summary["method"] == "full" and loaded.units["tension_riser"] == "N"
+    assert loaded.summary.method == "full" and loaded.units["tension_riser"] == "N"
     umask = os.umask(0)
     os.umask(umask)
     for path in paths.values():
@@ -120,21 +120,20 @@ def test_result_round_trip_and_permissions(tmp_path):
 def test_times_are_on_the_exact_grid_and_steps_are_counted_once(mer_case1):
     flying_on = pc.load_case(MER / "case1.toml", {"simulation.stop_at_ground": False})
     sp = pc.simulate(flying_on, "sp", "rk4", 1e-2, 300.0)   # 30 000 steps: the solver's time drifts by 1e-10 s
-    assert sp.summary["steps"] == 30000 and sp.summary["final"]["time"] == 300.0
+    assert sp.summary.steps == 30000 and sp.summary.final.time == 300.0
     grid = np.array([float(f"{k * 0.01:.15g}") for k in range(30001)])
     assert np.array_equal(sp.time, grid)                     # 55.41, not 55.409999999997545
     odd = pc.simulate(mer_case1, "full", "rk4", 3e-4, 0.05)  # a step that does not divide the output step
-    assert odd.summary["steps"] == 167
+    assert odd.summary.steps == 167
     step = 0.05 / 167                                      # Exudyn divides the span evenly
     np.testing.assert_array_equal(odd.time, [float(f"{n * step:.15g}") for n in (0, 33, 67, 100, 134, 167)])
 
 
 def test_every_run_stops_at_the_ground_unless_the_case_flies_on(mer_case1):
     landed = pc.simulate(mer_case1, "sp", "rk4", 1e-2, 300.0)
-    touchdown = [e for e in landed.summary["events"] if e["event"] == "touchdown"]
-    assert landed.summary["end"] == "touchdown" and landed.summary["ground_altitude"] == 0.0
-    assert 100.0 < touchdown[0]["time"] < 200.0 and abs(landed.final("vehicle_altitude")) < 1.0
+    assert landed.summary.end == "touchdown" and landed.summary.ground_altitude == 0.0
+    assert 100.0 < landed.summary.touchdown.time < 200.0 and abs(landed.final("vehicle_altitude")) < 1.0
     flying_on = pc.load_case(MER / "case1.toml", {"simulation.stop_at_ground": False})
     below = pc.simulate(flying_on, "sp", "rk4", 1e-2, 300.0)
-    assert below.summary["end"] == "duration" and below.summary["ground_altitude"] is None
+    assert below.summary.end == "duration" and below.summary.ground_altitude is None
     assert below.final("vehicle_altitude") < -5000.0

@@ -29,7 +29,7 @@ def test_a_model_that_adds_energy_is_stopped_as_a_named_runaway(tmp_path):
     assert text.startswith("body canopy") and "ran away at t = " in text and "its speed reached" in text
     assert f"{SPEED_MULTIPLE:g} times" in text and "\n" not in text
     with_the_law = pc.load_case(path, {key: value for key, value in overrides.items() if "axial" not in key})
-    assert pc.simulate(with_the_law, "sp").summary["end"] == "duration"   # the same start, every attitude's law
+    assert pc.simulate(with_the_law, "sp").summary.end == "duration"   # the same start, every attitude's law
 
 
 def test_an_implicit_step_across_a_constant_coefficients_jump_names_the_edge_on_canopy(tmp_path):

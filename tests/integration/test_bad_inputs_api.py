@@ -222,7 +222,7 @@ def test_overwrite_replaces_only_the_files_of_the_earlier_result(tmp_path):
                                                      "timeseries.csv"]   # the old figures went, the user's stayed
     assert (out / "notes.txt").read_text() == "my notes"
     assert pc.Result.load(out).final("time") == pytest.approx(0.3)
-    assert "result_files" not in pc.Result.load(out).summary              # the folder's list is not the run's
+    assert "result_files" not in pc.Result.load(out).summary.to_dict()    # the folder's list is not the run's
     assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 

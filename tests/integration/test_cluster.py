@@ -19,6 +19,7 @@ from pchute_exudyn.physics.cluster import (
 from pchute_exudyn.physics.contact import contact_forces, default_stiffness_damping, envelope_radius, overlaps
 from pchute_exudyn.physics.deployment import cluster_placement
 from pchute_exudyn.physics.inflation import Inflation, InflationStage, skipping, with_disreef_delays
+from pchute_exudyn.results.summary import CutawayEvent
 from tests.helpers import ROOT, study_runs
 
 CASES = ROOT / "tests" / "cases"
@@ -120,13 +121,13 @@ def test_two_identical_canopies_share_the_load_exactly_and_fly_as_one_of_twice_t
     pair = pc.simulate(pc.load_case(PAIR), method, integrator, duration=duration)
     tension = np.stack([pair["tension_r1"], pair["tension_r2"]])
     assert np.nanmax(np.abs(tension[0] - tension[1])) <= 1e-9 * np.nanmax(tension)   # mirror-symmetric start
-    assert pair.summary["cluster"]["main"]["flyout_deg"]["c1"]["max"] == pytest.approx(10.0, rel=0.05)
+    assert pair.summary.cluster["main"].flyout_deg["c1"]["max"] == pytest.approx(10.0, rel=0.05)
     if duration is not None:
         return
     assert np.nanmax(np.abs(pair["c1_flyout_deg"][-500:])) < 0.01            # swung in onto the cluster axis
     one = pc.simulate(pc.load_case(SINGLE), method, integrator)
     assert _rate(pair) == pytest.approx(_rate(one), rel=1e-4)
-    massless = method == "equilibrium" or (method == "sp" and pair.summary["sp_order"] == 0)
+    massless = method == "equilibrium" or (method == "sp" and pair.summary.method_settings["sp_order"] == 0)
     weight = (200.0 + 2 * 10.0 + (0.0 if massless else 0.5)) * G
     assert _rate(pair) == pytest.approx(math.sqrt(2 * weight / (RHO * 0.8 * 200.0)), rel=1e-4)
 
@@ -151,11 +152,11 @@ def test_canopies_pushed_together_bounce_apart_within_the_documented_overlap(met
     assert np.nanmax(result["c1_c2_overlap"]) == pytest.approx(bound, rel=1e-3)
     assert result["c1_velocity_east"][-1] == pytest.approx(-1.0, rel=1e-4)      # elastic: they part as they met
     assert result["c2_velocity_east"][-1] == pytest.approx(1.0, rel=1e-4)
-    events = [e for e in result.summary["events"] if e["event"].startswith("contact")]
-    assert [e["event"] for e in events] == ["contact_start", "contact_end"]
-    assert events[0]["time"] == pytest.approx(1.0, abs=2e-3)
-    assert events[1]["time"] - events[0]["time"] == pytest.approx(math.pi * math.sqrt(reduced / stiffness), rel=1e-2)
-    assert events[1]["overlap"] == pytest.approx(bound, rel=1e-3)
+    events = [e for e in result.summary.events if e.kind.startswith("contact")]
+    assert [e.kind for e in events] == ["contact_start", "contact_end"]
+    assert events[0].time == pytest.approx(1.0, abs=2e-3)
+    assert events[1].time - events[0].time == pytest.approx(math.pi * math.sqrt(reduced / stiffness), rel=1e-2)
+    assert events[1].overlap == pytest.approx(bound, rel=1e-3)
 
 
 def test_damped_contact_overlaps_less_and_still_parts():
@@ -186,12 +187,11 @@ def pa1_main_out_sp():
 def test_pa1_cluster_sp_agrees_with_full_mass(pa1_cluster_sp):
     """Full mass implicit here (about 6 s); full mass RK4 in validation/cev_pa1_cluster.py."""
     full = pc.simulate(pc.load_case(PA1_CLUSTER), "full", "implicit")
-    touchdown = {name: next(e["time"] for e in r.summary["events"] if e["event"] == "touchdown")
-                 for name, r in (("sp", pa1_cluster_sp), ("full", full))}
+    touchdown = {name: r.summary.touchdown.time for name, r in (("sp", pa1_cluster_sp), ("full", full))}
     assert abs(touchdown["sp"] - touchdown["full"]) < 0.2
     for canopy in ("main1", "main2", "main3"):
-        sp_peak = pa1_cluster_sp.summary["cluster"]["main"]["riser_peak"][canopy]["tension"]
-        full_peak = full.summary["cluster"]["main"]["riser_peak"][canopy]["tension"]
+        sp_peak = pa1_cluster_sp.summary.cluster["main"].riser_peak[canopy]["tension"]
+        full_peak = full.summary.cluster["main"].riser_peak[canopy]["tension"]
         assert sp_peak == pytest.approx(full_peak, rel=0.03)
 
 
@@ -200,26 +200,26 @@ def test_pa1_cluster_outputs(pa1_cluster_sp):
     for column in ("main_load_share", "main1_flyout_deg", "main1_main2_overlap", "drogue1_drogue2_overlap",
                    "main2_drag_area_fraction", "capsule_pendulum_deg", "capsule_pendulum_airspeed_deg"):
         assert column in r.columns
-    main = summary["cluster"]["main"]
-    assert 1.0 <= main["peak_load_share"] < 3.0
+    main = summary.cluster["main"]
+    assert 1.0 <= main.peak_load_share < 3.0
     for canopy in ("main1", "main2", "main3"):   # evenly spread: the same flyout, the touching angle of the envelopes
-        assert main["flyout_deg"][canopy]["mean"] == pytest.approx(main["flyout_deg"]["main1"]["mean"], rel=1e-3)
-        assert 10.0 < main["flyout_deg"][canopy]["mean"] < 25.0
-    kinds = [e["event"] for e in summary["events"]]
+        assert main.flyout_deg[canopy]["mean"] == pytest.approx(main.flyout_deg["main1"]["mean"], rel=1e-3)
+        assert 10.0 < main.flyout_deg[canopy]["mean"] < 25.0
+    kinds = [e.kind for e in summary.events]
     assert "contact_start" in kinds and "contact_end" in kinds
-    assert {e.get("canopy") for e in summary["events"] if e["event"] == "disreef"} == {"main1", "main2", "main3"}
-    assert set(summary["opening_loads"]) == {"drogue1", "drogue2", "main1", "main2", "main3"}
-    assert 0.0 < summary["pendulum"]["max_vertical_deg"] < 10.0
-    assert 0.0 < max(main["max_overlap"].values()) < 0.05 * 0.67 * 35.36 / 2   # within 5 % of the radius
+    assert {e.canopy for e in summary.events_of("disreef")} == {"main1", "main2", "main3"}
+    assert set(summary.opening_loads) == {"drogue1", "drogue2", "main1", "main2", "main3"}
+    assert 0.0 < summary.pendulum.max_vertical_deg < 10.0
+    assert 0.0 < max(main.max_overlap.values()) < 0.05 * 0.67 * 35.36 / 2   # within 5 % of the radius
 
 
 def test_one_main_out_descends_faster_and_loads_the_other_two_more(pa1_cluster_sp, pa1_main_out_sp):
     nominal, out = pa1_cluster_sp.summary, pa1_main_out_sp.summary
-    assert out["descent"]["mean_rate"] > 1.15 * nominal["descent"]["mean_rate"]
-    assert out["cluster"]["main"]["riser_peak"]["main3"] is None
+    assert out.descent.mean_rate > 1.15 * nominal.descent.mean_rate
+    assert out.cluster["main"].riser_peak["main3"] is None
     for canopy in ("main1", "main2"):
-        assert out["cluster"]["main"]["riser_peak"][canopy]["tension"] > \
-            1.2 * nominal["cluster"]["main"]["riser_peak"][canopy]["tension"]
+        assert out.cluster["main"].riser_peak[canopy]["tension"] > \
+            1.2 * nominal.cluster["main"].riser_peak[canopy]["tension"]
     assert np.isnan(pa1_main_out_sp["main3_altitude"]).all()                   # never left the capsule
 
 
@@ -227,15 +227,15 @@ def test_skipped_stage_delayed_cutter_and_cutaway_of_one_canopy():
     case = pc.load_case(PA1_CLUSTER, {"failures.skipped_stages.main1": 2, "failures.disreef_delay.main2": [-2.0, 1.0],
                                       "failures.cutaway.main3": 40.0, "simulation.duration": 45.0})
     result = pc.simulate(case, "sp")
-    events = result.summary["events"]
-    disreefs = {(e["canopy"], e["stage"], round(e["time"] - 9.5, 6)) for e in events if e["event"] == "disreef"}
+    events = result.summary.events
+    disreefs = {(e.canopy, e.stage, round(e.time - 9.5, 6)) for e in result.summary.events_of("disreef")}
     assert disreefs == {("main1", 3, 8.0), ("main2", 2, 6.0), ("main2", 3, 17.0), ("main3", 2, 8.0),
                         ("main3", 3, 16.0)}                                  # a skipped stage keeps the numbers
-    assert [s["stage"] for s in result.summary["opening_loads"]["main1"]] == [1, 3]
+    assert [s["stage"] for s in result.summary.opening_loads["main1"]] == [1, 3]
     full_open = result["main1_drag_area_fraction"][np.searchsorted(result["time"], 9.5 + 14.0)]
     assert full_open == pytest.approx(1.0, abs=1e-9) or full_open > 1.0         # main1 skipped its 25 % stage
-    assert {"event": "cutaway", "time": 40.0, "system": "main", "canopy": "main3"} in events
-    assert max(e["time"] for e in events if e.get("canopy") == "main3" and e["event"] == "fill_end") < 40.0
+    assert CutawayEvent(40.0, "main", "main3") in events
+    assert max(e.time for e in result.summary.events_of("fill_end") if e.canopy == "main3") < 40.0
     after = result["time"] > 40.0
     assert np.isnan(result["tension_main_riser3"][after]).all() and np.isfinite(result["tension_main_riser1"][after]).all()
     assert np.isnan(result["main3_altitude"][after]).all()
@@ -248,7 +248,7 @@ def test_a_trailing_canopy_that_never_inflates_keeps_its_fraction():
     present = np.isfinite(result["main2_drag_area_fraction"])
     assert present.any() and np.all(result["main2_drag_area_fraction"][present] == 0.05)
     assert np.isfinite(result["main2_altitude"][result["time"] > 10.0]).all()
-    assert not [e for e in result.summary["events"] if e.get("canopy") == "main2" and e["event"] == "disreef"]
+    assert not [e for e in result.summary.events_of("disreef") if e.canopy == "main2"]
 
 
 # -- studies -------------------------------------------------------------------------------------------------------------
@@ -319,8 +319,8 @@ def test_a_system_whose_canopies_all_stay_packed_deploys_nothing():
     assert case.mass_of("capsule", 9.0) == 7500.0 and case.mass_of("capsule", 9.5) == 7500.0 + 423.0
     result = pc.simulate(case, "sp")
     assert np.isnan(result["main_confluence_altitude"]).all() and np.isnan(result["tension_main_riser"]).all()
-    assert not [e for e in result.summary["events"] if e["event"] == "deploy" and e["system"] == "main"]
-    assert result.summary["events"][-1]["event"] == "touchdown"   # fast, under nothing but the capsule's own drag
+    assert not [e for e in result.summary.events_of("deploy") if e.system == "main"]
+    assert result.summary.events[-1].kind == "touchdown"   # fast, under nothing but the capsule's own drag
 
 
 def test_canopies_that_trim_off_axis_fly_out_by_their_own_aerodynamics():
@@ -345,13 +345,14 @@ def test_apparent_mass_and_turbulence_on_every_canopy_of_a_cluster():
     peaks = {}
     for method, integrator in (("sp", "rk4"), ("full", "implicit")):
         summary = pc.simulate(case, method, integrator).summary
-        peaks[method] = [summary["cluster"]["main"]["riser_peak"][c]["tension"] for c in MAINS]
+        peaks[method] = [summary.cluster["main"].riser_peak[c]["tension"] for c in MAINS]
     assert peaks["sp"] == pytest.approx(peaks["full"], rel=0.03)
 
 
 def test_a_canopy_cut_away_while_it_fills_reports_no_fill_end():
     case = pc.load_case(PA1_CLUSTER, {"failures.cutaway.main2": 9.5 + 16.5, "simulation.duration": 30.0})
-    events = pc.simulate(case, "sp").summary["events"]
-    main2 = [(e["event"], e["stage"]) for e in events if e.get("canopy") == "main2" and "stage" in e]
+    events = pc.simulate(case, "sp").summary.events
+    main2 = [(e.kind, e.stage) for e in events if getattr(e, "canopy", None) == "main2" and hasattr(e, "stage")]
     assert ("disreef", 3) in main2 and ("fill_end", 3) not in main2          # cut 0.5 s into its last fill
-    assert ("fill_end", 3) in [(e["event"], e["stage"]) for e in events if e.get("canopy") == "main1"]
+    assert ("fill_end", 3) in [(e.kind, e.stage) for e in events if getattr(e, "canopy", None) == "main1"
+                               and hasattr(e, "stage")]

@@ -128,8 +128,8 @@ def test_presets_fill_in_what_is_not_given():
 
 def test_summary_reports_the_settings_in_effect():
     result = pc.simulate(pc.load_case(MER / "case1.toml"), "sp", duration=0.2, preset="accurate")
-    assert (result.summary["sp_preset"], result.summary["kappa_max"], result.summary["sp_order"]) == \
-        ("accurate", 10.0, 1)
+    settings = result.summary.method_settings
+    assert (settings["sp_preset"], settings["kappa_max"], settings["sp_order"]) == ("accurate", 10.0, 1)
 
 
 @pytest.mark.slow
@@ -171,7 +171,7 @@ def test_sp_is_faster_than_the_implicit_full_mass_model_at_the_same_step():
     best = {}
     for _ in range(3):
         for method, integrator in (("sp", "rk4"), ("full", "implicit")):
-            wall = pc.simulate(case, method, integrator, 1e-2, 60.0).summary["wall_time"]
+            wall = pc.simulate(case, method, integrator, 1e-2, 60.0).summary.wall_time
             best[method] = min(best.get(method, wall), wall)
     assert best["full"] > 2.5 * best["sp"], best
 

@@ -557,6 +557,9 @@ def test_a_worker_forked_while_the_folder_is_locked_does_not_keep_it_locked(tmp_
 
 def test_allow_failures_compares_the_rate_exactly():
     from pchute_exudyn.cli import _failures_status
+    from pchute_exudyn.study.runner import StudyOutcome
 
-    assert _failures_status({"failed": 29, "skipped": 0, "executed": 100}, 0.29) == 0   # 0.29 x 100 = 28.999...
-    assert _failures_status({"failed": 30, "skipped": 0, "executed": 100}, 0.29) == 1
+    def outcome(failed):
+        return StudyOutcome(100, 0, 100, failed, 1.0, "study", Path("study") / "runs.csv", {}, None)
+    assert _failures_status(outcome(29), 0.29) == 0   # 0.29 x 100 = 28.999...
+    assert _failures_status(outcome(30), 0.29) == 1

@@ -13,6 +13,7 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.fit import load_fit, run_fit
 from pchute_exudyn.fit.report import write_report
+from pchute_exudyn.fit.solve import FitOutcome
 from tests.helpers import MER, ROOT, start_cli
 
 TRUTH = {"parachute.aerodynamics.axial_coefficient": 0.5, "main.lines.riser.stiffness": 66000.0}   # case: 0.46, 6e4
@@ -71,9 +72,10 @@ def fit_file(tmp_path):
 def test_fit_recovers_known_drag_and_stiffness(fit_file, tmp_path):
     spec = load_fit(fit_file)
     result = run_fit(spec, tmp_path / "out", workers=2)
-    for key, fitted in zip(result["keys"], result["fitted"]):
+    for key, fitted in zip(result.keys, result.fitted):
         assert fitted == pytest.approx(TRUTH[key], rel=0.005), key
     paths = write_report(spec, result, tmp_path / "out")
+    assert FitOutcome.from_dict(json.loads(paths["json"].read_text())) == result   # fit.json reads back whole
     assert all(p.is_file() for p in paths.values())
     fit_json = json.loads(paths["json"].read_text())
     assert fit_json["cost"] < 1e-6 and len(fit_json["standard_error"]) == 2
@@ -102,9 +104,9 @@ def test_a_killed_fit_resumes_without_running_recorded_points_again(fit_file, tm
     lines = [json.loads(line) for line in journal.read_text().splitlines() if line.strip()]
     keys = [tuple(line["values"]) for line in lines]
     assert len(keys) == len(set(keys))                     # no point was run twice
-    assert result["runs_this_time"] == len(lines) - recorded
-    assert result["reused"] >= recorded - 1                # every recorded point the fit came back to was read back
-    for key, fitted in zip(result["keys"], result["fitted"]):
+    assert result.runs_this_time == len(lines) - recorded
+    assert result.reused >= recorded - 1                # every recorded point the fit came back to was read back
+    for key, fitted in zip(result.keys, result.fitted):
         assert fitted == pytest.approx(TRUTH[key], rel=0.005), key
 
 
@@ -115,13 +117,13 @@ def test_a_budget_stops_the_search_within_it_at_the_best_point(fit_file, tmp_pat
     fit_file.write_text(fit_file.read_text().replace('step = 1e-2\n', 'step = 1e-2\nmax_runs = 6\n', 1))
     spec = load_fit(fit_file)
     result = run_fit(spec, tmp_path / "out", workers=1)
-    assert result["status"] == -2 and "max_runs" in result["message"]
+    assert result.status == -2 and "max_runs" in result.message
     lines = [json.loads(line) for line in (tmp_path / "out" / "evaluations.jsonl").read_text().splitlines()]
     assert len(lines) <= spec.max_runs + len(spec.free)
 
     def cost(values):
         line = next(line for line in lines if line["values"] == list(values))
         return 0.5 * float(np.sum(((np.asarray(line["predictions"]) - spec.measured()) / spec.scales()) ** 2))
-    assert any(line["values"] == result["fitted"] for line in lines[:spec.max_runs])   # a point the search ran
-    assert result["cost"] == pytest.approx(cost(result["fitted"]), rel=1e-9)
-    assert result["cost"] < cost(result["initial"])
+    assert any(line["values"] == result.fitted for line in lines[:spec.max_runs])   # a point the search ran
+    assert result.cost == pytest.approx(cost(result.fitted), rel=1e-9)
+    assert result.cost < cost(result.initial)

@@ -72,8 +72,8 @@ def turning(tmp_path_factory):
     return path
 
 
-def touchdown_of(result) -> dict:
-    return next(e for e in result.summary["events"] if e["event"] == "touchdown")
+def touchdown_of(result):
+    return result.summary.touchdown
 
 
 def test_height_is_the_altitude_above_the_cases_ground(probe):
@@ -103,11 +103,11 @@ def test_in_still_air_it_lands_at_the_steady_rate_of_descent_with_no_horizontal_
     # the steady rate grows with height (thinner air); the probe follows it with the lag of its drag's time constant
     # V / (2 g): V^3 / (4 g) times the density's logarithmic decrease with height, 2.2e-4 of V here
     thinning = (math.log(atmosphere.state(GROUND - 1.0)[0]) - math.log(atmosphere.state(GROUND + 1.0)[0])) / 2.0
-    assert touchdown["descent_rate"] == pytest.approx(steady + steady ** 3 / (4.0 * GRAVITY) * thinning, rel=1e-5)
-    assert touchdown["horizontal_speed_over_ground"] == pytest.approx(0.0, abs=1e-9)
-    assert touchdown["speed"] == pytest.approx(touchdown["descent_rate"], rel=1e-12)
+    assert touchdown.descent_rate == pytest.approx(steady + steady ** 3 / (4.0 * GRAVITY) * thinning, rel=1e-5)
+    assert touchdown.horizontal_speed_over_ground == pytest.approx(0.0, abs=1e-9)
+    assert touchdown.speed == pytest.approx(touchdown.descent_rate, rel=1e-12)
     line = run_line(result.summary, "out")
-    assert f"descent rate {touchdown['descent_rate']:.2f} m/s, horizontal speed 0.00 m/s" in line
+    assert f"descent rate {touchdown.descent_rate:.2f} m/s, horizontal speed 0.00 m/s" in line
 
 
 def test_in_a_steady_wind_it_lands_moving_with_the_wind(probe):
@@ -116,15 +116,15 @@ def test_in_a_steady_wind_it_lands_moving_with_the_wind(probe):
                                               "atmosphere.wind.north": wind_north}))
     touchdown = touchdown_of(result)
     still = touchdown_of(pc.simulate(pc.load_case(probe)))
-    assert touchdown["horizontal_speed_over_ground"] == pytest.approx(5.0, abs=1e-6)
-    assert touchdown["descent_rate"] == pytest.approx(still["descent_rate"], rel=1e-6)
-    assert touchdown["speed"] == pytest.approx(math.hypot(5.0, still["descent_rate"]), rel=1e-6)
+    assert touchdown.horizontal_speed_over_ground == pytest.approx(5.0, abs=1e-6)
+    assert touchdown.descent_rate == pytest.approx(still.descent_rate, rel=1e-6)
+    assert touchdown.speed == pytest.approx(math.hypot(5.0, still.descent_rate), rel=1e-6)
     from pchute_exudyn.study.runner import scalar_outputs
 
     outputs = scalar_outputs(result)
-    assert outputs["touchdown_horizontal_speed"] == touchdown["horizontal_speed_over_ground"]
-    assert outputs["touchdown_descent_rate"] == touchdown["descent_rate"]
-    assert outputs["touchdown_speed"] == touchdown["speed"]
+    assert outputs["touchdown_horizontal_speed"] == touchdown.horizontal_speed_over_ground
+    assert outputs["touchdown_descent_rate"] == touchdown.descent_rate
+    assert outputs["touchdown_speed"] == touchdown.speed
 
 
 def test_the_speeds_at_touchdown_add_up_over_a_rotating_earth(turning, tmp_path):
@@ -133,12 +133,11 @@ def test_the_speeds_at_touchdown_add_up_over_a_rotating_earth(turning, tmp_path)
     probe lands moving with the wind."""
     result = pc.simulate(pc.load_case(turning, {"atmosphere.wind.east": 5.0}))
     touchdown = touchdown_of(result)
-    assert touchdown["descent_rate"] ** 2 + touchdown["horizontal_speed_over_ground"] ** 2 == pytest.approx(
-        touchdown["speed"] ** 2, rel=1e-12)
-    assert touchdown["horizontal_speed_over_ground"] == pytest.approx(5.0, abs=0.05)
+    assert touchdown.descent_rate ** 2 + touchdown.horizontal_speed_over_ground ** 2 == pytest.approx(
+        touchdown.speed ** 2, rel=1e-12)
+    assert touchdown.horizontal_speed_over_ground == pytest.approx(5.0, abs=0.05)
     result.save(tmp_path / "run", plot=False)
-    event = next(e for e in pc.Result.load(tmp_path / "run").run_summary.events if e.kind == "touchdown")
-    assert (event.descent_rate, event.speed) == (touchdown["descent_rate"], touchdown["speed"])
+    assert pc.Result.load(tmp_path / "run").summary.touchdown == touchdown
 
 
 def test_a_saved_run_has_its_ground_track_and_the_overview_its_mach_and_pressure(probe, tmp_path):
@@ -151,5 +150,5 @@ def test_a_saved_run_has_its_ground_track_and_the_overview_its_mach_and_pressure
     assert labels == ["line tension (N)", "probe altitude (m)", "probe Mach number (-)",
                       "probe dynamic pressure (Pa)", "probe altitude (m)"]
     time_axes = plot_overview(result).axes[:4]
-    touchdown = touchdown_of(result)["time"]
+    touchdown = touchdown_of(result).time
     assert all(any(np.allclose(line.get_xdata(), touchdown) for line in ax.get_lines()) for ax in time_axes)

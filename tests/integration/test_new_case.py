@@ -17,6 +17,7 @@ from pchute_exudyn.physics.atmosphere import US76
 from pchute_exudyn.registries.methods import METHODS
 from pchute_exudyn.results.compare import compare_results, descent_metrics
 from pchute_exudyn.results.csv_dialects import parse_column_map, read_csv_columns
+from pchute_exudyn.results.summary import RunSummary
 from pchute_exudyn.run.step_control import stability_step
 from tests.helpers import ROOT
 
@@ -36,7 +37,7 @@ def payload(tmp_path_factory):
 def test_new_case_descends_at_the_closed_form_rate(payload):
     path, result = payload
     case = pc.load_case(path)
-    assert result.summary["end"] == "touchdown"
+    assert result.summary.end == "touchdown"
     mass = sum(body.mass for body in case.bodies.values()) + case.systems["main"].confluence.mass
     assert mass == pytest.approx(layout(NewCase(planet="earth", mass=100.0, drag_area=40.0)).total_mass, abs=1e-5)
     for altitude in (2500.0, 1500.0, 500.0):
@@ -245,7 +246,7 @@ def test_compare_against_rocketpy(payload, tmp_path, capsys):
 def test_a_map_with_nothing_to_compare_is_an_error(tmp_path, capsys):
     t = np.linspace(0.0, 10.0, 11)
     pc.Result({"time": t, "tension_reserve": np.full(11, np.nan), "vehicle_altitude": 100.0 - t},
-              summary={"case": "synthetic"}).save(tmp_path / "ours", plot=False)
+              summary=RunSummary.from_dict({"case": "synthetic"})).save(tmp_path / "ours", plot=False)
     theirs = tmp_path / "theirs.csv"
     theirs.write_text("time,T\n" + "".join(f"{v:g},{v:g}\n" for v in t))
     assert main(["compare", str(tmp_path / "ours"), str(theirs), "--map", "T=tension_reserve"]) == 1

@@ -19,7 +19,7 @@ LATITUDE = math.radians(33.0)
 def touchdown(overrides=()):
     """(fall time in s, east in m, north in m) at touchdown, the position interpolated to the event's time."""
     result = pc.simulate(pc.load_case(CASE, overrides), method="full", integrator="rk4", step=0.002)
-    time = next(e["time"] for e in result.summary["events"] if e["event"] == "touchdown")
+    time = result.summary.touchdown.time
     c = result.columns
     return time, float(np.interp(time, c["time"], c["ball_east"])), float(np.interp(time, c["time"], c["ball_north"]))
 

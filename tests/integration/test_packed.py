@@ -102,7 +102,7 @@ def _momentum(case, phase) -> np.ndarray:
 
 
 def _deploy_time(result) -> float:
-    return next(e["time"] for e in result.summary["events"] if e["event"] == "deploy")
+    return result.summary.events_of("deploy")[0].time
 
 
 @pytest.mark.parametrize("deploy", [FIXED, TRIGGERED], ids=["fixed", "triggered"])

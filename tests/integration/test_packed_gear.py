@@ -57,14 +57,13 @@ def test_every_phase_a_run_flies_has_the_mass_the_case_accounts(monkeypatch, nam
     built = recorded_phases(monkeypatch, "sp")
     case = load_case(ROOT / "cases" / name)
     result = simulate(case, "sp", duration=duration)
-    fired = {f"{e.get('system', e.get('body'))}.{e['event']}": e["time"] for e in result.summary["events"]
-             if e["event"] in ("deploy", "cutaway", "separation")}
+    fired = {e.name: e.time for e in result.summary.events if e.kind in ("deploy", "cutaway", "separation")}
     flown = with_event_times(case, {event: time for event, time in fired.items() if event in case.triggers})
     masses = [(phase.start, sum(case.mass_of(b, phase.start) for b in phase.bodies)
                + sum(case.systems[s].confluence.mass for s in phase.systems)) for case, phase in built]
     for start, mass in masses:
         assert mass == pytest.approx(suspended_mass(flown, start), rel=1e-14), (name, start)
-    deployed = [e["time"] for e in result.summary["events"] if e["event"] == "deploy"]
+    deployed = [e.time for e in result.summary.events_of("deploy")]
     assert deployed and len(built) > len(deployed)
     if not name.startswith("cev_pa1"):
         assert max(m for _, m in masses) == pytest.approx(min(m for _, m in masses), rel=1e-14)
@@ -95,7 +94,7 @@ def test_a_vehicle_stated_with_its_gear_flies_as_the_vehicle_stated_without_it(t
     original, restated = (simulate(c, "sp", duration=12.0) for c in (case, stated))
     for axis in ("altitude", "east", "north"):
         assert restated[f"rocket_{axis}"] == pytest.approx(original[f"rocket_{axis}"], abs=1e-6), axis
-    assert restated.summary["events"][1]["time"] == original.summary["events"][1]["time"]
+    assert restated.summary.events[1].time == original.summary.events[1].time
 
 
 @pytest.mark.parametrize("key, value, message", [

@@ -182,7 +182,7 @@ def test_a_study_whose_runs_all_failed_gets_a_report(tmp_path):
     path = tmp_path / "all.toml"
     path.write_text(STUDY.format(low=4.0, high=6.0).replace("runs = 8", "runs = 4"))
     counts = run_study(load_study(path), tmp_path / "all", workers=1, progress=False)
-    assert counts["planned"] == 4 and counts["failed"] == 4 and counts["executed"] == 4
+    assert counts.planned == 4 and counts.failed == 4 and counts.executed == 4
     report = study_report(tmp_path / "all")["report"].read_text()
     assert "| 4 | 4 | 0 | 4 | 0 | 100.0 % [51.0 %, 100.0 %] |" in report
     assert "No outputs: no run ended ok (4 failed)." in report and report.count("stability limit") == 4
@@ -198,8 +198,8 @@ def test_summary_records_the_failures_flown_and_the_planned_events(tmp_path, cap
                                    "cutaway": {"c3": 0.2}}
     assert summary["events_planned"] == {"main": {"deploy_time": 0.0, "cutaway_time": None}}
     plain = pc.simulate(pc.load_case(MER / "case1.toml"), "sp", step=1e-2, duration=0.2, history=False)
-    assert plain.summary["failures"] == {}
-    assert plain.summary["events_planned"] == {"main": {"deploy_time": None, "cutaway_time": None}}
+    assert plain.summary.failures == {}
+    assert plain.summary.events_planned == {"main": {"deploy_time": None, "cutaway_time": None}}
 
 
 def test_the_overview_has_rate_of_descent_against_altitude(tmp_path, capsys):

@@ -12,6 +12,7 @@ import pchute_exudyn as pc
 from pchute_exudyn.authoring.choices import NewCase
 from pchute_exudyn.authoring.layout import layout
 from pchute_exudyn.case.overrides import Scale, apply_override, tomllib
+from pchute_exudyn.results.summary import StartEvent
 from tests.helpers import ROOT
 
 CASE1 = ROOT / "cases" / "mer" / "case1.toml"
@@ -85,17 +86,17 @@ def test_a_released_cluster_opens_with_per_canopy_loads_and_settles(tmp_path):
     path.write_text(pc.new_case_text(**choices))
     result = pc.simulate(pc.load_case(path), "sp")
     summary = result.summary
-    assert summary["events"][0] == {"event": "start", "time": 0.0, "moving_with": "air",
-                                    "release": {"airspeed": 65.0, "heading_deg": 90.0, "flight_path_deg": 0.0}}
-    starts = [e for e in summary["events"] if e["event"] == "stage_start"]
-    assert [e["canopy"] for e in starts] == ["canopy1", "canopy2", "canopy3"]
-    assert all(e["time"] == pytest.approx(1.0) and e["speed"] == pytest.approx(65.0, rel=0.05) for e in starts)
-    for canopy, stages in summary["opening_loads"].items():
+    assert summary.events[0] == StartEvent(0.0, "air", {"airspeed": 65.0, "heading_deg": 90.0,
+                                                         "flight_path_deg": 0.0})
+    starts = summary.events_of("stage_start")
+    assert [e.canopy for e in starts] == ["canopy1", "canopy2", "canopy3"]
+    assert all(e.time == pytest.approx(1.0) and e.speed == pytest.approx(65.0, rel=0.05) for e in starts)
+    for canopy, stages in summary.opening_loads.items():
         (peak,) = stages[0]["peaks"].values()
-        assert 1.0 < peak["time"] < 1.0 + 1.25 * starts[0]["fill_time"]
+        assert 1.0 < peak["time"] < 1.0 + 1.25 * starts[0].fill_time
         assert peak["tension"] == pytest.approx(np.nanmax(result[f"tension_riser_{canopy}"]))   # the largest of the run
-    assert summary["end"] == "touchdown"
-    assert summary["descent"]["mean_rate"] == pytest.approx(layout(NewCase(**choices)).steady_rate(0.0), rel=0.01)
+    assert summary.end == "touchdown"
+    assert summary.descent.mean_rate == pytest.approx(layout(NewCase(**choices)).steady_rate(0.0), rel=0.01)
 
 
 def test_a_relative_dispersion_scales_a_coefficient_tables_values():

@@ -89,7 +89,7 @@ def test_an_adaptive_descent_settles_on_the_closed_form_rate(tmp_path, layout):
     result = pc.simulate(case, "sp")
     steady = math.sqrt(2.0 * mass * 9.81 / (1.0 * 0.8 * 50.0))
     assert result.final("vehicle_velocity_down") == pytest.approx(steady, rel=1e-4)
-    steps = result.summary["step_control"]
+    steps = result.summary.step_control
     assert steps["smallest"] <= 2e-3 and steps["largest"] >= 0.08, steps
     times = result["time"]   # steady: every step end a sample, each at least 0.04 s after the last (the run's own
     assert np.diff(times[(times > 20.0) & (times < 29.0)]).min() >= 0.04   # last step is cut to end at 30 s)
@@ -109,10 +109,10 @@ def test_a_sampled_trigger_fires_on_its_own_sample_time(tmp_path):
     events = {}
     for step in ("auto", 0.01):
         summary = pc.simulate(triggered, "sp", "rk4", step, 10.0).summary
-        deploy = next(e for e in summary["events"] if e["event"] == "deploy")
-        events[step] = deploy["time"]
-        assert deploy["trigger"]["time"] * 20.0 == pytest.approx(round(deploy["trigger"]["time"] * 20.0), abs=1e-6)
-        assert deploy["time"] == pytest.approx(deploy["trigger"]["time"] + 0.3, abs=1e-9)
+        deploy = summary.events_of("deploy")[0]
+        events[step] = deploy.time
+        assert deploy.trigger["time"] * 20.0 == pytest.approx(round(deploy.trigger["time"] * 20.0), abs=1e-6)
+        assert deploy.time == pytest.approx(deploy.trigger["time"] + 0.3, abs=1e-9)
     # falling freely from rest: 10 m below the start after sqrt(2 h / g) = 1.428 s, sampled at 1.45 s
     assert events["auto"] == pytest.approx(1.45 + 0.3, abs=1e-9) and events[0.01] == pytest.approx(events["auto"])
 
@@ -129,7 +129,8 @@ def test_adaptive_steps_are_asked_for_by_name_and_a_wrong_step_is_one_line(tmp_p
     err = capsys.readouterr().err.strip()
     assert err == ("pchute run: error: step (--dt) = 'fast': must be a number > 0 (s) or 'auto' (adaptive steps)")
     fixed = pc.simulate(case, "sp", "rk4", 0.01, 2.0).summary
-    assert "step_control" not in fixed and fixed["step"] == 0.01 and fixed["steps"] == 200
+    assert fixed.step_control is None and "step_control" not in fixed.to_dict()
+    assert fixed.step == 0.01 and fixed.steps == 200
 
 
 def test_nearly_collinear_bridles_under_the_massless_preset_stop_with_the_layout_and_its_remedy(tmp_path):
@@ -161,4 +162,4 @@ def test_a_study_configuration_takes_adaptive_steps(tmp_path):
     study.write_text('[study]\nname = "steps"\ncase = "steady.toml"\n[[study.configurations]]\nmethod = "sp"\n'
                      'steps = ["auto", 0.01]\n[parameters."vehicle.mass"]\nvalues = [100.0]\n')
     counts = run_study(load_study(study), tmp_path / "out", None, 1, progress=False)
-    assert counts["failed"] == 0 and counts["executed"] == 2
+    assert counts.failed == 0 and counts.executed == 2

@@ -131,7 +131,7 @@ steps = [1e-2, 0.05]
     spec = load_study(write_study(tmp_path, text=text))
     counts = run_study(spec, tmp_path / "steps", workers=2, progress=False)
     rows = {(r["method"], float(r["step"])): r for r in study_runs(tmp_path / "steps")}
-    assert counts["failed"] == 2 and counts["executed"] == 4
+    assert counts.failed == 2 and counts.executed == 4
     assert rows[("full", 1e-3)]["status"] == "failed" and "stability limit" in rows[("full", 1e-3)]["error"]
     assert rows[("sp", 0.05)]["status"] == "failed" and "stability limit" in rows[("sp", 0.05)]["error"]
     assert rows[("full", 1e-4)]["status"] == "ok" and rows[("sp", 0.01)]["status"] == "ok"
@@ -139,7 +139,7 @@ steps = [1e-2, 0.05]
     assert "Failed runs" in paths["report"].read_text()
     # --retry-failed runs only the failed ones again; the table keeps one row per run, the latest record
     again = run_study(spec, tmp_path / "steps", workers=2, progress=False, retry_failed=True)
-    assert again["skipped"] == 2 and again["executed"] == 2 and again["failed"] == 2
+    assert again.skipped == 2 and again.executed == 2 and again.failed == 2
     assert sorted(int(r["run"]) for r in study_runs(tmp_path / "steps")) == [0, 1, 2, 3]
 
 
@@ -149,7 +149,8 @@ def test_a_retried_run_keeps_its_latest_record(tmp_path):
              {"run": 0, "status": "ok", "error": ""}]
     (tmp_path / "runs.jsonl").write_text("".join(json.dumps(r) + "\n" for r in lines) + '{"run": 2, "sta')
     records = StudyStore.load_records(tmp_path)
-    assert sorted(records) == [0, 1] and records[0]["status"] == "ok"      # the torn last line is ignored
+    assert sorted(records) == [0, 1] and records[0].status == "ok"      # the torn last line is ignored
+    assert records[1].to_dict() == {"run": 1, "status": "ok"}            # read back as written (no entry added)
 
 
 def test_report_of_a_grid_with_a_reference(tmp_path):
@@ -284,7 +285,7 @@ def test_a_dask_worker_killed_mid_study_loses_and_duplicates_no_run(tmp_path):
         counts = run_study(spec, out, client.get_executor(pure=False), progress=False)
         killer.join()
     runs = [json.loads(line)["run"] for line in (out / "runs.jsonl").read_text().splitlines()]
-    assert killed and counts["executed"] == 16
+    assert killed and counts.executed == 16
     assert sorted(runs) == list(range(16))                    # every run once: none lost, none twice
     assert all(row["status"] == "ok" for row in study_runs(out))
 
@@ -299,8 +300,8 @@ def test_a_run_without_history_skips_only_columns_nothing_reads():
     assert "capsule_mach" in full and "capsule_mach" not in lean and "capsule_wind_east" not in lean
     assert "main_canopy_altitude" in full and "main_canopy_altitude" not in lean and lean.scene is None
     timing = ("wall_time", "steps_per_second", "created", "units")
-    assert repr({k: v for k, v in full.summary.items() if k not in timing}) == \
-        repr({k: v for k, v in lean.summary.items() if k not in timing})
+    assert repr({k: v for k, v in full.summary.to_dict().items() if k not in timing}) == \
+        repr({k: v for k, v in lean.summary.to_dict().items() if k not in timing})
     assert repr(scalar_outputs(full)) == repr(scalar_outputs(lean))
     for name in lean.names:
         assert np.array_equal(full[name], lean[name], equal_nan=True), name

@@ -4,8 +4,10 @@ in the report's percentile table, and the deployment box figure (Mach number aga
 import csv
 import json
 import math
+from dataclasses import replace
 
 import pchute_exudyn as pc
+from pchute_exudyn.results.summary import RunSummary
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.report import output_label, study_report
 from pchute_exudyn.study.runner import scalar_outputs, sequence_outputs
@@ -57,6 +59,7 @@ def test_sequence_outputs_of_a_synthetic_summary():
                                         "clearance_after": 2.0},
                         "backshell": {"time": 40.0, "relative_speed": 0.5, "clearance": None,
                                       "clearance_after": 2.0}}}
+    summary = RunSummary.from_dict(summary)   # a summary.json of a run, read back (what it lacks is None)
     assert sequence_outputs(summary) == {
         "deploy_mach_main": 0.14, "deploy_dynamic_pressure_main": 1065.0, "deploy_altitude_main": 1995.0,
         "deploy_time_main": 9.5,
@@ -64,7 +67,7 @@ def test_sequence_outputs_of_a_synthetic_summary():
         "deploy_time_reserve": 20.0,
         "separation_time_heat_shield": 29.5, "separation_clearance_heat_shield": 12.5,
         "separation_time_backshell": 40.0, "separation_clearance_backshell": None}
-    assert sequence_outputs({"events": summary["events"][:3]}) == {}   # nothing triggered: no new columns
+    assert sequence_outputs(replace(summary, events=summary.events[:3], separations={})) == {}   # nothing triggered
     labels = [output_label(name) for name in sequence_outputs(summary)][:4]
     assert labels == ["deploy_altitude_main (m)", "deploy_mach_main (-)", "deploy_dynamic_pressure_main (Pa)",
                       "deploy_time_main (s)"]   # the recorded quantities in their table's order (registries.quantities)
@@ -75,7 +78,7 @@ def test_sequence_outputs_of_a_synthetic_summary():
 def test_a_run_without_triggers_keeps_its_columns():
     case = pc.load_case(ROOT / "cases" / "cev_pa1.toml", {"simulation.duration": 10.0})   # both systems deploy
     result = pc.simulate(case, "sp")
-    assert [e["system"] for e in result.summary["events"] if e["event"] == "deploy"] == ["drogue", "main"]
+    assert [e.system for e in result.summary.events_of("deploy")] == ["drogue", "main"]
     assert not [k for k in scalar_outputs(result) if k.startswith(("deploy_", "separation_"))]
 
 
@@ -125,7 +128,7 @@ def test_a_small_triggered_study_keeps_the_deployment_conditions(tmp_path):
     study = tmp_path / "study.toml"
     study.write_text(STUDY.format(case=case.as_posix()))
     counts = run_study(load_study(study), tmp_path / "out", workers=2, progress=False)
-    assert counts["executed"] == 4 and counts["failed"] == 0
+    assert counts.executed == 4 and counts.failed == 0
     with open(tmp_path / "out" / "runs.csv", newline="") as handle:
         rows = list(csv.DictReader(handle))
     for row in rows:

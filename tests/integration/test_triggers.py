@@ -56,8 +56,8 @@ def _vacuum(tmp_path: Path, trigger: str, altitude=3000.0, down=0.0, duration=12
     return load_case(path)
 
 
-def _separation(result) -> dict:
-    return next(e for e in result.summary["events"] if e["event"] == "separation")
+def _separation(result):
+    return result.summary.events_of("separation")[0]
 
 
 @pytest.mark.parametrize("rate, lag", [(None, 0.0), (None, 0.37), (20.0, 0.25)])
@@ -67,19 +67,19 @@ def test_an_altitude_trigger_fires_at_the_analytic_crossing_plus_the_lag(tmp_pat
     event = _separation(simulate(case))
     crossing = math.sqrt(2.0 * 300.0 / G)   # 7.82 s
     if rate is None:   # every step, the crossing interpolated (cubic Hermite: exact under constant gravity)
-        assert event["trigger"]["time"] == pytest.approx(crossing, abs=1e-9)
+        assert event.trigger["time"] == pytest.approx(crossing, abs=1e-9)
     else:              # the first sample at or after the crossing
-        assert 0.0 <= event["trigger"]["time"] - crossing <= 1.0 / rate
-    assert event["time"] == pytest.approx(event["trigger"]["time"] + lag, abs=1e-12)   # the lag exactly
-    assert event["trigger"]["true"] == pytest.approx(2700.0, abs=1e-6 if rate is None else G * crossing / rate)
-    assert event["time"] == pytest.approx(crossing + lag, abs=1e-9 if rate is None else 1.0 / rate)
+        assert 0.0 <= event.trigger["time"] - crossing <= 1.0 / rate
+    assert event.time == pytest.approx(event.trigger["time"] + lag, abs=1e-12)   # the lag exactly
+    assert event.trigger["true"] == pytest.approx(2700.0, abs=1e-6 if rate is None else G * crossing / rate)
+    assert event.time == pytest.approx(crossing + lag, abs=1e-9 if rate is None else 1.0 / rate)
 
 
 def test_an_apogee_trigger_fires_at_v0_over_g(tmp_path):
     case = _vacuum(tmp_path, '{ quantity = "apogee" }', down=-30.0, duration=5.0)
     event = _separation(simulate(case))
-    assert event["time"] == pytest.approx(30.0 / G, abs=1e-9)
-    assert abs(event["trigger"]["true"]) < 1e-9
+    assert event.time == pytest.approx(30.0 / G, abs=1e-9)
+    assert abs(event.trigger["true"]) < 1e-9
 
 
 def test_a_separation_conserves_momentum_and_parts_at_its_speed(tmp_path):
@@ -92,7 +92,7 @@ def test_a_separation_conserves_momentum_and_parts_at_its_speed(tmp_path):
     assert np.linalg.norm(shield - vehicle) == pytest.approx(2.0, rel=1e-9)
     pair = (100.0 * vehicle + 25.0 * shield) / 125.0   # the pair's centre of mass falls freely
     assert pair == pytest.approx([0.0, 0.0, G * result["time"][i]], abs=1e-9)
-    assert result.summary["separations"]["shield"]["relative_speed"] == 2.0
+    assert result.summary.separations["shield"].relative_speed == 2.0
 
 
 def noise_draws(draws: int = 500) -> tuple:
@@ -140,15 +140,15 @@ PA1_TRIGGERS = ROOT / "cases" / "cev_pa1_triggers.toml"
 
 
 def _events(result) -> dict:
-    return {(e["event"], e.get("system")): e["time"] for e in result.summary["events"]
-            if e["event"] in ("deploy", "cutaway", "touchdown")}
+    return {(e.kind, getattr(e, "system", None)): e.time for e in result.summary.events
+            if e.kind in ("deploy", "cutaway", "touchdown")}
 
 
 @pytest.mark.parametrize("method", ["sp", pytest.param("full", marks=pytest.mark.slow)])
 def test_pa1_by_triggers_reproduces_its_fixed_sequence(method):
     fixed = _events(simulate(load_case(PA1), method=method))
     triggered = simulate(load_case(PA1_TRIGGERS), method=method)
-    assert not triggered.summary["warnings"]
+    assert not triggered.summary.warnings
     events = _events(triggered)
     assert events.keys() == fixed.keys()
     for key, time in fixed.items():
@@ -171,14 +171,15 @@ def test_a_user_function_equal_to_the_builtin_trigger_gives_the_same_run_bitwise
     assert list(user.columns) == list(builtin.columns)
     for name in builtin.columns:
         assert np.array_equal(user[name], builtin[name], equal_nan=True), name
-    assert next(e for e in user.summary["events"] if e.get("system") == "main")["trigger"]["quantity"] == "function"
+    assert next(e for e in user.summary.events if getattr(e, "system", None) == "main").trigger["quantity"] == \
+        "function"
 
 
 def test_a_trigger_that_never_fires_is_a_warning(tmp_path):
     case = _vacuum(tmp_path, '{ quantity = "altitude", below = 100.0, rate = 10.0 }', duration=1.0)
     result = simulate(case)
-    assert result.summary["warnings"] == ["separations.shield.trigger never fired (altitude below 100) in the 1 s run"]
-    assert "shield" not in result.summary.get("separations", {})
+    assert result.summary.warnings == ("separations.shield.trigger never fired (altitude below 100) in the 1 s run",)
+    assert "shield" not in result.summary.separations
 
 
 PA1_INFLATION = ROOT / "cases" / "cev_pa1_inflation.toml"
@@ -199,15 +200,15 @@ def test_disreefs_by_triggers_time_the_stages_as_their_fixed_starts(tmp_path):
                                              'delay = 8.0 }]\n')
     fixed = simulate(load_case(PA1_INFLATION), method="sp", duration=30.0)
     triggered = simulate(load_case(path), method="sp", duration=30.0)
-    stages = [[(e["event"], e["stage"], e["time"], e["fill_time"]) for e in r.summary["events"]
-               if e["event"] in ("stage_start", "disreef") and e["system"] == "main"] for r in (fixed, triggered)]
+    stages = [[(e.kind, e.stage, e.time, e.fill_time) for e in r.summary.events
+               if e.kind in ("stage_start", "disreef") and e.system == "main"] for r in (fixed, triggered)]
     assert [s[:2] for s in stages[0]] == [s[:2] for s in stages[1]] == [("stage_start", 1), ("disreef", 2),
                                                                           ("disreef", 3)]
     for a, b in zip(*stages):
         assert b[2] == pytest.approx(a[2], abs=1e-9) and b[3] == pytest.approx(a[3], rel=1e-9)
     np.testing.assert_allclose(triggered["tension_main_riser"], fixed["tension_main_riser"], rtol=1e-6, atol=1e-3)
-    disreef = next(e for e in triggered.summary["events"] if e["event"] == "disreef" and e["stage"] == 3)
-    assert disreef["trigger"]["event"] == "main.disreef2"
+    disreef = next(e for e in triggered.summary.events_of("disreef") if e.stage == 3)
+    assert disreef.trigger["event"] == "main.disreef2"
 
 
 def test_a_canopy_cut_away_by_a_sensed_trigger_leaves_at_the_firing_time(tmp_path):
@@ -217,13 +218,13 @@ def test_a_canopy_cut_away_by_a_sensed_trigger_leaves_at_the_firing_time(tmp_pat
     path = _written(tmp_path, PA1_CLUSTER, '[failures.cutaway_trigger]\nmain3 = { quantity = "altitude", '
                                            'below = 1700.0, rate = 10.0, lag = 0.3 }\n')
     result = simulate(load_case(path), method="sp", duration=25.0)
-    cut = next(e for e in result.summary["events"] if e["event"] == "cutaway" and e.get("canopy") == "main3")
-    record = cut["trigger"]
-    assert cut["time"] == pytest.approx(record["time"] + 0.3, abs=1e-12)
+    cut = next(e for e in result.summary.events_of("cutaway") if e.canopy == "main3")
+    record = cut.trigger
+    assert cut.time == pytest.approx(record["time"] + 0.3, abs=1e-12)
     assert record["true"] <= 1700.0 and record["time"] == pytest.approx(round(record["time"] * 10) / 10, abs=1e-9)
     i = int(np.searchsorted(result["time"], record["time"] - 0.1 - 1e-9))   # the sample before: still above
     assert result["capsule_altitude"][i] > 1700.0
-    after = result["time"] > cut["time"] + 0.5
+    after = result["time"] > cut.time + 0.5
     assert np.isnan(result["tension_main_riser3"][after]).all() and np.isfinite(result["tension_main_riser1"][after]).all()
 
 
@@ -290,7 +291,7 @@ def test_a_cut_away_trigger_senses_only_once_its_system_is_out(tmp_path):
     path = _written(tmp_path, PA1, 'remove = ["systems.drogue.cutaway_time"]\n[systems.drogue]\n'
                                    'cutaway_trigger = { quantity = "speed", below = 1000.0, rate = 20.0 }\n')
     result = simulate(load_case(path), method="sp", duration=6.0)
-    events = {e["event"]: e["time"] for e in result.summary["events"] if e.get("system") == "drogue"}
+    events = {e.kind: e.time for e in result.summary.events if getattr(e, "system", None) == "drogue"}
     assert events["deploy"] == 3.5 and 3.5 < events["cutaway"] <= 3.5 + 0.05
 
 
@@ -298,11 +299,11 @@ def test_a_trigger_firing_in_the_touchdown_step_is_kept_when_it_comes_first(tmp_
     path = _written(tmp_path, PA1_TRIGGERS, '[failures.cutaway_trigger]\nmain_canopy = { quantity = "altitude", '
                                             'below = 0.02, reference = "ground" }\n')
     result = simulate(load_case(path), method="sp")
-    events = {e["event"]: e for e in result.summary["events"] if e["event"] in ("cutaway", "touchdown")
-              and e.get("canopy", "main_canopy") == "main_canopy"}
-    assert not result.summary["warnings"]
-    assert events["cutaway"]["time"] < events["touchdown"]["time"]
-    assert events["cutaway"]["trigger"]["true"] == pytest.approx(0.02, abs=1e-6)
+    events = {e.kind: e for e in result.summary.events if e.kind in ("cutaway", "touchdown")
+              and (getattr(e, "canopy", None) or "main_canopy") == "main_canopy"}
+    assert not result.summary.warnings
+    assert events["cutaway"].time < events["touchdown"].time
+    assert events["cutaway"].trigger["true"] == pytest.approx(0.02, abs=1e-6)
 
 
 def test_a_separation_at_the_start_leaves_from_the_vehicles_own_state(tmp_path):
@@ -335,8 +336,8 @@ def test_an_apogee_trigger_fires_at_the_first_sample_from_a_start_at_or_past_apo
     case = _vacuum(tmp_path, '{ quantity = "apogee", rate = 20.0, lag = 0.5 }', down=down, duration=1.0)
     assert not case.warnings
     event = _separation(simulate(case))
-    assert event["trigger"]["time"] == pytest.approx(0.01, abs=1e-12)
-    assert event["time"] == pytest.approx(0.01 + 0.5, abs=1e-12)
+    assert event.trigger["time"] == pytest.approx(0.01, abs=1e-12)
+    assert event.time == pytest.approx(0.01 + 0.5, abs=1e-12)
 
 
 ROCKET = ROOT / "cases" / "rocket" / "dual_deploy.toml"

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.results.summary import TouchdownEvent, event_from_dict, touchdown_text
+from pchute_exudyn.results.summary import RunSummary, TouchdownEvent, event_from_dict, touchdown_text
 from pchute_exudyn.views.plotting import event_marks
 
 
@@ -32,12 +32,12 @@ def test_a_summary_from_before_the_split_reads_back_without_it():
     event = event_from_dict(old)
     assert isinstance(event, TouchdownEvent) and event.descent_rate is None
     assert event.to_dict() == old
-    assert touchdown_text([old]) == ""
+    assert touchdown_text(event) == "" and touchdown_text(None) == ""
 
 
 def test_the_run_line_names_each_speed():
-    event = TouchdownEvent.from_crossing(440.0, [5.0, 0.0, -6.06], [0.0, 0.0, -1.0]).to_dict()
-    assert touchdown_text([event]) == ("; at touchdown descent rate 6.06 m/s, horizontal speed 5.00 m/s, total speed "
+    event = TouchdownEvent.from_crossing(440.0, [5.0, 0.0, -6.06], [0.0, 0.0, -1.0])
+    assert touchdown_text(event) == ("; at touchdown descent rate 6.06 m/s, horizontal speed 5.00 m/s, total speed "
                                        "7.86 m/s (over the ground)")
 
 
@@ -48,7 +48,7 @@ def test_the_figures_mark_deployments_separations_cutaways_disreefs_and_the_touc
               {"event": "separation", "time": 22.75, "body": "heat_shield"},
               {"event": "cutaway", "time": 30.0, "system": "drogue"},
               {"event": "descent_rate", "time": 40.0, "value": 9.144}, {"event": "touchdown", "time": 112.3}]
-    assert event_marks({"events": events}) == [(2.75, "main deployment"), (8.0, "main_a disreef 2"),
+    assert event_marks(RunSummary.from_dict({"events": events})) == [(2.75, "main deployment"), (8.0, "main_a disreef 2"),
                                                (22.75, "heat_shield separation"), (30.0, "drogue cut-away"),
                                                (112.3, "touchdown")]
 
