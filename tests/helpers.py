@@ -18,7 +18,6 @@ ROOT = Path(__file__).resolve().parents[1]
 """The repository root."""
 MER = ROOT / "cases" / "mer"
 TEST_CASES = ROOT / "tests" / "cases"
-TEST_DATA = ROOT / "tests" / "data"
 
 
 def cli_environment(env: dict | None = None) -> dict:

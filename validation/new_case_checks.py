@@ -37,7 +37,7 @@ OUT = HERE / "output" / "new_case"
 ROCKETPY = HERE / "rocketpy" / "descent.csv"
 CHOICES = ["--planet", "earth", "--mass", "100", "--drag-area", "40", "--altitude", "3000", "--name", "payload"]
 ALTITUDES = (2500.0, 1500.0, 500.0)
-MU, RADIUS, DRAG_AREA = 3.986004418e14, 6378137.0, 40.0
+RADIUS, DRAG_AREA = 6378137.0, 40.0
 RUNS = [("sp", "rk4", None), ("full", "implicit", None), ("full", "rk4", 20.0), ("equilibrium", "rk4", 20.0)]
 ROCKETPY_MAP = ["Z=vehicle_altitude", "Vz=vehicle_velocity_down*-1"]
 

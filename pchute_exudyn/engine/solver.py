@@ -110,16 +110,11 @@ ROUND_OFF = 1e-6
 """Fraction of a step below which two times count as the same (Exudyn's accumulated time drifts by ~1e-10 s)."""
 
 
-def grid_time(t: float, start: float, step: float, output_step: float) -> float:
-    """The time (s) to record for a sample taken at solver time ``t``: the step's own time start + n step, and the
-    output grid's k output_step when it falls there, free of the solver's accumulated round-off and printed to 15
-    significant digits (55.41, not 55.409999999997545). A time off both (an implicit run's shortened step) is kept."""
-    return grid_times([t], start, step, output_step)[0]
-
-
 def grid_times(times, start: float, step: float, output_step: float) -> list:
-    """``grid_time`` of each of ``times`` (s), in one pass over arrays (Python's round and numpy's rint both round
-    half to even: the same times)."""
+    """The times (s) to record for samples taken at solver times ``times``: each step's own time start + n step, and
+    the output grid's k output_step when it falls there, free of the solver's accumulated round-off and printed to 15
+    significant digits (55.41, not 55.409999999997545); a time off both (an implicit run's shortened step) is kept.
+    One pass over arrays (numpy's rint rounds half to even, as Python's round)."""
     t = np.asarray(times, float)
     exact = start + np.rint((t - start) / step) * step
     k_output = np.rint(exact / output_step) * output_step
@@ -235,7 +230,7 @@ def _post_step_function(model: Model, clock, end: float, output_step: float, pro
             margin = clock.margin(taken)
             if stop or t >= next_sample[0] - margin or t >= end - margin:
                 rows.append([read() for read in reads])
-                times.append(t)   # solver time; a fixed step's grid_time after the run
+                times.append(t)   # solver time; a fixed step's grid_times after the run
                 last[0] = t
                 next_sample[0] = clock.next_sample(t, output_step)
             if stop:

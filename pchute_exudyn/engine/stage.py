@@ -88,7 +88,6 @@ class Stage:
         else:             # (mu, planet centre) or (0, uniform g)
             self.gravity, self._add_gravity = case.start.gravity_parameters(), bound(add_gravity_forces)
         self._step_states = bound(body_states)      # from the engine's state, after a step
-        self.has_item = False
 
     def _set_reference(self, case: Case, name: str) -> None:
         row = self.row[name]
@@ -152,7 +151,6 @@ class Stage:
         self.model.mbs.AddObject(eii.ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=force,
                                                        jacobianUserFunction=lambda *args: zero,
                                                        visualization=eii.VObjectGenericODE2(show=False)))
-        self.has_item = True
 
     def take_over_gravity(self) -> None:
         """The fused stage kernel adds the free bodies' gravity itself (``physics.kinematics.add_gravity_forces``,

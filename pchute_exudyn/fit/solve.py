@@ -25,14 +25,10 @@ from ..results.io import atomic_write_text, json_text
 from ..results.journal import RecordFolder, digests, writing
 from ..study.runner import stop_pool, worker_pool
 from .evaluate import Evaluation, evaluate
-from .spec import MAX_RUNS, FitSpec
+from .spec import FitSpec
 
 DIFFERENCE_STEP = 1e-3
 """Forward-difference step in the scaled coordinates (a thousandth of each key's bound range)."""
-MAX_EVALUATIONS = MAX_RUNS
-"""The default budget of runs (Jacobian runs included; ``[fit] max_runs``) after which the fit stops and reports the
-best point it reached."""
-
 
 class FitStore(RecordFolder):
     """The fit folder: ``fit.toml`` (a copy), ``manifest.json`` (fingerprint and the digests of the files the fit

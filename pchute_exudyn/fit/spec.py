@@ -45,7 +45,6 @@ from ..errors import CaseError, InputError
 from ..results.csv_dialects import map_columns, parse_column_map, read_csv_columns, time_problem
 from ..study.spec import Configuration, read_configuration
 
-EVENT_HELP = "start, deploy <system>, cutaway <system>, separation <body>, descent_rate, touchdown"
 MAX_RUNS = 200
 """The default budget of runs (``[fit] max_runs``; Jacobian runs included) after which the fit stops and reports
 the best point it reached."""

@@ -284,7 +284,6 @@ def _us76_layer_table():
 
 
 _US76 = _us76_layer_table()
-_US76_BASES = tuple(layer[0] for layer in _US76)
 
 
 @dataclass(frozen=True)

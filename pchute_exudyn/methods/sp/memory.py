@@ -28,7 +28,6 @@ LAYOUT_FREE_LENGTH, LAYOUT_STIFFNESS, LAYOUT_DAMPING, LAYOUT_TABLE = (POINT_COLU
                                                                       POINT_COLUMNS + 2, POINT_COLUMNS + 3)
 """The columns of a line's layout row after its attach point's: L0 (m), K (N/m), C (N s/m) and the number of points
 of its load-elongation table (0: linear)."""
-LAYOUT_COLUMNS = POINT_COLUMNS + 4
 
 
 def line_layout(points: np.ndarray, laws) -> np.ndarray:
@@ -111,11 +110,6 @@ SOLVED_VELOCITY, SOLVED_DAMPING, SOLVED_KAPPA, SOLVED_TAUT = 0, 3, 4, 5
 RECORD_POSITION, RECORD_VELOCITY, RECORD_DAMPING, RECORD_KAPPA, RECORD_TAUT, RECORD_TENSIONS = 0, 3, 6, 7, 8, 9
 
 
-def record_size(states, lines: int) -> int:
-    """Length of an SP confluence's end-of-step record (``stepping._record``) for ``states`` and ``lines`` lines."""
-    return states.size + RECORD_TENSIONS + lines
-
-
 # -- the same by name, for Python ----------------------------------------------------------------------------------
 
 class _Row:
@@ -166,7 +160,6 @@ class Memory:
     clock = _Row(MEMORY_CLOCK)
     run = _Row(MEMORY_RUN)
     end_velocity = _Row(MEMORY_END)
-    end_solve = _Row(MEMORY_END_SOLVE)
     canopy = _Row(MEMORY_CANOPY)
     air = _Row(MEMORY_AIR)
     normal_gravity = _Row(MEMORY_NORMAL, 4)
