@@ -163,7 +163,7 @@ def _run_case(args, figure) -> int:
 
 
 def _add_new(subparsers) -> None:
-    from .authoring.options import choice_fields, command_help
+    from .authoring.command_help import choice_fields, command_help
     from .authoring.planets import PLANETS
     from .registries.canopy_types import CANOPY_TYPES
 

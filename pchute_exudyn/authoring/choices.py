@@ -1,6 +1,6 @@
 """The choices of a new case (``NewCase``), each checked when made: one InputError line naming the field, its value
 and what is allowed. Everything a written case holds follows from them (``authoring.layout``, ``authoring.descent``,
-``authoring.rocket``); their descriptions are also ``pchute new``'s help (``authoring.options``)."""
+``authoring.rocket``); their descriptions are also ``pchute new``'s help (``authoring.command_help``)."""
 
 from __future__ import annotations
 

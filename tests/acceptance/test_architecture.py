@@ -388,3 +388,39 @@ def test_the_unit_tier_fails_a_test_over_its_budget(tmp_path):
         assert re.search(rf"::{name} took [0-9.]+ s of processor time and [0-9.]+ s on the clock: {re.escape(budget)}",
                          run.stdout), run.stdout
     assert "its own failure" in run.stdout
+
+
+# -- docs/architecture.md names the modules as they are (issue 54) ----------------------------------------------------
+
+DOC_MODULE = re.compile(r"`([A-Za-z0-9_./-]+\.py)`")
+"""A module named on the page: a path in backticks, relative to the package (or to the repository)."""
+
+
+def _package_modules() -> set:
+    """Every module of the package by its path from the package folder (a subpackage by its modules)."""
+    return {str(path.relative_to(PACKAGE)) for path in PACKAGE.rglob("*.py") if "_compiled" not in path.parts
+            and not (path.name == "__init__.py" and path.parent != PACKAGE)}
+
+
+def test_docs_architecture_names_every_module_and_only_modules_that_exist():
+    named = set(DOC_MODULE.findall((ROOT / "docs" / "architecture.md").read_text()))
+    missing = sorted(name for name in named if not (PACKAGE / name).is_file() and not (ROOT / name).is_file())
+    unnamed = sorted(_package_modules() - named)
+    assert not missing, f"docs/architecture.md names modules that do not exist: {missing}"
+    assert not unnamed, f"modules docs/architecture.md does not name: {unnamed}"
+
+
+PARALLEL = {"spec.py": {"study", "fit"}, "report.py": {"study", "fit"}}
+"""The names two parallel packages share on purpose: a study's and a fit's input file and report."""
+
+
+def test_each_module_name_once():
+    """No two modules of the package share a name (issue 54: triggers, aerodynamics, reduced_canopy, step_control and
+    model were each written in two or three layers), but for the parallel packages study/ and fit/."""
+    by_name: dict = {}
+    for module in _package_modules():
+        path = Path(module)
+        if path.name != "__init__.py":
+            by_name.setdefault(path.name, set()).add(str(path.parent))
+    shared = {name: folders for name, folders in by_name.items() if len(folders) > 1 and PARALLEL.get(name) != folders}
+    assert not shared, shared

@@ -274,7 +274,7 @@ class SPConfluence(ReducedConfluence):
         return self.solution
 
     def velocity(self):
-        return self.settled().end_of_step[:3]
+        return self.settled().memory.end_velocity.tolist()
 
     def tension_reader(self, i: int):
         def tension():
