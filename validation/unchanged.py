@@ -87,7 +87,8 @@ def record(out: Path) -> None:
     for i, (label, case_file, options) in enumerate(RUNS):
         result = pc.simulate(pc.load_case(Path.cwd() / case_file), **options)
         np.savez(out / f"{i:02d}.npz", **{k: np.asarray(v) for k, v in result.columns.items()})
-        summary = {k: v for k, v in result.summary.items() if k not in MACHINE}
+        written = result.summary if isinstance(result.summary, dict) else result.summary.to_dict()   # either API
+        summary = {k: v for k, v in written.items() if k not in MACHINE}
         (out / f"{i:02d}.json").write_text(json.dumps(summary, default=str))
         print(f"  {label}", flush=True)
 
