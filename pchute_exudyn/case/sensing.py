@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from ..physics.atmosphere import pressure_of
+from ..physics.atmosphere import GAMMA_AT, pressure_of
 from ..registries.quantities import derive_quantities
 from .model import Case
 
@@ -25,7 +25,7 @@ def true_values(case: Case, position, velocity, time: float, air_motion=None) ->
     air = velocity - np.array(air_motion(x, y, z, altitude, time))
     airspeed = float(np.linalg.norm(air))
     density, sound = case.atmosphere.state(altitude) if case.atmosphere is not None else (0.0, math.nan)
-    gamma = case.atmosphere.kernel_parameters()[2] if case.atmosphere is not None else 1.4
+    gamma = case.atmosphere.kernel_parameters()[GAMMA_AT] if case.atmosphere is not None else 1.4
     truth = {"altitude": altitude, "altitude_ground": altitude - case.simulation.ground_elevation,
              "pressure": pressure_of(density, sound, gamma), "density": density, "speed_of_sound": sound,
              "vertical_velocity": -float(np.dot(case.start.down(np.array([x, y, z])), velocity)),
@@ -38,7 +38,7 @@ def true_values(case: Case, position, velocity, time: float, air_motion=None) ->
 
 def pressure_function(case: Case):
     """h (m) -> (pressure in Pa, density in kg/m^3) of the case's atmosphere (``physics.atmosphere.pressure_of``)."""
-    gamma = case.atmosphere.kernel_parameters()[2]
+    gamma = case.atmosphere.kernel_parameters()[GAMMA_AT]
 
     def pressure_at(altitude: float) -> tuple:
         density, sound = case.atmosphere.state(altitude)

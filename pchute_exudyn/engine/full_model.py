@@ -23,7 +23,8 @@ from .state import Phase, TensionChannel
 esym = exu.symbolic
 LINE_COLOUR = [0.1, 0.1, 0.6, 1.0]   # lines in Exudyn's viewer
 SYMBOLIC = Arithmetic(lambda: esym.Real(0.0), esym.max,
-                      lambda stretch, value: esym.IfThenElse(stretch > 0, value, esym.Real(0.0)))
+                      lambda stretch, value: esym.IfThenElse(stretch > 0, value, esym.Real(0.0)),
+                      lambda stretch, free_length: stretch * (1.0 / free_length))
 """Exudyn's symbolic expressions as the arithmetic the line law is written in (``LineLaw.expression``)."""
 
 

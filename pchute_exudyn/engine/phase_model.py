@@ -69,7 +69,7 @@ class Confluence:
 
     def relax(self, relaxation_time: float) -> None:
         """Damp the lines at least ``relaxation_time`` (s) times their stiffness from the coming step on (adaptive
-        steps: ``Method.relaxation_for_step``); only a method that relaxes them does anything."""
+        steps: ``Method.relaxation``); only a method that relaxes them does anything."""
 
 
 class Model:

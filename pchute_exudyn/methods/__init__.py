@@ -4,7 +4,7 @@
 Adding a method: a module (or a package, as ``sp``) in this package with its class: a ``base.Method`` subclass with a
 name, its integrators, its Options type, a ``build`` of its model and, if it has confluence dynamics, its step limits
 (``confluence_limits``, ``lumped_limit``); its model's confluence; its kernels (pure, compiled: in ``physics/`` or in
-its own package, listed in ``kernels.selection.KERNEL_SOURCES``). ``register_builtin`` registers every ``Method``
+its own package, listed in ``kernels.selection.SP_KERNELS`` for SP's). ``register_builtin`` registers every ``Method``
 subclass a module of this package defines, or a package exports in ``__all__``, when the table is first read
 (``pchute_exudyn.__init__``), in the order of ``ORDER`` and then by module name: importing this package registers
 nothing and imports no engine, so that a method's kernel modules can be imported alone (the kernels' build).

@@ -80,7 +80,7 @@ class Method:
     record_variants: ClassVar[tuple] = ({},)
     """Option sets under which ``tools.record_signatures`` runs the method (each option set a different kernel path)."""
     step_limited: ClassVar[bool] = False
-    """Whether the method's confluences have dynamics that limit an explicit step (``step_limit``)."""
+    """Whether the method's confluences have dynamics that limit an explicit step (``confluence_limits``)."""
     implicit_hint: ClassVar[str] = ""
     """What to suggest besides a smaller step when an RK4 step exceeds the limit (e.g. the implicit integrator)."""
 
@@ -119,7 +119,9 @@ class Method:
                           explicit: bool = True) -> list:
         """The StepLimits of ``system``'s confluence at this geometry (m): RK4's stability limits of its modes, or,
         for an implicit integrator (``explicit`` False), the step that resolves its fastest damped mode (the
-        accuracy scale); empty when the method has no confluence dynamics."""
+        accuracy scale); empty when the method has no confluence dynamics. A method that runs implicitly says its
+        accuracy scale here and in ``lumped_limit`` (full mass: its damped mode as the massless solve has it);
+        without one, a case that sets no step has it chosen from its bodies' limits alone."""
         return []
 
     def lumped_limit(self, system: ParachuteSystem, explicit: bool = True) -> StepLimit | None:

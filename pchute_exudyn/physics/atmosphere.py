@@ -70,9 +70,9 @@ class AtmosphereTableError(ValueError):
 
 
 US76_KIND, MARS_KIND, TABLE_KIND = 0.0, 1.0, 2.0
-"""``kernel_parameters()[0]``: which model."""
+"""``kernel_parameters()[KIND_AT]``: which model."""
 NO_SOUND, SOUND_FROM_TEMPERATURE, SOUND_CONSTANT = 0.0, 1.0, 2.0
-"""``kernel_parameters()[1]``: how the speed of sound is had (none, sqrt(gamma R T), a constant)."""
+"""``kernel_parameters()[SOUND_KIND_AT]``: how the speed of sound is had (none, sqrt(gamma R T), a constant)."""
 KIND_AT, SOUND_KIND_AT, GAMMA_AT, GAS_CONSTANT_AT, SOUND_AT, ROWS_AT, DENSITY_SCALE_AT = 0, 1, 2, 3, 4, 5, 6
 """Where each value of ``kernel_parameters()`` is: the model's kind, how the speed of sound is had, gamma (-), R
 (J/(kg K)), a constant speed of sound (m/s), n (a table's rows), the factor (-) on the model's density
@@ -98,7 +98,7 @@ class Atmosphere:
     @property
     def has_speed_of_sound(self) -> bool:
         """Whether the model gives the speed of sound (a Mach-number table needs it)."""
-        return self.kernel_parameters()[1] != NO_SOUND
+        return self.kernel_parameters()[SOUND_KIND_AT] != NO_SOUND
 
     def state(self, altitude: float) -> tuple:
         """(density kg/m^3, speed of sound m/s or NaN) at geodetic ``altitude`` (m), from one kernel call."""

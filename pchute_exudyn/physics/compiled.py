@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 from array import array
+from types import FunctionType
 
 import numpy as np
 
@@ -141,7 +142,23 @@ def bound(function):
     return call
 
 
+_PYTHON_FORMS: dict = {}
+"""Each kernel's Python form with its kernel calls rebound to theirs (``python_form``), made once."""
+
+
 def python_form(function):
-    """Kernel ``function`` as the Python it is written in: for a check made from Python, where calling tiny
-    compiled code costs more than the arithmetic it saves."""
-    return getattr(function, "py_func", function)
+    """Kernel ``function`` as the Python it is written in, the kernels it calls as Python too: for a call from Python
+    (a line's law in the equilibrium method, a step limit), where crossing into tiny compiled code costs more than
+    the arithmetic it saves, at every inner call as much as at the outer one."""
+    python = getattr(function, "py_func", function)
+    if MODE == "python" or not hasattr(python, "__code__"):
+        return python
+    if python not in _PYTHON_FORMS:
+        _PYTHON_FORMS[python] = python   # a kernel that calls itself keeps calling this form
+        inner = {name: value for name, value in python.__globals__.items()
+                 if name in python.__code__.co_names and hasattr(value, "py_func")}
+        if inner:
+            namespace = {**python.__globals__, **{name: python_form(value) for name, value in inner.items()}}
+            _PYTHON_FORMS[python] = FunctionType(python.__code__, namespace, python.__name__, python.__defaults__,
+                                                 python.__closure__)
+    return _PYTHON_FORMS[python]

@@ -297,17 +297,19 @@ def pack_tables(tables) -> tuple[np.ndarray, np.ndarray]:
 class Arithmetic(NamedTuple):
     """The operations a form of the line law that is not written in floats is built from (``LineLaw.expression``):
     ``zero()`` a zero, ``maximum(a, b)``, ``where_taut(stretch, value)``: ``value`` where the stretch is > 0, else
-    zero."""
+    zero; ``strain(stretch, free_length)``: (L - L0) / L0 as that form has always computed it."""
 
     zero: Callable
     maximum: Callable
     where_taut: Callable
+    strain: Callable
 
 
 NO_TABLE = np.zeros((2, 2))
 NO_TABLE.flags.writeable = False
 """The table rows a linear line passes to the kernels (which never read them: its count is 0)."""
-ARRAYS = Arithmetic(lambda: 0.0, np.maximum, lambda stretch, value: np.where(stretch > 0.0, value, 0.0))
+ARRAYS = Arithmetic(lambda: 0.0, np.maximum, lambda stretch, value: np.where(stretch > 0.0, value, 0.0),
+                    lambda stretch, free_length: np.maximum(stretch / free_length, 0.0))
 """The line law over numpy arrays (``tension_magnitude``: whole histories)."""
 
 
@@ -374,14 +376,14 @@ class LineLaw:
     def expression(self, stretch, rate, ops: Arithmetic = ARRAYS, stiffness=None, damping=None):
         """The law in the arithmetic ``ops`` (the Exudyn symbolic form: ``engine.full_model``; numpy arrays): T = max(0,
         T_el + C rate) where taut, 0 elsewhere, T_el = K stretch or the table in its hinge form (``LoadElongation.
-        hinges``: a sum of ramps, no search), strain = stretch (1 / L0). ``stiffness`` and ``damping`` (N/m, N s/m)
+        hinges``: a sum of ramps, no search) of the strain ``ops.strain``. ``stiffness`` and ``damping`` (N/m, N s/m)
         may be given as values of that arithmetic (the engine's connector parameters); default this line's."""
         stiffness = self.stiffness if stiffness is None else stiffness
         damping = self.damping if damping is None else damping
         if self.table is None:
             elastic = stiffness * stretch
         else:
-            strain = stretch * (1.0 / self.free_length)
+            strain = ops.strain(stretch, self.free_length)
             elastic = ops.zero()
             for corner, change in self.table.hinges():
                 elastic = elastic + change * ops.maximum(ops.zero(), strain - corner)

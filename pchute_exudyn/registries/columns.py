@@ -74,7 +74,7 @@ DEPLOY_CONDITIONS = {q.name: f"deploy_{q.name}_{{owner}}" for q in QUANTITIES if
 """The template of the column of each recorded quantity at a system's triggered deployment
 (``registries.quantities.Quantity.studied``: altitude, mach, dynamic_pressure), by the quantity's name."""
 
-POINT_COLUMNS = ("{owner}_altitude", "{owner}_height", "{owner}_east", "{owner}_north", "{owner}_velocity_north",
+POINT_TEMPLATES = ("{owner}_altitude", "{owner}_height", "{owner}_east", "{owner}_north", "{owner}_velocity_north",
                  "{owner}_velocity_east", "{owner}_velocity_down")
 """The templates of the columns of every body and confluence, in the order a run writes them."""
 

@@ -67,9 +67,6 @@ def linearization_report(case: Case, system_name: str | None = None, time: float
     system_name = system.name
     attach, guess, at_time = attach_state(case, system, time)
     lines = system.lines
-    free_length = [l.free_length for l in lines]
-    stiffness = [l.stiffness for l in lines]
-    damping = [l.damping for l in lines]
     try:
         eq = equilibrium_point(attach, [line.law for line in lines], guess=guess, require_unique=True)
     except NoEquilibriumError as exc:
@@ -77,8 +74,8 @@ def linearization_report(case: Case, system_name: str | None = None, time: float
                          f"{exc.taut} of {exc.lines} lines are taut at the force balance and they do not pull "
                          "against each other in three dimensions (the stiffness matrix is singular); the confluence "
                          "can sit anywhere in a line or region") from None
-    stiffness = line_arrays(system, attach, eq.position)[1]   # a table line's tangent stiffness there
-    c_bar, k_bar = linearize(attach, eq.position, free_length, stiffness, damping)
+    # L0, K and C, a table line's K its tangent stiffness at the equilibrium point
+    c_bar, k_bar = linearize(attach, eq.position, *line_arrays(system, attach, eq.position))
     found = modes(system.confluence.mass, c_bar, k_bar)
     sp_roots = sp_eigenvalues(c_bar, k_bar)
     return {

@@ -29,7 +29,7 @@ from ..physics.kinematics import body_point, relative_to_body
 from ..physics.lines import line_states
 from ..physics.rotations import attitude_angles_deg, tilt_deg
 from ..physics.step_rule import merge_summaries
-from ..registries.columns import POINT_COLUMNS, column, derived, method_column, unit
+from ..registries.columns import POINT_TEMPLATES, column, derived, method_column, unit
 
 MAX_LINE_STRAIN = 1.0
 """A line without a material stretched beyond (1 + MAX_LINE_STRAIN) times its free length is over-stretched: no
@@ -201,7 +201,7 @@ def _point_columns(case: Case, owner: str, time, position, velocity, columns: di
     altitude = case.start.altitude(position)
     values = (altitude, altitude - case.simulation.ground_elevation, fixed[:, 0], fixed[:, 1], ground_velocity[:, 1],
               ground_velocity[:, 0], -ground_velocity[:, 2])
-    for template, value in zip(POINT_COLUMNS, values):
+    for template, value in zip(POINT_TEMPLATES, values):
         columns[column(template, owner)] = value
 
 

@@ -37,6 +37,7 @@ from ..methods.base import Method, line_constants, unstable_step_message
 from ..physics.compiled import machine_code
 from ..physics.kinematics import ROW_POSITION, ROW_VELOCITY
 from ..physics.linearization import body_line_step_limit, spectral_step_bound
+from ..physics.rk4 import RK4_IMAGINARY_LIMIT
 from ..physics.step_rule import CAP_FRACTION, StepRule, extrapolation_error, next_step
 from ..registries.methods import INTEGRATORS
 
@@ -73,6 +74,8 @@ STEP_FRACTION = 0.5
 falls as the lines stretch under load (MER's confluence: by 8 % over 60 s) and the bound is taken at free length.
 For MER: 1e-2 s SP (the thesis's step) and 5e-5 s full mass (the any-layout bound, 1.99e-4 s, is below the 4.28e-4 s of
 the real layout; the thesis ran 1e-4 s)."""
+
+
 def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, float]:
     """The step (s) of a case that sets none for the method, and the stability limit (s) it comes from.
 
@@ -345,7 +348,7 @@ class AdaptiveSteps:
     def _rotation_limits(self) -> list:
         """Each moving body's pitching on its lines: the tension T of each line at its attach point p (from the centre
         of mass) turns the body back with a stiffness up to T |p| (N m/rad) about the axes across p, against the
-        body's smallest moment of inertia about them; RK4's limit on the imaginary axis, 2.828 / omega."""
+        body's smallest moment of inertia about them; RK4's limit on the imaginary axis, RK4_IMAGINARY_LIMIT / omega."""
         stiff: dict = {}
         for system in self.model.systems:
             for line in system.lines:
@@ -357,7 +360,7 @@ class AdaptiveSteps:
                 arm = float(np.linalg.norm(lever))
                 if tension > 0.0 and arm > 0.0:
                     stiff.setdefault(line.body, []).append(tension * arm / crosswise_inertia(body.inertia, lever))
-        return [(IMAGINARY_LIMIT / math.sqrt(sum(rates)), f"body {body} pitching on its lines")
+        return [(RK4_IMAGINARY_LIMIT / math.sqrt(sum(rates)), f"body {body} pitching on its lines")
                 for body, rates in stiff.items()]
 
     def _confluence_limits(self, step: float, only=None) -> list:
@@ -435,10 +438,6 @@ class AdaptiveSteps:
             return {}
         return {"smallest": self.smallest, "largest": self.largest, "mean": self.total / self.steps,
                 "count": self.steps}
-
-
-IMAGINARY_LIMIT = 2.828
-"""RK4's stability limit (-) on the imaginary axis: h omega for an undamped mode."""
 
 
 def crosswise_inertia(inertia, lever) -> float:

@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.physics.compiled import python_form
+from pchute_exudyn.physics.compiled import MODE, has_machine_code, python_form
 from pchute_exudyn.physics.equilibrium_point import line_terms
 from pchute_exudyn.physics.lines import (
     LineLaw,
@@ -88,9 +88,10 @@ def check_record_and_kernels(rng) -> None:
         law = random_law(rng)
         stretch, rate = random_state(rng, law)
         agree("LineLaw.tension", law, law.tension(stretch, rate), reference(law, stretch, rate))
-        compiled = line_elastic(law.points, law.count, stretch, law.free_length, law.stiffness)
-        agree("line_elastic (compiled)", law, compiled, law.elastic(stretch))
-        slope = line_slope(law.points, law.count, stretch, law.free_length, law.stiffness)
+        arguments = (np.array(law.points), law.count, stretch, law.free_length, law.stiffness)   # as a stage's
+        assert MODE != "compiled" or has_machine_code(line_elastic, *arguments), "no compiled line_elastic"
+        agree("line_elastic (compiled)", law, line_elastic(*arguments), law.elastic(stretch))
+        slope = line_slope(*arguments)
         assert slope == law.slope(stretch)
         if stretch > 0.0:   # the slope is the elastic tension's derivative
             h = 1e-7 * law.free_length
@@ -200,6 +201,19 @@ def check_sp_solve(rng) -> None:
             assert abs(tension - law.tension(stretch, rate)) <= 1e-9 * scale(law), (law, tension)
 
 
+def check_series_pair_constants(rng) -> None:
+    """The reduced canopy's step limit's own arithmetic of the pair (``reduced_canopy.pair_constants``) against the
+    law's series damping and the series stiffness."""
+    from pchute_exudyn.methods.sp.reduced_canopy import pair_constants
+
+    for _ in range(STATES):
+        laws = [random_law(rng), random_law(rng)]
+        (k1, c1), (k2, c2) = ((law.stiffest, law.damping) for law in laws)
+        stiffness, damping = pair_constants(laws)
+        assert abs(stiffness - k1 * k2 / (k1 + k2)) <= TOLERANCE * stiffness
+        assert abs(damping - series_reference(k1, k2, c1, c2)) <= TOLERANCE * max(damping, 1.0), laws
+
+
 def check_reduced_canopy(rng) -> None:
     """The reduced canopy's balance (``methods.sp.canopy_kernels``): the tension it returns is the series pair's law
     at the solved velocity of its drag point, T = max(0, T_2,el + C_s u . (v - v_A))."""
@@ -222,7 +236,7 @@ def check_reduced_canopy(rng) -> None:
 
 
 FORMS = (check_record_and_kernels, check_arrays, check_symbolic, check_engine_connector, check_series_pair,
-         check_equilibrium_terms, check_sp_solve, check_reduced_canopy)
+         check_series_pair_constants, check_equilibrium_terms, check_sp_solve, check_reduced_canopy)
 
 
 def check_every_form(seed: int = 54) -> None:

@@ -144,7 +144,7 @@ class Memory:
     Rows: ``position`` (m), ``v0`` (m/s), ``acceleration`` carried from the previous phase (m/s^2), ``gravity``
     (the planet centre in m, or the uniform gravity in m/s^2), ``normal_gravity`` (four rows), ``newer`` and
     ``older`` recorded end-of-step velocities (m/s), ``end_velocity`` (m/s), ``air`` (m/s); ``settings``, ``order``,
-    ``clock``, ``run``, ``times``, ``canopy`` and ``end_solve`` whole; and their cells: ``mass`` (kg), ``first_order``
+    ``clock``, ``run``, ``times`` and ``canopy`` whole; and their cells: ``mass`` (kg), ``first_order``
     (1 or 0), ``recorded``, ``newer_time`` and ``older_time`` (s), ``due_time`` (s), ``run_step`` (s),
     ``canopy_drag`` (kg/m), ``end_damping`` (N s/m), ``end_kappa``, ``end_taut``."""
 

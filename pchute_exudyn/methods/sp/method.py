@@ -1,6 +1,6 @@
 """The singular-perturbation method (thesis chapter 3) as the method table sees it: its checks, its model, its step
 limits and how it relaxes its confluence for long adaptive steps. The package around it holds the rest of SP: its
-options and presets (``options``), the confluence at run time (``confluence``, ``canopy``), the model builder
+options and presets (``options``), the confluence at run time (``confluence``, ``reduced_canopy``), the model builder
 (``builder``), its compiled kernels (``balance``, ``stepping``, ``canopy_kernels``) and their named memory
 (``memory``)."""
 
@@ -17,6 +17,7 @@ from ...physics.linearization import (
     damped_line_step_limit,
     sp_step_limit,
 )
+from ...physics.rk4 import RK4_REAL_LIMIT
 from ..base import Method, StepLimit, line_arrays, line_constants
 from .balance import relaxed_damping
 from .builder import build_sp_model
@@ -162,7 +163,7 @@ class SingularPerturbation(Method):
                     "preset has almost none there: use --sp-preset accurate (the confluence's mass to first order "
                     "damps it), or --method equilibrium")
         rates = [k / c for k, c in zip(lines[1], lines[2]) if c > 0.0]
-        if rates and step <= 1.2 * 2.785 / max(rates) and self.options.effective_relaxation_time <= 0.0:
+        if rates and step <= 1.2 * RK4_REAL_LIMIT / max(rates) and self.options.effective_relaxation_time <= 0.0:
             return (f"The {system.name} system's lines are damped too little for the step (K/C up to "
                     f"{max(rates):.3g} 1/s): use --sp-preset any_damping (a relaxation time), or --dt auto "
                     "(adaptive steps)")

@@ -31,7 +31,7 @@ tau = 0.2 and 0.4 s, PA1 between 0.3 and 0.5 s)."""
 
 
 RELAXED_STEPS = 1.5
-"""An adaptive step over the relaxation time it asks for (``SingularPerturbation.relaxation_for_step``): RK4 is
+"""An adaptive step over the relaxation time it asks for (``SingularPerturbation.relaxation``): RK4 is
 stable on the real mode -1/tau up to 2.785 tau: 1.86 such steps, a margin for the sideways stiffness of stretched
 lines (the mode of a loaded MER or pchute new confluence runs up to 1.5 times faster than -1/tau) and the grid of
 tau (9 %). More relaxation (a smaller ratio) makes a light body's mode on its damped lines faster (tau K / m) and

@@ -15,12 +15,17 @@ import numpy as np
 from ...case.model import Case, ParachuteSystem
 from ...engine.phase_model import Model
 from ...physics.aerodynamics import mach_number
-from ...physics.compiled import python_form
 from ...physics.linearization import max_stable_step_rk4
-from ...physics.lines import series_damping as series_damping_kernel
 from .memory import BRIDLE_ROW, RISER_ROW, Memory, Work
 
-series_damping = python_form(series_damping_kernel)
+
+def pair_constants(laws) -> tuple:
+    """The stiffness K_s (N/m) and damping C_s (N s/m) of a bridle and a riser in series at their stiffest slopes
+    (``LineLaw.stiffest``): K_1 K_2 / (K_1 + K_2) and ``physics.lines.series_damping``'s C_s, written here as this limit
+    has always computed it (the square by ``** 2``, which Python takes through pow: not always the last bit of
+    x * x); ``tests/unit/test_line_law.py`` holds it to the law."""
+    (k1, c1), (k2, c2) = ((law.stiffest, law.damping) for law in laws)
+    return k1 * k2 / (k1 + k2), (c1 * k2 * k2 + c2 * k1 * k1) / (k1 + k2) ** 2
 
 
 def reduced_canopy(case: Case, system: ParachuteSystem) -> str | None:
@@ -87,8 +92,7 @@ class ReducedCanopy:
         memory = self.memory
         drag = memory.canopy_drag
         speed = math.dist(memory.v0.tolist(), memory.air.tolist())
-        (k1, c1), (k2, c2) = ((law.stiffest, law.damping) for law in self.laws)
-        stiffness, damping = k1 * k2 / (k1 + k2), series_damping(k1, k2, c1, c2)
+        stiffness, damping = pair_constants(self.laws)
         inertia = self.mass / step
         positions = work.attach_positions
         length = float(np.linalg.norm(positions[RISER_ROW] - positions[BRIDLE_ROW]))
