@@ -132,7 +132,7 @@ def _run(args) -> int:
 def _run_case(args, figure) -> int:
     from .boundary import load_case
     from .results.io import check_result_folder
-    from .results.summary import run_line
+    from .results.run_line import run_line
     from .run.simulation import method_class_of, resolve_run, simulate
     from .views.progress import TerminalProgress
 

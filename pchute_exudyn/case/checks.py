@@ -153,12 +153,19 @@ def check_events(top, body_tables, system_tables, simulation_table, bodies, syst
                                                         "surface, 0 m; stop_at_ground = false flies on)", ground)
 
 
-def check_connections(system_tables, bodies, systems, vehicle) -> None:
+def check_connections(system_tables, bodies, systems, vehicle, tethers=None) -> None:
     """A system must join different bodies: lines that all end on one free body tie it to itself (its canopy would
-    fall free), a system with canopies must hang them from the vehicle, no line may run to another system's canopy
+    fall free), a system with canopies must hang them from the vehicle (or from a body tethered to it: a nose cone on
+    the shock cord, ``case.sections.Tether``), no line may run to another system's canopy
     (each canopy hangs on risers to its own system's confluence), and a packed system's gear rides in the vehicle
     (its deploy point a vehicle point, ``case.carried``)."""
     owner = {canopy: name for name, system in systems.items() for canopy in system.canopies}
+    holding = {vehicle}   # the vehicle and the bodies tied to it, through tethers
+    for _ in range(len(tethers or {})):
+        for tether in (tethers or {}).values():
+            ends = {body for body, _ in tether.ends}
+            if ends & holding:
+                holding |= ends
     for name, system in systems.items():
         if system.packed and system.deploy_point[0] != vehicle:
             raise system_tables[name].error("deploy_point", f"is on body '{system.deploy_point[0]}', not the vehicle "
@@ -170,10 +177,11 @@ def check_connections(system_tables, bodies, systems, vehicle) -> None:
             raise system_tables[name].error("lines", f"every line attaches to body '{next(iter(attached))}': the "
                                                      "system would join that body to itself; attach its lines to two "
                                                      "bodies (e.g. bridles to the vehicle, a riser to the canopy)")
-        if system.canopies and vehicle not in attached:
+        if system.canopies and not attached & holding:
             key = canopy_key_of(system_tables[name])
             raise system_tables[name].error(key, f"canopy '{system.canopies[0]}' is not connected to the vehicle "
-                                                 f"'{vehicle}': no line of the system attaches to it",
+                                                 f"'{vehicle}': no line of the system attaches to it (or to a "
+                                                 "body tethered to it)",
                                             system.canopies[0])
         for line in system.lines:
             if owner.get(line.body, name) != name:

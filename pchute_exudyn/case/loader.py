@@ -35,6 +35,7 @@ from .model import Body, Case
 from .overrides import apply_override, parse_override
 from .read_bodies import read_body
 from .read_systems import read_failures, read_system
+from .read_tethers import check_ejections, check_tethers, read_tethers
 from .read_triggers import check_triggers, read_separations
 from .read_world import read_atmosphere, read_planet, read_simulation, read_start
 from .start import Release, at_conditions, ground_relative
@@ -115,21 +116,25 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
         check_release(body_tables, system_tables, bodies, systems, vehicle)
     check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     bodies, systems = ground_relative(bodies, systems, vehicle, wind, frame, release)
-    check_connections(system_tables, bodies, systems, vehicle)
+    tethers = read_tethers(top.table("tethers", None), bodies, systems)
+    check_connections(system_tables, bodies, systems, vehicle, tethers)
     failures = read_failures(top.table("failures", None), systems, simulation.duration, bodies, triggers)
     separations = read_separations(top.table("separations", None), bodies, vehicle, triggers, systems,
                                    simulation.duration)
     check_triggers(top, triggers, systems, failures, separations, atmosphere)
+    check_ejections(top.table("separations", None), separations)
+    tether_warnings = check_tethers(top.table("tethers", None), tethers, bodies, separations, vehicle)
     top.allowed.extend(("extends", "remove"))
     top.finish()
     warnings = check_plausible(data, ctx) + unit_slips(bodies[vehicle]) + unreachable_triggers(
-        triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude)
+        triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude) \
+        + tether_warnings
     check_escape(body_tables, bodies, planet)
     case = Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
                 wind=wind, turbulence=turbulence, gusts=gusts, key_units=dict(ctx.units), failures=failures,
                 velocities_relative_to=frame, release=release, warnings=warnings, triggers=triggers,
-                separations=separations)
+                separations=separations, tethers=tethers)
     return own_vehicle(case, body_tables[vehicle].error) if bodies[vehicle].mass_includes_packed else case
 
 

@@ -390,37 +390,6 @@ class Failures:
         return cut is not None and cut <= time
 
 
-@dataclass(frozen=True)
-class Separation:
-    """A body the vehicle carries (its mass and inertia part of the vehicle's) until it separates as its own 6-DoF
-    body (heat shield, forward bay cover).
-
-    Attributes
-    ----------
-    body : str
-        The carried body (a body of the case without an initial state).
-    position : tuple of 3 float
-        Where its centre of mass rides, in vehicle body axes from the vehicle's own centre of mass (m); its axes are
-        the vehicle's.
-    speed : float
-        Relative speed (m/s) of the two after separation, along ``direction``; momentum is conserved.
-    direction : tuple of 3 float
-        Unit vector in vehicle body axes: the way the body leaves.
-    time : float
-        Run time (s) of the separation; inf until its trigger fires (``case.events``).
-    """
-
-    body: str
-    position: tuple
-    speed: float
-    direction: tuple
-    time: float = math.inf
-
-    def carried_at(self, time: float) -> bool:
-        """Whether the body still rides with the vehicle at ``time`` (s)."""
-        return time < self.time
-
-
 def canopy_opening(system: ParachuteSystem, canopy: str, failures: Failures):
     """How ``canopy`` of ``system`` opens with ``failures``: the system's ``Inflation`` with the canopy's cutter delays
     and skipped stages, or its ``DragAreaSchedule``, or the constant trailing fraction of a canopy that never
@@ -558,6 +527,7 @@ class Case:
     warnings: tuple = ()
     triggers: dict = field(default_factory=dict)
     separations: dict = field(default_factory=dict)
+    tethers: dict = field(default_factory=dict)
 
     def unit_of(self, key: str) -> str | None:
         """The unit of ``key`` in override syntax (``main.lines.*.stiffness``, body and system names leading),

@@ -28,9 +28,10 @@ CANOPY_MODELS = ("rigid", "reduced")
 """``canopy_model`` of a system (``case.model.ParachuteSystem``)."""
 
 
-def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, opening) -> None:
+def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict) -> None:
     """A reduced canopy (docs/models/reduced_canopy.md) is one canopy with aerodynamics, on a riser in series with one
-    bridle from another body, fully open from its deployment."""
+    bridle from another body; it opens as the system says (an ``inflation`` or a ``drag_area_schedule``, fully open
+    from its deployment without either)."""
     if len(canopies) != 1 or len(lines) != 2 or sorted(line.body == canopies[0] for line in lines) != [False, True]:
         raise t.error("canopy_model", "reduced needs one canopy on one riser in series with one bridle from another "
                                       "body (two lines: a shock cord); use rigid for this layout", "reduced")
@@ -41,9 +42,6 @@ def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, opening
     if body.apparent_mass is not None:
         raise t.error("canopy_model", f"reduced drops canopy '{canopies[0]}''s inertia to first order, so it takes no "
                                       "apparent_mass; use rigid to keep the air it carries", "reduced")
-    if opening is not None:
-        raise t.error("canopy_model", "reduced flies its canopy fully open from its deployment: remove the "
-                                      "inflation or drag_area_schedule, or use rigid", "reduced")
 
 
 def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None) -> ParachuteSystem:
@@ -71,7 +69,7 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
         raise t.error("lines", "a system needs at least one line")
     lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
     if canopy_model == "reduced":
-        _check_reduced(t, canopies, lines, bodies, schedule or inflation)
+        _check_reduced(t, canopies, lines, bodies)
     if deploy_time is not None:
         missing = [key for key, value in ((canopy_key, canopies), ("deploy_point", deploy_point)) if not value]
         if missing:

@@ -15,7 +15,7 @@ from ..registries.quantities import QUANTITY, THRESHOLD_QUANTITIES
 from ..triggers.definition import After, AllOf, AnyOf, Apogee, At, Sensor, Threshold, Trigger, UserFunction, leaves
 from .events import DISREEF, known_times
 from .fields import Table, default_of
-from .model import Separation
+from .sections import Separation
 
 FORMS = ("time", "after", "quantity", "function", "all", "any")
 """The keys that say what a trigger is; a trigger table has exactly one of them."""
@@ -184,15 +184,19 @@ def read_separations(t: Table | None, bodies: dict, vehicle: str, triggers: dict
     if t is None:
         return {}
     separations = {}
-    on_lines = {line.body for system in systems.values() for line in system.lines}
+    # a carried body may hold the lines of a system that deploys from it once it has separated, not a canopy or the
+    # lines of a system present from the start (``run.phases.deploy`` refuses a deployment from a body still carried)
+    on_lines = {c for system in systems.values() for c in system.canopies}
+    on_lines |= {line.body for system in systems.values() if system.deploy_time is None for line in system.lines}
     t.allowed = list(t.data)
     for name, st in ((n, Table(v, t.path + (n,), t.ctx)) for n, v in t.data.items()):
         if name not in bodies or name == vehicle or bodies[name].fixed:
             raise t.error(name, "must name a body of the case other than the vehicle, carried by the vehicle "
                                 "until it separates", name)
         if name in on_lines:
-            raise t.error(name, f"body '{name}' hangs on a system's lines (a canopy): only a body with no line can "
-                                "ride with the vehicle until it separates", name)
+            raise t.error(name, f"body '{name}' hangs on a system's lines (a canopy): only a body with no line, or "
+                                "the lines of a system that deploys after it separates, can ride with the vehicle "
+                                "until it separates", name)
         if bodies[name].initial is not None:
             raise t.error(name, f"body '{name}' is carried by the vehicle until it separates: remove its "
                                 "[bodies.<name>.initial] table")

@@ -21,6 +21,7 @@ from .display import body_graphics
 from .phase_model import CURRENT, OV, BodyItems, Confluence, Model
 from .stage import Stage
 from .state import BodyChannel, BodyState, ConfluenceChannel, ConfluenceState, initial_body_state
+from .tethers import add_tethers
 
 
 def add_gravity(model: Model, case: Case, body: int, marker: int, mass: float) -> int | None:
@@ -151,7 +152,8 @@ def add_bodies(model: Model, case: Case, reduced: bool = False, massless=()) -> 
     """The fixed bodies and the phase's free bodies (in their phase-start states) with their aerodynamics, each
     cluster's canopy contact, and the model's stage; ``reduced``: the model's right-hand side refreshes the stage's
     body states at every stage, and the body channels read them. ``massless``: bodies of the phase that get no
-    engine body (reduced canopies: their confluence's kernel moves them and applies their drag)."""
+    engine body (reduced canopies: their confluence's kernel moves them and applies their drag). The case's tethers
+    between the phase's bodies come last (``engine.tethers``)."""
     phase = model.phase
     model.massless = set(massless)
     for body in case.bodies.values():
@@ -181,6 +183,8 @@ def add_bodies(model: Model, case: Case, reduced: bool = False, massless=()) -> 
     for system in model.systems:
         if system.contact is not None and len(system.canopies) > 1:
             add_contact(model, case, system, [loads[canopy] for canopy in system.canopies])
+    if case.tethers:
+        add_tethers(model, case)
 
 
 MAX_DESCENT_ACCELERATION = 30.0

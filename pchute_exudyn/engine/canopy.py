@@ -89,12 +89,26 @@ def add_apparent_mass(model: Model, case: Case, body: Body, node: int) -> None:
 
 
 def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, aerodynamic_load) -> None:
-    """Measure the canopy's air speed (``aerodynamic_load.air_speed(time)``, m/s) around each stage start of an
-    opening (``physics.inflation.InflationProgress``), with the speed of sound for a supersonic opening and its Mach
-    number after every step for its breathing; report the drag-area fraction (-) and the magnitude of the canopy's
-    aerodynamic force (N) as channels."""
-    speed_reader = aerodynamic_load.air_speed
-    sound_reader = aerodynamic_load.sound_speed if progress.supersonic is not None else (lambda t: None)
+    """The hooks of ``watch_opening`` for a rigid canopy, its air speed and speed of sound read at its aerodynamic
+    centre (``aerodynamic_load``: ``engine.aero_loads.BodyAerodynamics``) and the magnitude of its aerodynamic force
+    (N) from it."""
+    get_time = model.mbs.systemData.GetTime
+
+    def force_magnitude():
+        fx, fy, fz = aerodynamic_load(model.mbs, get_time(), None)
+        return math.sqrt(fx * fx + fy * fy + fz * fz)
+    watch_opening(model, system_name, canopy, progress, aerodynamic_load.air_speed, aerodynamic_load.sound_speed,
+                  force_magnitude)
+
+
+def watch_opening(model: Model, system_name: str, canopy: str, progress, speed_reader, sound_reader,
+                  force_magnitude) -> None:
+    """Measure the canopy's air speed (``speed_reader(time)``, m/s) around each stage start of an opening
+    (``physics.inflation.InflationProgress``), with the speed of sound (``sound_reader(time)``, m/s) for a supersonic
+    opening and its Mach number after every step for its breathing; report the drag-area fraction (-) and the
+    magnitude of the canopy's aerodynamic force (N, ``force_magnitude()``) as channels."""
+    if progress.supersonic is None:
+        sound_reader = _no_sound
     get_time = model.mbs.systemData.GetTime
     last = [model.phase.start]
 
@@ -113,11 +127,11 @@ def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, a
     model.add_post_step(after_step, first=True)
     model.add_channel(_channel("{owner}_drag_area_fraction", system_name),
                       lambda: progress(get_time() - progress.line_stretch))
-
-    def force_magnitude():
-        fx, fy, fz = aerodynamic_load(model.mbs, get_time(), None)
-        return math.sqrt(fx * fx + fy * fy + fz * fz)
     model.add_channel(_channel("{owner}_aerodynamic_force", canopy), force_magnitude)
+
+
+def _no_sound(t):
+    return None
 
 
 def add_fraction_channel(model: Model, label: str, schedule, deployed_at: float) -> None:

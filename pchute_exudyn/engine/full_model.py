@@ -12,48 +12,13 @@ from __future__ import annotations
 
 import exudyn as exu
 import exudyn.itemInterface as eii
-from exudyn.utilities import CreateSymbolicUserFunction
 
 from ..case.model import Case
-from ..physics.lines import Arithmetic, LineLaw
+from ..physics.lines import LineLaw
 from .bodies import PointConfluence, add_bodies
+from .line_laws import LINE_COLOUR, line_law
 from .phase_model import CURRENT, OV, Model
 from .state import Phase, TensionChannel
-
-esym = exu.symbolic
-LINE_COLOUR = [0.1, 0.1, 0.6, 1.0]   # lines in Exudyn's viewer
-SYMBOLIC = Arithmetic(lambda: esym.Real(0.0), esym.max,
-                      lambda stretch, value: esym.IfThenElse(stretch > 0, value, esym.Real(0.0)),
-                      lambda stretch, free_length: stretch * (1.0 / free_length))
-"""Exudyn's symbolic expressions as the arithmetic the line law is written in (``LineLaw.expression``)."""
-
-
-def _symbolic_law(law: LineLaw):
-    """``law`` as an Exudyn spring-damper user function written in symbolic expressions (``LineLaw.expression``:
-    the linear law with the connector's K and C, a table's in its hinge form)."""
-    def symbolic(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
-        return law.expression(deltaL, deltaL_t, SYMBOLIC, stiffness, damping)
-    return symbolic
-
-
-def _python_law(law: LineLaw):
-    """``law`` as a Python spring-damper user function (``LineLaw.tension``)."""
-    def python(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
-        return law.tension(deltaL, deltaL_t)
-    return python
-
-
-def _line_law(model: Model, law: LineLaw, shared: dict, symbolic: bool):
-    """The spring-damper user function of a line with law ``law``: symbolic (one function for every linear line,
-    whose K and C the connector passes; its own for a table) or Python (``symbolic`` False)."""
-    if not symbolic:
-        return _python_law(law)
-    key = None if law.table is None else law
-    if key not in shared:
-        shared[key] = CreateSymbolicUserFunction(model.mbs, _symbolic_law(law), "springForceUserFunction",
-                                                 itemTypeName="ObjectConnectorSpringDamper")
-        model.keep_alive(shared[key])
-    return shared[key]
 
 
 def _force_reader(mbs, connector: int):
@@ -75,7 +40,7 @@ def build_full_model(case: Case, phase: Phase, symbolic_line_law: bool = True) -
     model = Model(case, phase)
     mbs = model.mbs
     add_bodies(model, case)
-    laws: dict = {}   # the symbolic user functions made so far (``_line_law``)
+    laws: dict = {}   # the symbolic user functions made so far (``engine.line_laws.line_law``)
     for system in model.systems:
         confluence = PointConfluence(model, case, system.name, system.confluence.mass,
                                      phase.confluence_states[system.name])
@@ -84,14 +49,15 @@ def build_full_model(case: Case, phase: Phase, symbolic_line_law: bool = True) -
             connector = mbs.AddObject(eii.ObjectConnectorSpringDamper(
                 markerNumbers=[attach, confluence.marker], referenceLength=line.free_length,
                 stiffness=line.stiffness, damping=line.damping,
-                springForceUserFunction=_line_law(model, line.law, laws, symbolic_line_law),
+                springForceUserFunction=line_law(model, line.law, laws, symbolic_line_law),
                 visualization=eii.VObjectConnectorSpringDamper(show=True, drawSize=0.05, color=LINE_COLOUR)))
             model.add_channel(TensionChannel(system.name, line.name), _force_reader(mbs, connector))
     return model.assemble()
 
 
 def line_connector_force(law: LineLaw, lengths, rates, symbolic: bool = True) -> list:
-    """The tension (N) the engine computes with the full-mass model's user function of ``law`` (``_line_law``) in a
+    """The tension (N) the engine computes with the full-mass model's user function of ``law``
+    (``engine.line_laws.line_law``) in a
     spring-damper from the ground to a point mass, at each length (m) and rate of lengthening (m/s): the law as the
     engine evaluates it, for checking that form against the record (``tests/unit/test_line_law.py``)."""
     container = exu.SystemContainer()
@@ -103,14 +69,14 @@ def line_connector_force(law: LineLaw, lengths, rates, symbolic: bool = True) ->
                mbs.AddMarker(eii.MarkerNodePosition(nodeNumber=node))]
     kept: list = []
 
-    class Holder:   # what ``_line_law`` needs of a model: the system and somewhere to keep the function
+    class Holder:   # what ``line_law`` needs of a model: the system and somewhere to keep the function
         def keep_alive(self, item):
             kept.append(item)
     holder = Holder()
     holder.mbs = mbs
     connector = mbs.AddObject(eii.ObjectConnectorSpringDamper(
         markerNumbers=markers, referenceLength=law.free_length, stiffness=law.stiffness, damping=law.damping,
-        springForceUserFunction=_line_law(holder, law, {}, symbolic)))
+        springForceUserFunction=line_law(holder, law, {}, symbolic)))
     mbs.Assemble()
     forces = []
     for length, rate in zip(lengths, rates):

@@ -92,6 +92,7 @@ class Model:
         self.systems = [case.systems[name].with_bodies(phase.bodies) for name in phase.systems]   # present lines
         self.bodies: dict = {}
         self.massless: set = set()   # bodies of the phase that are no engine body: reduced canopies (``methods.sp``)
+        self.tethers: dict = {}   # tether name -> engine.tethers.TetherState
         self.gravity_connectors: dict = {}   # body name -> (its gravity connector or normal-gravity load, its mass
         #                                      in kg): the bodies on which no other item than the stage's adds a force
         self.confluences: dict = {}

@@ -36,6 +36,7 @@ class TriggerMonitor:
         self.window: set = set()     # adaptive steps: the events that can fire now, sampled at their sample times
         self.horizon = math.inf      # adaptive steps: the longest step (s; set by the run)
         self.step = None             # s: the phase's fixed step, None for adaptive steps (``warm_up``)
+        self.previous = self.start   # s: the end of the last step seen (adaptive steps)
         for watch in watches:        # a user function's wait ends on Ctrl-C or SIGTERM (``triggers.user_calls``)
             watch.calls.stopped = self._stopped
 
@@ -94,10 +95,12 @@ class TriggerMonitor:
         if t <= self.start:
             return False
         truths = {}
+        previous, self.previous = self.previous, t
         for watch in self.watches:
             if watch.armed_by is not None and self.fired.get(watch.armed_by, math.inf) >= t - TIME_TOLERANCE:
                 continue
             body = watch.trigger.sensor.body or self.case.vehicle
+            looked = watch.event in self.window   # it could fire at the last step's end too
             if body not in self.readers or t < self.next_check.get(watch.event, -math.inf):
                 continue
             truth = self._truth(body, t, truths)
@@ -107,7 +110,7 @@ class TriggerMonitor:
                 self.next_check[watch.event] = t + 0.5 * (earliest - t - self.horizon)
                 continue
             self.window.add(watch.event)
-            if watch.on_sample(t):
+            if watch.on_sample(t) or (looked and watch.passed(previous, t)):
                 self._observe(watch, t, truth)
                 if self._stopped():
                     return True

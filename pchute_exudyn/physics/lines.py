@@ -297,19 +297,22 @@ def pack_tables(tables) -> tuple[np.ndarray, np.ndarray]:
 class Arithmetic(NamedTuple):
     """The operations a form of the line law that is not written in floats is built from (``LineLaw.expression``):
     ``zero()`` a zero, ``maximum(a, b)``, ``where_taut(stretch, value)``: ``value`` where the stretch is > 0, else
-    zero; ``strain(stretch, free_length)``: (L - L0) / L0 as that form has always computed it."""
+    zero; ``strain(stretch, free_length)``: (L - L0) / L0 as that form has always computed it; ``where_paying_out
+    (stretch, rate, value)``: ``value`` where the line is slack (stretch <= 0) and lengthens (rate > 0), else zero."""
 
     zero: Callable
     maximum: Callable
     where_taut: Callable
     strain: Callable
+    where_paying_out: Callable
 
 
 NO_TABLE = np.zeros((2, 2))
 NO_TABLE.flags.writeable = False
 """The table rows a linear line passes to the kernels (which never read them: its count is 0)."""
 ARRAYS = Arithmetic(lambda: 0.0, np.maximum, lambda stretch, value: np.where(stretch > 0.0, value, 0.0),
-                    lambda stretch, free_length: np.maximum(stretch / free_length, 0.0))
+                    lambda stretch, free_length: np.maximum(stretch / free_length, 0.0),
+                    lambda stretch, rate, value: np.where((stretch <= 0.0) & (rate > 0.0), value, 0.0))
 """The line law over numpy arrays (``tension_magnitude``: whole histories)."""
 
 
@@ -328,6 +331,10 @@ class LineLaw:
         C (N s/m).
     table : LoadElongation or None
         A load-elongation table whose tension replaces K (L - L0).
+    payout_resistance : float
+        R (N): the tension while the line is slack and paying out (L <= L0, dL/dt > 0): bag friction, folds, ties;
+        0 (the default): a slack line carries nothing. Only a tether's law has one (``case.sections.Tether``): the
+        per-stage kernels of a system's lines never see it.
 
     The law itself is the kernels above (``line_elastic``, ``line_slope``, ``line_tension``, the series pair), which
     the per-stage solves run compiled and these methods run as Python; ``expression`` writes the same law in another
@@ -339,6 +346,7 @@ class LineLaw:
     stiffness: float
     damping: float
     table: LoadElongation | None = None
+    payout_resistance: float = 0.0
 
     @cached_property
     def count(self) -> int:
@@ -359,7 +367,9 @@ class LineLaw:
         return _slope(self.points, self.count, stretch, self.free_length, self.stiffness)
 
     def tension(self, stretch: float, rate: float) -> float:
-        """T (N) at ``stretch`` = L - L0 (m) and ``rate`` = dL/dt (m/s): ``line_tension``."""
+        """T (N) at ``stretch`` = L - L0 (m) and ``rate`` = dL/dt (m/s): ``line_tension``; R while it pays out."""
+        if self.payout_resistance > 0.0 and stretch <= 0.0 and rate > 0.0:
+            return self.payout_resistance
         return _tension(stretch, self.elastic(stretch), self.damping, rate)
 
     @property
@@ -375,9 +385,10 @@ class LineLaw:
 
     def expression(self, stretch, rate, ops: Arithmetic = ARRAYS, stiffness=None, damping=None):
         """The law in the arithmetic ``ops`` (the Exudyn symbolic form: ``engine.full_model``; numpy arrays): T = max(0,
-        T_el + C rate) where taut, 0 elsewhere, T_el = K stretch or the table in its hinge form (``LoadElongation.
-        hinges``: a sum of ramps, no search) of the strain ``ops.strain``. ``stiffness`` and ``damping`` (N/m, N s/m)
-        may be given as values of that arithmetic (the engine's connector parameters); default this line's."""
+        T_el + C rate) where taut, R where paying out, 0 elsewhere, T_el = K stretch or the table in its hinge form
+        (``LoadElongation.hinges``: a sum of ramps, no search) of the strain ``ops.strain``. ``stiffness`` and
+        ``damping`` (N/m, N s/m) may be given as values of that arithmetic (the engine's connector parameters);
+        default this line's."""
         stiffness = self.stiffness if stiffness is None else stiffness
         damping = self.damping if damping is None else damping
         if self.table is None:
@@ -387,7 +398,10 @@ class LineLaw:
             elastic = ops.zero()
             for corner, change in self.table.hinges():
                 elastic = elastic + change * ops.maximum(ops.zero(), strain - corner)
-        return ops.where_taut(stretch, ops.maximum(ops.zero(), elastic + damping * rate))
+        taut = ops.where_taut(stretch, ops.maximum(ops.zero(), elastic + damping * rate))
+        if self.payout_resistance > 0.0:   # (only then: every other law's expression stays as it was)
+            return taut + ops.where_paying_out(stretch, rate, self.payout_resistance)
+        return taut
 
 
 _elastic, _slope, _tension = python_form(line_elastic), python_form(line_slope), python_form(line_tension)

@@ -348,6 +348,32 @@ class Separation(SummaryEntry):
     clearance_after: float
 
 
+@dataclass(frozen=True)
+class Deployment(SummaryEntry):
+    """One system's deployment loads: ``system``; ``line_stretch_time`` (s); ``snatch_load`` (N) and ``snatch_time``
+    (s), the first peak; ``opening_load`` (N) and ``opening_time`` (s), the largest; ``line_stretch_speed`` (m/s);
+    ``opening_stage``, the stage in which the opening load came (a reefed opening's), with ``dynamic_pressure`` (Pa)
+    at its start and ``drag_area`` (m^2, its C_D S filled); ``load_factor`` (-), the opening load over that q C_D S;
+    ``lines``: per line its peak ``load`` (N) and its ``time`` (s), with its ``breaking_strength`` (N) and ``margin``
+    (-) when it has a rating; ``knacke_opening_load`` (N), Knacke's hand estimate beside it; ``kind``: "system", or
+    "tether" (``system`` is then the tether's name, its largest load the opening load)."""
+
+    system: str
+    line_stretch_time: float
+    snatch_load: float
+    snatch_time: float
+    opening_load: float
+    opening_time: float
+    line_stretch_speed: float | None = None
+    dynamic_pressure: float | None = None
+    drag_area: float | None = None
+    load_factor: float | None = None
+    lines: dict = field(default_factory=dict)
+    knacke_opening_load: float | None = field(default=None, metadata=OPTIONAL)
+    kind: str = "system"
+    opening_stage: int | None = field(default=None, metadata=OPTIONAL)
+
+
 def separation_summary(case, raw, events: list) -> dict:
     """Per body that separated, its ``Separation``: the clearance ``CLEARANCE_AFTER`` s after the separation (at the
     output sample nearest; at the run's end when that comes first: ``clearance_after`` says how long after), from
@@ -519,6 +545,8 @@ class RunSummary:
         (equilibrium point: solves and iterations per system); both sit at the top level of ``summary.json``.
     opening_loads : dict
         Per opening, per stage its window and the lines' peak tensions (``opening_loads``); {} without inflations.
+    deployments : tuple of Deployment
+        Per parachute system its line stretch, snatch and opening loads (``results.deployments``).
     cluster : dict of ClusterLoads
         Per cluster system; {} without clusters.
     pendulum : Pendulum or None
@@ -557,6 +585,7 @@ class RunSummary:
     method_settings: dict = field(default_factory=dict)
     method_facts: dict = field(default_factory=dict)
     opening_loads: dict = field(default_factory=dict)
+    deployments: tuple = ()
     cluster: dict = field(default_factory=dict)
     pendulum: Pendulum | None = None
     descent: Descent | None = None
@@ -599,7 +628,9 @@ class RunSummary:
                       "pendulum": Pendulum.from_dict(data.get("pendulum")),
                       "descent": Descent.from_dict(data.get("descent")),
                       "cluster": _entries(ClusterLoads, data.get("cluster")),
-                      "separations": _entries(Separation, data.get("separations"))})
+                      "separations": _entries(Separation, data.get("separations")),
+                      "deployments": tuple(d for d in map(Deployment.from_dict, data.get("deployments") or [])
+                                           if d is not None) if isinstance(data.get("deployments"), list) else ()})
 
     def to_dict(self) -> dict:
         """What ``summary.json`` holds (strict JSON once ``io.json_text`` writes it)."""
@@ -612,6 +643,7 @@ class RunSummary:
                 "final": None if self.final is None else self.final.to_dict(), "peak_tension": self.peak_tension,
                 "events": [event.to_dict() for event in self.events],
                 **({"opening_loads": self.opening_loads} if self.opening_loads else {}),
+                **({"deployments": [d.to_dict() for d in self.deployments]} if self.deployments else {}),
                 **({"cluster": {k: v.to_dict() for k, v in self.cluster.items()}} if self.cluster else {}),
                 **({"pendulum": self.pendulum.to_dict()} if self.pendulum is not None else {}),
                 **({"descent": self.descent.to_dict()} if self.descent is not None else {}),
@@ -627,32 +659,3 @@ def _entries(kind: type, data) -> dict:
     if not isinstance(data, dict):
         return {}
     return {name: entry for name, entry in ((k, kind.from_dict(v)) for k, v in data.items()) if entry is not None}
-
-
-def run_line(summary: RunSummary, out, stability_limit: float | None = None) -> str:
-    """The one-line account of a finished run (``pchute run``): its method, step (adaptive: the steps taken, smallest
-    to largest, and their mean; chosen from the stability limit: that limit), end, wall time and final position."""
-    s, f = summary, summary.final
-    ending = "touchdown at" if s.end == "touchdown" else "ended at"
-    control = s.step_control
-    if control and control.get("count"):
-        step = (f"adaptive steps {control['smallest']:.3g} to {control['largest']:.3g} s (mean "
-                f"{control['mean']:.3g} s)")
-    else:
-        chosen = "" if stability_limit is None else f" (none set: from the stability limit {stability_limit:.3g} s)"
-        step = f"step {s.step:g} s{chosen}"
-    return (f"{s.case}: {s.method}/{s.integrator} {step}, {ending} {f.time:.2f} s in "
-            f"{s.wall_time:.2f} s of wall time ({s.steps} steps); final {s.vehicle} altitude "
-            f"{f.altitude:.2f} m, east {f.east:.3f} m, north {f.north:.3f} m"
-            f"{touchdown_text(s.touchdown)} -> {out}"
-            + (f" ({len(s.warnings)} warning(s): see summary.json)" if s.warnings else ""))
-
-
-def touchdown_text(touchdown: TouchdownEvent | None) -> str:
-    """The run line's account of the touchdown: the descent rate, the horizontal speed over the ground and the total
-    speed (m/s); '' for a run that did not touch down (or a summary from before the split)."""
-    if touchdown is None or getattr(touchdown, "descent_rate", None) is None:
-        return ""
-    return (f"; at touchdown descent rate {touchdown.descent_rate:.2f} m/s, horizontal speed "
-            f"{touchdown.horizontal_speed_over_ground:.2f} m/s, total speed {touchdown.speed:.2f} m/s "
-            "(over the ground)")

@@ -83,6 +83,12 @@ def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) 
     """The states of ``system``'s canopies (those that leave the vehicle) and of its confluence, deployed at line
     stretch at ``time`` (s)."""
     vehicle_name, point = system.deploy_point
+    carried = [body for body in [vehicle_name] + [line.body for line in system.lines] if body not in body_states
+               and body not in system.canopies and not case.bodies[body].fixed]
+    if carried:   # a nose cone that has not separated yet, say
+        raise SimulationError(f"systems.{system.name} deploys at {time:g} s from body '{carried[0]}', which the "
+                              f"vehicle still carries then (its separation comes later): deploy it after "
+                              f"'{carried[0]}.separation'", time)
     vehicle = body_states[vehicle_name]
     canopies = [canopy for canopy in system.canopies if not case.failures.absent(canopy)]
     air = case.air_motion()

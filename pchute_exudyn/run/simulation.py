@@ -26,6 +26,7 @@ from ..methods.base import Method
 from ..physics.step_rule import StepRule
 from ..registries.columns import column, owner
 from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
+from ..results.deployments import deployment_loads, load_warnings
 from ..results.result import Result
 from ..results.summary import (
     FinalState,
@@ -42,6 +43,7 @@ from ..results.summary import (
     separation_summary,
 )
 from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
+from .deployment_watch import watch_deployments
 from .outputs import check_history, concatenate, derive_columns, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase, retime_openings
 from .sequence import Sequence
@@ -183,10 +185,12 @@ def _check_samples(case: Case, duration: float) -> None:
 
 
 def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None, solution_file=None,
-               sequence: Sequence | None = None):
+               sequence: Sequence | None = None, traces: dict | None = None):
     """Build and integrate one phase; returns the model, its checked history, its touchdown and its trigger monitor
-    (each None when the phase has none)."""
+    (each None when the phase has none). ``traces``: the run's deployment load traces (``run.deployment_watch``)."""
     model = plan.method.build(case, phase)
+    if traces is not None:
+        watch_deployments(model, case, traces, phase.inflation)
     if plan.control is None and INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
     touchdown = monitor = None
@@ -223,10 +227,11 @@ class _Run:
     events: list
     histories: list = field(default_factory=list)
     facts: dict = field(default_factory=dict)
+    traces: dict = field(default_factory=dict)   # system -> run.deployment_watch.LoadTrace
 
     def saved(self) -> _Run:
         return _Run(self.body_states, self.confluence_states, copy.deepcopy(self.openings), list(self.events),
-                    list(self.histories), dict(self.facts))
+                    list(self.histories), dict(self.facts), copy.deepcopy(self.traces))
 
 
 def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
@@ -234,7 +239,8 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
     with ``solution_folder`` Exudyn writes each phase's solution file there (``ENGINE_SOLUTION``).
 
     Returns the checked engine history of the whole run, the method's facts, the event log, the openings
-    (``physics.inflation.InflationProgress`` per system with an inflation) and the sequence (``run.sequence``).
+    (``physics.inflation.InflationProgress`` per system with an inflation), the sequence (``run.sequence``) and the
+    deployment load traces (``run.deployment_watch.LoadTrace`` per system).
     """
     output_step = min(case.simulation.output_step, plan.duration)
     sequence = Sequence(case)
@@ -255,7 +261,7 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
             state.events.extend(phase.events)
             solution_file = None if solution_folder is None else Path(solution_folder) / ENGINE_SOLUTION.format(number)
             model, raw, touchdown, monitor = _run_phase(case_at(current, start), plan, phase, output_step, report,
-                                                        solution_file, sequence)
+                                                        solution_file, sequence, state.traces)
             try:
                 stopped = raw.stopped_at
                 landed = touchdown.crossing[0] if touchdown is not None and touchdown.crossing is not None else math.inf
@@ -277,7 +283,7 @@ def run(case: Case, plan: RunPlan, report=None, solution_folder=None):
         raise sequence.with_unfired(error) from None
     raw = concatenate(case, state.histories)
     events = state.events + opening_events(sequence.case, state.openings, float(raw.time[-1]))
-    return raw, state.facts, sequence.attach(events), state.openings, sequence
+    return raw, state.facts, sequence.attach(events), state.openings, sequence, state.traces
 
 
 def _final_values(case: Case, columns: dict) -> FinalState:
@@ -289,7 +295,8 @@ def _final_values(case: Case, columns: dict) -> FinalState:
 
 
 def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns: dict, units: dict,
-              openings: dict | None = None, sequence: Sequence | None = None) -> RunSummary:
+              openings: dict | None = None, sequence: Sequence | None = None, deployments: tuple = ()
+              ) -> RunSummary:
     """The typed summary of a finished run."""
     last_deployment = max([e.time for e in events if e.kind == "deploy"], default=0.0)
     events = sorted(events + descent_rate_events(case.simulation.descent_rate_events, columns["time"],
@@ -308,9 +315,10 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         wall_time=raw.wall_time, final=_final_values(case, columns), peak_tension=peaks, events=tuple(events),
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
         method_settings=plan.method.settings(), method_facts=facts, opening_loads=openings or {},
+        deployments=deployments,
         cluster=cluster_summary(case, columns, events), pendulum=pendulum_summary(case, columns, events),
         descent=descent_summary(case, columns), failures=failures_flown(case.failures),
-        warnings=case.warnings + opening_warnings(case, events)
+        warnings=case.warnings + opening_warnings(case, events) + load_warnings(deployments)
         + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
         separations=separation_summary(case, raw, events),
@@ -397,12 +405,18 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     _check_arguments(case, progress, engine_solution, history)
     plan = _plan(case, plan, method, integrator, step, duration, options, option_values)
     with tempfile.TemporaryDirectory() as folder:
-        raw, facts, events, openings, sequence = run(case, plan, progress, folder if engine_solution else None)
+        flown = run(case, plan, progress, folder if engine_solution else None)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
+    return _result(plan, *flown, history, attachments)
+
+
+def _result(plan: RunPlan, raw, facts, events, openings, sequence, traces, history, attachments) -> Result:
+    """The ``Result`` of a run (``run``'s returns): columns named, summary made."""
     flown = sequence.case   # the case with every triggered event at the time it fired
     columns, units = derive_columns(flown, raw, history)
     contacts = cluster_columns(flown, raw, columns, units)
     pendulum_columns(flown, raw, columns, units)
     summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
-                        opening_loads(flown, openings, columns), sequence)
+                        opening_loads(flown, openings, columns), sequence,
+                        deployment_loads(flown, traces, openings, columns))
     return Result(columns, units, summary, scene=scene(flown, raw) if history else None, attachments=attachments)

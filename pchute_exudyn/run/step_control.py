@@ -53,6 +53,11 @@ CAP_STEPS = 100
 ALLOWANCE_STEPS = 8
 """Steps between two looks at the relaxation's cap (``_relaxation_cap``: the lines' stretch-rate envelope fades over
 seconds)."""
+TAUT_LANDING = 1e-4
+"""s: a slack tether this close to its line stretch (at its rate) gets a step that ends on it; farther, steps of half
+the way (``_tether_cap``)."""
+SNATCH_STEPS = 40
+"""Fewest steps (-) over half the period of a taut tether's snatch (``_tether_cap``): its peak within 0.1 %."""
 OPENING_STEPS = 200
 """Fewest steps (-) over a canopy's fill and its overinflation's decay, a step kept while a supersonic opening's
 canopy flies faster than sound (``_opening_cap``): the drag rises from nothing to its peak within the fill and swings
@@ -95,11 +100,21 @@ def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, 
             own = [i for i, line in enumerate(system.lines) if line.body == body]
             limits.append(spectral_step_bound(case.bodies[body].mass, [stiffness[i] for i in own],
                                               [damping[i] for i in own]))
+    for body, k, c in tether_constants(case, case.bodies):
+        if body in moving:   # each end on its own mass: the pair's mode is slower (its reduced mass is larger)
+            limits.append(spectral_step_bound(case.bodies[body].mass, [k], [c]))
     limit = min(limits)
     if not math.isfinite(limit):
         raise InputError(f"no step given, the case sets no simulation.steps.{key} and nothing in it limits the step "
                          "(no line stiffness on a moving body or confluence): pass --dt")
     return _round_down(STEP_FRACTION * limit), limit
+
+
+def tether_constants(case: Case, present) -> list:
+    """(body, stiffest slope in N/m, damping in N s/m) of each end of each tether acting between the bodies
+    ``present`` (names), both ends of a tether named."""
+    return [(body, tether.law.stiffest, tether.damping) for tether in case.tethers.values()
+            if tether.acts_between(present) for body, _ in tether.ends]
 
 
 def _confluence_limit(case: Case, method: Method, integrator: str, system, key: str) -> float:
@@ -223,13 +238,33 @@ class AdaptiveSteps:
             self.step = next_step(taken, error, CAP_FRACTION * self.cap, self.rule.largest)
         else:
             self.step = min(self.step, CAP_FRACTION * self.cap)
-        coming = min(self.step, self._relaxation_cap(t), self._opening_cap(t))
+        coming = min(self.step, self._relaxation_cap(t), self._opening_cap(t), self._tether_cap())
         if self.landing is not None:
             land = self.landing(t) - t
             if land < coming:
                 coming = land   # the step that ends on a trigger's sample; the rule's step stays for the next
         self._relax(coming)
         return coming
+
+    def _tether_cap(self) -> float:
+        """The step (s) the tethers allow: one that comes taut within the coming step ends near its line stretch (its
+        slack taken at its rate, half the way at a time: the snatch starts on a step's end); one taut resolves its
+        snatch in SNATCH_STEPS steps over half the period pi sqrt(mu / K) of its two bodies' reduced mass mu on its
+        stiffest slope K (inf without tethers)."""
+        cap = math.inf
+        for name, state in self.model.tethers.items():
+            tether = self.case.tethers[name]
+            length, rate = state.length_and_rate()
+            if length < tether.free_length:
+                if rate > 0.0:   # its rate changes on the way: half the way at a time, then onto it
+                    left = (tether.free_length - length) / rate
+                    cap = min(cap, max(left if left < TAUT_LANDING else 0.5 * left, self.rule.smallest))
+                continue
+            (first, _), (second, _) = tether.ends
+            masses = [self.case.bodies[body].mass for body in (first, second) if not self.case.bodies[body].fixed]
+            mu = masses[0] * masses[1] / (masses[0] + masses[1]) if len(masses) == 2 else masses[0]
+            cap = min(cap, math.pi * math.sqrt(mu / tether.law.stiffest) / SNATCH_STEPS)
+        return cap
 
     def _opening_cap(self, t: float) -> float:
         """The step (s) an opening under way allows: its fill time over OPENING_STEPS from the stage's start until
@@ -336,6 +371,10 @@ class AdaptiveSteps:
                 total = sums.setdefault(line.body, [0.0, 0.0])
                 total[0] += k
                 total[1] += c
+        for body, k, c in tether_constants(self.case, self.model.bodies):
+            total = sums.setdefault(body, [0.0, 0.0])
+            total[0] += k
+            total[1] += c
         limits = []
         for body, (mass, damping) in drag.items():
             k, c = sums.get(body, (0.0, 0.0))

@@ -108,6 +108,13 @@ class Watch:
         k = round(time / self.period)
         return k >= self.index and abs(time - k * self.period) <= TIME_TOLERANCE
 
+    def passed(self, previous: float, time: float) -> bool:
+        """Whether the step from ``previous`` to ``time`` (s) passed a sample time not taken: adaptive steps land on
+        each sample time, but the engine may merge a short step with the next (seen in a full-mass run of the
+        rocket: a step of 2 h where h was asked). That sample is then taken at ``time``, late by less than a step,
+        rather than never."""
+        return self.period is not None and self.next_sample(previous) < time - TIME_TOLERANCE
+
     def observe(self, time: float, truth: dict, fired: dict, pressure_at) -> Firing | None:
         """Take the sample due at ``time`` (s) from the true values ``truth``; ``fired``: event -> time of the events
         fired so far. Returns the Firing when the trigger fires."""

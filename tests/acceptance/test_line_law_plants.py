@@ -14,7 +14,7 @@ import pytest
 from tests.helpers import ROOT
 
 PLANTS = {
-    "symbolic": ("pchute_exudyn/engine/full_model.py", "esym.IfThenElse(stretch > 0, value", "esym.IfThenElse(stretch > -1e-3, value"),
+    "symbolic": ("pchute_exudyn/engine/line_laws.py", "esym.IfThenElse(stretch > 0, value", "esym.IfThenElse(stretch > -1e-3, value"),
     "sp solve": ("pchute_exudyn/methods/sp/balance.py", "tensions[i] = line_tension(", "tensions[i] = 1.000001 * line_tension("),
     "series damping": ("pchute_exudyn/physics/lines.py", "/ (total * total)", "/ (total * total * 1.0001)"),
 }

@@ -34,8 +34,6 @@ def test_a_reduced_drogue_opens_and_descends_as_the_rigid_one_of_full_mass():
      "reduced needs one canopy on one riser in series with one bridle from another body"),
     ({"drogue_canopy.apparent_mass": {"projected_radius": 0.43, "axial": 1.0, "lateral": 0.5, "rotational": 0.1}},
      "so it takes no apparent_mass"),
-    ({"systems.drogue.drag_area_schedule": {"time": [0.0, 1.0], "fraction": [0.5, 1.0]}},
-     "reduced flies its canopy fully open from its deployment"),
     ({"systems.drogue.canopy_model": "soft"}, "must be one of: rigid, reduced"),
 ])
 def test_a_reduced_canopy_where_it_cannot_fly_is_one_line(override, message):

@@ -15,7 +15,7 @@ import pytest
 
 import pchute_exudyn as pc
 from pchute_exudyn.registries.columns import column
-from pchute_exudyn.results.summary import run_line
+from pchute_exudyn.results.run_line import run_line
 
 GROUND = 1000.0   # m
 MASS, AREA, DRAG, GRAVITY = 100.0, 20.0, 1.0, 9.80665   # kg, m^2, -, m/s^2

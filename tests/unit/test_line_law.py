@@ -118,7 +118,7 @@ def check_symbolic(rng) -> None:
     """The full-mass model's Exudyn symbolic user function, evaluated alone on exudyn.symbolic reals."""
     from exudyn import symbolic as esym
 
-    from pchute_exudyn.engine.full_model import SYMBOLIC
+    from pchute_exudyn.engine.line_laws import SYMBOLIC
 
     for _ in range(STATES):
         law = random_law(rng)

@@ -9,7 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.results.summary import RunSummary, TouchdownEvent, event_from_dict, touchdown_text
+from pchute_exudyn.results.run_line import touchdown_text
+from pchute_exudyn.results.summary import RunSummary, TouchdownEvent, event_from_dict
 from pchute_exudyn.views.plotting import event_marks
 
 

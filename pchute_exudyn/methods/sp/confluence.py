@@ -125,7 +125,7 @@ class SPConfluence(ReducedConfluence):
         self._built_damping = None                   # the lines' damping as built, once ``relax`` changes it
         self._rates, self._rates_at = [], 0.0        # the lines' stretch-rate envelope (``relaxation_allowed``)
         name = reduced_canopy(case, system)
-        self.canopy = None if name is None else ReducedCanopy(model, case, system, name, memory)
+        self.canopy = None if name is None else ReducedCanopy(model, case, system, name, memory, self.settled)
 
     # -- the solver's calls -------------------------------------------------------------------------------------------
 

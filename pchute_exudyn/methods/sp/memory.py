@@ -64,9 +64,9 @@ fraction of AP) and the riser (whose end is P)."""
 
 (MEMORY_POSITION, MEMORY_STAGE_VELOCITIES, MEMORY_V0, MEMORY_SETTINGS, MEMORY_ORDER, MEMORY_GRAVITY, MEMORY_TIMES,
  MEMORY_NEWER, MEMORY_OLDER, MEMORY_ACCELERATION, MEMORY_CLOCK, MEMORY_DUE, MEMORY_RUN, MEMORY_END,
- MEMORY_END_SOLVE, MEMORY_CANOPY, MEMORY_AIR, MEMORY_NORMAL) = (0, 1, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
-                                                                18, 19, 20)
-MEMORY_ROWS = 24
+ MEMORY_END_SOLVE, MEMORY_CANOPY, MEMORY_AIR, MEMORY_NORMAL, MEMORY_FILL) = (0, 1, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14,
+                                                                             15, 16, 17, 18, 19, 20, 24)
+MEMORY_ROWS = 25
 """Rows (of 3 floats) of an SP confluence's memory:
 
 0 the confluence position q_n at the start of the step under way (m); 1-4 the stage velocities k_1 .. k_4 of the
@@ -88,7 +88,12 @@ distance from P back to its centre of mass in m); 19 the air's velocity at it (m
 of the step, set before each step (``reduced_canopy.ReducedCanopy.update_air``).
 
 20-23 normal gravity (``gravity.NORMAL_COLUMNS``: planet centre, spin axis, a and b, gamma_e, k, m, the frame's
-rotation rate), all 0 with spherical or uniform gravity (rows 7 and 8 then): ``stepping.confluence_gravity``."""
+rotation rate), all 0 with spherical or uniform gravity (rows 7 and 8 then): ``stepping.confluence_gravity``.
+
+24 a reduced canopy's opening over the step under way (``reduced_canopy.ReducedCanopy.fill``): (the rate of its drag
+coefficient in kg/m/s, the time in s at which the coefficient of row 18 holds, -): a stage at time t takes
+1/2 rho S C_A f = row 18's + rate (t - time), the secant of the opening's drag-area fraction f over the step; all 0
+for a canopy that is open (its drag then row 18's to the bit)."""
 
 # The columns of the memory rows that hold three different things (the other rows hold x, y, z):
 SETTING_MASS, SETTING_KAPPA, SETTING_FORCE_SLACK = 0, 1, 2      # MEMORY_SETTINGS: m_c (kg), kappa_max, force rule
@@ -99,6 +104,7 @@ DUE_PENDING, DUE_TIME, DUE_COMPLETED = 0, 1, 2                  # MEMORY_DUE: wo
 RUN_STEP, RUN_START = 0, 1                                      # MEMORY_RUN: the engine's step (s), the phase start
 SOLVE_DAMPING, SOLVE_KAPPA, SOLVE_TAUT = 0, 1, 2                # MEMORY_END_SOLVE: C_c (N s/m), kappa, taut lines
 CANOPY_STATE_ROW, CANOPY_DRAG, CANOPY_OFFSET = 0, 1, 2          # MEMORY_CANOPY: row + 1, 1/2 rho S C_A, P to CG (m)
+FILL_RATE, FILL_TIME = 0, 1                                     # MEMORY_FILL: drag's rate (kg/m/s), its time (s)
 
 # A solve's tuple (``stepping.sp_rk_stage``): (vx, vy, vz, C_c, kappa, lines counted taut)
 SOLVED_VELOCITY, SOLVED_DAMPING, SOLVED_KAPPA, SOLVED_TAUT = 0, 3, 4, 5
@@ -146,7 +152,8 @@ class Memory:
     ``older`` recorded end-of-step velocities (m/s), ``end_velocity`` (m/s), ``air`` (m/s); ``settings``, ``order``,
     ``clock``, ``run``, ``times`` and ``canopy`` whole; and their cells: ``mass`` (kg), ``first_order``
     (1 or 0), ``recorded``, ``newer_time`` and ``older_time`` (s), ``due_time`` (s), ``run_step`` (s),
-    ``canopy_drag`` (kg/m), ``end_damping`` (N s/m), ``end_kappa``, ``end_taut``."""
+    ``canopy_drag`` (kg/m), ``fill_rate`` (kg/m/s), ``fill_time`` (s), ``end_damping`` (N s/m), ``end_kappa``,
+    ``end_taut``."""
 
     position = _Row(MEMORY_POSITION)
     v0 = _Row(MEMORY_V0)
@@ -163,6 +170,7 @@ class Memory:
     canopy = _Row(MEMORY_CANOPY)
     air = _Row(MEMORY_AIR)
     normal_gravity = _Row(MEMORY_NORMAL, 4)
+    fill = _Row(MEMORY_FILL)
     mass = _Cell(MEMORY_SETTINGS, SETTING_MASS)
     first_order = _Cell(MEMORY_ORDER, ORDER_FIRST)
     recorded = _Cell(MEMORY_ORDER, ORDER_RECORDED)
@@ -171,6 +179,8 @@ class Memory:
     due_time = _Cell(MEMORY_DUE, DUE_TIME)
     run_step = _Cell(MEMORY_RUN, RUN_STEP)
     canopy_drag = _Cell(MEMORY_CANOPY, CANOPY_DRAG)
+    fill_rate = _Cell(MEMORY_FILL, FILL_RATE)
+    fill_time = _Cell(MEMORY_FILL, FILL_TIME)
     end_damping = _Cell(MEMORY_END_SOLVE, SOLVE_DAMPING)
     end_kappa = _Cell(MEMORY_END_SOLVE, SOLVE_KAPPA)
     end_taut = _Cell(MEMORY_END_SOLVE, SOLVE_TAUT)
@@ -182,7 +192,8 @@ class Memory:
 class Work:
     """The per-line work array (``STAGE_COLUMNS`` columns, ``array``) by name: ``tensions`` (N, the stage's),
     ``end_tensions`` (N, the last end-of-step solve's), ``elastic`` (T_el, N), ``taut`` (1 or 0), ``directions`` (n),
-    ``attach_positions`` (m), ``fraction`` (-: a pair in series, the confluence's share of AB from line 0)."""
+    ``attach_positions`` (m), ``attach_velocities`` (m/s), ``fraction`` (-: a pair in series, the confluence's share
+    of AB from line 0)."""
 
     def __init__(self, lines: int):
         self.array = np.zeros((lines, STAGE_COLUMNS))
@@ -210,6 +221,10 @@ class Work:
     @property
     def attach_positions(self) -> np.ndarray:
         return self.array[:, WORK_ATTACH_POSITION:WORK_ATTACH_POSITION + 3]
+
+    @property
+    def attach_velocities(self) -> np.ndarray:
+        return self.array[:, WORK_ATTACH_VELOCITY:WORK_ATTACH_VELOCITY + 3]
 
     @property
     def fraction(self) -> float:

@@ -3,7 +3,13 @@ whose canopy is reduced integrates the canopy's drag point P instead of the conf
 kernel reads of the canopy in the confluence's memory (``memory.Memory``: its ``canopy`` and ``air`` rows): its stage
 row, its drag coefficient 1/2 rho S C_A and the air's velocity at it, set before every step from the air at P then
 (the start of the step: the density over one step changes by parts in 1e5, and a gust or turbulence cell reaches the
-canopy one step late at most)."""
+canopy one step late at most).
+
+A canopy that opens (an ``inflation`` or a ``drag_area_schedule``) multiplies that coefficient by its drag-area
+fraction f: before each step the coefficient at the step's start and its secant rate over the step go into memory
+(``memory.MEMORY_FILL``), so that each RK stage takes f at its own time to second order (exact at the step's ends);
+the opening's stage starts are measured as a rigid canopy's are (``engine.canopy.watch_opening``), from P's air
+speed."""
 
 from __future__ import annotations
 
@@ -13,9 +19,12 @@ from dataclasses import replace
 import numpy as np
 
 from ...case.model import Case, ParachuteSystem
+from ...engine.canopy import add_fraction_channel, watch_opening
 from ...engine.phase_model import Model
+from ...engine.state import ColumnChannel
 from ...physics.aerodynamics import mach_number
 from ...physics.linearization import max_stable_step_rk4
+from ...registries.columns import column, unit
 from .memory import BRIDLE_ROW, RISER_ROW, Memory, Work
 
 
@@ -46,8 +55,9 @@ def bridle_first(system: ParachuteSystem) -> ParachuteSystem:
 class ReducedCanopy:
     """The canopy ``name`` of an SP confluence's system, reduced; sets the confluence's ``memory`` to fly it."""
 
-    def __init__(self, model: Model, case: Case, system: ParachuteSystem, name: str, memory: Memory):
-        self.model, self.case, self.name, self.memory = model, case, name, memory
+    def __init__(self, model: Model, case: Case, system: ParachuteSystem, name: str, memory: Memory, settled):
+        """``settled()``: the confluence with its last end-of-step solve done (``SPConfluence.settled``)."""
+        self.model, self.case, self.name, self.memory, self.settled = model, case, name, memory, settled
         body = case.bodies[name]
         riser = system.lines[RISER_ROW]
         point = np.asarray(body.points[riser.point], float)
@@ -65,6 +75,68 @@ class ReducedCanopy:
         self.air, self.altitude = case.air_motion(), case.start.altitude_scalar
         self.mass = body.mass + system.confluence.mass
         self.laws = [line.law for line in system.lines]
+        self.drag_coefficient = 0.0   # 1/2 rho S C_A (kg/m) at the last ``update_air``, open
+        self.fraction = self._watch_opening(system)
+
+    def _watch_opening(self, system: ParachuteSystem):
+        """The opening's drag-area fraction (-) as a function of run time (s), its hooks and channels; None for a
+        canopy open from its deployment (nothing added: its runs as before, to the bit)."""
+        model, name = self.model, self.name
+        label = self.case.opening_label(system, name)
+        progress = model.phase.inflation.get((system.name, name))
+        if progress is not None:
+            watch_opening(model, label, name, progress, self.air_speed, self.sound_speed, self.drag_force)
+            fraction = lambda t: progress(t - progress.line_stretch)   # noqa: E731
+        else:
+            schedule = self.case.opening_of(system, name)
+            if schedule is None:
+                return None
+            deployed = system.deploy_time if system.deploy_time is not None else 0.0
+            add_fraction_channel(model, label, schedule, deployed)
+            fraction = lambda t: schedule(t - deployed)   # noqa: E731
+            model.add_channel(_force_channel(name), self.drag_force)
+        model.add_pre_step(self.fill)
+        model.add_post_step(self.stepped)
+        self.step_start = model.phase.start
+        return fraction
+
+    def fill(self, mbs, t: float) -> None:
+        """Pre-step hook (``t``: the coming step's end): the drag coefficient at the step's start and its secant rate
+        over the step into memory (``MEMORY_FILL``)."""
+        memory, start, fraction = self.memory, self.step_start, self.fraction
+        coefficient = self.drag_coefficient
+        at_start = coefficient * fraction(start)
+        memory.canopy_drag = at_start
+        memory.fill_rate = (coefficient * fraction(t) - at_start) / (t - start) if t > start else 0.0
+        memory.fill_time = start
+
+    def stepped(self, mbs, t: float) -> None:
+        """Post-step hook: the next step starts at ``t`` (s)."""
+        self.step_start = t
+
+    def air_speed(self, t: float) -> float:
+        """The speed (m/s) against the air at run time ``t`` (s) of the bridle's attach point on the vehicle, at the
+        last end of step: the speed an opening's stage starts at (its fill time n D0 / V). A rigid canopy measures its
+        own, which at line stretch is the vehicle's; a massless one has none of its own before its drag grows."""
+        work = self.settled().work
+        return self._against_air(work.attach_positions[BRIDLE_ROW], work.attach_velocities[BRIDLE_ROW], t)
+
+    def _against_air(self, position, velocity, t: float) -> float:
+        x, y, z = position.tolist()
+        wind = (0.0, 0.0, 0.0) if self.air.still else self.air(x, y, z, self.altitude(x, y, z), t)
+        return math.dist(velocity.tolist(), wind)
+
+    def sound_speed(self, t: float) -> float:
+        """The speed of sound (m/s) at P."""
+        x, y, z = self.memory.position.tolist()
+        return self.case.atmosphere.state(self.altitude(x, y, z))[1]
+
+    def drag_force(self) -> float:
+        """The magnitude of the canopy's drag (N) at the last end of step: 1/2 rho S C_A f |v - w|^2."""
+        t = self.model.mbs.systemData.GetTime()
+        memory = self.settled().memory
+        speed = self._against_air(memory.position, memory.end_velocity, t)
+        return self.drag_coefficient * self.fraction(t) * speed * speed
 
     def update_air(self, t: float) -> None:
         """The drag coefficient and the air's velocity at P for the coming step (s: ``t`` its start)."""
@@ -77,7 +149,10 @@ class ReducedCanopy:
         if self.coefficient.uses_mach:
             vx, vy, vz = memory.v0.tolist()
             mach = mach_number(math.dist((vx, vy, vz), wind), sound)
-        memory.canopy_drag = 0.5 * density * self.area * self.coefficient(0.0, mach)
+        self.drag_coefficient = 0.5 * density * self.area * self.coefficient(0.0, mach)
+        # an opening's drag-area fraction now (the solve at a phase's start takes it; ``fill`` adds the step's rate)
+        memory.canopy_drag = self.drag_coefficient if self.fraction is None else \
+            self.drag_coefficient * self.fraction(t)
         memory.air = wind
 
     def position_of_confluence(self, work: Work) -> list:
@@ -99,3 +174,9 @@ class ReducedCanopy:
         along = stiffness / (2.0 * drag * speed + damping + inertia)
         across = work.tensions[RISER_ROW] / length / (drag * speed + inertia)
         return max_stable_step_rk4([-max(along, across)])
+
+
+def _force_channel(canopy: str):
+    """The ``<canopy>_aerodynamic_force`` channel (N) of a canopy whose opening follows a time table."""
+    name = column("{owner}_aerodynamic_force", canopy)
+    return ColumnChannel(name, unit(name))

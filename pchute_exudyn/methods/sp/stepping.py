@@ -30,6 +30,8 @@ from .memory import (
     DUE_PENDING,
     DUE_TIME,
     END_TENSION,
+    FILL_RATE,
+    FILL_TIME,
     MEMORY_ACCELERATION,
     MEMORY_AIR,
     MEMORY_CANOPY,
@@ -37,6 +39,7 @@ from .memory import (
     MEMORY_DUE,
     MEMORY_END,
     MEMORY_END_SOLVE,
+    MEMORY_FILL,
     MEMORY_GRAVITY,
     MEMORY_NEWER,
     MEMORY_NORMAL,
@@ -136,9 +139,11 @@ def sp_rk_stage(states, layout, tables, work, part, memory, t, index, h):
     if memory[canopy, CANOPY_STATE_ROW] > 0.5:   # a reduced canopy: the state is its drag point, solved with its drag
         rate, bx, by, bz = _mass_term(memory, t, qx, qy, qz)
         air, v0 = MEMORY_AIR, MEMORY_V0
+        fill = MEMORY_FILL   # an opening: the drag's secant over the step (0 once open: row 18's to the bit)
+        drag = max(memory[canopy, CANOPY_DRAG] + memory[fill, FILL_RATE] * (t - memory[fill, FILL_TIME]), 0.0)
         vx, vy, vz, c_c, kappa, taut = canopy_stage(
             states, layout, tables, work, part, qx, qy, qz, memory[v0, 0], memory[v0, 1], memory[v0, 2],
-            memory[canopy, CANOPY_DRAG], memory[air, 0], memory[air, 1], memory[air, 2], rate, bx, by, bz,
+            drag, memory[air, 0], memory[air, 1], memory[air, 2], rate, bx, by, bz,
             int(memory[canopy, CANOPY_STATE_ROW]) - 1, memory[canopy, CANOPY_OFFSET])
         k = MEMORY_STAGE_VELOCITIES + index
         memory[k, 0], memory[k, 1], memory[k, 2] = vx, vy, vz

@@ -1,0 +1,145 @@
+"""Deployment loads against closed forms (docs/models/deployment_loads.md): two bodies in vacuum on a tether that
+comes taut (undamped: the snatch v sqrt(k mu); damped: the oscillator's first peak; paying out against a constant
+resistance: line stretch from the kinematics), with full mass and SP; an infinite-mass opening of each canopy type
+(the drag-area history is the fill law, the peak q S C_D C_x); the rocket's openings under SP's reduced canopy
+against the full-mass reference (recorded values)."""
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pchute_exudyn import load_case, simulate
+from pchute_exudyn.physics.inflation import Inflation, InflationStage, nominal_diameter
+from pchute_exudyn.registries.canopy_types import CANOPY_TYPE_LIST
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "validation"))
+import canopy_checks  # noqa: E402
+
+M1, M2, STIFFNESS, SPEED, LENGTH, GAP = 10.0, 2.0, 2000.0, 5.0, 3.0, 1.0
+MU = M1 * M2 / (M1 + M2)
+TETHERED = f'''
+[case]
+name = "two bodies on a cord"
+vehicle = "a"
+[planet]
+model = "flat"
+gravity = 0.0
+[bodies.a]
+mass = {M1}
+inertia = [1.0, 1.0, 1.0]
+points.end = [0.0, 0.0, 0.0]
+initial = {{ altitude = 1000.0 }}
+[bodies.b]
+mass = {M2}
+inertia = [0.2, 0.2, 0.2]
+points.end = [0.0, 0.0, 0.0]
+initial = {{ altitude = 1000.0, east = {GAP}, velocity_east = {SPEED} }}
+[tethers.cord]
+ends = ["a.end", "b.end"]
+free_length = {LENGTH}
+stiffness = {STIFFNESS}
+[simulation]
+duration = 0.8
+output_step = 0.1
+steps = {{ full = 1.0e-4, sp = 1.0e-4 }}
+'''
+METHODS = ("full", "sp")
+
+
+def _tethered(tmp_path, **keys):
+    path = tmp_path / "tethered.toml"
+    path.write_text(TETHERED)
+    return load_case(path, {f"tethers.cord.{key}": value for key, value in keys.items()})
+
+
+def _cord(result):
+    (deployment,) = result.summary.deployments
+    assert deployment.kind == "tether" and deployment.system == "cord"
+    return deployment
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_an_undamped_cord_comes_taut_at_l_over_v_and_snatches_at_v_sqrt_k_mu(tmp_path, method):
+    cord = _cord(simulate(_tethered(tmp_path), method))
+    assert cord.line_stretch_time == pytest.approx((LENGTH - GAP) / SPEED, abs=1.5e-4)   # a step
+    assert cord.snatch_load == pytest.approx(SPEED * math.sqrt(STIFFNESS * MU), rel=1e-3)
+    assert cord.opening_load == cord.snatch_load
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_damped_cord_peaks_as_the_damped_oscillator(tmp_path, method):
+    damping = 20.0
+    cord = _cord(simulate(_tethered(tmp_path, damping=damping), method))
+    natural = math.sqrt(STIFFNESS / MU)
+    ratio = damping / (2.0 * math.sqrt(STIFFNESS * MU))
+    damped = natural * math.sqrt(1.0 - ratio ** 2)
+    s = np.linspace(0.0, math.pi / damped, 200001)   # x(0) = 0, x'(0) = v: T = k x + c x'
+    decay = np.exp(-ratio * natural * s)
+    stretch = SPEED / damped * decay * np.sin(damped * s)
+    rate = SPEED * decay * (np.cos(damped * s) - ratio * natural / damped * np.sin(damped * s))
+    assert cord.snatch_load == pytest.approx(float(np.max(STIFFNESS * stretch + damping * rate)), rel=1e-3)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_payout_resistance_sets_line_stretch_by_the_kinematics(tmp_path, method):
+    resistance = 10.0
+    result = simulate(_tethered(tmp_path, payout_resistance=resistance), method)
+    cord = _cord(result)
+    slowing = resistance / MU
+    stretch_speed = math.sqrt(SPEED ** 2 - 2.0 * slowing * (LENGTH - GAP))
+    assert cord.line_stretch_time == pytest.approx((SPEED - stretch_speed) / slowing, abs=1.5e-4)
+    assert cord.snatch_load == pytest.approx(stretch_speed * math.sqrt(STIFFNESS * MU), rel=1e-3)
+    # paying out it pulls with R: the samples before line stretch
+    tension, time = result.columns["tension_cord"], result.columns["time"]
+    paying = (time > 0.0) & (time < cord.line_stretch_time - 1e-3)
+    assert np.all(tension[paying] == resistance)
+
+
+SUBSONIC = [canopy for canopy in CANOPY_TYPE_LIST]
+
+
+@pytest.mark.parametrize("canopy", SUBSONIC, ids=[canopy.name for canopy in SUBSONIC])
+def test_an_infinite_mass_opening_follows_the_fill_law_to_q_s_cd_cx(tmp_path, canopy):
+    """canopy_checks' towed canopy (1e9 kg, constant air) opening by the type's fill constant, exponent and C_x,
+    its speed chosen so that the fill ends on an output sample."""
+    fill_time = 0.5   # s
+    area = canopy_checks.AREA
+    speed = canopy.fill_constant * nominal_diameter(area) / fill_time
+    overinflation = canopy.overinflation
+    decay = 0.3 if overinflation > 1.0 else 0.0
+    opening = (f"{{stage_start = [0.0], fraction = [1.0], fill_constant = [{canopy.fill_constant}], exponent = "
+               f"[{canopy.opening_exponent}], overinflation = {overinflation}, overinflation_decay = {decay}}}")
+    path = tmp_path / "towed.toml"
+    path.write_text(canopy_checks.TOWED.format(air=(ROOT / "tests" / "cases" / "constant_air.csv").as_posix(),
+                                               speed=speed, area=area,
+                                               axial_coefficient=canopy.drag_coefficient))
+    case = load_case(path, [f"systems.tow.inflation={opening}", "simulation.duration=1.5",
+                            "simulation.output_step=0.005"])
+    columns = simulate(case, "sp").columns
+    law = Inflation((InflationStage(0.0, 1.0, canopy.fill_constant, canopy.opening_exponent),),
+                    overinflation=overinflation, overinflation_decay=decay)
+    q = 0.5 * canopy_checks.DENSITY * speed ** 2
+    expected = q * area * canopy.drag_coefficient * np.array([law.fraction(t, [fill_time]) for t in columns["time"]])
+    force = columns["canopy_aerodynamic_force"]
+    assert np.max(np.abs(force - expected)) <= 1e-6 * expected.max()
+    assert force.max() == pytest.approx(q * area * canopy.drag_coefficient * overinflation, rel=1e-6)
+
+
+FULL_MASS_OPENINGS = {"drogue": 242.924, "main": 408.443}
+"""N: the opening loads of the shipped dual deploy with both canopies opening by the flat circular's law (n = 8,
+exponent 2, C_x 1.7; decay 0.1 s and 0.3 s), flown by full mass (rigid canopies), recorded with
+``pchute run <that case> --method full`` (the case: this test's overrides of cases/rocket/dual_deploy.toml)."""
+
+
+def test_the_rocket_s_reduced_canopies_open_as_full_mass_within_two_percent(tmp_path):
+    case = load_case(ROOT / "cases" / "rocket" / "dual_deploy.toml", [
+        f"systems.{name}.inflation={{stage_start = [0.0], fraction = [1.0], fill_constant = [8.0], exponent = [2.0], "
+        f"overinflation = 1.7, overinflation_decay = {decay}}}" for name, decay in (("drogue", 0.1), ("main", 0.3))])
+    loads = {d.system: d for d in simulate(case, "sp").summary.deployments}
+    for name, reference in FULL_MASS_OPENINGS.items():
+        assert loads[name].opening_load == pytest.approx(reference, rel=0.02), name
+        assert loads[name].knacke_opening_load is not None

@@ -1,0 +1,64 @@
+"""Bad tether and ejection input (issue 55): one line naming the key, the value and what is allowed, a non-zero
+exit, no traceback, nothing written; a load above a rated breaking strength and a payout resistance that stops the
+ejection are warned in one line each."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from tests.bad_input_harness import assert_one_line, run_bad_input
+from tests.helpers import ROOT
+
+ROCKET = (ROOT / "cases" / "rocket" / "two_section.toml").as_posix()
+
+
+def _run(tmp, *sets, duration="3", case=ROCKET):
+    return ["run", str(case), "--out", str(tmp / "out"), "--quiet", "--t-end", duration,
+            *[a for s in sets for a in ("--set", s)]]
+
+
+BATTERY = [
+    ("a cord shorter than the sections are apart", lambda t: _run(t, "tethers.shock_cord.free_length=0.05"),
+     "tethers.shock_cord.free_length = 0.05: is shorter than its ends are apart (0.1 m) while 'nose' rides in "
+     "'booster': it would start stretched"),
+    ("an ejection into the vehicle", lambda t: _run(t, "separations.nose.direction=[-1.0, 0.0, 0.0]"),
+     "separations.nose.direction = [-1.0, 0.0, 0.0]: points into the vehicle"),
+    ("both ends on one body", lambda t: _run(t, "tethers.shock_cord.ends=['booster.harness', 'booster.nose_seat']"),
+     "tethers.shock_cord.ends = ['booster.harness', 'booster.nose_seat']: must be points of two different bodies"),
+    ("an unknown point", lambda t: _run(t, "tethers.shock_cord.ends=['booster.harness', 'nose.tip']"),
+     "tethers.shock_cord.ends = 'nose.tip': body 'nose' has no point 'tip'"),
+    ("an unknown material", lambda t: _run(t, "tethers.shock_cord.material='silk'"),
+     "tethers.shock_cord.material = 'silk': unknown line material"),
+    ("a negative payout resistance", lambda t: _run(t, "tethers.shock_cord.payout_resistance=-1"),
+     "tethers.shock_cord.payout_resistance = -1"),
+]
+
+
+@pytest.mark.parametrize("name, make_args, expected", BATTERY, ids=[entry[0] for entry in BATTERY])
+def test_bad_tether_input_gives_one_line_and_a_nonzero_exit(tmp_path, name, make_args, expected):
+    code, err, seconds, touched = run_bad_input(make_args, tmp_path)
+    assert_one_line(code, err, expected, touched, seconds)
+
+
+def _warnings(tmp_path, *sets, case=ROCKET) -> list:
+    done = subprocess.run([sys.executable, "-m", "pchute_exudyn", *_run(tmp_path, *sets, case=case)], capture_output=True,
+                          text=True, cwd=ROOT)
+    assert done.returncode == 0, done.stderr
+    return json.loads((tmp_path / "out" / "summary.json").read_text())["warnings"]
+
+
+def test_a_breaking_strength_below_the_snatch_is_warned(tmp_path):
+    case = tmp_path / "rated.toml"   # a cord of given stiffness rated at 300 N: its snatch is about 400 N
+    case.write_text(f'extends = "{ROCKET}"\nremove = ["tethers.shock_cord.material"]\n[tethers.shock_cord]\n'
+                    'stiffness = 5000.0\nbreaking_strength = 300.0\n')
+    warnings = _warnings(tmp_path, case=case)
+    assert any(w.startswith("tethers.shock_cord: peak load") and "exceeds its breaking strength 300 N" in w
+               for w in warnings), warnings
+
+
+def test_a_payout_resistance_that_stops_the_ejection_is_warned(tmp_path):
+    warnings = _warnings(tmp_path, "tethers.shock_cord.payout_resistance=200")
+    assert any(w.startswith("tethers.shock_cord: its payout resistance 200 N stops the 5 m/s separation of 'nose'")
+               for w in warnings), warnings
