@@ -149,8 +149,11 @@ def knacke_estimate(case: Case, system: ParachuteSystem, stage: OpeningStage, su
                                 stage.overinflation)
 
 
-def deployment_loads(case, traces: dict, openings: dict, columns: dict) -> tuple:
-    """The ``Deployment`` of every system that flew (``case``: as flown), in the order of the case's systems."""
+def deployment_loads(case, traces: dict, openings: dict, columns: dict, histories: dict | None = None) -> tuple:
+    """The ``Deployment`` of every system that flew (``case``: as flown), in the order of the case's systems, then
+    of every tether; ``histories`` (when given) receives each one's load history (name -> (times in s, loads in N):
+    the steps kept and the samples between) for the loads figure."""
+    histories = {} if histories is None else histories
     run_end = float(columns[column("time")][-1])
     out = []
     for system in case.systems.values():
@@ -169,6 +172,7 @@ def deployment_loads(case, traces: dict, openings: dict, columns: dict) -> tuple
         load = np.nansum(tensions[:, risers], axis=1) if risers else np.nanmax(tensions, axis=1, initial=0.0)
         opening, opening_time = largest(times, load.tolist())
         snatch, snatch_time = first_peak(times, load.tolist(), floor=SNATCH_FLOOR * opening)
+        histories[system.name] = (np.asarray(times, float), load)
         stage = OpeningStage(case, system, progress, columns, line_stretch, opening_time)
         peaks = {}
         for i, line in enumerate(system.lines):
@@ -183,7 +187,7 @@ def deployment_loads(case, traces: dict, openings: dict, columns: dict) -> tuple
                               peaks, knacke_estimate(case, system, stage, progress is not None and
                                                      progress.supersonic is not None),
                               opening_stage=stage.number))
-    return tuple(out) + tuple(_tether_deployments(case, traces))
+    return tuple(out) + tuple(_tether_deployments(case, traces, histories))
 
 
 def _peak(load: float, time: float, strength: float | None) -> dict:
@@ -195,7 +199,7 @@ def _peak(load: float, time: float, strength: float | None) -> dict:
     return peak
 
 
-def _tether_deployments(case, traces: dict) -> list:
+def _tether_deployments(case, traces: dict, histories: dict) -> list:
     """A ``Deployment`` per tether that acted: its line stretch (the first step at which it pulls, and not with its
     payout resistance), its snatch (the first peak from then on) and its largest load (``opening_load``: a tether
     opens nothing)."""
@@ -210,6 +214,7 @@ def _tether_deployments(case, traces: dict) -> list:
         if taut is None:
             continue
         times, after = trace.times[taut:], loads[taut:]
+        histories[tether.name] = (np.asarray(trace.times, float), np.asarray(loads, float))
         peak, peak_time = largest(times, after)
         snatch, snatch_time = first_peak(times, after, floor=SNATCH_FLOOR * peak)
         out.append(Deployment(tether.name, trace.times[taut], snatch, snatch_time, peak, peak_time,

@@ -12,7 +12,10 @@ Files written by ``Result.save`` (each atomically):
   (``simulate(engine_solution=True)``, ``pchute run --exudyn-solution``);
 * ``overview.png``: line tensions, vehicle altitude and (when the run has them) its Mach number and dynamic pressure
   against time, with the run's events marked, and the rate of descent against altitude;
-* ``ground_track.png``: the vehicle's track over the ground, north against east of the start point, events marked.
+* ``ground_track.png``: the vehicle's track over the ground, north against east of the start point, events marked;
+* ``loads.png``: each deployment's load (a system's risers, a tether) against time at every step kept, its snatch,
+  opening load, Knacke's estimate and breaking strength marked (``plotting.plot_deployment_loads``), when the run
+  has deployments; their histories are ``loads/<name>/time`` and ``loads/<name>/load`` in ``result.npz``.
 """
 
 from __future__ import annotations
@@ -32,6 +35,8 @@ from .number_text import table_text
 from .summary import RunSummary
 
 CSV_NAME, NPZ_NAME, SUMMARY_NAME, PLOT_NAME = "timeseries.csv", "result.npz", "summary.json", "overview.png"
+LOADS_NAME, LOADS = "loads.png", "loads"
+"""The loads figure's file, and the prefix of the load histories' arrays in ``result.npz`` (``loads/<name>/...``)."""
 TRACK_NAME = "ground_track.png"
 SCENE = "scene"
 """Key of the scene description in ``result.npz``; its arrays are ``scene/<name>``."""
@@ -131,10 +136,12 @@ class Result:
         Arrays and description of the bodies and lines in the start frame (``outputs.scene``), for animations.
     attachments : dict of str to str, optional
         Further text files of the run (Exudyn's own solution files), saved beside the others under their names.
+    loads : dict, optional
+        Each deployment's load history: name -> (times in s, loads in N) (``results.deployments``).
     """
 
     def __init__(self, columns: dict, units: dict | None = None, summary: RunSummary | None = None, scene=None,
-                 attachments=None):
+                 attachments=None, loads=None):
         if "time" not in columns:
             raise InputError("a result needs a 'time' column")
         if summary is not None and not isinstance(summary, RunSummary):
@@ -145,6 +152,7 @@ class Result:
         self.summary = summary
         self.scene_arrays, self.scene = scene if scene is not None else ({}, None)
         self.attachments = dict(attachments or {})
+        self.loads = {name: (np.asarray(t, float), np.asarray(v, float)) for name, (t, v) in (loads or {}).items()}
 
     @property
     def time(self) -> np.ndarray:
@@ -228,10 +236,14 @@ class Result:
         scene = {f"{SCENE}/{k}": v for k, v in self.scene_arrays.items()}
         if self.scene is not None:
             scene[SCENE] = json_text(self.scene)
+        loads = {f"{LOADS}/{name}/{key}": array for name, pair in self.loads.items()
+                 for key, array in zip(("time", "load"), pair)}
         with atomic_writer(paths["npz"], "wb") as handle:
             # not compressed: deflate takes 40 times longer to write a history (0.1 s for MER's 60 s) and saves 20 %
-            np.savez(handle, **self.columns, units=json_text(self.units), summary=json_text(summary), **scene)
-        written = [p.name for p in paths.values()] + list(self.attachments) + ([PLOT_NAME, TRACK_NAME] if plot else [])
+            np.savez(handle, **self.columns, units=json_text(self.units), summary=json_text(summary), **scene,
+                     **loads)
+        figures = ([PLOT_NAME, TRACK_NAME] + ([LOADS_NAME] if self.loads else [])) if plot else []
+        written = [p.name for p in paths.values()] + list(self.attachments) + figures
         # the folder's own summary.json lists its files: all that a later --overwrite replaces (io.result_files)
         atomic_write_text(paths["summary"], json_text({**summary, FILES_KEY: written}, indent=2) + "\n")
         for name, text in self.attachments.items():
@@ -239,10 +251,14 @@ class Result:
             atomic_write_text(paths[name], text)
         if plot:
             paths["plot"], paths["ground_track"] = folder / PLOT_NAME, folder / TRACK_NAME
-            if draw is None or not draw(self, paths["plot"], paths["ground_track"]):
-                from ..views.plotting import plot_ground_track, save_figure
+            if self.loads:
+                paths["loads"] = folder / LOADS_NAME
+            if draw is None or not draw(self, paths["plot"], paths["ground_track"], paths.get("loads")):
+                from ..views.plotting import plot_deployment_loads, plot_ground_track, save_figure
                 save_figure(self.plot(), paths["plot"])
                 save_figure(plot_ground_track(self), paths["ground_track"])
+                if self.loads:
+                    save_figure(plot_deployment_loads(self), paths["loads"])
         return paths
 
     @classmethod
@@ -260,11 +276,13 @@ class Result:
             if not (path / CSV_NAME).is_file() and (path / NPZ_NAME).is_file():
                 data = read_npz(path / NPZ_NAME, lambda key: key not in ("summary", SCENE)
                                 and not key.startswith(SCENE + "/"))
-                columns = {k: v for k, v in data.items() if k != "units"}
+                loads = _loads(data)
+                columns = {k: v for k, v in data.items() if k != "units" and not k.startswith(LOADS + "/")}
                 units = _units(data, path / NPZ_NAME)
                 if "time" not in columns:
                     raise InputError(f"{path / NPZ_NAME}: holds no time array: not a {NPZ_NAME} written by pchute run")
-                return cls(map_columns(columns, column_map or {}, path)[0], units, typed_summary(summary))
+                return cls(map_columns(columns, column_map or {}, path)[0], units, typed_summary(summary),
+                           loads=loads)
             if not (path / CSV_NAME).is_file():
                 raise InputError(f"{path}: a folder without {CSV_NAME} or {NPZ_NAME}: not a result folder of "
                                  "`pchute run` (a study folder is read by `pchute study-report`)")
@@ -281,6 +299,13 @@ class Result:
         typed = typed_summary(summary)
         file_units = typed.units if typed is not None and isinstance(typed.units, dict) else None
         return cls(columns, file_units or {n: u for n, u in units.items() if u}, typed)
+
+
+def _loads(data: dict) -> dict:
+    """The load histories of a result.npz's arrays (``loads/<name>/time`` and ``/load``): name -> (times, loads)."""
+    names = {key.split("/")[1] for key in data if key.startswith(LOADS + "/") and key.count("/") == 2}
+    return {name: (data[f"{LOADS}/{name}/time"], data[f"{LOADS}/{name}/load"]) for name in sorted(names)
+            if f"{LOADS}/{name}/time" in data and f"{LOADS}/{name}/load" in data}
 
 
 def typed_summary(summary: dict) -> RunSummary | None:

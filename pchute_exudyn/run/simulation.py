@@ -416,7 +416,9 @@ def _result(plan: RunPlan, raw, facts, events, openings, sequence, traces, histo
     columns, units = derive_columns(flown, raw, history)
     contacts = cluster_columns(flown, raw, columns, units)
     pendulum_columns(flown, raw, columns, units)
+    loads: dict = {}   # each deployment's load history, for the loads figure
     summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
                         opening_loads(flown, openings, columns), sequence,
-                        deployment_loads(flown, traces, openings, columns))
-    return Result(columns, units, summary, scene=scene(flown, raw) if history else None, attachments=attachments)
+                        deployment_loads(flown, traces, openings, columns, loads))
+    return Result(columns, units, summary, scene=scene(flown, raw) if history else None, attachments=attachments,
+                  loads=loads)

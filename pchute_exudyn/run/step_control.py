@@ -58,6 +58,8 @@ TAUT_LANDING = 1e-4
 the way (``_tether_cap``)."""
 SNATCH_STEPS = 40
 """Fewest steps (-) over half the period of a taut tether's snatch (``_tether_cap``): its peak within 0.1 %."""
+SNATCH_PERIODS = 3
+"""Periods (-) after a tether comes taut in which its snatch is resolved (``_tether_cap``)."""
 OPENING_STEPS = 200
 """Fewest steps (-) over a canopy's fill and its overinflation's decay, a step kept while a supersonic opening's
 canopy flies faster than sound (``_opening_cap``): the drag rises from nothing to its peak within the fill and swings
@@ -220,6 +222,7 @@ class AdaptiveSteps:
         self.smallest, self.largest, self.steps, self.total = math.inf, 0.0, 0, 0.0   # of the steps taken (s)
         self._limits: dict = {}    # (system, relaxation time) -> its confluence's StepLimit, this check's
         self._remedies: dict = {}  # a confluence limit's description -> the layout or setting its method names
+        self._taut_since: dict = {}   # tether -> the time (s) it last came taut (``_tether_cap``)
 
     def after_step(self, t: float) -> float:
         """The coming step (s) after the step that ended at ``t`` (s; at the phase start, the first step)."""
@@ -238,7 +241,7 @@ class AdaptiveSteps:
             self.step = next_step(taken, error, CAP_FRACTION * self.cap, self.rule.largest)
         else:
             self.step = min(self.step, CAP_FRACTION * self.cap)
-        coming = min(self.step, self._relaxation_cap(t), self._opening_cap(t), self._tether_cap())
+        coming = min(self.step, self._relaxation_cap(t), self._opening_cap(t), self._tether_cap(t))
         if self.landing is not None:
             land = self.landing(t) - t
             if land < coming:
@@ -246,25 +249,32 @@ class AdaptiveSteps:
         self._relax(coming)
         return coming
 
-    def _tether_cap(self) -> float:
+    def _tether_cap(self, t: float) -> float:
         """The step (s) the tethers allow: one that comes taut within the coming step ends near its line stretch (its
-        slack taken at its rate, half the way at a time: the snatch starts on a step's end); one taut resolves its
-        snatch in SNATCH_STEPS steps over half the period pi sqrt(mu / K) of its two bodies' reduced mass mu on its
-        stiffest slope K (inf without tethers)."""
+        slack taken at its rate, half the way at a time: the snatch starts on a step's end); one that came taut less
+        than SNATCH_PERIODS periods 2 pi sqrt(mu / K) ago (mu its two bodies' reduced mass, K its stiffest slope)
+        resolves its snatch in SNATCH_STEPS steps a half period; one hanging taut longer is left to the other caps
+        (inf without tethers)."""
         cap = math.inf
         for name, state in self.model.tethers.items():
             tether = self.case.tethers[name]
             length, rate = state.length_and_rate()
             if length < tether.free_length:
+                self._taut_since.pop(name, None)
                 if rate > 0.0:   # its rate changes on the way: half the way at a time, then onto it
                     left = (tether.free_length - length) / rate
                     cap = min(cap, max(left if left < TAUT_LANDING else 0.5 * left, self.rule.smallest))
                 continue
-            (first, _), (second, _) = tether.ends
-            masses = [self.case.bodies[body].mass for body in (first, second) if not self.case.bodies[body].fixed]
-            mu = masses[0] * masses[1] / (masses[0] + masses[1]) if len(masses) == 2 else masses[0]
-            cap = min(cap, math.pi * math.sqrt(mu / tether.law.stiffest) / SNATCH_STEPS)
+            since = self._taut_since.setdefault(name, t)
+            half_period = math.pi * math.sqrt(self._reduced_mass(tether) / tether.law.stiffest)
+            if t - since < 2.0 * SNATCH_PERIODS * half_period:
+                cap = min(cap, half_period / SNATCH_STEPS)
         return cap
+
+    def _reduced_mass(self, tether) -> float:
+        """kg: the reduced mass of a tether's two bodies (the free one's own mass when the other is fixed)."""
+        masses = [self.case.bodies[body].mass for body, _ in tether.ends if not self.case.bodies[body].fixed]
+        return masses[0] * masses[1] / (masses[0] + masses[1]) if len(masses) == 2 else masses[0]
 
     def _opening_cap(self, t: float) -> float:
         """The step (s) an opening under way allows: its fill time over OPENING_STEPS from the stage's start until

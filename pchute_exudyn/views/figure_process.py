@@ -2,8 +2,9 @@
 most of what the figures cost) runs on another core while the case is loaded and run.
 
 ``FigureProcess()`` starts ``python -m pchute_exudyn.views.figure_process``, which imports the plotting module and
-waits; ``draw(result, path, track)`` sends it the columns the figures show and the run's summary and waits for ``path``
-(the overview) and ``track`` (the ground track, when given) to be written (``plotting.plot_overview``,
+waits; ``draw(result, path, track, loads)`` sends it the columns the figures show, the run's summary and its load
+histories, and waits for ``path`` (the overview), ``track`` (the ground track) and ``loads`` (the loads figure), each
+when given, to be written (``plotting.plot_overview``,
 ``plotting.plot_ground_track``, ``plotting.save_figure``: the same figures as drawn in the command's own process).
 Where it cannot (one core, the process failed), ``draw`` returns False and the caller draws the figure itself.
 """
@@ -44,9 +45,9 @@ class FigureProcess:
         except OSError:
             self.process = None
 
-    def draw(self, result, path, track=None) -> bool:
+    def draw(self, result, path, track=None, loads=None) -> bool:
         """Have the process draw ``result``'s overview figure into ``path`` and, with ``track``, its ground track
-        there; True when it did."""
+        there, with ``loads`` its loads figure there; True when it did."""
         if self.process is None:
             return False
         names = ["time", *result.tension_names()]
@@ -54,11 +55,12 @@ class FigureProcess:
                   if name in result]
         # the typed summary whole (a few kB): the figures read its titles, the vehicle's name and the events
         message = {"columns": {name: result[name] for name in names}, "summary": result.summary,
-                   "path": str(path), "track": None if track is None else str(track)}
+                   "path": str(path), "track": None if track is None else str(track),
+                   "loads": None if loads is None else str(loads), "histories": result.loads if loads else {}}
         try:
             self.process.stdin.write(pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))
             self.process.stdin.close()
-            return self.process.wait() == 0 and all(os.path.isfile(p) for p in (path, track) if p is not None)
+            return self.process.wait() == 0 and all(os.path.isfile(p) for p in (path, track, loads) if p is not None)
         except OSError:   # the process ended early (a broken pipe): the command draws the figures
             return False
         finally:
@@ -73,13 +75,20 @@ class FigureProcess:
 
 def main() -> int:
     from ..results.result import Result
-    from .plotting import plot_ground_track, plot_overview, save_figure  # the import this process exists for
+    from .plotting import (  # the import this process exists for
+        plot_deployment_loads,
+        plot_ground_track,
+        plot_overview,
+        save_figure,
+    )
 
     message = pickle.load(sys.stdin.buffer)
-    result = Result(message["columns"], {}, message["summary"])
+    result = Result(message["columns"], {}, message["summary"], loads=message.get("histories"))
     save_figure(plot_overview(result), message["path"])
     if message.get("track") is not None:
         save_figure(plot_ground_track(result), message["track"])
+    if message.get("loads") is not None:
+        save_figure(plot_deployment_loads(result), message["loads"])
     return 0
 
 

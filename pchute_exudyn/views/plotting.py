@@ -140,6 +140,40 @@ def _descent_panel(ax, result, vehicle: str) -> None:
     ax.grid(True, alpha=0.3)
 
 
+def plot_deployment_loads(result, title: str | None = None) -> Figure:
+    """One panel per deployment (``result.loads``, its ``summary.deployments``): the load (N) against time (s) at every
+    step kept (a system's risers, a tether), its snatch and opening load marked, Knacke's estimate and a rated line's
+    breaking strength as horizontal lines (docs/models/deployment_loads.md)."""
+    deployments = {d.system: d for d in (result.summary.deployments if result.summary is not None else ())}
+    names = [name for name in result.loads if name in deployments] or list(result.loads)
+    fig, axes = new_figure(len(names), 1, size=(9.0, 2.6 * max(len(names), 1)))
+    for ax, name in zip(axes[:, 0], names):
+        times, loads = result.loads[name]
+        d = deployments.get(name)
+        start = d.line_stretch_time if d is not None else float(times[0])
+        end = max(d.opening_time, d.snatch_time) if d is not None else float(times[-1])
+        span = max(end - start, 1e-3)
+        shown = (times >= start - 0.2 * span) & (times <= end + 0.6 * span)
+        ax.plot(times[shown], loads[shown], lw=1.0, color="C0", label="load")
+        if d is not None:
+            ax.plot([d.snatch_time], [d.snatch_load], "o", color="C1", label=f"snatch {d.snatch_load:.4g} N")
+            ax.plot([d.opening_time], [d.opening_load], "s", color="C3", label=f"opening {d.opening_load:.4g} N")
+            if d.knacke_opening_load is not None:
+                ax.axhline(d.knacke_opening_load, ls="--", color="C2", lw=0.8,
+                           label=f"Knacke {d.knacke_opening_load:.4g} N")
+            strengths = [p["breaking_strength"] for p in d.lines.values() if p.get("breaking_strength")]
+            if strengths:
+                ax.axhline(min(strengths), ls=":", color="k", lw=0.8, label=f"breaking {min(strengths):.4g} N")
+        ax.set_title(f"{name}{' (tether)' if d is not None and d.kind == 'tether' else ''}", fontsize=9)
+        ax.set_ylabel("load (N)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    axes[-1, 0].set_xlabel("time (s)")
+    if title or result.summary is not None:
+        fig.suptitle(title or f"{result.summary.case}: deployment loads", fontsize=10)
+    return fig
+
+
 def save_figure(figure: Figure, path, dpi: int = 120) -> None:
     """Save ``figure`` as a PNG atomically (the fastest deflate: a tenth of the time, a slightly larger file)."""
     with atomic_writer(path, "wb") as handle:

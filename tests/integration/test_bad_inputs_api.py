@@ -214,7 +214,8 @@ def test_overwrite_replaces_only_the_files_of_the_earlier_result(tmp_path):
     out = tmp_path / "out"
     assert main([*RUN[:-2], "--quiet", "--out", str(out)]) == 0           # with the overview figure
     listed = json.loads((out / "summary.json").read_text())["result_files"]
-    assert sorted(listed) == ["ground_track.png", "overview.png", "result.npz", "summary.json", "timeseries.csv"]
+    assert sorted(listed) == ["ground_track.png", "loads.png", "overview.png", "result.npz", "summary.json",
+                              "timeseries.csv"]
     (out / "notes.txt").write_text("my notes")
     (out / "mine").mkdir()
     assert main([*RUN, "--t-end", "0.3", "--overwrite", "--out", str(out)]) == 0
