@@ -87,6 +87,16 @@ class NewCase:
         The main's deployment height above the ground (m, dual deploy), below the start's.
     apogee_lag : float
         The drogue's delay after the first trigger sample past apogee (s, >= 0).
+    shock_cord_length : float or None
+        A rocket in two sections on one shock cord of this length (m, dual deploy; authoring.sections): the nose cone
+        thrown off at apogee (after apogee_lag) at ejection_speed, the drogue and the main hanging from its harness,
+        each opening by its canopy type's fill law; None: one body with both systems packed in it.
+    shock_cord_strength : float
+        The shock cord's rated breaking strength (N, > 0; nylon's curve scaled by it).
+    ejection_speed : float
+        The nose cone's speed off the booster at the ejection (m/s, > 0).
+    nose_mass : float or None
+        The nose cone's mass (kg, below the rocket's); None: a tenth of the rocket's.
     latitude, longitude : float or None
         The start point (deg; dual deploy); None: 0.
     ground_elevation : float or None
@@ -137,6 +147,10 @@ class NewCase:
     main_mass: float | None = None
     main_height: float | None = None
     apogee_lag: float = 1.0
+    shock_cord_length: float | None = None
+    shock_cord_strength: float = 6000.0
+    ejection_speed: float = 5.0
+    nose_mass: float | None = None
     latitude: float | None = None
     longitude: float | None = None
     ground_elevation: float | None = None

@@ -60,9 +60,10 @@ def steady_rate(c, drag_area: float, altitude: float) -> float:
 
 
 def dual_deploy_lines(c) -> list:
-    """The dual-deploy case file's lines (module docstring) for a checked NewCase ``c``."""
-    return _header(c) + _rocket(c) + _canopy(c, "drogue") + _canopy(c, "main") + _system(c, "drogue") \
-        + _system(c, "main") + _simulation(c)
+    """The dual-deploy case file's lines (module docstring) for a checked NewCase ``c`` (the two-section form:
+    ``authoring.sections``)."""
+    return header_lines(c) + _rocket(c) + canopy_lines(c, "drogue") + canopy_lines(c, "main") \
+        + _system(c, "drogue") + _system(c, "main") + simulation_lines(c)
 
 
 def _sizes(c, which: str) -> tuple:
@@ -79,7 +80,7 @@ def _sizes(c, which: str) -> tuple:
     return area, CANOPY_AREAL_MASS * area if mass is None else mass, radius, math.sqrt(lines**2 - radius**2)
 
 
-def _header(c) -> list:
+def header_lines(c) -> list:
     planet_lines, atmosphere = PLANETS[c.planet][:2]
     nose = nose_direction(c)
     drogue = steady_rate(c, c.drogue_drag_area, ground(c))
@@ -91,11 +92,15 @@ def _header(c) -> list:
             f"nose {math.degrees(math.asin(nose[2])):.4g} deg above the horizontal.",
             f"# Drogue (C_D S {_n(c.drogue_drag_area)} m^2) on an apogee trigger at {TRIGGER_RATE:g} Hz, "
             f"{_n(c.apogee_lag)} s lag; main (C_D S {_n(c.main_drag_area)} m^2) at {_n(c.main_height)} m above the "
-            "ground, the drogue cut away then.", f"# Steady rates at the ground: {drogue:.2f} m/s under the drogue, "
+            + ("ground, the drogue cut away then." if c.shock_cord_length is None else
+               f"ground; the nose cone ejected at apogee on a {_n(c.shock_cord_length)} m shock cord, both canopies on "
+               "its harness, opening by their type's fill law (authoring.sections)."),
+            f"# Steady rates at the ground: {drogue:.2f} m/s under the drogue, "
             f"{main:.2f} m/s under the main (sqrt(2 m g / (rho C_D S)), m = {_n(c.mass)} kg).", "",
             "[case]", f"name = {json.dumps(c.name)}",
             f'description = "{c.mass:g} kg rocket: drogue at apogee, main at {c.main_height:g} m above the ground"',
-            'vehicle = "rocket"', "", "[planet]", *planet_lines, "",
+            f'vehicle = "{"booster" if c.shock_cord_length is not None else "rocket"}"', "", "[planet]", *planet_lines,
+            "",
             "[start]", f"latitude_deg = {_n(c.latitude or 0.0)}", f"longitude_deg = {_n(c.longitude or 0.0)}",
             'velocities_relative_to = "ground"          # the initial velocities are over the ground', "",
             "[atmosphere]", f'model = "{atmosphere}"', *_wind(c), ""]
@@ -131,7 +136,7 @@ def _rocket(c) -> list:
             f"roll_deg = {_n(roll)}", ""]
 
 
-def _canopy(c, which: str) -> list:
+def canopy_lines(c, which: str) -> list:
     area, mass, radius, apex = _sizes(c, which)
     drag_coefficient = getattr(c, f"{which}_drag_area") / area
     alpha, value = NORMAL_COEFFICIENT
@@ -175,7 +180,7 @@ def _system(c, which: str) -> list:
     return rows + [""]
 
 
-def _simulation(c) -> list:
+def simulation_lines(c) -> list:
     drogue_time = (start_height(c) - c.main_height) / steady_rate(c, c.drogue_drag_area, ground(c))
     main_time = c.main_height / steady_rate(c, c.main_drag_area, ground(c))
     climb = max(c.velocity_up or 0.0, 0.0) / gravity_at(c.planet, c.latitude or 0.0, ground(c))

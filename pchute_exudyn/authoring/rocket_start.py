@@ -14,7 +14,8 @@ from .choice_checks import check_number, check_positive
 
 ROCKET_ONLY = ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
                "latitude", "longitude", "ground_elevation", "height", "velocity_east", "velocity_north",
-               "velocity_up", "nose_pitch_deg", "nose_heading_deg", "from_rocketpy")
+               "velocity_up", "nose_pitch_deg", "nose_heading_deg", "from_rocketpy", "shock_cord_length",
+               "nose_mass")
 """NewCase fields of the dual-deploy form only."""
 START_FIELDS = ("altitude", "height", "latitude", "longitude", "velocity_east", "velocity_north", "velocity_up",
                 "nose_pitch_deg", "nose_heading_deg")
@@ -25,7 +26,8 @@ def check_choices(c) -> None:
     """InputError, one line naming the field, its value and what is allowed, for a NewCase's dual-deploy fields
     (or for any of them given without ``dual_deploy``)."""
     if not c.dual_deploy:
-        given = [key for key in ROCKET_ONLY if getattr(c, key) is not None]
+        defaults = {f.name: f.default for f in fields(c)}
+        given = [key for key in ROCKET_ONLY + SECTION_ONLY if getattr(c, key) != defaults[key]]
         if given:
             raise InputError(f"{given[0]} = {getattr(c, given[0])!r}: only with dual_deploy (--dual-deploy)")
         return
@@ -48,6 +50,7 @@ def check_choices(c) -> None:
         if value is not None:
             check_number(key, value, low <= value <= high, f"must be a number from {low:g} to {high:g} ({unit})")
     check_number("apogee_lag", c.apogee_lag, c.apogee_lag >= 0.0, "must be a number >= 0 (s)")
+    check_sections(c)
     for key, value in (("canopies", c.canopies != 1), ("release_airspeed", c.release_airspeed is not None),
                        ("speed", c.speed is not None)):
         if value:
@@ -59,6 +62,29 @@ def check_choices(c) -> None:
     if c.main_height >= height:
         raise InputError(f"main_height = {c.main_height!r}: must be below the start's height above the ground, "
                          f"{height:g} m (the main deploys on the way down)")
+
+
+def check_sections(c) -> None:
+    """The two-section form's choices (``shock_cord_length`` and what goes with it)."""
+    check_positive("shock_cord_length", c.shock_cord_length, optional=True, unit="m")
+    check_positive("nose_mass", c.nose_mass, optional=True, unit="kg")
+    for key, unit in (("shock_cord_strength", "N"), ("ejection_speed", "m/s")):
+        check_positive(key, getattr(c, key), optional=False, unit=unit)
+    if c.nose_mass is not None and c.nose_mass >= c.mass:
+        raise InputError(f"nose_mass = {c.nose_mass!r}: must be below the rocket's mass, {c.mass:g} kg")
+    if c.shock_cord_length is not None and c.shock_cord_length < 0.3 * c.length:
+        raise InputError(f"shock_cord_length = {c.shock_cord_length!r}: must be at least the nose cone's reach out of "
+                         f"the booster, {0.3 * c.length:g} m (0.3 x length)")
+    if c.shock_cord_length is None:
+        defaults = {f.name: f.default for f in fields(c)}
+        given = [key for key in SECTION_ONLY if getattr(c, key) != defaults[key]]
+        if given:
+            raise InputError(f"{given[0]} = {getattr(c, given[0])!r}: only with shock_cord_length "
+                             "(--shock-cord-length)")
+
+
+SECTION_ONLY = ("nose_mass", "shock_cord_strength", "ejection_speed")
+"""NewCase fields of the two-section form only (``authoring.sections``)."""
 
 
 _UNITS = {"length": "m", "drogue_drag_area": "m^2", "main_drag_area": "m^2", "main_height": "m",

@@ -9,6 +9,7 @@ from .choices import NewCase
 from .descent import DescentWriter
 from .layout import layout
 from .rocket import dual_deploy_lines
+from .sections import two_section_lines
 from .text import aligned
 
 
@@ -25,7 +26,10 @@ def new_case_text(choices: NewCase | None = None, **kwargs) -> str:
         raise InputError(f"from_rocketpy = {choices.from_rocketpy!r}: read by `pchute new`; from Python, start from "
                          "authoring.rocket_start.started_from(choices, results.rocketpy_export.apogee_state(path), "
                          "path)")
-    rows = dual_deploy_lines(choices) if choices.dual_deploy else DescentWriter(layout(choices)).lines()
+    if choices.dual_deploy:
+        rows = two_section_lines(choices) if choices.shock_cord_length is not None else dual_deploy_lines(choices)
+    else:
+        rows = DescentWriter(layout(choices)).lines()
     return "\n".join(aligned(row) for row in rows) + "\n"
 
 

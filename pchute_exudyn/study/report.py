@@ -450,6 +450,7 @@ def _markdown(title: str, first: list, ok: list, failed: list, stats: dict, erro
               footprint: list) -> str:
     lines = [f"# Study report: {title}", "", *first, "", "## Outputs", ""]
     lines += _percentile_table(ok, failed, stats) if stats else [f"No outputs: no run ended ok ({len(failed)} failed)."]
+    lines += loads_section(ok)
     lines += footprint
     if errors:
         lines += ["", "Errors against the reference (each run against its reference run):", "",
@@ -463,6 +464,43 @@ def _markdown(title: str, first: list, ok: list, failed: list, stats: dict, erro
                            f"{e['max_tension_error']:.3g} |")
     lines += ["", "Figures: " + ", ".join(f"`{Path(p).name}`" for p in paths.values() if str(p).endswith(".png"))]
     return "\n".join(lines) + "\n"
+
+
+DESIGN_PERCENTILES = (50, 99, 99.87)
+"""The percentiles of the deployment loads the report gives: the median, the 99th and the 99.87th (three standard
+deviations of a normal distribution: a design limit load teams take)."""
+
+
+def loads_section(ok: list) -> list:
+    """Report lines: per deployment (a system or a tether), the DESIGN_PERCENTILES of its snatch and opening loads
+    over the ok runs, Knacke's median estimate, its lines' lowest breaking strength and the margin to the 99.87th
+    percentile of its opening load (strength / load - 1); none without deployments."""
+    names = sorted({column_owner(key, "opening_load_{owner}") for row in ok for key in row} - {None})
+    if not names:
+        return []
+    head = " | ".join(f"p{p:g}" for p in DESIGN_PERCENTILES)
+    lines = ["", "## Deployment loads", "",
+             f"Over {len(ok)} ok runs (N; docs/models/deployment_loads.md). A percentile rests on at least ten runs "
+             f"beyond it only with {runs_needed(99.87)} runs for the 99.87th, {runs_needed(99)} for the 99th: with "
+             "fewer it is set by the few most extreme runs.", "",
+             f"| deployment | load | {head} | Knacke (median) | breaking strength | margin at p99.87 |",
+             "|---|---|" + "---|" * len(DESIGN_PERCENTILES) + "---|---|---|"]
+    for name in names:
+        def values(template):
+            return np.array([r[template] for r in ok if isinstance(r.get(template), float)])
+        knacke, strength = values(f"knacke_opening_load_{name}"), values(f"breaking_strength_{name}")
+        for kind in ("snatch", "opening"):
+            loads = values(f"{kind}_load_{name}")
+            if not len(loads):
+                continue
+            cells = " | ".join(f"{np.percentile(loads, p):.4g}" for p in DESIGN_PERCENTILES)
+            design = float(np.percentile(loads, 99.87))
+            rated = float(np.median(strength)) if len(strength) else None
+            margin = f"{rated / design - 1.0:.3g}" if rated and design > 0.0 and kind == "opening" else ""
+            lines.append(f"| {name} | {kind} | {cells} | "
+                         f"{f'{np.median(knacke):.4g}' if len(knacke) and kind == 'opening' else ''} | "
+                         f"{f'{rated:.4g}' if rated else ''} | {margin} |")
+    return lines
 
 
 def _percentile_table(ok: list, failed: list, stats: dict) -> list:

@@ -50,6 +50,22 @@ def scalar_outputs(result) -> dict:
         out[column("rms_tension_{owner}", label)] = float(np.sqrt(np.mean(values ** 2))) if len(values) else None
     out.update(cluster_outputs(s))
     out.update(sequence_outputs(s))
+    out.update(load_outputs(s))
+    return out
+
+
+def load_outputs(summary: RunSummary) -> dict:
+    """Per deployment (``summary.deployments``: a system or a tether) its snatch and opening loads (N), Knacke's
+    estimate and the lowest rated breaking strength of its lines (N), when it has them."""
+    out = {}
+    for d in summary.deployments:
+        out[column("snatch_load_{owner}", d.system)] = _finite(d.snatch_load)
+        out[column("opening_load_{owner}", d.system)] = _finite(d.opening_load)
+        if d.knacke_opening_load is not None:
+            out[column("knacke_opening_load_{owner}", d.system)] = _finite(d.knacke_opening_load)
+        strengths = [p["breaking_strength"] for p in d.lines.values() if p.get("breaking_strength")]
+        if strengths:
+            out[column("breaking_strength_{owner}", d.system)] = float(min(strengths))
     return out
 
 

@@ -143,3 +143,28 @@ def test_the_rocket_s_reduced_canopies_open_as_full_mass_within_two_percent(tmp_
     for name, reference in FULL_MASS_OPENINGS.items():
         assert loads[name].opening_load == pytest.approx(reference, rel=0.02), name
         assert loads[name].knacke_opening_load is not None
+
+
+def test_a_study_keeps_each_deployment_s_loads_and_reports_their_design_percentiles(tmp_path):
+    """The study's outputs of a run (``study.runner.scalar_outputs``) carry the tether's snatch, opening load and
+    breaking strength, and the report's loads section gives their percentiles and the margin to the 99.87th."""
+    from pchute_exudyn.study.report import loads_section
+    from pchute_exudyn.study.runner import scalar_outputs
+    rows = []
+    for speed in (4.0, 5.0, 6.0):
+        case = load_case(_write(tmp_path), [
+            f"bodies.b.initial.velocity_east={speed}", "tethers.cord.breaking_strength=1000.0"])
+        outputs = scalar_outputs(simulate(case, "sp"))
+        assert outputs["snatch_load_cord"] == pytest.approx(speed * math.sqrt(STIFFNESS * MU), rel=1e-3)
+        assert outputs["breaking_strength_cord"] == 1000.0
+        rows.append(outputs)
+    table = [line for line in loads_section(rows) if line.startswith("| cord | opening")]
+    (opening,) = table
+    design = float(np.percentile([r["opening_load_cord"] for r in rows], 99.87))
+    assert opening.rstrip(" |").endswith(f"{1000.0 / design - 1.0:.3g}")
+
+
+def _write(tmp_path):
+    path = tmp_path / "tethered.toml"
+    path.write_text(TETHERED)
+    return path

@@ -127,3 +127,39 @@ BATTERY = [
 def test_bad_dual_deploy_input_gives_one_line(name, make_args, expected, tmp_path):
     code, err, seconds, touched = run_bad_input(make_args, tmp_path)
     assert_one_line(code, err, expected, touched, seconds)
+
+
+def test_the_two_section_form_writes_the_ejection_the_shock_cord_and_the_openings_and_flies(tmp_path):
+    """`--shock-cord-length` (issue 55): the nose cone carried until the apogee ejection, tied by a rated nylon
+    cord, both canopies on its harness opening by their type's law; the run reports the cord's snatch and margin."""
+    path, data = _write(tmp_path, *START, "--shock-cord-length", "6", "--ejection-speed", "4", "--nose-mass", "2")
+    assert data["case"]["vehicle"] == "booster" and data["bodies"]["nose"]["mass"] == 2.0
+    assert data["separations"]["nose"]["speed"] == 4.0
+    cord = data["tethers"]["shock_cord"]
+    assert cord["ends"] == ["booster.harness", "nose.harness"] and cord["free_length"] == 6.0
+    assert cord["material"] == "nylon" and cord["breaking_strength"] == 6000.0
+    for name in ("drogue", "main"):
+        system = data["systems"][name]
+        assert system["deploy_point"] == "nose.line_stretch" and system["inflation"]["fill_constant"] == [8.0]
+        assert system["inflation"]["overinflation"] == 1.7   # the flat circular's C_x (Knacke)
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--no-plot", "--quiet", "--t-end", "8"]) == 0
+    deployments = {d["system"]: d for d in json.loads((out / "summary.json").read_text())["deployments"]}
+    shock_cord = deployments["shock_cord"]
+    assert shock_cord["kind"] == "tether" and shock_cord["snatch_load"] > 0.0
+    assert shock_cord["lines"]["shock_cord"]["margin"] == pytest.approx(
+        6000.0 / shock_cord["lines"]["shock_cord"]["load"] - 1.0)
+    assert deployments["drogue"]["opening_load"] > 0.0
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--shock-cord-length", "0.2"], "shock_cord_length = 0.2: must be at least the nose cone's reach"),
+    (["--shock-cord-length", "6", "--nose-mass", "30"], "nose_mass = 30.0: must be below the rocket's mass"),
+    (["--nose-mass", "2"], "nose_mass = 2.0: only with shock_cord_length"),
+    (["--ejection-speed", "3"], "ejection_speed = 3.0: only with shock_cord_length"),
+    (["--shock-cord-length", "6", "--ejection-speed", "0"], "ejection_speed = 0.0: must be a number > 0"),
+])
+def test_bad_two_section_choices_give_one_line(tmp_path, extra, message):
+    code, err, seconds, touched = run_bad_input(lambda t: ["new", str(t / "rocket.toml"), *ROCKET, *START, *extra],
+                                                tmp_path)
+    assert_one_line(code, err, message, touched, seconds)
