@@ -35,7 +35,7 @@ balance.MassTerm.reference_velocity  # unpacked by position (stepping._mass_term
 memory.Memory.fill_rate  # a named cell of the memory row the kernel reads by its constant (stepping.sp_rk_stage)
 
 # Fields written to files through dataclasses.fields / asdict, and API for users
-summary.StartEvent.moving_with, _.clearance_after, _.line_stretch_time, _.line_stretch_speed, _.knacke_opening_load, _.max_airspeed_deg, _.rms_airspeed_deg, _.amplitude_airspeed_deg
+summary.StartEvent.moving_with, _.clearance_after, _.line_stretch_time, _.line_stretch_speed, _.knacke_opening_load, _.opening_stage, _.max_airspeed_deg, _.rms_airspeed_deg, _.amplitude_airspeed_deg
 result.Result.to_pandas  # the documented way to a DataFrame (docs/results.md)
 
 # pytest finds these by name: hooks, fixtures (autouse, or asked for by a test's parameter), module marks

@@ -88,7 +88,7 @@ class NewCase:
     apogee_lag : float
         The drogue's delay after the first trigger sample past apogee (s, >= 0).
     shock_cord_length : float or None
-        A rocket in two sections on one shock cord of this length (m, dual deploy; authoring.sections): the nose cone
+        A rocket in two sections on one shock cord of this length (m, dual deploy; authoring.two_section): the nose cone
         thrown off at apogee (after apogee_lag) at ejection_speed, the drogue and the main hanging from its harness,
         each opening by its canopy type's fill law; None: one body with both systems packed in it.
     shock_cord_strength : float

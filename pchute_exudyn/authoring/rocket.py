@@ -61,7 +61,7 @@ def steady_rate(c, drag_area: float, altitude: float) -> float:
 
 def dual_deploy_lines(c) -> list:
     """The dual-deploy case file's lines (module docstring) for a checked NewCase ``c`` (the two-section form:
-    ``authoring.sections``)."""
+    ``authoring.two_section``)."""
     return header_lines(c) + _rocket(c) + canopy_lines(c, "drogue") + canopy_lines(c, "main") \
         + _system(c, "drogue") + _system(c, "main") + simulation_lines(c)
 
@@ -94,7 +94,7 @@ def header_lines(c) -> list:
             f"{_n(c.apogee_lag)} s lag; main (C_D S {_n(c.main_drag_area)} m^2) at {_n(c.main_height)} m above the "
             + ("ground, the drogue cut away then." if c.shock_cord_length is None else
                f"ground; the nose cone ejected at apogee on a {_n(c.shock_cord_length)} m shock cord, both canopies on "
-               "its harness, opening by their type's fill law (authoring.sections)."),
+               "its harness, opening by their type's fill law (authoring.two_section)."),
             f"# Steady rates at the ground: {drogue:.2f} m/s under the drogue, "
             f"{main:.2f} m/s under the main (sqrt(2 m g / (rho C_D S)), m = {_n(c.mass)} kg).", "",
             "[case]", f"name = {json.dumps(c.name)}",

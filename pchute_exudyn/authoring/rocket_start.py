@@ -84,7 +84,7 @@ def check_sections(c) -> None:
 
 
 SECTION_ONLY = ("nose_mass", "shock_cord_strength", "ejection_speed")
-"""NewCase fields of the two-section form only (``authoring.sections``)."""
+"""NewCase fields of the two-section form only (``authoring.two_section``)."""
 
 
 _UNITS = {"length": "m", "drogue_drag_area": "m^2", "main_drag_area": "m^2", "main_height": "m",

@@ -9,8 +9,8 @@ from .choices import NewCase
 from .descent import DescentWriter
 from .layout import layout
 from .rocket import dual_deploy_lines
-from .sections import two_section_lines
 from .text import aligned
+from .two_section import two_section_lines
 
 
 def _choices(choices: NewCase | None, kwargs: dict) -> NewCase:

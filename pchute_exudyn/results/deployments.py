@@ -53,31 +53,25 @@ def _merged(trace, columns: dict, lines: list, labels: list, start: float, end: 
     rows = {float(t): tuple(float(columns[column("tension_{owner}", label)][k]) for label in labels)
             for k, t in zip(np.flatnonzero(inside), time[inside])}
     if trace is not None:
-        where = [trace.lines.index(name) if name in trace.lines else None for name in lines]
-        rows.update({t: tuple(math.nan if i is None else row[i] for i in where)
+        rows.update({t: tuple(row.get(name, math.nan) for name in lines)
                      for t, row in zip(trace.times, trace.tensions) if start - 1e-9 <= t <= end + 1e-9})
     times = sorted(rows)
     return times, np.array([rows[t] for t in times], float).reshape(len(times), len(labels))
 
 
-def _density_at(case, columns: dict, time: float) -> float:
-    """The air density (kg/m^3) at the vehicle's altitude at the output sample at or after ``time`` (s)."""
-    times = columns[column("time")]
-    k = min(int(np.searchsorted(times, time - 1e-9)), len(times) - 1)
-    altitude = float(columns[column("{owner}_altitude", case.vehicle)][k])
-    return case.atmosphere.density(altitude) if case.atmosphere is not None else 0.0
-
-
-def _vehicle_speed(case, columns: dict, time: float, density: float) -> float:
-    """The vehicle's air speed (m/s) at the output sample at or after ``time`` (s): from its dynamic pressure when
-    it has aerodynamics, else its speed over the ground (still air)."""
-    times = columns[column("time")]
-    k = min(int(np.searchsorted(times, time - 1e-9)), len(times) - 1)
-    pressure = column("{owner}_dynamic_pressure", case.vehicle)
-    if pressure in columns and density > 0.0:
-        return math.sqrt(2.0 * float(columns[pressure][k]) / density)
-    return math.hypot(*(float(columns[column("{owner}_velocity_" + axis, case.vehicle)][k])
-                        for axis in ("east", "north", "down")))
+def _vehicle_air(case, raw, time: float) -> tuple:
+    """(air speed in m/s, density in kg/m^3) of the vehicle at the engine sample at or after ``time`` (s): its
+    velocity against the air's (wind, turbulence, gusts) at its centre of mass, the density at its altitude."""
+    k = min(int(np.searchsorted(raw.time, time - 1e-9)), len(raw.time) - 1)
+    body = raw.bodies[case.vehicle]
+    position, velocity = np.asarray(body["position"][k], float), np.asarray(body["velocity"][k], float)
+    altitude = float(case.start.altitude(position))
+    air = case.air_motion()
+    if not air.still:
+        x, y, z = position.tolist()
+        velocity = velocity - np.asarray(air(x, y, z, altitude, float(raw.time[k])), float)
+    density = case.atmosphere.density(altitude) if case.atmosphere is not None else 0.0
+    return float(np.linalg.norm(velocity)), density
 
 
 def _open_drag_area(case, system) -> float:
@@ -97,13 +91,12 @@ class OpeningStage:
     air speed ``speed`` (m/s) and density (kg/m^3) at its start, its filled drag area (m^2), its fill time (s), its
     exponent and C_x (None without a fill-constant opening)."""
 
-    def __init__(self, case, system, progress, columns: dict, line_stretch: float, opening_time: float):
+    def __init__(self, case, system, progress, raw, line_stretch: float, opening_time: float):
         full = _open_drag_area(case, system)
         self.number, self.fill, self.exponent, self.overinflation = None, None, None, None
         if progress is None or not progress.speeds:
             self.start, self.drag_area = line_stretch, full
-            self.density = _density_at(case, columns, line_stretch)
-            self.speed = _vehicle_speed(case, columns, line_stretch, self.density)
+            self.speed, self.density = _vehicle_air(case, raw, line_stretch)
             return
         inflation = progress.inflation
         i = min(inflation.stage_at(opening_time - progress.line_stretch), len(progress.speeds) - 1)
@@ -112,7 +105,7 @@ class OpeningStage:
         self.speed, self.fill, self.exponent = progress.speeds[i], progress.fill_times[i], stage.exponent
         self.overinflation = inflation.overinflation if last else 1.0
         self.drag_area = full * stage.fraction
-        self.density = _density_at(case, columns, self.start)
+        self.density = _vehicle_air(case, raw, self.start)[1]
 
     @property
     def dynamic_pressure(self) -> float:
@@ -149,10 +142,12 @@ def knacke_estimate(case: Case, system: ParachuteSystem, stage: OpeningStage, su
                                 stage.overinflation)
 
 
-def deployment_loads(case, traces: dict, openings: dict, columns: dict, histories: dict | None = None) -> tuple:
+def deployment_loads(case, traces: dict, openings: dict, columns: dict, raw, histories: dict | None = None) -> tuple:
     """The ``Deployment`` of every system that flew (``case``: as flown), in the order of the case's systems, then
-    of every tether; ``histories`` (when given) receives each one's load history (name -> (times in s, loads in N):
-    the steps kept and the samples between) for the loads figure."""
+    of every tether, from the step traces, the output ``columns`` (tensions) and the engine history ``raw`` (the
+    vehicle's state: the same whether the run keeps its history or not); ``histories`` (when given) receives each
+    one's load history (name -> (times in s, loads in N): the steps kept and the samples between) for the loads
+    figure."""
     histories = {} if histories is None else histories
     run_end = float(columns[column("time")][-1])
     out = []
@@ -173,7 +168,7 @@ def deployment_loads(case, traces: dict, openings: dict, columns: dict, historie
         opening, opening_time = largest(times, load.tolist())
         snatch, snatch_time = first_peak(times, load.tolist(), floor=SNATCH_FLOOR * opening)
         histories[system.name] = (np.asarray(times, float), load)
-        stage = OpeningStage(case, system, progress, columns, line_stretch, opening_time)
+        stage = OpeningStage(case, system, progress, raw, line_stretch, opening_time)
         peaks = {}
         for i, line in enumerate(system.lines):
             value, when = largest(times, tensions[:, i].tolist())
@@ -208,7 +203,7 @@ def _tether_deployments(case, traces: dict, histories: dict) -> list:
         trace = traces.get(("tether", tether.name))
         if trace is None or not trace.times:
             continue
-        loads = [tension for (tension,) in trace.tensions]   # a tether's trace holds one line
+        loads = [row[tether.name] for row in trace.tensions]
         resistance = tether.payout_resistance   # what it pulls with paying out: anything else pulling is taut
         taut = next((i for i, load in enumerate(loads) if load > 0.0 and load != resistance), None)
         if taut is None:

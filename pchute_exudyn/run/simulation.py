@@ -419,6 +419,6 @@ def _result(plan: RunPlan, raw, facts, events, openings, sequence, traces, histo
     loads: dict = {}   # each deployment's load history, for the loads figure
     summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
                         opening_loads(flown, openings, columns), sequence,
-                        deployment_loads(flown, traces, openings, columns, loads))
+                        deployment_loads(flown, traces, openings, columns, raw, loads))
     return Result(columns, units, summary, scene=scene(flown, raw) if history else None, attachments=attachments,
                   loads=loads)

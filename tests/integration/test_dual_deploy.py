@@ -131,7 +131,8 @@ def test_bad_dual_deploy_input_gives_one_line(name, make_args, expected, tmp_pat
 
 def test_the_two_section_form_writes_the_ejection_the_shock_cord_and_the_openings_and_flies(tmp_path):
     """`--shock-cord-length` (issue 55): the nose cone carried until the apogee ejection, tied by a rated nylon
-    cord, both canopies on its harness opening by their type's law; the run reports the cord's snatch and margin."""
+    cord; both canopies packed in the booster, on its eye bolt, opening by their type's law; the run reports the
+    cord's snatch and margin."""
     path, data = _write(tmp_path, *START, "--shock-cord-length", "6", "--ejection-speed", "4", "--nose-mass", "2")
     assert data["case"]["vehicle"] == "booster" and data["bodies"]["nose"]["mass"] == 2.0
     assert data["separations"]["nose"]["speed"] == 4.0
@@ -140,7 +141,8 @@ def test_the_two_section_form_writes_the_ejection_the_shock_cord_and_the_opening
     assert cord["material"] == "nylon" and cord["breaking_strength"] == 6000.0
     for name in ("drogue", "main"):
         system = data["systems"][name]
-        assert system["deploy_point"] == "nose.line_stretch" and system["inflation"]["fill_constant"] == [8.0]
+        assert system["deploy_point"] == "booster.line_stretch" and system["inflation"]["fill_constant"] == [8.0]
+        assert system["packed"] and system["lines"]["bridle"]["attach"] == "booster.harness"
         assert system["inflation"]["overinflation"] == 1.7   # the flat circular's C_x (Knacke)
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out), "--no-plot", "--quiet", "--t-end", "8"]) == 0

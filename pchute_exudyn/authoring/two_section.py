@@ -4,9 +4,10 @@
 The booster (the vehicle) carries the nose cone until the apogee trigger fires the ejection charge: the nose leaves
 along the rocket's axis at ``ejection_speed`` (momentum conserved), tied to the booster by the shock cord (a tether of
 nylon rated at ``shock_cord_strength``; its damping DAMPING_RATIO of critical on the two sections). The drogue comes
-out behind the nose DROGUE_DELAY after the ejection and the main at ``main_height`` above the ground, both from the
-nose cone's harness (one bridle and one riser each, reduced canopies), each opening by its canopy type's fill law
-(n, exponent, C_x; CANOPY_TYPES) from line stretch; the drogue stays on its harness after the main opens. Sizing:
+out DROGUE_DELAY after the ejection and the main at ``main_height`` above the ground, both packed in the booster and
+hanging from its eye bolt (the cord's booster end; one bridle and one riser each, reduced canopies), each opening by
+its canopy type's fill law (n, exponent, C_x; CANOPY_TYPES) from line stretch; the drogue stays on its harness after
+the main opens. Sizing:
 the booster the rocket's length but NOSE_FRACTION, a solid cylinder; the nose a solid cone of NOSE_FRACTION of the
 length and ``nose_mass`` (a tenth of the rocket's unless given); the canopies and lines as ``authoring.rocket``'s.
 """
@@ -63,12 +64,16 @@ def sections_bodies(c) -> list:
     bridle = c.bridle_length or BRIDLE_FRACTION * c.length
     yaw, pitch, roll = nose_attitude_deg(nose_direction(c))
     return ["[bodies.booster]                           # a solid cylinder, body +x its axis toward the nose",
-            f"mass = {_n(g['booster_mass'])}   # kg: the rocket's {_n(c.mass)} kg but the nose cone",
+            f"mass = {_n(g['booster_mass'])}   # kg: the rocket's {_n(c.mass)} kg but the nose cone, its packed "
+            "recovery gear included",
+            "mass_includes_packed = true                # mass, centre of mass, inertia, points: with the gear aboard",
             f"inertia = {_vector(solid_cylinder_inertia(g['booster_mass'], c.diameter, g['booster_length']))}   "
             f"# kg m^2 ({_n(c.diameter)} m by {_n(g['booster_length'])} m)",
             "[bodies.booster.points]                    # m, body axes from the centre of mass",
-            f"harness = [{_n(g['harness'])}, 0.0, 0.0]   # the shock cord's eye bolt on the forward bulkhead",
+            f"harness = [{_n(g['harness'])}, 0.0, 0.0]   # the shock cord's and both bridles' eye bolt",
             f"nose_seat = [{_n(g['seat'])}, 0.0, 0.0]   # where the nose cone's centre of mass rides",
+            f"line_stretch = [{_n(g['harness'] - bridle)}, 0.0, 0.0]   # a confluence at deployment: a bridle's "
+            "length aft",
             "[bodies.booster.initial]                   # the start state, over the ground",
             f"altitude = {_n(start_altitude(c))}   # m: {_n(start_height(c))} m above the ground",
             f"velocity_east = {_n(c.velocity_east or 0.0)}   # m/s", f"velocity_north = {_n(c.velocity_north or 0.0)}"
@@ -79,9 +84,7 @@ def sections_bodies(c) -> list:
             f"inertia = [{_n(cone_axial)}, {_n(cone_across)}, {_n(cone_across)}]   # kg m^2: 3 m r^2 / 10, "
             "m (3 r^2 / 20 + 3 h^2 / 80)",
             "[bodies.nose.points]",
-            f"harness = [{_n(g['nose_harness'])}, 0.0, 0.0]   # the shock cord's and both bridles' eye bolt",
-            f"line_stretch = [{_n(g['nose_harness'] - bridle)}, 0.0, 0.0]   # a confluence at deployment: a "
-            "bridle's length aft", "",
+            f"harness = [{_n(g['nose_harness'])}, 0.0, 0.0]   # the shock cord's eye bolt", "",
             "[separations.nose]                         # the ejection charge at apogee",
             'point = "booster.nose_seat"', f"speed = {_n(c.ejection_speed)}   # m/s off the booster",
             "direction = [1.0, 0.0, 0.0]                # along the rocket's axis, forward",
@@ -101,7 +104,7 @@ def _shock_cord(c, g) -> list:
 
 
 def sections_system(c, which: str) -> list:
-    """A system hanging from the nose cone's harness, deployed behind it, opening by its canopy type's law."""
+    """A system packed in the booster and hanging from its eye bolt, opening by its canopy type's law."""
     length = c.riser_length or RISER_FRACTION * c.length
     bridle = c.bridle_length or BRIDLE_FRACTION * c.length
     kind = CANOPY_TYPES[c.canopy_type]
@@ -112,15 +115,15 @@ def sections_system(c, which: str) -> list:
     weight = c.mass * gravity_at(c.planet, c.latitude or 0.0, ground(c))
     rows = [f"[systems.{which}]", f'canopy = "{which}_canopy"',
             'canopy_model = "reduced"   # a light canopy: a drag point at the riser\'s end (docs/models/'
-            "reduced_canopy.md)", "packed = false   # it leaves with the nose cone",
-            'deploy_point = "nose.line_stretch"', trigger, f"[systems.{which}.confluence]",
-            f"mass = {_n(CONFLUENCE_MASS_FRACTION * c.mass)}   # kg",
+            "reduced_canopy.md)", "packed = true   # its canopy and confluence ride in the booster until it deploys",
+            'deploy_point = "booster.line_stretch"', trigger, f"[systems.{which}.confluence]",
+            f"mass = {_n(CONFLUENCE_MASS_FRACTION * c.mass)}   # kg (0.2 % of the rocket's, assumed)",
             f"[systems.{which}.inflation]   # {c.canopy_type}: {kind.opening_source}",
             "stage_start = [0.0]", "fraction = [1.0]", f"fill_constant = [{_n(kind.fill_constant)}]",
             f"exponent = [{_n(kind.opening_exponent)}]", f"overinflation = {_n(kind.overinflation)}"]
     if kind.overinflation > 1.0:
         rows.append("overinflation_decay = 0.3   # s (assumed)")
-    for line, attach, free in (("bridle", "nose.harness", bridle), ("riser", f"{which}_canopy.riser", length)):
+    for line, attach, free in (("bridle", "booster.harness", bridle), ("riser", f"{which}_canopy.riser", length)):
         stiffness = weight / (LINE_STRAIN * free)
         rows += [f"[systems.{which}.lines.{line}]", f'attach = "{attach}"', f"free_length = {_n(free)}   # m",
                  f"stiffness = {_n(stiffness)}   # N/m: {LINE_STRAIN:.1%} stretch under the rocket's weight",
