@@ -156,13 +156,10 @@ def canopy_lines(c, which: str) -> list:
 
 
 def _system(c, which: str) -> list:
-    length = c.riser_length or RISER_FRACTION * c.length
-    bridle = c.bridle_length or BRIDLE_FRACTION * c.length
     trigger = (f'deploy_trigger = {{ quantity = "apogee", rate = {_n(TRIGGER_RATE)}, lag = {_n(c.apogee_lag)} }}'
                "   # after the first sample past apogee" if which == "drogue" else
                f'deploy_trigger = {{ quantity = "altitude", below = {_n(c.main_height)}, reference = "ground", '
                f"rate = {_n(TRIGGER_RATE)} }}   # m above the ground")
-    weight = c.mass * gravity_at(c.planet, c.latitude or 0.0, ground(c))
     rows = [f"[systems.{which}]", f'canopy = "{which}_canopy"',
             'canopy_model = "reduced"   # a light canopy: a drag point at the riser\'s end (docs/models/'
             "reduced_canopy.md)", "packed = true   # its canopy and confluence ride in the rocket until it deploys",
@@ -172,12 +169,22 @@ def _system(c, which: str) -> list:
                     "main's C_D S replaces the drogue's)")
     rows += [f"[systems.{which}.confluence]", f"mass = {_n(CONFLUENCE_MASS_FRACTION * c.mass)}   # kg (0.2 % of the "
              "rocket's, assumed)"]
-    for line, attach, free in (("bridle", "rocket.harness", bridle), ("riser", f"{which}_canopy.riser", length)):
+    return rows + line_rows(c, which, "rocket.harness") + [""]
+
+
+def line_rows(c, which: str, harness: str) -> list:
+    """The ``which`` system's bridle from ``harness`` ("<body>.<point>") and riser to its canopy: lengths as given
+    or BRIDLE_FRACTION and RISER_FRACTION of the rocket's, stiffness for LINE_STRAIN under the rocket's weight,
+    damping LINE_DAMPING_TIME x stiffness."""
+    weight = c.mass * gravity_at(c.planet, c.latitude or 0.0, ground(c))
+    rows = []
+    for line, attach, free in (("bridle", harness, c.bridle_length or BRIDLE_FRACTION * c.length),
+                               ("riser", f"{which}_canopy.riser", c.riser_length or RISER_FRACTION * c.length)):
         stiffness = weight / (LINE_STRAIN * free)
         rows += [f"[systems.{which}.lines.{line}]", f'attach = "{attach}"', f"free_length = {_n(free)}   # m",
                  f"stiffness = {_n(stiffness)}   # N/m: {LINE_STRAIN:.1%} stretch under the rocket's weight",
                  f"damping = {_n(LINE_DAMPING_TIME * stiffness)}   # N s/m: {LINE_DAMPING_TIME:g} s x stiffness"]
-    return rows + [""]
+    return rows
 
 
 def simulation_lines(c) -> list:

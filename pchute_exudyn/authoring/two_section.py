@@ -19,10 +19,9 @@ import math
 from ..physics.line_materials import LINE_MATERIALS
 from ..physics.shapes import solid_cylinder_inertia
 from ..registries.canopy_types import CANOPY_TYPES
-from .planets import gravity_at
-from .rocket import BRIDLE_FRACTION, RISER_FRACTION, TRIGGER_RATE, canopy_lines, header_lines, simulation_lines
-from .rocket_start import ground, nose_attitude_deg, nose_direction, start_altitude, start_height
-from .rules import CONFLUENCE_MASS_FRACTION, LINE_DAMPING_TIME, LINE_STRAIN
+from .rocket import BRIDLE_FRACTION, TRIGGER_RATE, canopy_lines, header_lines, line_rows, simulation_lines
+from .rocket_start import nose_attitude_deg, nose_direction, start_altitude, start_height
+from .rules import CONFLUENCE_MASS_FRACTION
 from .text import number as _n
 from .text import vector as _vector
 
@@ -105,14 +104,11 @@ def _shock_cord(c, g) -> list:
 
 def sections_system(c, which: str) -> list:
     """A system packed in the booster and hanging from its eye bolt, opening by its canopy type's law."""
-    length = c.riser_length or RISER_FRACTION * c.length
-    bridle = c.bridle_length or BRIDLE_FRACTION * c.length
     kind = CANOPY_TYPES[c.canopy_type]
     trigger = (f'deploy_trigger = {{ after = "nose.separation", delay = {_n(DROGUE_DELAY)} }}   # behind the nose'
                if which == "drogue" else
                f'deploy_trigger = {{ quantity = "altitude", below = {_n(c.main_height)}, reference = "ground", '
                f"rate = {_n(TRIGGER_RATE)} }}   # m above the ground")
-    weight = c.mass * gravity_at(c.planet, c.latitude or 0.0, ground(c))
     rows = [f"[systems.{which}]", f'canopy = "{which}_canopy"',
             'canopy_model = "reduced"   # a light canopy: a drag point at the riser\'s end (docs/models/'
             "reduced_canopy.md)", "packed = true   # its canopy and confluence ride in the booster until it deploys",
@@ -123,9 +119,4 @@ def sections_system(c, which: str) -> list:
             f"exponent = [{_n(kind.opening_exponent)}]", f"overinflation = {_n(kind.overinflation)}"]
     if kind.overinflation > 1.0:
         rows.append("overinflation_decay = 0.3   # s (assumed)")
-    for line, attach, free in (("bridle", "booster.harness", bridle), ("riser", f"{which}_canopy.riser", length)):
-        stiffness = weight / (LINE_STRAIN * free)
-        rows += [f"[systems.{which}.lines.{line}]", f'attach = "{attach}"', f"free_length = {_n(free)}   # m",
-                 f"stiffness = {_n(stiffness)}   # N/m: {LINE_STRAIN:.1%} stretch under the rocket's weight",
-                 f"damping = {_n(LINE_DAMPING_TIME * stiffness)}   # N s/m: {LINE_DAMPING_TIME:g} s x stiffness"]
-    return rows + [""]
+    return rows + line_rows(c, which, "booster.harness") + [""]
