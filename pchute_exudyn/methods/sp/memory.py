@@ -123,12 +123,16 @@ class _Row:
 
     def __init__(self, row: int, rows: int = 1):
         self.rows = slice(row, row + rows) if rows > 1 else row
+        self.single = rows == 1
 
     def __get__(self, memory, owner=None):
         return self if memory is None else memory.array[self.rows]
 
     def __set__(self, memory, value):
-        memory.array[self.rows] = np.reshape(value, memory.array[self.rows].shape)
+        if self.single:   # three floats into one row, as numpy takes them (it broadcasts no further): per step
+            memory.array[self.rows] = value
+        else:
+            memory.array[self.rows] = np.reshape(value, memory.array[self.rows].shape)
 
 
 class _Cell:
