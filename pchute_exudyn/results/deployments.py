@@ -156,7 +156,9 @@ def deployment_loads(case, traces: dict, openings: dict, columns: dict, raw, his
         if line_stretch > run_end or not system.lines:
             continue
         progress = next((openings[(system.name, c)] for c in system.canopies if (system.name, c) in openings), None)
-        watched = max(end for _, end in watch_windows(case, system, progress))
+        # an opening's load is its windows' largest (not the steady descent's ripple after it); without an opening
+        # law, the largest over the system's whole flight (the steps kept and the samples after them)
+        watched = max(end for _, end in watch_windows(case, system, progress)) if progress is not None else run_end
         end = min([run_end, watched] + [system.end(c, case.failures, run_end) for c in system.canopies])
         labels = [case.line_label(system, line) for line in system.lines]
         if any(column("tension_{owner}", label) not in columns for label in labels):
