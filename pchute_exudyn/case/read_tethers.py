@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from ..physics.line_materials import LINE_MATERIALS, RatedLine
+from ..physics.lines import LineLaw
 from .fields import REQUIRED, Table
 from .read_systems import _read_body_point, _read_load_elongation
 from .sections import Tether
@@ -51,8 +52,9 @@ def read_tether(name: str, tt: Table, bodies: dict) -> Tether:
             raise tt.error("stiffness", "give stiffness or load_elongation, not both", tt.data["stiffness"])
         table = _read_load_elongation(tt.table("load_elongation"))
     stiffness = table.slopes()[0] / free_length if table is not None else tt.number("stiffness", "N/m", above=0.0)
-    tether = Tether(name, ends, free_length, stiffness, tt.number("damping", "N s/m", 0.0, minimum=0.0), table,
-                    rating, tt.number("payout_resistance", "N", 0.0, minimum=0.0), strength)
+    law = LineLaw(free_length, stiffness, tt.number("damping", "N s/m", 0.0, minimum=0.0), table,
+                  tt.number("payout_resistance", "N", 0.0, minimum=0.0))
+    tether = Tether(name, ends, law, rating, strength)
     tt.finish()
     return tether
 
@@ -98,21 +100,21 @@ def check_tethers(t, tethers: dict, bodies: dict, separations: dict, vehicle: st
         if any(end is None for end in ends):
             continue
         apart = float(np.linalg.norm(ends[1] - ends[0]))
-        if apart > tether.free_length:
+        if apart > tether.law.free_length:
             raise t.error(f"{name}.free_length", f"is shorter than its ends are apart ({apart:.4g} m) while "
                                                  f"'{tether.ends[1][0]}' rides in '{tether.ends[0][0]}': it would "
-                                                 "start stretched; give at least that length", tether.free_length)
+                                                 "start stretched; give at least that length", tether.law.free_length)
         carried = next((body for body, _ in tether.ends if body in separations), None)
-        if carried is None or tether.payout_resistance <= 0.0:
+        if carried is None or tether.law.payout_resistance <= 0.0:
             continue
         separation = separations[carried]
         other = next(body for body, _ in tether.ends if body != carried)
         mu = bodies[carried].mass * bodies[other].mass / (bodies[carried].mass + bodies[other].mass)
-        stops = 0.5 * mu * separation.speed ** 2 / tether.payout_resistance   # m of payout the speed pays for
-        if stops < tether.free_length - apart:
-            warnings.append(f"tethers.{name}: its payout resistance {tether.payout_resistance:g} N stops the "
+        stops = 0.5 * mu * separation.speed ** 2 / tether.law.payout_resistance   # m of payout the speed pays for
+        if stops < tether.law.free_length - apart:
+            warnings.append(f"tethers.{name}: its payout resistance {tether.law.payout_resistance:g} N stops the "
                             f"{separation.speed:g} m/s separation of '{carried}' after {stops:.3g} m, before its "
-                            f"{tether.free_length - apart:.3g} m of slack are out (with no other force it never "
+                            f"{tether.law.free_length - apart:.3g} m of slack are out (with no other force it never "
                             "comes taut)")
     return tuple(warnings)
 

@@ -8,7 +8,7 @@ import math
 from dataclasses import dataclass
 
 from ..physics.line_materials import RatedLine
-from ..physics.lines import LineLaw, LoadElongation
+from ..physics.lines import LineLaw
 
 
 @dataclass(frozen=True)
@@ -54,36 +54,20 @@ class Tether:
     name : str
     ends : tuple of 2 (body, point)
         The bodies and their points (body axes) it ties.
-    free_length : float
-        L0 (m): its length fully paid out.
-    stiffness : float
-        K (N/m).
-    damping : float
-        C (N s/m).
-    load_elongation : LoadElongation or None
-        A measured tension-strain table replacing K (L - L0).
+    law : LineLaw
+        Its tension-only law (``physics.lines``): L0 (m), K (N/m), C (N s/m), a load-elongation table, and the
+        payout resistance R (N) it pulls with while slack and paying out (its ends moving apart).
     rating : RatedLine or None
         The material and breaking strength a case named.
-    payout_resistance : float
-        R (N): the tension while it is slack and paying out (its ends moving apart): bag friction, folds, ties.
     breaking_strength : float or None
         N: the load it is rated to; the run warns when a load exceeds it (the summary's margin).
     """
 
     name: str
     ends: tuple
-    free_length: float
-    stiffness: float
-    damping: float
-    load_elongation: LoadElongation | None = None
+    law: LineLaw
     rating: RatedLine | None = None
-    payout_resistance: float = 0.0
     breaking_strength: float | None = None
-
-    @property
-    def law(self) -> LineLaw:
-        """Its tension-only law (``physics.lines.LineLaw``)."""
-        return LineLaw(self.free_length, self.stiffness, self.damping, self.load_elongation, self.payout_resistance)
 
     def acts_between(self, bodies) -> bool:
         """Whether both its ends are among ``bodies`` (names of the free or fixed bodies a phase flies)."""

@@ -17,9 +17,8 @@ import numpy as np
 
 from ..case.model import Body, Case
 from ..physics.apparent_mass import kirchhoff_terms, translational_mass_matrix
-from ..registries.columns import column, unit
 from .phase_model import CURRENT, OV, Model
-from .state import ColumnChannel
+from .state import column_channel
 
 
 class ApparentMassTerms:
@@ -84,8 +83,8 @@ def add_apparent_mass(model: Model, case: Case, body: Body, node: int) -> None:
         nodeNumbers=[node], massMatrix=np.zeros((6, 6)), massMatrixUserFunction=terms.mass_matrix,
         forceUserFunction=terms.force, visualization=eii.VObjectGenericODE2(show=False)))
     for index, template in ((0, "{owner}_apparent_mass_axial"), (1, "{owner}_apparent_mass_lateral")):
-        model.add_channel(_channel(template, body.name), lambda i=index: terms.masses()[2][i])
-    model.add_channel(_channel("{owner}_apparent_inertia", body.name), lambda: terms.masses()[3][1])
+        model.add_channel(column_channel(template, body.name), lambda i=index: terms.masses()[2][i])
+    model.add_channel(column_channel("{owner}_apparent_inertia", body.name), lambda: terms.masses()[3][1])
 
 
 def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, aerodynamic_load) -> None:
@@ -125,9 +124,9 @@ def watch_opening(model: Model, system_name: str, canopy: str, progress, speed_r
 
     model.add_pre_step(before_step)
     model.add_post_step(after_step, first=True)
-    model.add_channel(_channel("{owner}_drag_area_fraction", system_name),
+    model.add_channel(column_channel("{owner}_drag_area_fraction", system_name),
                       lambda: progress(get_time() - progress.line_stretch))
-    model.add_channel(_channel("{owner}_aerodynamic_force", canopy), force_magnitude)
+    model.add_channel(column_channel("{owner}_aerodynamic_force", canopy), force_magnitude)
 
 
 def _no_sound(t):
@@ -139,12 +138,9 @@ def add_fraction_channel(model: Model, label: str, schedule, deployed_at: float)
     ``<label>_drag_area_fraction`` (an opening's own channel comes with ``add_inflation_hooks``)."""
     get_time = model.mbs.systemData.GetTime
     if schedule is None:
-        model.add_channel(_channel("{owner}_drag_area_fraction", label), lambda: 1.0)
+        model.add_channel(column_channel("{owner}_drag_area_fraction", label), lambda: 1.0)
         return
-    model.add_channel(_channel("{owner}_drag_area_fraction", label), lambda: schedule(get_time() - deployed_at))
+    model.add_channel(column_channel("{owner}_drag_area_fraction", label),
+                      lambda: schedule(get_time() - deployed_at))
 
 
-def _channel(template: str, owner: str) -> ColumnChannel:
-    """A channel that is an output column of its own (``registries.columns``), with the registry's unit."""
-    name = column(template, owner)
-    return ColumnChannel(name, unit(name))

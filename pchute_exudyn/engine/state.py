@@ -15,6 +15,7 @@ import numpy as np
 from ..case.model import Body, Case, ParachuteSystem
 from ..physics.kinematics import body_point
 from ..physics.rotations import attitude_matrix
+from ..registries.columns import column, unit
 
 
 @dataclass
@@ -120,6 +121,12 @@ class ColumnChannel(NamedTuple):
 
     column: str
     unit: str
+
+
+def column_channel(template: str, owner: str) -> ColumnChannel:
+    """The channel of the output column ``template`` of ``owner`` (``registries.columns``), in the registry's unit."""
+    name = column(template, owner)
+    return ColumnChannel(name, unit(name))
 
 
 BODY_QUANTITIES = ("position", "velocity", "rotation", "angular_velocity")

@@ -10,15 +10,14 @@ import math
 import exudyn.itemInterface as eii
 
 from ..case.model import Case
-from ..registries.columns import column
 from .line_laws import LINE_COLOUR, line_law
 from .phase_model import CURRENT, OV, Model
-from .state import ColumnChannel
+from .state import ColumnChannel, column_channel
 
 
 def tether_channel(name: str) -> ColumnChannel:
     """The tension channel (N) of tether ``name``."""
-    return ColumnChannel(column("tension_{owner}", name), "N")
+    return column_channel("tension_{owner}", name)
 
 
 class TetherState:
@@ -46,8 +45,8 @@ def add_tethers(model: Model, case: Case) -> None:
         (first, first_point), (second, second_point) = tether.ends
         markers = [model.bodies[first].point_markers[first_point], model.bodies[second].point_markers[second_point]]
         connector = model.mbs.AddObject(eii.ObjectConnectorSpringDamper(
-            markerNumbers=markers, referenceLength=tether.free_length, stiffness=tether.stiffness,
-            damping=tether.damping, springForceUserFunction=line_law(model, tether.law, laws, True),
+            markerNumbers=markers, referenceLength=tether.law.free_length, stiffness=tether.law.stiffness,
+            damping=tether.law.damping, springForceUserFunction=line_law(model, tether.law, laws, True),
             visualization=eii.VObjectConnectorSpringDamper(show=True, drawSize=0.05, color=LINE_COLOUR)))
         model.add_channel(tether_channel(tether.name), lambda c=connector: get(c, OV.ForceLocal, CURRENT))
         model.tethers[tether.name] = TetherState(model, markers)

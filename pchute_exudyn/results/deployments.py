@@ -206,7 +206,7 @@ def _tether_deployments(case, traces: dict, histories: dict) -> list:
         if trace is None or not trace.times:
             continue
         loads = [row[tether.name] for row in trace.tensions]
-        resistance = tether.payout_resistance   # what it pulls with paying out: anything else pulling is taut
+        resistance = tether.law.payout_resistance   # what it pulls with paying out: anything else pulling is taut
         taut = next((i for i, load in enumerate(loads) if load > 0.0 and load != resistance), None)
         if taut is None:
             continue

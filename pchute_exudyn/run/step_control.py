@@ -115,7 +115,7 @@ def stability_step(case: Case, method: Method, integrator: str) -> tuple[float, 
 def tether_constants(case: Case, present) -> list:
     """(body, stiffest slope in N/m, damping in N s/m) of each end of each tether acting between the bodies
     ``present`` (names), both ends of a tether named."""
-    return [(body, tether.law.stiffest, tether.damping) for tether in case.tethers.values()
+    return [(body, tether.law.stiffest, tether.law.damping) for tether in case.tethers.values()
             if tether.acts_between(present) for body, _ in tether.ends]
 
 
@@ -259,10 +259,10 @@ class AdaptiveSteps:
         for name, state in self.model.tethers.items():
             tether = self.case.tethers[name]
             length, rate = state.length_and_rate()
-            if length < tether.free_length:
+            if length < tether.law.free_length:
                 self._taut_since.pop(name, None)
                 if rate > 0.0:   # its rate changes on the way: half the way at a time, then onto it
-                    left = (tether.free_length - length) / rate
+                    left = (tether.law.free_length - length) / rate
                     cap = min(cap, max(left if left < TAUT_LANDING else 0.5 * left, self.rule.smallest))
                 continue
             since = self._taut_since.setdefault(name, t)

@@ -21,10 +21,9 @@ import numpy as np
 from ...case.model import Case, ParachuteSystem
 from ...engine.canopy import add_fraction_channel, watch_opening
 from ...engine.phase_model import Model
-from ...engine.state import ColumnChannel
+from ...engine.state import column_channel
 from ...physics.aerodynamics import mach_number
 from ...physics.linearization import max_stable_step_rk4
-from ...registries.columns import column, unit
 from .memory import BRIDLE_ROW, RISER_ROW, Memory, Work
 
 
@@ -94,7 +93,7 @@ class ReducedCanopy:
             deployed = system.deploy_time if system.deploy_time is not None else 0.0
             add_fraction_channel(model, label, schedule, deployed)
             fraction = lambda t: schedule(t - deployed)   # noqa: E731
-            model.add_channel(_force_channel(name), self.drag_force)
+            model.add_channel(column_channel("{owner}_aerodynamic_force", name), self.drag_force)
         model.add_pre_step(self.fill)
         model.add_post_step(self.stepped)
         self.step_start = model.phase.start
@@ -174,9 +173,3 @@ class ReducedCanopy:
         along = stiffness / (2.0 * drag * speed + damping + inertia)
         across = work.tensions[RISER_ROW] / length / (drag * speed + inertia)
         return max_stable_step_rk4([-max(along, across)])
-
-
-def _force_channel(canopy: str):
-    """The ``<canopy>_aerodynamic_force`` channel (N) of a canopy whose opening follows a time table."""
-    name = column("{owner}_aerodynamic_force", canopy)
-    return ColumnChannel(name, unit(name))
