@@ -53,13 +53,16 @@ READER_KEYS = {"mass": "bodies.vehicle.mass", "canopy_mass": "bodies.canopy.mass
                "velocity_up": "bodies.vehicle.initial.velocity_down"}
 """A NewCase field -> the case key it becomes, whose range (``case.plausible.RANGES``) the case reader checks."""
 NEEDS = {"static_line_time": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),
+         "static_line_length": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),
          "release_heading_deg": ("release_airspeed", "the heading is the aircraft's at a release"),
          "release_flight_path_deg": ("release_airspeed", "the flight path is the aircraft's at a release"),
          "wind_from_deg": ("wind_speed", "the direction is a wind's"),
          "flight_path_deg": ("mach", "the flight path is the start's at flight conditions"),
          "heading_deg": ("mach", "the heading is the start's at flight conditions")}
 """A NewCase field that means something only with another: field -> (that field, what the first is)."""
-EXCLUDES = {"altitude": ("mach", "the flight conditions give the start altitude (authoring.flight_start)")}
+EXCLUDES = {"altitude": ("mach", "the flight conditions give the start altitude (authoring.flight_start)"),
+            "static_line_time": ("static_line_length", "the static line's length places line stretch where the flight "
+                                                       "reaches it")}
 """A NewCase field given (even at its default) that another, when set, refuses: field -> (that field, why)."""
 
 

@@ -65,6 +65,10 @@ class NewCase:
         The aircraft's heading (deg, clockwise from north) and flight-path angle (deg, climbing > 0, -90 to 90).
     static_line_time : float
         Time (s, >= 0) from the release to line stretch.
+    static_line_length : float or None
+        A static line of this length (m) from the aircraft's anchor to the deployment bag instead of
+        ``static_line_time``: the canopies deploy at the line stretch the flight reaches (the static line and the
+        lines out), held back by the bag at the aircraft's velocity (docs/models/deployment_loads.md, "Static line").
     mach : float or None
         Start at line stretch at this Mach number (-) and ``dynamic_pressure`` instead of in steady descent: the
         altitude solves rho(h) a(h)^2 M^2 / 2 = q in the planet's atmosphere, the speed through the air is M a(h),
@@ -135,6 +139,7 @@ class NewCase:
     release_heading_deg: float = 0.0
     release_flight_path_deg: float = 0.0
     static_line_time: float = 1.0
+    static_line_length: float | None = None
     mach: float | None = None
     dynamic_pressure: float | None = None
     flight_path_deg: float = 0.0
@@ -198,6 +203,9 @@ class NewCase:
                 -90.0 <= self.release_flight_path_deg <= 90.0, "must be within -90..90 (deg, climbing > 0)")
         check_number("static_line_time", self.static_line_time, self.static_line_time >= 0.0,
                 "must be >= 0 (s from the release to line stretch)")
+        if self.static_line_length is not None:
+            check_number("static_line_length", self.static_line_length, 0.0 < self.static_line_length <= 100.0,
+                         "must be > 0 and at most 100 (m, from the aircraft's anchor to the deployment bag)")
         if self.release_airspeed is not None and self.speed is not None:
             raise InputError(f"speed = {self.speed!r} and release_airspeed = {self.release_airspeed!r}: a released "
                              "vehicle starts at the aircraft's airspeed; give one of them")

@@ -98,9 +98,11 @@ class DescentWriter:
         if c.mach is not None:
             return header_words(c, self.plan.altitude, self.airspeed)
         if c.released:
+            when = f"{c.static_line_time:g} s later" if c.static_line_length is None else \
+                f"when a {c.static_line_length:g} m static line and the lines are out"
             return [f"Released from an aircraft at {_n(c.release_airspeed)} m/s through the air",
                     f"# (heading {c.release_heading_deg:g} deg, flight path {c.release_flight_path_deg:g} deg); the "
-                    f"canopies deploy at line stretch {c.static_line_time:g} s later", f"# and open with the "
+                    f"canopies deploy at line stretch {when}", f"# and open with the "
                     f"fill-constant law of a {c.canopy_type} canopy ([systems.main.inflation])."]
         rate = "the steady rate there" if c.speed is None else "as chosen"
         return [f"In steady descent: every line stretched {LINE_STRAIN:.1%} by its share of",
@@ -258,9 +260,7 @@ class DescentWriter:
         fill, exponent, overinflation = canopy.fill_constant, canopy.opening_exponent, canopy.overinflation
         fill_time = fill * nominal_diameter(self.plan.reference_area) / max(self.airspeed, 1.0)
         decay = OVERINFLATION_DECAY * fill_time if overinflation > 1.0 else 0.0
-        when = (f"deploy_time = {_n(c.static_line_time)}   # s: the static line's time from the release to line "
-                "stretch" if c.released else "deploy_time = 0.0   # s: line stretch at the start (flight conditions)")
-        return [when, 'deploy_point = "vehicle.line_stretch"',
+        return [*self.deploy_when(), 'deploy_point = "vehicle.line_stretch"',
                 f"[systems.main.inflation]                   # one stage from line stretch; {c.canopy_type} values "
                 "(pchute_exudyn/registries/canopy_types.py, docs/tutorial.md)",
                 "stage_start = [0.0]                        # s after line stretch", "fraction = [1.0]",
@@ -269,6 +269,20 @@ class DescentWriter:
                 f"overinflation = {_n(overinflation)}   # -: the drag area's overshoot at the end of the fill",
                 f"overinflation_decay = {_n(decay)}   # s: a quarter of the fill time at the "
                 f"{'release' if c.released else 'start'} airspeed (assumed)"]
+
+    def deploy_when(self) -> list:
+        """When the system deploys: at a static line's line stretch, after the static line's time, or at the start
+        (flight conditions)."""
+        c = self.c
+        if not c.released:
+            return ["deploy_time = 0.0   # s: line stretch at the start (flight conditions)"]
+        if c.static_line_length is None:
+            return [f"deploy_time = {_n(c.static_line_time)}   # s: the static line's time from the release to line "
+                    "stretch"]
+        return ["# the bag on a static line from the aircraft: line stretch when it and the lines are out; length (m)"
+                " from the aircraft's anchor cable to the bag,", "# anchor (m) where that cable is at the release, "
+                "from the vehicle's centre of mass (east, north, up)", f"static_line = {{ length = "
+                f"{_n(c.static_line_length)}, anchor = [0.0, 0.0, 0.0] }}"]
 
     @staticmethod
     def line(name: str, attach: str, length: float, tension: float) -> list:

@@ -85,10 +85,12 @@ RELEASED_KEYS = ("velocity_north", "velocity_east", "velocity_down", "rate_x", "
 """Initial-state keys a released vehicle may not have: its motion is the release's."""
 
 
-def check_release(body_tables, system_tables, bodies, systems, vehicle: str) -> None:
-    """A release gives the vehicle its velocity and deploys every system at line stretch: the vehicle has no
-    velocities or rates of its own, every system a deploy_time (the static line's time from the release), and no
-    other free body an initial state."""
+def check_release(body_tables, system_tables, bodies, systems, vehicle: str, release) -> None:
+    """A release (``release``, None: none, nothing to check) gives the vehicle its velocity and deploys every system
+    at line stretch: the vehicle has no velocities or rates of its own, every system a deploy_time (the static line's
+    time from the release) or a static_line, and no other free body an initial state."""
+    if release is None:
+        return
     given = [key for key in RELEASED_KEYS if key in body_tables[vehicle].data.get("initial", {})]
     if given:
         raise body_tables[vehicle].error(f"initial.{given[0]}", "a vehicle released from an aircraft "
@@ -97,7 +99,7 @@ def check_release(body_tables, system_tables, bodies, systems, vehicle: str) -> 
     for name, system in systems.items():
         if system.deploy_time is None:
             raise system_tables[name].error("deploy_time", "required with start.release (s: the static line's time "
-                                                           "from the release to line stretch)")
+                                                           "from the release to line stretch), or a static_line")
     for name, body in bodies.items():
         if name != vehicle and not body.fixed and body.initial is not None:
             raise body_tables[name].error("initial", "with start.release only the vehicle starts with a state; its "

@@ -17,6 +17,7 @@ from ..physics.air import AirMotion
 from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import Atmosphere
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency
+from ..physics.deployment import StaticLine
 from ..physics.inflation import Inflation, nominal_diameter, skipping, with_disreef_delays
 from ..physics.interpolation import interpolate_held
 from ..physics.line_materials import RatedLine
@@ -300,6 +301,9 @@ class ParachuteSystem:
         the suspended mass is the same before and after the deployment; False: it is absent until then. A case
         that does not say gets True for a system deployed during the run from a point of the vehicle
         (``case.carried.packed_by_default``).
+    static_line : StaticLine or None
+        A static line from the release aircraft (``physics.deployment.StaticLine``): the system deploys at its line
+        stretch, its canopies moving with the aircraft; None: at ``deploy_time``.
     """
 
     name: str
@@ -316,6 +320,7 @@ class ParachuteSystem:
     contact: Contact | None = None
     canopy_model: str = "rigid"
     packed: bool = False
+    static_line: StaticLine | None = None
 
     @property
     def cluster(self) -> bool:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
+from ..physics.deployment import StaticLine
 from ..physics.inflation import Inflation, InflationError, InflationStage
 from ..physics.line_materials import LINE_MATERIALS, RatedLine
 from ..physics.lines import LoadElongation, LoadElongationError
@@ -28,10 +29,13 @@ CANOPY_MODELS = ("rigid", "reduced")
 """``canopy_model`` of a system (``case.model.ParachuteSystem``)."""
 
 
-def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict) -> None:
+def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, static_line=None) -> None:
     """A reduced canopy (docs/models/reduced_canopy.md) is one canopy with aerodynamics, on a riser in series with one
-    bridle from another body; it opens as the system says (an ``inflation`` or a ``drag_area_schedule``, fully open
-    from its deployment without either)."""
+    bridle from another body, not deployed by a static line (it has no mass for the snatch); it opens as the system
+    says (an ``inflation`` or a ``drag_area_schedule``, fully open from its deployment without either)."""
+    if static_line is not None:
+        raise t.error("canopy_model", "reduced has no canopy mass for the static line's snatch to act on: a system "
+                                      "deployed by a static_line flies rigid", "reduced")
     if len(canopies) != 1 or len(lines) != 2 or sorted(line.body == canopies[0] for line in lines) != [False, True]:
         raise t.error("canopy_model", "reduced needs one canopy on one riser in series with one bridle from another "
                                       "body (two lines: a shock cord); use rigid for this layout", "reduced")
@@ -50,8 +54,7 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
     confluence = _read_confluence(t.table("confluence"))
     canopies = _read_canopies(t, bodies)
     canopy_key = canopy_key_of(t)
-    deploy_time = event_time(t, "deploy_time", "deploy_trigger", t.number("deploy_time", "s", None, minimum=0.0),
-                             f"{name}.deploy", bodies, triggers)
+    deploy_time, static_line = _read_deployment(t, name, bodies, triggers)
     cutaway_time = event_time(t, "cutaway_time", "cutaway_trigger", t.number("cutaway_time", "s", None, above=0.0),
                               f"{name}.cutaway", bodies, triggers)
     deploy_point = _read_deploy_point(t, bodies)
@@ -69,7 +72,7 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
         raise t.error("lines", "a system needs at least one line")
     lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
     if canopy_model == "reduced":
-        _check_reduced(t, canopies, lines, bodies)
+        _check_reduced(t, canopies, lines, bodies, static_line)
     if deploy_time is not None:
         missing = [key for key, value in ((canopy_key, canopies), ("deploy_point", deploy_point)) if not value]
         if missing:
@@ -101,7 +104,32 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
                                  "reference area and the drag-area fraction); set contact.enabled = false otherwise")
     t.finish()
     return ParachuteSystem(name, confluence, tuple(lines), canopies, deploy_time, deploy_point, cutaway_time,
-                           schedule, inflation, efficiency, spread, contact, canopy_model=canopy_model, packed=packed)
+                           schedule, inflation, efficiency, spread, contact, canopy_model=canopy_model, packed=packed,
+                           static_line=static_line)
+
+
+def _read_deployment(t: Table, name: str, bodies: dict, triggers: dict) -> tuple:
+    """(deploy time in s or None, StaticLine or None): ``deploy_time``, ``deploy_trigger`` (pending: inf) or
+    ``static_line`` (pending until its line stretch: inf, its trigger made by ``case.start.with_static_lines``)."""
+    deploy_time = event_time(t, "deploy_time", "deploy_trigger", t.number("deploy_time", "s", None, minimum=0.0),
+                             f"{name}.deploy", bodies, triggers)
+    static_line = _read_static_line(t, deploy_time)
+    return (math.inf if static_line is not None else deploy_time), static_line
+
+
+def _read_static_line(t: Table, deploy_time) -> StaticLine | None:
+    """``[systems.<name>.static_line]``: ``length`` (m) and ``anchor`` (m, east/north/up from the vehicle's centre
+    of mass at the release); the system then deploys at its line stretch (no deploy_time or deploy_trigger)."""
+    st = t.table("static_line", None)
+    if st is None:
+        return None
+    if deploy_time is not None:
+        raise t.error("static_line", "a system deployed by a static line deploys at its line stretch: give "
+                                     "static_line or deploy_time/deploy_trigger, not both")
+    length = st.number("length", "m", above=0.0)
+    anchor = tuple(st.vector("anchor", "m", 3, (0.0, 0.0, 0.0)))
+    st.finish()
+    return StaticLine(length, anchor)
 
 
 def _read_deploy_point(t: Table, bodies: dict) -> tuple | None:

@@ -18,7 +18,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 from ..physics.conditions import altitude_and_speed
+from ..physics.deployment import static_line_reach
+from ..triggers.definition import LineStretch, Sensor, Trigger
 
 VELOCITY_FRAMES = ("ground", "air")
 """What the ``velocity_*`` keys of the ``initial`` tables are relative to (``[start] velocities_relative_to``)."""
@@ -119,3 +123,30 @@ def at_conditions(initial, atmosphere, wind, frame: str):
         wind_east, wind_north = wind.at(altitude)
         east, north = east + wind_east, north + wind_north
     return replace(initial, altitude=altitude, velocity_east=east, velocity_north=north, velocity_down=-up)
+
+
+def with_static_lines(systems: dict, bodies: dict, vehicle: str, start, release: Release | None, triggers: dict,
+                      system_tables: dict) -> dict:
+    """The ``systems`` with each static line's anchor resolved (``physics.deployment.StaticLine``: at the release,
+    ``anchor`` from the vehicle's centre of mass, flying on at the vehicle's released velocity) and its line stretch
+    recorded in ``triggers`` as the system's deployment (``triggers.definition.LineStretch``)."""
+    resolved = dict(systems)
+    for name, system in systems.items():
+        line = system.static_line
+        if line is None:
+            continue
+        if release is None:
+            raise system_tables[name].error("static_line", "needs start.release: the aircraft the static line is "
+                                                           "anchored in, flying at the release velocity")
+        initial = bodies[vehicle].initial
+        east, north, up = line.anchor
+        origin = start.local_position(initial.altitude + up, initial.east + east, initial.north + north)
+        velocity = start.inertial_velocity(start.local_position(initial.altitude, initial.east, initial.north),
+                                           initial.velocity_enu)
+        line = replace(line, origin=tuple(origin.tolist()), velocity=tuple(np.asarray(velocity, float).tolist()))
+        riser = system.risers(system.canopies[0])[0]
+        reach = static_line_reach(line, riser.free_length, bodies[system.canopies[0]].points[riser.point],
+                                  bodies[system.deploy_point[0]].points[system.deploy_point[1]])
+        triggers[f"{name}.deploy"] = Trigger(LineStretch(line, reach), Sensor(), f"systems.{name}.static_line")
+        resolved[name] = replace(system, static_line=line)
+    return resolved

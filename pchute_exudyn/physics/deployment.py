@@ -4,6 +4,12 @@ At deployment the confluence is put at a point of the vehicle where every bridle
 is put downstream of it along the vehicle's air-relative velocity, with the riser at free length and its +x axis
 (canopy toward payload) along that velocity; the canopy takes the vehicle's velocity and no rotation. The canopy's
 body y axis is chosen horizontal (x cross up), z completes the frame; for a vertical velocity, y is east.
+
+A system deployed by a static line from the release aircraft (``StaticLine``) is placed the same way, but trailing
+toward the aircraft's anchor rather than along the air-relative velocity, and its canopies move with the aircraft:
+the deployment bag, tied to the static line, held them back while the lines paid out, so the load comes to line
+stretch with its speed relative to the aircraft, which the lines' snatch takes out of the canopy
+(docs/models/deployment_loads.md, "Static line").
 """
 
 from __future__ import annotations
@@ -14,6 +20,65 @@ import numpy as np
 
 from .cluster import spread_directions
 from .kinematics import body_point
+
+
+@dataclass(frozen=True)
+class StaticLine:
+    """A static line from the release aircraft to a system's deployment bag: the bag stays on it, so the system's
+    lines pay out of the bag as the load falls away, and line stretch comes when the load is the static line and the
+    lines away from the anchor.
+
+    Attributes
+    ----------
+    length : float
+        m: the static line, from the aircraft's anchor cable to the bag (the canopy's centre at line stretch).
+    anchor : tuple of 3 float
+        m: the anchor at the release, from the vehicle's centre of mass (east, north, up).
+    origin, velocity : tuple of 3 float or None
+        The anchor's start-frame position (m) at t = 0 and its velocity (m/s): the aircraft flies on straight at the
+        release velocity. Resolved when the case is loaded (None before).
+    """
+
+    length: float
+    anchor: tuple = (0.0, 0.0, 0.0)
+    origin: tuple | None = None
+    velocity: tuple | None = None
+
+    def anchor_at(self, time: float) -> np.ndarray:
+        """The anchor's start-frame position (m) at run time ``time`` (s)."""
+        return np.asarray(self.origin, float) + time * np.asarray(self.velocity, float)
+
+
+def static_line_reach(static_line: StaticLine, riser_free_length: float, riser_point, deploy_point) -> float:
+    """m: how far the vehicle's centre of mass is from the anchor at line stretch, the static line, the canopy's
+    centre to its riser's attach point, the riser and the deploy point's offset laid out in one straight line (an
+    upper bound that the straight pull of a taut line makes close)."""
+    return static_line.length + float(np.linalg.norm(riser_point)) + riser_free_length \
+        + float(np.linalg.norm(deploy_point))
+
+
+def held_by_static_line(static_line: StaticLine, time: float, deploy_position) -> tuple:
+    """(trailing direction, canopy velocity in m/s) of a static line's system at line stretch at ``time`` (s): its
+    canopies trail from the deploy point (start-frame ``deploy_position``, m) toward the anchor, where the bag holds
+    them, and move with the aircraft."""
+    return np.asarray(deploy_position, float) - static_line.anchor_at(time), np.asarray(static_line.velocity, float)
+
+
+def damped_confluence_velocity(confluence_position, base_velocity, ends) -> np.ndarray:
+    """m/s: the confluence's velocity at line stretch when its lines' far ends move apart (a static line's canopy
+    held back): the one at which the lines' damping forces balance, sum_i C_i n_i n_i^T (v - v_i) = 0, as a confluence
+    of next to no mass takes at once (the singular-perturbation confluence's own law at free length, thesis ch. 3).
+    ``ends``: per line, its far end's position (m), velocity (m/s) and damping C (N s/m). Solved for the departure
+    from ``base_velocity`` (m/s, the vehicle's deploy point's) at least norm, so a direction no line constrains keeps
+    that velocity."""
+    matrix, load = np.zeros((3, 3)), np.zeros(3)
+    for position, velocity, damping in ends:
+        direction = np.asarray(position, float) - np.asarray(confluence_position, float)
+        direction /= np.linalg.norm(direction)
+        projector = damping * np.outer(direction, direction)
+        matrix += projector
+        load += projector @ (np.asarray(velocity, float) - np.asarray(base_velocity, float))
+    return np.asarray(base_velocity, float) + np.linalg.lstsq(matrix, load, rcond=1e-12)[0]
 
 
 @dataclass(frozen=True)

@@ -16,8 +16,14 @@ from ..case.model import Case, Contact, ParachuteSystem
 from ..engine.state import BodyState, ConfluenceState, Phase, initial_body_state, initial_confluence_state
 from ..errors import SimulationError
 from ..physics.cluster import touching_spread
-from ..physics.deployment import cluster_placement, line_stretch_placement
+from ..physics.deployment import (
+    cluster_placement,
+    damped_confluence_velocity,
+    held_by_static_line,
+    line_stretch_placement,
+)
 from ..physics.inflation import Inflation, InflationProgress, nominal_diameter
+from ..physics.kinematics import body_point
 from ..physics.separation import rigid_point_state, speed_shares
 from ..results.summary import CutawayEvent, DeployEvent, SeparationEvent
 
@@ -95,21 +101,42 @@ def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) 
     x, y, z = vehicle.position.tolist()
     altitude = float(case.start.altitude(vehicle.position))
     air_velocity = vehicle.velocity - np.array(air(x, y, z, altitude, time))
-    where = (vehicle.position, vehicle.attitude, vehicle.velocity, vehicle.angular_velocity,
-             case.bodies[vehicle_name].points[point], air_velocity)
+    deploy_point = case.bodies[vehicle_name].points[point]
+    trailing, held = air_velocity, None   # a static line's bag holds the canopies back: they move with the aircraft
+    if system.static_line is not None:
+        trailing, held = held_by_static_line(system.static_line, time, body_point(
+            vehicle.position, vehicle.attitude, local=deploy_point)[0])
+    where = (vehicle.position, vehicle.attitude, vehicle.velocity, vehicle.angular_velocity, deploy_point, trailing)
     risers = [system.risers(canopy)[0] for canopy in canopies]   # a canopy is placed by its first riser
     if not system.cluster:
         placement = line_stretch_placement(*where, risers[0].free_length,
                                            case.bodies[canopies[0]].points[risers[0].point])
-        canopy = BodyState(placement.canopy_position, placement.canopy_attitude, placement.canopy_velocity,
-                           np.zeros(3))
-        return {canopies[0]: canopy}, ConfluenceState(placement.confluence_position, placement.confluence_velocity)
+        canopy = BodyState(placement.canopy_position, placement.canopy_attitude,
+                           placement.canopy_velocity if held is None else held.copy(), np.zeros(3))
+        confluence = ConfluenceState(placement.confluence_position, placement.confluence_velocity)
+        return {canopies[0]: canopy}, confluence if held is None else _balanced(case, system, body_states,
+                                                                                {canopies[0]: canopy}, confluence)
     spread = system.deploy_spread if system.deploy_spread is not None else default_spread(case, system, canopies)
     confluence, velocity, placed = cluster_placement(*where, [(riser.free_length, case.bodies[c].points[riser.point])
                                                               for c, riser in zip(canopies, risers)], spread)
-    states = {c: BodyState(position, attitude, canopy_velocity, np.zeros(3))
+    states = {c: BodyState(position, attitude, canopy_velocity if held is None else held.copy(), np.zeros(3))
               for c, (position, attitude, canopy_velocity) in zip(canopies, placed)}
-    return states, ConfluenceState(confluence, velocity)
+    state = ConfluenceState(confluence, velocity)
+    return states, state if held is None else _balanced(case, system, body_states, states, state)
+
+
+def _balanced(case: Case, system: ParachuteSystem, body_states: dict, canopies: dict,
+              confluence: ConfluenceState) -> ConfluenceState:
+    """``confluence`` with the velocity at which its lines' damping balances (``damped_confluence_velocity``): a
+    static line's canopies move with the aircraft, the vehicle with the load, at line stretch."""
+    states = {**body_states, **canopies}
+    ends = []
+    for line in system.lines:
+        body = states[line.body]
+        ends.append((*body_point(body.position, body.attitude, body.velocity, body.angular_velocity,
+                                 case.bodies[line.body].points[line.point]), line.damping))
+    return ConfluenceState(confluence.position, damped_confluence_velocity(confluence.position, confluence.velocity,
+                                                                           ends))
 
 
 def check_above_ground(case: Case, system: str, canopies: dict, time: float) -> None:

@@ -223,6 +223,7 @@ class AdaptiveSteps:
         self._limits: dict = {}    # (system, relaxation time) -> its confluence's StepLimit, this check's
         self._remedies: dict = {}  # a confluence limit's description -> the layout or setting its method names
         self._taut_since: dict = {}   # tether -> the time (s) it last came taut (``_tether_cap``)
+        self._held = [system for system in model.systems if system.static_line is not None]   # _held_snatch_cap
 
     def after_step(self, t: float) -> float:
         """The coming step (s) after the step that ended at ``t`` (s; at the phase start, the first step)."""
@@ -241,7 +242,8 @@ class AdaptiveSteps:
             self.step = next_step(taken, error, CAP_FRACTION * self.cap, self.rule.largest)
         else:
             self.step = min(self.step, CAP_FRACTION * self.cap)
-        coming = min(self.step, self._relaxation_cap(t), self._opening_cap(t), self._tether_cap(t))
+        coming = min(self.step, self._relaxation_cap(t), self._opening_cap(t), self._tether_cap(t),
+                     self._held_snatch_cap(t))
         if self.landing is not None:
             land = self.landing(t) - t
             if land < coming:
@@ -269,6 +271,26 @@ class AdaptiveSteps:
             half_period = math.pi * math.sqrt(self._reduced_mass(tether) / tether.law.stiffest)
             if t - since < 2.0 * SNATCH_PERIODS * half_period:
                 cap = min(cap, half_period / SNATCH_STEPS)
+        return cap
+
+    def _held_snatch_cap(self, t: float) -> float:
+        """The step (s) a static line's system allows after its line stretch: its canopies, held back at the
+        aircraft's velocity, snatch on the lines as a tether's ends do, resolved the same way (SNATCH_STEPS steps a
+        half period pi sqrt(m / K) for SNATCH_PERIODS periods; m the canopy's mass, K its riser in series with the
+        bridles together), and not relaxed (``_relax``: no longer than the lines' own damping keeps stable); inf for any
+        other system (its canopies leave at the vehicle's velocity)."""
+        cap = math.inf
+        for system in self._held:
+            if t < system.deploy_time:
+                continue
+            stiffness, _ = self._constants[system.name]
+            bridles = sum(k for k, line in zip(stiffness, system.lines) if line.body not in system.canopies)
+            for k, line in zip(stiffness, system.lines):
+                if line.body in system.canopies:
+                    series = k * bridles / (k + bridles) if bridles > 0.0 else k
+                    half_period = math.pi * math.sqrt(self.case.bodies[line.body].mass / series)
+                    if t - system.deploy_time < 2.0 * SNATCH_PERIODS * half_period:   # the lines as they are
+                        cap = min(cap, half_period / SNATCH_STEPS, self.unrelaxed.get(system.name, math.inf))
         return cap
 
     def _reduced_mass(self, tether) -> float:

@@ -1,7 +1,8 @@
 """What a trigger is, as the case reader builds it (docs/case-format.md, "Triggers"): a condition and a sensor.
 
 The condition is one of: a run time (``At``), a delay after another event (``After``), a sensed quantity crossing a
-value (``Threshold``, the quantities of ``registries.quantities``), apogee (``Apogee``), a user's flight-computer
+value (``Threshold``, the quantities of ``registries.quantities``), a static line's line stretch (``LineStretch``,
+made by the case reader from ``[systems.<name>.static_line]``), apogee (``Apogee``), a user's flight-computer
 function (``UserFunction``) or ``all``/``any`` of several (``AllOf``, ``AnyOf``). The sensor (``Sensor``) samples at
 a rate (Hz; none: at every accepted step), fires after a lag (s) and adds seeded noise and a bias. Frozen data: what
 a sensor reads is ``triggers.sensors``, a trigger through a run ``triggers.watch``.
@@ -10,6 +11,10 @@ a sensor reads is ``triggers.sensors``, a trigger through a run ``triggers.watch
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..physics.deployment import StaticLine
 
 
 @dataclass(frozen=True)
@@ -58,6 +63,28 @@ class Threshold:
     def describe(self) -> str:
         where = " above the ground" if self.sensed_name == "altitude_ground" else ""
         return f"{self.quantity}{where} {'below' if self.below else 'above'} {self.value:g}"
+
+
+@dataclass(frozen=True)
+class LineStretch:
+    """A static line's system at line stretch: the sensed body's centre of mass ``value`` (m, its reach:
+    ``physics.deployment.static_line_reach``) from the static line's anchor, which flies on with the aircraft. Read
+    from the true position (a line coming taut, not a sensor), at every step, its crossing interpolated."""
+
+    static_line: StaticLine
+    value: float
+    quantity = "static_line"
+    sensed_name = "static_line_distance"
+
+    def distance(self, time: float, position) -> float:
+        """m: from the anchor at run time ``time`` (s) to the start-frame ``position`` (m)."""
+        return float(np.linalg.norm(np.asarray(position, float) - self.static_line.anchor_at(time)))
+
+    def holds(self, sensed: dict) -> bool:
+        return sensed[self.sensed_name] >= self.value
+
+    def describe(self) -> str:
+        return f"static line and lines out ({self.value:g} m from the aircraft's anchor)"
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ import numpy as np
 from ..physics.atmosphere import OutsideAtmosphereError
 from ..registries.quantities import QUANTITY, SENSED
 from .crossing import crossing
-from .definition import After, AllOf, AnyOf, Apogee, At, Threshold, Trigger, UserFunction, leaves
+from .definition import After, AllOf, AnyOf, Apogee, At, LineStretch, Threshold, Trigger, UserFunction, leaves
 from .sensors import NoiseStream, sense, stream_seed
 from .user_calls import CallInterrupted, CallTimedOut, UserCalls
 
@@ -125,12 +125,15 @@ class Watch:
             self.index += 1
         sensed = self._sense(time, truth, pressure_at)
         condition = self.trigger.condition
+        if isinstance(condition, LineStretch):   # the line's own geometry, true in both
+            distance = condition.distance(time, truth["position"])
+            sensed, truth = dict(sensed, static_line_distance=distance), dict(truth, static_line_distance=distance)
         holds = self._holds(condition, time, sensed, truth, fired)
         previous, self.previous = self.previous, (time, sensed, truth)
         if not holds:
             return None
         sample_time, record = time, self._record(condition, time, sensed, truth, fired)
-        if self.period is None and previous is not None and isinstance(condition, (Threshold, Apogee)):
+        if self.period is None and previous is not None and isinstance(condition, (Threshold, Apogee, LineStretch)):
             sample_time, record = crossing(condition, previous, (time, sensed, truth))
         record.update(time=sample_time, lag=self.trigger.sensor.lag)
         return Firing(self.event, sample_time + self.trigger.sensor.lag, sample_time, record)
@@ -168,7 +171,7 @@ class Watch:
             return time >= condition.time - TIME_TOLERANCE
         if isinstance(condition, After):
             return condition.event in fired and time >= fired[condition.event] + condition.delay - TIME_TOLERANCE
-        if isinstance(condition, Threshold):
+        if isinstance(condition, (Threshold, LineStretch)):
             return condition.holds(sensed)
         if isinstance(condition, Apogee):
             return condition.holds(sensed, None if self.previous is None else self.previous[1])
@@ -200,7 +203,7 @@ class Watch:
         return bool(answer)
 
     def _record(self, condition, time: float, sensed: dict, truth: dict, fired: dict) -> dict:
-        if isinstance(condition, (Threshold, Apogee)):
+        if isinstance(condition, (Threshold, Apogee, LineStretch)):
             name = condition.sensed_name
             return {"quantity": condition.quantity, "threshold": condition.value, "measured": sensed[name],
                     "true": truth[name]}

@@ -12,11 +12,21 @@ from tests.bad_input_harness import assert_one_line, run_bad_input
 from tests.helpers import ROOT
 
 ROCKET = (ROOT / "cases" / "rocket" / "two_section.toml").as_posix()
+AIRDROP = (ROOT / "cases" / "airdrop" / "static_line.toml").as_posix()
 
 
 def _run(tmp, *sets, duration="3", case=ROCKET):
     return ["run", str(case), "--out", str(tmp / "out"), "--quiet", "--t-end", duration,
             *[a for s in sets for a in ("--set", s)]]
+
+
+def _without_release(tmp):
+    """The airdrop with its ``[start.release]`` table cut out."""
+    text = (ROOT / "cases" / "airdrop" / "static_line.toml").read_text()
+    start = text.index("[start.release]")
+    path = tmp / "no_release.toml"
+    path.write_text(text[:start] + text[text.index("[atmosphere]", start):])
+    return path.as_posix()
 
 
 BATTERY = [
@@ -33,6 +43,19 @@ BATTERY = [
      "tethers.shock_cord.material = 'silk': unknown line material"),
     ("a negative payout resistance", lambda t: _run(t, "tethers.shock_cord.payout_resistance=-1"),
      "tethers.shock_cord.payout_resistance = -1"),
+    ("a static line and a deploy time", lambda t: _run(t, "systems.main.deploy_time=1.0", case=AIRDROP),
+     "systems.main.static_line: a system deployed by a static line deploys at its line stretch: give static_line or "
+     "deploy_time/deploy_trigger, not both"),
+    ("a static line of no length", lambda t: _run(t, "systems.main.static_line.length=0", case=AIRDROP),
+     "systems.main.static_line.length = 0: must be > 0 (m)"),
+    ("a static line without a release", lambda t: _run(t, case=_without_release(t)),
+     "systems.main.static_line: needs start.release: the aircraft the static line is anchored in"),
+    ("pchute new: a static line without a release", lambda t: ["new", str(t / "new.toml"),
+                                                              "--static-line-length", "4"],
+     "static_line_length = 4.0: only with release_airspeed (--release-airspeed)"),
+    ("pchute new: a static line's length and time", lambda t: ["new", str(t / "new.toml"), "--release-airspeed", "60",
+                                                              "--static-line-length", "4", "--static-line-time", "2"],
+     "static_line_time = 2.0: not with static_line_length (--static-line-length)"),
 ]
 
 
