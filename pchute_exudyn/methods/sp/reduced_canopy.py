@@ -71,6 +71,8 @@ class ReducedCanopy:
             memory.newer_time, memory.newer = model.phase.start, state.velocity
             memory.recorded = 1.0
         self.area, self.coefficient = body.aerodynamics.reference_area, body.aerodynamics.axial_coefficient
+        # C_A at 0 deg without a Mach axis is one number: taken once, not looked up in the table every step
+        self.axial = None if self.coefficient.uses_mach else self.coefficient(0.0)
         self.air, self.altitude = case.air_motion(), case.start.altitude_scalar
         self.mass = body.mass + system.confluence.mass
         self.laws = [line.law for line in system.lines]
@@ -144,11 +146,11 @@ class ReducedCanopy:
         h = self.altitude(x, y, z)
         density, sound = self.case.atmosphere.state(h)
         wind = (0.0, 0.0, 0.0) if self.air.still else self.air(x, y, z, h, t)
-        mach = 0.0
-        if self.coefficient.uses_mach:
+        axial = self.axial
+        if axial is None:
             vx, vy, vz = memory.v0.tolist()
-            mach = mach_number(math.dist((vx, vy, vz), wind), sound)
-        self.drag_coefficient = 0.5 * density * self.area * self.coefficient(0.0, mach)
+            axial = self.coefficient(0.0, mach_number(math.dist((vx, vy, vz), wind), sound))
+        self.drag_coefficient = 0.5 * density * self.area * axial
         # an opening's drag-area fraction now (the solve at a phase's start takes it; ``fill`` adds the step's rate)
         memory.canopy_drag = self.drag_coefficient if self.fraction is None else \
             self.drag_coefficient * self.fraction(t)
