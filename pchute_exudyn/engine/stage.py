@@ -77,6 +77,7 @@ class Stage:
         self.fused = None                 # the only confluence, when it can solve with the kinematics in one call
         self.contacts = []                # engine.contact_loads.CanopyContact of each cluster: after the aerodynamics
         self.generalized = np.zeros(6 * len(self.free))
+        self.gravity_taken = False        # whether the stage adds the free bodies' gravity (``take_over_gravity``)
         self.refreshed = None             # (time, post-step call) of the last refresh
         self.rows = self.states.tolist()  # the states at the last refresh, as lists
         system_data = model.mbs.systemData
@@ -146,6 +147,8 @@ class Stage:
             self.fused = self.confluences[0]
             self.take_over_gravity()
             force = self._fused_force()
+        elif self.confluences:   # several: ``force`` adds the gravity last (their methods run RK4 only, so no
+            self.take_over_gravity()   # implicit step misses the engine's Jacobian of it)
         nodes = [self.model.bodies[name].node for name in self.free]
         zero = np.zeros((len(self.generalized), len(self.generalized)))
         self.model.mbs.AddObject(eii.ObjectGenericODE2(nodeNumbers=nodes, forceUserFunction=force,
@@ -153,9 +156,9 @@ class Stage:
                                                        visualization=eii.VObjectGenericODE2(show=False)))
 
     def take_over_gravity(self) -> None:
-        """The fused stage kernel adds the free bodies' gravity itself (``physics.kinematics.add_gravity_forces``,
-        bit for bit what the engine's gravity connectors add) and their connectors are switched off: they cost the
-        engine about a microsecond per body and stage. Only on a spherical planet, without canopy contact (added
+        """The stage adds the free bodies' gravity itself, after every other force (the fused stage kernel, or
+        ``force``; ``physics.kinematics.add_gravity_forces``, bit for bit what the engine's gravity connectors add)
+        and their connectors are switched off: they cost the engine about a microsecond per body and stage. Only on a spherical planet, without canopy contact (added
         after the kernel's forces, it would come after the gravity), and for the bodies on which nothing else adds
         a force (an apparent mass's item would change the order of the engine's sum, and its rounding). With
         normal gravity (``methods.sp.stepping.add_body_gravity``) the bodies' normal-gravity loads lose their user
@@ -167,6 +170,7 @@ class Stage:
             if name not in connectors:
                 continue
             connector, mass = connectors[name]
+            self.gravity_taken = True
             self.layout[self.row[name], BODY_MASS_AT] = mass
             if self.normal:
                 self.model.mbs.SetLoadParameter(connector, "loadVectorUserFunction", 0)
@@ -230,6 +234,8 @@ class Stage:
                 self.loads.apply(t)
             for contact in self.contacts:
                 contact.add_forces(self.states, generalized)
+            if self.gravity_taken:
+                self._add_gravity(self.layout, self.states, *self.gravity, generalized)
             return generalized
         except Exception as exc:  # keep our own error for the solver to report
             self.model.record_failure(exc)
