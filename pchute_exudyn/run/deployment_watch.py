@@ -40,7 +40,10 @@ class _Watched:
         started = None if self.progress is None else (len(self.progress.speeds), self.progress.line_stretch)
         if started != self.started or not self.windows:
             self.started, self.windows = started, watch_windows(self.case, self.system, self.progress)
-        return any(start <= t <= end for start, end in self.windows)
+        for start, end in self.windows:   # a loop, not any() over a generator: after every step
+            if start <= t <= end:
+                return True
+        return False
 
     def keep(self, t: float) -> None:
         self.trace.times.append(t)
