@@ -158,11 +158,11 @@ class Stage:
     def take_over_gravity(self) -> None:
         """The stage adds the free bodies' gravity itself, after every other force (the fused stage kernel, or
         ``force``; ``physics.kinematics.add_gravity_forces``, bit for bit what the engine's gravity connectors add)
-        and their connectors are switched off: they cost the engine about a microsecond per body and stage. Only on a spherical planet, without canopy contact (added
-        after the kernel's forces, it would come after the gravity), and for the bodies on which nothing else adds
-        a force (an apparent mass's item would change the order of the engine's sum, and its rounding). With
-        normal gravity (``methods.sp.stepping.add_body_gravity``) the bodies' normal-gravity loads lose their user
-        function (a Python call per body and stage)."""
+        and their connectors are switched off: they cost the engine about a microsecond per body and stage. Only on
+        a spherical planet, without canopy contact (added after the kernel's forces, it would come after the
+        gravity), and for the bodies on which nothing else adds a force (an apparent mass's item would change the
+        order of the engine's sum, and its rounding). With normal gravity (``methods.sp.stepping.add_body_gravity``)
+        the bodies' normal-gravity loads lose their user function (a Python call per body and stage)."""
         connectors = self.model.gravity_connectors
         if (self.gravity[0] == 0.0 and not self.normal) or self.contacts:
             return
@@ -224,10 +224,12 @@ class Stage:
             for confluence in self.confluences:
                 confluence.stage_solve(t)
             parts = self.parts
-            if parts:
-                np.copyto(generalized, parts[0])
-                for part in parts[1:]:
+            if len(parts) > 1:
+                np.add(parts[0], parts[1], out=generalized)
+                for part in parts[2:]:
                     generalized += part
+            elif parts:
+                np.copyto(generalized, parts[0])
             else:
                 generalized.fill(0.0)
             if self.aerodynamic:
@@ -236,7 +238,7 @@ class Stage:
                 contact.add_forces(self.states, generalized)
             if self.gravity_taken:
                 self._add_gravity(self.layout, self.states, *self.gravity, generalized)
-            return generalized
+            return generalized.tolist()   # the engine takes a list faster than an array
         except Exception as exc:  # keep our own error for the solver to report
             self.model.record_failure(exc)
             raise

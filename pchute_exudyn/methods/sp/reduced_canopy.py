@@ -145,7 +145,8 @@ class ReducedCanopy:
         x, y, z = memory.position.tolist()
         h = self.altitude(x, y, z)
         density, sound = self.case.atmosphere.state(h)
-        wind = (0.0, 0.0, 0.0) if self.air.still else self.air(x, y, z, h, t)
+        still = self.air.still   # still air: memory's air row stays zero
+        wind = (0.0, 0.0, 0.0) if still else self.air(x, y, z, h, t)
         axial = self.axial
         if axial is None:
             vx, vy, vz = memory.v0.tolist()
@@ -154,7 +155,8 @@ class ReducedCanopy:
         # an opening's drag-area fraction now (the solve at a phase's start takes it; ``fill`` adds the step's rate)
         memory.canopy_drag = self.drag_coefficient if self.fraction is None else \
             self.drag_coefficient * self.fraction(t)
-        memory.air = wind
+        if not still:
+            memory.air = wind
 
     def position_of_confluence(self, work: Work) -> list:
         """The confluence on AP, where the lines' elastic stretches put it (the kernel's fraction)."""
