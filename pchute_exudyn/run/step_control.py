@@ -224,6 +224,7 @@ class AdaptiveSteps:
         self._remedies: dict = {}  # a confluence limit's description -> the layout or setting its method names
         self._taut_since: dict = {}   # tether -> the time (s) it last came taut (``_tether_cap``)
         self._held = [system for system in model.systems if system.static_line is not None]   # _held_snatch_cap
+        self._levers: dict = {}       # (body, point) -> its lever's constants (``_lever``)
 
     def after_step(self, t: float) -> float:
         """The coming step (s) after the step that ended at ``t`` (s; at the phase start, the first step)."""
@@ -427,12 +428,22 @@ class AdaptiveSteps:
                 if body.fixed or line.body in self.model.massless:
                     continue
                 tension = float(self.model.channels[TensionChannel(system.name, line.name)]())
-                lever = np.asarray(body.points[line.point], float)
-                arm = float(np.linalg.norm(lever))
+                arm, inertia = self._lever(line)
                 if tension > 0.0 and arm > 0.0:
-                    stiff.setdefault(line.body, []).append(tension * arm / crosswise_inertia(body.inertia, lever))
+                    stiff.setdefault(line.body, []).append(tension * arm / inertia)
         return [(RK4_IMAGINARY_LIMIT / math.sqrt(sum(rates)), f"body {body} pitching on its lines")
                 for body, rates in stiff.items()]
+
+    def _lever(self, line) -> tuple:
+        """(|p| in m, the body's smallest moment of inertia across p in kg m^2) of a line's attach point p: constants
+        of the body, worked out once (an SVD and an eigensolve each time cost the caps' check half its time)."""
+        key = (line.body, line.point)
+        if key not in self._levers:
+            body = self.case.bodies[line.body]
+            lever = np.asarray(body.points[line.point], float)
+            arm = float(np.linalg.norm(lever))
+            self._levers[key] = (arm, crosswise_inertia(body.inertia, lever) if arm > 0.0 else math.nan)
+        return self._levers[key]
 
     def _confluence_limits(self, step: float, only=None) -> list:
         """(limit, cause) of each confluence (or ``only``'s) with its lines as the method relaxes them at ``step``
