@@ -50,7 +50,8 @@ def _merged(trace, columns: dict, lines: list, labels: list, start: float, end: 
     line the trace lacks, of a canopy that never left the vehicle, NaN)."""
     time = columns[column("time")]
     inside = (time >= start - 1e-9) & (time <= end + 1e-9)
-    rows = {float(t): tuple(float(columns[column("tension_{owner}", label)][k]) for label in labels)
+    tensions = [columns[column("tension_{owner}", label)] for label in labels]   # looked up once, not per sample
+    rows = {float(t): tuple(float(tension[k]) for tension in tensions)
             for k, t in zip(np.flatnonzero(inside), time[inside])}
     if trace is not None:
         rows.update({t: tuple(row.get(name, math.nan) for name in lines)
