@@ -21,7 +21,7 @@ import numpy as np
 
 from ..case.model import Case
 from ..physics.aerodynamics import STAGE_AERODYNAMICS_FAILED
-from ..physics.compiled import bound
+from ..physics.compiled import bound, has_machine_code
 from ..physics.kinematics import (
     BODY_COORDINATE_AT,
     BODY_MASS_AT,
@@ -83,6 +83,7 @@ class Stage:
         system_data = model.mbs.systemData
         self._read, self._read_t = system_data.GetODE2Coordinates, system_data.GetODE2Coordinates_t
         self._stage_states = bound(body_states)     # from the force function's arguments, at every stage
+        self._form = np.array                       # the form they cross in: tuple where compiled (``warm_up``)
         self.normal = case.start.normal_gravity_parameters() is not None   # the stage's own gravity
         if self.normal:   # (``take_over_gravity``): normal gravity's parameters
             self.gravity, self._add_gravity = case.start.normal_gravity_parameters(), bound(add_normal_gravity_forces)
@@ -196,6 +197,10 @@ class Stage:
         """Load (or, on a machine's first run, compile) the stage's kernels before the timed solve: the body states
         at the start and the point kernels on scratch arrays."""
         body_states(np.array(self._read()), np.array(self._read_t()), self.global_layout, self.states)
+        # the node coordinates as tuples where the compiled module has body_states for their count (a tuple of
+        # floats is cheaper to make and to pass than an array; the same values)
+        q = tuple(self._read().tolist()[:len(self.generalized)])
+        self._form = tuple if has_machine_code(body_states, q, q, self.layout, self.states) else np.array
         if self.aerodynamic:
             self.loads.warm_up(self.states, self.generalized)
         for contact in self.contacts:
@@ -220,7 +225,8 @@ class Stage:
         """The force user function: aerodynamic loads at this stage's state plus every confluence's part."""
         try:
             generalized = self.generalized
-            self._stage_states(np.array(q), np.array(q_t), self.layout, self.states)   # Exudyn passes lists
+            form = self._form   # Exudyn passes lists
+            self._stage_states(form(q), form(q_t), self.layout, self.states)
             for confluence in self.confluences:
                 confluence.stage_solve(t)
             parts = self.parts
