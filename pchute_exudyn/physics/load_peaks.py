@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 SNATCH_DROP = 0.1
 """A peak counts as the snatch once the load has fallen this share below it (-): a load cell's first peak, not a
 ripple on a rising load."""
@@ -36,3 +38,14 @@ def largest(times, loads) -> tuple[float, float]:
         if load > peak:
             peak, when = load, t
     return (peak, when) if when == when else (math.nan, math.nan)
+
+
+def averaged_peak(times, loads, start: float, span: float, window: float, spacing: float = 1e-4) -> float:
+    """N: the largest load averaged over ``window`` (s) within ``span`` (s) from ``start`` (s), the history (N at
+    ``times`` in s) resampled every ``spacing`` (s): the peak a load cell of that averaging time reads. A full-mass
+    confluence's own chatter between its bridles (hundreds of hertz under a held canopy's snatch) averages out; the
+    snatch's hump, a few tenths of a second long, does not."""
+    grid = np.arange(start, start + span, spacing)
+    resampled = np.interp(grid, np.asarray(times, float), np.asarray(loads, float))
+    count = max(int(round(window / spacing)), 1)
+    return float(np.max(np.convolve(resampled, np.full(count, 1.0 / count), mode="valid")))

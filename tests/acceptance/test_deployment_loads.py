@@ -188,9 +188,10 @@ def test_the_two_section_rocket_s_loads_under_sp_are_full_mass_s_within_two_perc
 
 
 AIRDROP = ROOT / "cases" / "airdrop" / "static_line.toml"
-AIRDROP_FULL_MASS = (29511.700, 80381.154)
-"""N: (snatch, opening) of cases/airdrop/static_line.toml flown 4.5 s by full mass, recorded with
-``simulate(load_case(AIRDROP), "full", duration=4.5)`` (17 s of wall time here)."""
+AIRDROP_FULL_MASS = {"snatch_averaged": 27820.598, "opening": 80381.154}
+"""N: the snatch averaged over 20 ms (``physics.load_peaks.averaged_peak`` within 0.4 s of line stretch) and the
+opening load of cases/airdrop/static_line.toml flown 4.5 s by full mass, recorded with ``simulate(load_case(AIRDROP),
+"full", duration=4.5)`` (17 s of wall time here; its raw first peak, 29511.7 N, carries the confluence's chatter)."""
 
 
 def test_a_static_line_comes_to_line_stretch_by_the_kinematics_with_the_canopy_at_the_aircraft_s_speed():
@@ -210,11 +211,15 @@ def test_a_static_line_comes_to_line_stretch_by_the_kinematics_with_the_canopy_a
 
 
 def test_the_airdrop_s_loads_under_sp_are_full_mass_s():
-    """The opening load within 2 %. The snatch within 10 %: the canopy held at the aircraft's speed snatches the
-    lines with a ripple of the full-mass confluence's own mode on it, which SP leaves out by design (its first peak
-    moves with the confluence's mass: docs/models/deployment_loads.md, "Static line")."""
-    (deployment,) = simulate(load_case(AIRDROP), "sp", duration=4.5).summary.deployments
-    snatch, opening = AIRDROP_FULL_MASS
-    assert deployment.opening_load == pytest.approx(opening, rel=0.02)
-    assert deployment.snatch_load == pytest.approx(snatch, rel=0.10)
-    assert deployment.knacke_opening_load == pytest.approx(opening, rel=0.05)
+    """The opening load within 2 %; the snatch, as a load cell averaging over 20 ms reads it, within 2.5 %: the canopy
+    held at the aircraft's speed jerks the lines into a hump of 0.2 s, on which the full-mass confluence chatters
+    between its bridles at hundreds of hertz, a mode SP leaves out by design (docs/models/deployment_loads.md,
+    "Static line": the raw first peaks differ by 7 %, the averaged ones by 2.0 %, by 0.1 % on a single sling)."""
+    from pchute_exudyn.physics.load_peaks import averaged_peak
+    result = simulate(load_case(AIRDROP), "sp", duration=4.5)
+    (deployment,) = result.summary.deployments
+    times, loads = result.loads["main"]
+    averaged = averaged_peak(times, loads, deployment.line_stretch_time, 0.4, 0.02)
+    assert deployment.opening_load == pytest.approx(AIRDROP_FULL_MASS["opening"], rel=0.02)
+    assert averaged == pytest.approx(AIRDROP_FULL_MASS["snatch_averaged"], rel=0.025)
+    assert deployment.knacke_opening_load == pytest.approx(AIRDROP_FULL_MASS["opening"], rel=0.05)
