@@ -27,10 +27,10 @@ import argparse
 import json
 import math
 import sys
-import tomllib
 from pathlib import Path
 
 import numpy as np
+import tomllib
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
