@@ -30,13 +30,13 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import tomllib
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))
 
 import pchute_exudyn as pc  # noqa: E402
+from pchute_exudyn.case.files import tomllib  # noqa: E402  (tomli on Python 3.10)
 
 DATA = HERE / "data" / "deployment_loads.toml"
 OUT = HERE / "output" / "rescue_drops"
