@@ -17,7 +17,7 @@ from ..physics.air import AirMotion
 from ..physics.apparent_mass import ApparentMass
 from ..physics.atmosphere import Atmosphere
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency
-from ..physics.deployment import StaticLine
+from ..physics.deployment import PilotChute, StaticLine
 from ..physics.inflation import Inflation, nominal_diameter, skipping, with_disreef_delays
 from ..physics.interpolation import interpolate_held
 from ..physics.line_materials import RatedLine
@@ -304,6 +304,9 @@ class ParachuteSystem:
     static_line : StaticLine or None
         A static line from the release aircraft (``physics.deployment.StaticLine``): the system deploys at its line
         stretch, its canopies moving with the aircraft; None: at ``deploy_time``.
+    pilot_chute : PilotChute or None
+        A pilot chute extracting the bag on its bridle (``physics.deployment.PilotChute``): the system deploys at its
+        line stretch, its canopies moving with the pilot chute; None: at ``deploy_time`` (or by a static line).
     """
 
     name: str
@@ -321,6 +324,13 @@ class ParachuteSystem:
     canopy_model: str = "rigid"
     packed: bool = False
     static_line: StaticLine | None = None
+    pilot_chute: PilotChute | None = None
+
+    @property
+    def bag_anchor(self) -> StaticLine | PilotChute | None:
+        """What holds the deployment bag back until line stretch (its static line or its pilot chute; None: the
+        canopies leave with the vehicle)."""
+        return self.static_line if self.static_line is not None else self.pilot_chute
 
     @property
     def cluster(self) -> bool:

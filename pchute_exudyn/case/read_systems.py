@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY
-from ..physics.deployment import StaticLine
+from ..physics.deployment import PilotChute, StaticLine
 from ..physics.inflation import Inflation, InflationError, InflationStage
 from ..physics.line_materials import LINE_MATERIALS, RatedLine
 from ..physics.lines import LoadElongation, LoadElongationError
@@ -29,13 +29,15 @@ CANOPY_MODELS = ("rigid", "reduced")
 """``canopy_model`` of a system (``case.model.ParachuteSystem``)."""
 
 
-def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, static_line=None) -> None:
+def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, bag_anchor=None) -> None:
     """A reduced canopy (docs/models/reduced_canopy.md) is one canopy with aerodynamics, on a riser in series with one
-    bridle from another body, not deployed by a static line (it has no mass for the snatch); it opens as the system
-    says (an ``inflation`` or a ``drag_area_schedule``, fully open from its deployment without either)."""
-    if static_line is not None:
-        raise t.error("canopy_model", "reduced has no canopy mass for the static line's snatch to act on: a system "
-                                      "deployed by a static_line flies rigid", "reduced")
+    bridle from another body, not deployed by a static line or a pilot chute (``bag_anchor``: it has no mass for the
+    snatch); it opens as the system says (an ``inflation`` or a ``drag_area_schedule``, fully open from its
+    deployment without either)."""
+    if bag_anchor is not None:
+        what = "static line" if bag_anchor.key == "static_line" else "pilot chute"
+        raise t.error("canopy_model", f"reduced has no canopy mass for the {what}'s snatch to act on: a system "
+                                      f"deployed by a {bag_anchor.key} flies rigid", "reduced")
     if len(canopies) != 1 or len(lines) != 2 or sorted(line.body == canopies[0] for line in lines) != [False, True]:
         raise t.error("canopy_model", "reduced needs one canopy on one riser in series with one bridle from another "
                                       "body (two lines: a shock cord); use rigid for this layout", "reduced")
@@ -54,7 +56,7 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
     confluence = _read_confluence(t.table("confluence"))
     canopies = _read_canopies(t, bodies)
     canopy_key = canopy_key_of(t)
-    deploy_time, static_line = _read_deployment(t, name, bodies, triggers)
+    deploy_time, bag_anchor = _read_deployment(t, name, bodies, triggers, canopies)
     cutaway_time = event_time(t, "cutaway_time", "cutaway_trigger", t.number("cutaway_time", "s", None, above=0.0),
                               f"{name}.cutaway", bodies, triggers)
     deploy_point = _read_deploy_point(t, bodies)
@@ -72,7 +74,7 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
         raise t.error("lines", "a system needs at least one line")
     lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
     if canopy_model == "reduced":
-        _check_reduced(t, canopies, lines, bodies, static_line)
+        _check_reduced(t, canopies, lines, bodies, bag_anchor)
     if deploy_time is not None:
         missing = [key for key, value in ((canopy_key, canopies), ("deploy_point", deploy_point)) if not value]
         if missing:
@@ -105,16 +107,45 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
     t.finish()
     return ParachuteSystem(name, confluence, tuple(lines), canopies, deploy_time, deploy_point, cutaway_time,
                            schedule, inflation, efficiency, spread, contact, canopy_model=canopy_model, packed=packed,
-                           static_line=static_line)
+                           **({} if bag_anchor is None else {bag_anchor.key: bag_anchor}))
 
 
-def _read_deployment(t: Table, name: str, bodies: dict, triggers: dict) -> tuple:
-    """(deploy time in s or None, StaticLine or None): ``deploy_time``, ``deploy_trigger`` (pending: inf) or
-    ``static_line`` (pending until its line stretch: inf, its trigger made by ``case.start.with_static_lines``)."""
+def _read_deployment(t: Table, name: str, bodies: dict, triggers: dict, canopies: tuple) -> tuple:
+    """(deploy time in s or None, StaticLine, PilotChute or None): ``deploy_time``, ``deploy_trigger`` (pending: inf),
+    ``static_line`` or ``pilot_chute`` (pending until its line stretch: inf, its trigger made by
+    ``case.start.with_static_lines``)."""
     deploy_time = event_time(t, "deploy_time", "deploy_trigger", t.number("deploy_time", "s", None, minimum=0.0),
                              f"{name}.deploy", bodies, triggers)
     static_line = _read_static_line(t, deploy_time)
-    return (math.inf if static_line is not None else deploy_time), static_line
+    if static_line is not None and "pilot_chute" in t.data:
+        raise t.error("pilot_chute", "the bag is held by a static line or a pilot chute: give static_line or "
+                                     "pilot_chute, not both")
+    anchor = static_line if static_line is not None else _read_pilot_chute(t, deploy_time, bodies, canopies)
+    return (math.inf if anchor is not None else deploy_time), anchor
+
+
+def _read_pilot_chute(t: Table, deploy_time, bodies: dict, canopies: tuple) -> PilotChute | None:
+    """``[systems.<name>.pilot_chute]``: ``body`` (a body with aerodynamics, not one of the system's canopies) and
+    ``length`` (m, its bridle from its centre of mass to the bag); the system then deploys at its line stretch (no
+    deploy_time or deploy_trigger). The vehicle is refused later, once known (``case.start.with_static_lines``)."""
+    pt = t.table("pilot_chute", None)
+    if pt is None:
+        return None
+    if deploy_time is not None:
+        raise t.error("pilot_chute", "a system deployed by a pilot chute deploys at its line stretch: give "
+                                     "pilot_chute or deploy_time/deploy_trigger, not both")
+    body = pt.string("body")
+    if body not in bodies:
+        raise pt.error("body", f"unknown body; bodies are: {', '.join(bodies)}", body)
+    if body in canopies:
+        raise pt.error("body", "is the system's own canopy: the pilot chute is a body of its own that extracts it",
+                       body)
+    aerodynamics = bodies[body].aerodynamics
+    if aerodynamics is None or not aerodynamics.enabled:
+        raise pt.error("body", "has no aerodynamics (enabled): a pilot chute's drag is what extracts the bag", body)
+    length = pt.number("length", "m", above=0.0)
+    pt.finish()
+    return PilotChute(body, length)
 
 
 def _read_static_line(t: Table, deploy_time) -> StaticLine | None:

@@ -128,25 +128,35 @@ def at_conditions(initial, atmosphere, wind, frame: str):
 def with_static_lines(systems: dict, bodies: dict, vehicle: str, start, release: Release | None, triggers: dict,
                       system_tables: dict) -> dict:
     """The ``systems`` with each static line's anchor resolved (``physics.deployment.StaticLine``: at the release,
-    ``anchor`` from the vehicle's centre of mass, flying on at the vehicle's released velocity) and its line stretch
-    recorded in ``triggers`` as the system's deployment (``triggers.definition.LineStretch``)."""
+    ``anchor`` from the vehicle's centre of mass, flying on at the vehicle's released velocity) and the line stretch
+    of each static line or pilot chute (``physics.deployment.PilotChute``: its body's centre of mass, read as the run
+    goes) recorded in ``triggers`` as the system's deployment (``triggers.definition.LineStretch``)."""
     resolved = dict(systems)
     for name, system in systems.items():
-        line = system.static_line
+        line = system.bag_anchor
         if line is None:
             continue
-        if release is None:
-            raise system_tables[name].error("static_line", "needs start.release: the aircraft the static line is "
-                                                           "anchored in, flying at the release velocity")
-        initial = bodies[vehicle].initial
-        east, north, up = line.anchor
-        origin = start.local_position(initial.altitude + up, initial.east + east, initial.north + north)
-        velocity = start.inertial_velocity(start.local_position(initial.altitude, initial.east, initial.north),
-                                           initial.velocity_enu)
-        line = replace(line, origin=tuple(origin.tolist()), velocity=tuple(np.asarray(velocity, float).tolist()))
+        if system.static_line is not None:
+            line = _anchored_in_aircraft(line, bodies[vehicle].initial, start, release, system_tables[name])
+        elif line.body == vehicle:
+            raise system_tables[name].error("pilot_chute.body", "is the vehicle: the pilot chute is a body of its own "
+                                                                "that extracts the bag from it", line.body)
         riser = system.risers(system.canopies[0])[0]
         reach = static_line_reach(line, riser.free_length, bodies[system.canopies[0]].points[riser.point],
                                   bodies[system.deploy_point[0]].points[system.deploy_point[1]])
-        triggers[f"{name}.deploy"] = Trigger(LineStretch(line, reach), Sensor(), f"systems.{name}.static_line")
-        resolved[name] = replace(system, static_line=line)
+        triggers[f"{name}.deploy"] = Trigger(LineStretch(line, reach), Sensor(), f"systems.{name}.{line.key}")
+        resolved[name] = replace(system, **{line.key: line})
     return resolved
+
+
+def _anchored_in_aircraft(line, initial, start, release: Release | None, table):
+    """A static line with its anchor's start-frame origin and velocity (the aircraft's at the release, ``initial``
+    the vehicle's initial state); refused (on ``table``) without a release."""
+    if release is None:
+        raise table.error("static_line", "needs start.release: the aircraft the static line is anchored in, flying "
+                                         "at the release velocity")
+    east, north, up = line.anchor
+    origin = start.local_position(initial.altitude + up, initial.east + east, initial.north + north)
+    velocity = start.inertial_velocity(start.local_position(initial.altitude, initial.east, initial.north),
+                                       initial.velocity_enu)
+    return replace(line, origin=tuple(origin.tolist()), velocity=tuple(np.asarray(velocity, float).tolist()))

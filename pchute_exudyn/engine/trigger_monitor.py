@@ -6,9 +6,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..case.model import Case
 from ..case.sensing import pressure_function, true_values
 from ..errors import SimulationError
+from ..triggers.definition import LineStretch
 from ..triggers.watch import TIME_TOLERANCE, TriggerFailed, TriggerInterrupted
 from .bodies import MAX_DESCENT_ACCELERATION
 from .phase_model import Model
@@ -27,10 +30,10 @@ class TriggerMonitor:
         self.air_motion = case.air_motion()
         self.readers = {}
         for watch in watches:   # a body not in this phase (not deployed yet, cut away) cannot be sensed in it
-            body = watch.trigger.sensor.body or case.vehicle
-            if BodyChannel(body, "position") in model.channels:
-                self.readers[body] = (model.channels[BodyChannel(body, "position")],
-                                      model.channels[BodyChannel(body, "velocity")])
+            for body in _bodies_read(watch, case.vehicle):
+                if BodyChannel(body, "position") in model.channels:
+                    self.readers[body] = (model.channels[BodyChannel(body, "position")],
+                                          model.channels[BodyChannel(body, "velocity")])
         self.firings: list = []
         self.next_check: dict = {}   # adaptive steps: event -> the time of its next look (s)
         self.window: set = set()     # adaptive steps: the events that can fire now, sampled at their sample times
@@ -58,10 +61,9 @@ class TriggerMonitor:
         for watch in self.watches:
             if watch.armed_by is not None and self.fired.get(watch.armed_by, math.inf) >= t - TIME_TOLERANCE:
                 continue   # its arming event has not happened before this sample (a known future time counts then)
-            body = watch.trigger.sensor.body or self.case.vehicle
-            if body not in self.readers or not watch.due(t, step):
+            if not self._readable(watch) or not watch.due(t, step):
                 continue
-            self._observe(watch, t, self._truth(body, t, truths))
+            self._observe(watch, t, self._watch_truth(watch, t, truths))
             if self._stopped():
                 return True
         return bool(self.firings)
@@ -72,6 +74,19 @@ class TriggerMonitor:
             position, velocity = self.readers[body]
             truths[body] = true_values(self.case, position(), velocity(), t, self.air_motion)
         return truths[body]
+
+    def _readable(self, watch) -> bool:
+        """Whether every body ``watch`` reads flies in this phase (a pilot chute still carried cannot pull)."""
+        return all(body in self.readers for body in _bodies_read(watch, self.case.vehicle))
+
+    def _watch_truth(self, watch, t: float, truths: dict) -> dict:
+        """The true values ``watch`` samples at ``t`` (s): its sensed body's, with a pilot chute's line stretch
+        the pilot chute's centre of mass as ``anchor_position`` (m, start frame)."""
+        truth = self._truth(watch.trigger.sensor.body or self.case.vehicle, t, truths)
+        anchor = _anchor_body(watch)
+        if anchor is None:
+            return truth
+        return dict(truth, anchor_position=np.array(self.readers[anchor][0](), float))
 
     def _observe(self, watch, t: float, truth) -> None:
         """A sample of ``watch`` at ``t`` (s): its firing, if any, recorded."""
@@ -99,11 +114,10 @@ class TriggerMonitor:
         for watch in self.watches:
             if watch.armed_by is not None and self.fired.get(watch.armed_by, math.inf) >= t - TIME_TOLERANCE:
                 continue
-            body = watch.trigger.sensor.body or self.case.vehicle
             looked = watch.event in self.window   # it could fire at the last step's end too
-            if body not in self.readers or t < self.next_check.get(watch.event, -math.inf):
+            if not self._readable(watch) or t < self.next_check.get(watch.event, -math.inf):
                 continue
-            truth = self._truth(body, t, truths)
+            truth = self._watch_truth(watch, t, truths)
             earliest = watch.earliest(t, truth, MAX_DESCENT_ACCELERATION)
             if earliest > t + self.horizon:   # the coming steps end before it: its next look halfway there
                 self.window.discard(watch.event)
@@ -121,3 +135,14 @@ class TriggerMonitor:
         each sample is taken at its own time (inf: none)."""
         return min((w.next_sample(t) for w in self.watches if w.event in self.window), default=math.inf)
 
+
+def _anchor_body(watch) -> str | None:
+    """The body a line stretch's bag hangs from (a pilot chute's; None for any other trigger and a static line)."""
+    condition = watch.trigger.condition
+    return condition.line.body if isinstance(condition, LineStretch) else None
+
+
+def _bodies_read(watch, vehicle: str) -> list:
+    """The bodies whose state ``watch`` reads: its sensed body (default ``vehicle``), and a pilot chute's."""
+    anchor = _anchor_body(watch)
+    return [watch.trigger.sensor.body or vehicle] + ([] if anchor is None else [anchor])

@@ -9,7 +9,8 @@ A system deployed by a static line from the release aircraft (``StaticLine``) is
 toward the aircraft's anchor rather than along the air-relative velocity, and its canopies move with the aircraft:
 the deployment bag, tied to the static line, held them back while the lines paid out, so the load comes to line
 stretch with its speed relative to the aircraft, which the lines' snatch takes out of the canopy
-(docs/models/deployment_loads.md, "Static line").
+(docs/models/deployment_loads.md, "Static line"). A pilot chute (``PilotChute``) holds the bag the same way from a
+body of the case: the canopies trail toward the pilot chute and move with it ("Pilot chute").
 """
 
 from __future__ import annotations
@@ -26,7 +27,8 @@ from .kinematics import body_point
 class StaticLine:
     """A static line from the release aircraft to a system's deployment bag: the bag stays on it, so the system's
     lines pay out of the bag as the load falls away, and line stretch comes when the load is the static line and the
-    lines away from the anchor.
+    lines away from the anchor. One of the two bag anchors (``PilotChute`` the other): ``anchor_at`` and
+    ``anchor_velocity`` take the anchor body's state, which a static line, flying with the aircraft, has none of.
 
     Attributes
     ----------
@@ -43,25 +45,69 @@ class StaticLine:
     anchor: tuple = (0.0, 0.0, 0.0)
     origin: tuple | None = None
     velocity: tuple | None = None
+    key = "static_line"        # the system's key that declares it
+    body = None                # no body of the case: the aircraft flies on straight
+    described = "static line"
 
-    def anchor_at(self, time: float) -> np.ndarray:
-        """The anchor's start-frame position (m) at run time ``time`` (s)."""
+    def anchor_at(self, time: float, body_position=None) -> np.ndarray:
+        """The anchor's start-frame position (m) at run time ``time`` (s) (``body_position``: unused)."""
         return np.asarray(self.origin, float) + time * np.asarray(self.velocity, float)
 
+    def anchor_velocity(self, body_velocity=None) -> np.ndarray:
+        """The anchor's start-frame velocity (m/s): the aircraft's (``body_velocity``: unused)."""
+        return np.asarray(self.velocity, float)
 
-def static_line_reach(static_line: StaticLine, riser_free_length: float, riser_point, deploy_point) -> float:
-    """m: how far the vehicle's centre of mass is from the anchor at line stretch, the static line, the canopy's
-    centre to its riser's attach point, the riser and the deploy point's offset laid out in one straight line (an
-    upper bound that the straight pull of a taut line makes close)."""
+    def describe(self) -> str:
+        return "the aircraft's anchor"
+
+
+@dataclass(frozen=True)
+class PilotChute:
+    """A pilot chute extracting a system's deployment bag on its bridle (the sport and drogue form of a static line):
+    the bag rides on the bridle behind the pilot chute, which flies on its own, so the lines pay out of the bag as the
+    load falls away from it, and line stretch comes when the load is the bridle and the lines away from the pilot
+    chute's centre of mass, the bag then moving with the pilot chute.
+
+    Attributes
+    ----------
+    body : str
+        The pilot chute's body (a body of the case with aerodynamics, flying on its own before the line stretch).
+    length : float
+        m: from the pilot chute's centre of mass to the bag (the canopy's centre at line stretch): its bridle.
+    """
+
+    body: str
+    length: float
+    key = "pilot_chute"
+    described = "pilot chute's bridle"
+
+    def anchor_at(self, time: float, body_position) -> np.ndarray:
+        """The anchor's start-frame position (m) at run time ``time`` (s): the pilot chute's centre of mass at
+        ``body_position`` (m), as the run reads it."""
+        return np.asarray(body_position, float)
+
+    def anchor_velocity(self, body_velocity) -> np.ndarray:
+        """The anchor's start-frame velocity (m/s): the pilot chute's, ``body_velocity``."""
+        return np.asarray(body_velocity, float)
+
+    def describe(self) -> str:
+        return f"pilot chute '{self.body}'"
+
+
+def static_line_reach(static_line: StaticLine | PilotChute, riser_free_length: float, riser_point,
+                      deploy_point) -> float:
+    """m: how far the vehicle's centre of mass is from the anchor at line stretch, the static line (or the pilot
+    chute's bridle), the canopy's centre to its riser's attach point, the riser and the deploy point's offset laid
+    out in one straight line (an upper bound that the straight pull of a taut line makes close)."""
     return static_line.length + float(np.linalg.norm(riser_point)) + riser_free_length \
         + float(np.linalg.norm(deploy_point))
 
 
-def held_by_static_line(static_line: StaticLine, time: float, deploy_position) -> tuple:
-    """(trailing direction, canopy velocity in m/s) of a static line's system at line stretch at ``time`` (s): its
-    canopies trail from the deploy point (start-frame ``deploy_position``, m) toward the anchor, where the bag holds
-    them, and move with the aircraft."""
-    return np.asarray(deploy_position, float) - static_line.anchor_at(time), np.asarray(static_line.velocity, float)
+def held_back(anchor_position, anchor_velocity, deploy_position) -> tuple:
+    """(trailing direction, canopy velocity in m/s) of a system at line stretch whose bag a static line or a pilot
+    chute holds: its canopies trail from the deploy point (start-frame ``deploy_position``, m) toward the anchor (at
+    ``anchor_position``, m), where the bag holds them, and move with the anchor (``anchor_velocity``, m/s)."""
+    return np.asarray(deploy_position, float) - anchor_position, np.asarray(anchor_velocity, float)
 
 
 def damped_confluence_velocity(confluence_position, base_velocity, ends) -> np.ndarray:

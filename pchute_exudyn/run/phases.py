@@ -19,7 +19,7 @@ from ..physics.cluster import touching_spread
 from ..physics.deployment import (
     cluster_placement,
     damped_confluence_velocity,
-    held_by_static_line,
+    held_back,
     line_stretch_placement,
 )
 from ..physics.inflation import Inflation, InflationProgress, nominal_diameter
@@ -102,9 +102,9 @@ def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) 
     altitude = float(case.start.altitude(vehicle.position))
     air_velocity = vehicle.velocity - np.array(air(x, y, z, altitude, time))
     deploy_point = case.bodies[vehicle_name].points[point]
-    trailing, held = air_velocity, None   # a static line's bag holds the canopies back: they move with the aircraft
-    if system.static_line is not None:
-        trailing, held = held_by_static_line(system.static_line, time, body_point(
+    trailing, held = air_velocity, None   # a static line's or pilot chute's bag holds the canopies back
+    if system.bag_anchor is not None:
+        trailing, held = held_back(*_bag_anchor_state(system.bag_anchor, body_states, time), body_point(
             vehicle.position, vehicle.attitude, local=deploy_point)[0])
     where = (vehicle.position, vehicle.attitude, vehicle.velocity, vehicle.angular_velocity, deploy_point, trailing)
     risers = [system.risers(canopy)[0] for canopy in canopies]   # a canopy is placed by its first riser
@@ -125,10 +125,21 @@ def deploy(case: Case, system: ParachuteSystem, body_states: dict, time: float) 
     return states, state if held is None else _balanced(case, system, body_states, states, state)
 
 
+def _bag_anchor_state(anchor, body_states: dict, time: float) -> tuple:
+    """(position in m, velocity in m/s) of what holds the bag at ``time`` (s): a static line's anchor flying with the
+    aircraft, a pilot chute's centre of mass as it flies (``body_states``)."""
+    flown = body_states.get(anchor.body) if anchor.body is not None else None
+    if anchor.body is not None and flown is None:
+        raise SimulationError(f"pilot chute '{anchor.body}' does not fly on its own at the line stretch", time)
+    position, velocity = (None, None) if flown is None else (flown.position, flown.velocity)
+    return anchor.anchor_at(time, position), anchor.anchor_velocity(velocity)
+
+
 def _balanced(case: Case, system: ParachuteSystem, body_states: dict, canopies: dict,
               confluence: ConfluenceState) -> ConfluenceState:
     """``confluence`` with the velocity at which its lines' damping balances (``damped_confluence_velocity``): a
-    static line's canopies move with the aircraft, the vehicle with the load, at line stretch."""
+    static line's (pilot chute's) canopies move with the aircraft (pilot chute), the vehicle with the load, at line
+    stretch."""
     states = {**body_states, **canopies}
     ends = []
     for line in system.lines:

@@ -223,7 +223,7 @@ class AdaptiveSteps:
         self._limits: dict = {}    # (system, relaxation time) -> its confluence's StepLimit, this check's
         self._remedies: dict = {}  # a confluence limit's description -> the layout or setting its method names
         self._taut_since: dict = {}   # tether -> the time (s) it last came taut (``_tether_cap``)
-        self._held = [system for system in model.systems if system.static_line is not None]   # _held_snatch_cap
+        self._held = [system for system in model.systems if system.bag_anchor is not None]   # _held_snatch_cap
         self._levers: dict = {}       # (body, point) -> its lever's constants (``_lever``)
 
     def after_step(self, t: float) -> float:
@@ -275,11 +275,11 @@ class AdaptiveSteps:
         return cap
 
     def _held_snatch_cap(self, t: float) -> float:
-        """The step (s) a static line's system allows after its line stretch: its canopies, held back at the
-        aircraft's velocity, snatch on the lines as a tether's ends do, resolved the same way (SNATCH_STEPS steps a
-        half period pi sqrt(m / K) for SNATCH_PERIODS periods; m the canopy's mass, K its riser in series with the
-        bridles together), and not relaxed (``_relax``: no longer than the lines' own damping keeps stable); inf for any
-        other system (its canopies leave at the vehicle's velocity)."""
+        """The step (s) a static line's (pilot chute's) system allows after its line stretch: its canopies, held back
+        at the aircraft's (pilot chute's) velocity, snatch on the lines as a tether's ends do, resolved the same way
+        (SNATCH_STEPS steps a half period pi sqrt(m / K) for SNATCH_PERIODS periods; m the canopy's mass, K its riser
+        in series with the bridles together), and not relaxed (``_relax``: no longer than the lines' own damping keeps
+        stable); inf for any other system (its canopies leave at the vehicle's velocity)."""
         cap = math.inf
         for system in self._held:
             if t < system.deploy_time:

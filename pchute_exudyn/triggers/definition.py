@@ -1,11 +1,12 @@
 """What a trigger is, as the case reader builds it (docs/case-format.md, "Triggers"): a condition and a sensor.
 
 The condition is one of: a run time (``At``), a delay after another event (``After``), a sensed quantity crossing a
-value (``Threshold``, the quantities of ``registries.quantities``), a static line's line stretch (``LineStretch``,
-made by the case reader from ``[systems.<name>.static_line]``), apogee (``Apogee``), a user's flight-computer
-function (``UserFunction``) or ``all``/``any`` of several (``AllOf``, ``AnyOf``). The sensor (``Sensor``) samples at
-a rate (Hz; none: at every accepted step), fires after a lag (s) and adds seeded noise and a bias. Frozen data: what
-a sensor reads is ``triggers.sensors``, a trigger through a run ``triggers.watch``.
+value (``Threshold``, the quantities of ``registries.quantities``), a static line's or pilot chute's line stretch
+(``LineStretch``, made by the case reader from ``[systems.<name>.static_line]`` or ``.pilot_chute``), apogee
+(``Apogee``), a user's flight-computer function (``UserFunction``) or ``all``/``any`` of several (``AllOf``,
+``AnyOf``). The sensor (``Sensor``) samples at a rate (Hz; none: at every accepted step), fires after a lag (s) and
+adds seeded noise and a bias. Frozen data: what a sensor reads is ``triggers.sensors``, a trigger through a run
+``triggers.watch``.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..physics.deployment import StaticLine
+from ..physics.deployment import PilotChute, StaticLine
 
 
 @dataclass(frozen=True)
@@ -67,24 +68,32 @@ class Threshold:
 
 @dataclass(frozen=True)
 class LineStretch:
-    """A static line's system at line stretch: the sensed body's centre of mass ``value`` (m, its reach:
-    ``physics.deployment.static_line_reach``) from the static line's anchor, which flies on with the aircraft. Read
-    from the true position (a line coming taut, not a sensor), at every step, its crossing interpolated."""
+    """A static line's or pilot chute's system at line stretch: the sensed body's centre of mass ``value`` (m, its
+    reach: ``physics.deployment.static_line_reach``) from the bag's anchor (``line``: a ``StaticLine``, whose anchor
+    flies on with the aircraft, or a ``PilotChute``, whose anchor is its body's centre of mass as the run reads it).
+    Read from the true positions (a line coming taut, not a sensor), at every step, its crossing interpolated."""
 
-    static_line: StaticLine
+    line: StaticLine | PilotChute
     value: float
-    quantity = "static_line"
-    sensed_name = "static_line_distance"
 
-    def distance(self, time: float, position) -> float:
-        """m: from the anchor at run time ``time`` (s) to the start-frame ``position`` (m)."""
-        return float(np.linalg.norm(np.asarray(position, float) - self.static_line.anchor_at(time)))
+    @property
+    def quantity(self) -> str:
+        return self.line.key
+
+    @property
+    def sensed_name(self) -> str:
+        return f"{self.line.key}_distance"
+
+    def distance(self, time: float, position, anchor_position=None) -> float:
+        """m: from the anchor at run time ``time`` (s) to the start-frame ``position`` (m); ``anchor_position``: the
+        anchor body's centre of mass (m; a pilot chute's), None for a static line's."""
+        return float(np.linalg.norm(np.asarray(position, float) - self.line.anchor_at(time, anchor_position)))
 
     def holds(self, sensed: dict) -> bool:
         return sensed[self.sensed_name] >= self.value
 
     def describe(self) -> str:
-        return f"static line and lines out ({self.value:g} m from the aircraft's anchor)"
+        return f"{self.line.described} and lines out ({self.value:g} m from {self.line.describe()})"
 
 
 @dataclass(frozen=True)

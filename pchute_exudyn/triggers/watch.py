@@ -116,8 +116,9 @@ class Watch:
         return self.period is not None and self.next_sample(previous) < time - TIME_TOLERANCE
 
     def observe(self, time: float, truth: dict, fired: dict, pressure_at) -> Firing | None:
-        """Take the sample due at ``time`` (s) from the true values ``truth``; ``fired``: event -> time of the events
-        fired so far. Returns the Firing when the trigger fires."""
+        """Take the sample due at ``time`` (s) from the true values ``truth`` (a pilot chute's line stretch: with its
+        body's ``anchor_position``, m); ``fired``: event -> time of the events fired so far. Returns the Firing when
+        the trigger fires."""
         if self.period is not None:   # samples missed (a rate above the step's) are skipped with their noise
             noisy = self.trigger.sensor.noisy   # (a noise-free sensor draws none: ten thousand samples skipped
             while (self.index + 1) * self.period <= time + TIME_TOLERANCE:   # at once cost nothing)
@@ -128,8 +129,9 @@ class Watch:
         sensed = self._sense(time, truth, pressure_at)
         condition = self.trigger.condition
         if isinstance(condition, LineStretch):   # the line's own geometry, true in both
-            distance = condition.distance(time, truth["position"])
-            sensed, truth = dict(sensed, static_line_distance=distance), dict(truth, static_line_distance=distance)
+            distance = {condition.sensed_name: condition.distance(time, truth["position"],
+                                                                  truth.get("anchor_position"))}
+            sensed, truth = dict(sensed, **distance), dict(truth, **distance)
         holds = self._holds(condition, time, sensed, truth, fired)
         previous, self.previous = self.previous, (time, sensed, truth)
         if not holds:
