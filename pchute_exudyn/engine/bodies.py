@@ -177,7 +177,8 @@ def add_bodies(model: Model, case: Case, reduced: bool = False, massless=()) -> 
                                            case.drag_efficiency(system, body.name, phase.bodies))
         label = case.opening_label(system, body.name)
         if opening is not None and loads[body.name] is not None:
-            add_inflation_hooks(model, label, body.name, opening, loads[body.name])
+            add_inflation_hooks(model, label, body.name, opening, loads[body.name],
+                                _fill_speed_reader(case, system, loads))
         elif system.cluster and loads[body.name] is not None:
             add_fraction_channel(model, label, schedule, deployed)
     for system in model.systems:
@@ -185,6 +186,19 @@ def add_bodies(model: Model, case: Case, reduced: bool = False, massless=()) -> 
             add_contact(model, case, system, [loads[canopy] for canopy in system.canopies])
     if case.tethers:
         add_tethers(model, case)
+
+
+def _fill_speed_reader(case: Case, system, loads: dict):
+    """The air speed (m/s, a function of run time) a pilot chute's canopy fills at: the body its bag left's, the
+    deploy point's (``loads``: the phase's ``BodyAerodynamics`` by body, filled in by then); None (the canopy's own)
+    for any other system or that body without aerodynamics. The pilot chute holds the canopy back near the air's
+    speed until the line stretch, and the snatch brings it up to the load's within milliseconds: Knacke's fill time
+    n D0 / V takes the load's speed at line stretch, which a canopy released with its load has itself. (A static
+    line's canopy keeps its own: it leaves at the aircraft's speed, close to the load's.)"""
+    if system.pilot_chute is None:
+        return None
+    body = system.deploy_point[0]
+    return lambda time: (loads.get(body) or loads[system.canopies[0]]).air_speed(time)
 
 
 MAX_DESCENT_ACCELERATION = 30.0

@@ -87,17 +87,18 @@ def add_apparent_mass(model: Model, case: Case, body: Body, node: int) -> None:
     model.add_channel(column_channel("{owner}_apparent_inertia", body.name), lambda: terms.masses()[3][1])
 
 
-def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, aerodynamic_load) -> None:
-    """The hooks of ``watch_opening`` for a rigid canopy, its air speed and speed of sound read at its aerodynamic
-    centre (``aerodynamic_load``: ``engine.aero_loads.BodyAerodynamics``) and the magnitude of its aerodynamic force
-    (N) from it."""
+def add_inflation_hooks(model: Model, system_name: str, canopy: str, progress, aerodynamic_load,
+                        speed_reader=None) -> None:
+    """The hooks of ``watch_opening`` for a rigid canopy, its air speed (unless ``speed_reader`` gives another, m/s
+    at run time) and speed of sound read at its aerodynamic centre (``aerodynamic_load``:
+    ``engine.aero_loads.BodyAerodynamics``) and the magnitude of its aerodynamic force (N) from it."""
     get_time = model.mbs.systemData.GetTime
 
     def force_magnitude():
         fx, fy, fz = aerodynamic_load(model.mbs, get_time(), None)
         return math.sqrt(fx * fx + fy * fy + fz * fz)
-    watch_opening(model, system_name, canopy, progress, aerodynamic_load.air_speed, aerodynamic_load.sound_speed,
-                  force_magnitude)
+    watch_opening(model, system_name, canopy, progress, speed_reader or aerodynamic_load.air_speed,
+                  aerodynamic_load.sound_speed, force_magnitude)
 
 
 def watch_opening(model: Model, system_name: str, canopy: str, progress, speed_reader, sound_reader,
