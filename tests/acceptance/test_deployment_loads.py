@@ -223,3 +223,44 @@ def test_the_airdrop_s_loads_under_sp_are_full_mass_s():
     assert deployment.opening_load == pytest.approx(AIRDROP_FULL_MASS["opening"], rel=0.02)
     assert averaged == pytest.approx(AIRDROP_FULL_MASS["snatch_averaged"], rel=0.025)
     assert deployment.knacke_opening_load == pytest.approx(AIRDROP_FULL_MASS["opening"], rel=0.05)
+
+
+SKYDIVER = ROOT / "cases" / "skydiver" / "pilot_chute.toml"
+SKYDIVER_FULL_MASS = {"opening": 17645.592, "snatch_averaged": 13090.619}
+"""N: the opening load (the snatch of the canopy held back by the pilot chute, the largest) and the snatch averaged
+over 20 ms (``physics.load_peaks.averaged_peak`` within 0.4 s of line stretch) of cases/skydiver/pilot_chute.toml
+flown 3 s by full mass, recorded with ``simulate(load_case(SKYDIVER), "full", duration=3.0)`` (3 s of wall time
+here)."""
+
+
+def test_a_pilot_chute_comes_to_line_stretch_at_its_reach_with_the_canopy_at_its_velocity():
+    """The skydiver's centre of mass is the bridle, the canopy's reach and the deploy point's offset from the pilot
+    chute's at the deploy event (the columns at that time; the gear not packed in the skydiver, so his column is
+    the centre the trigger sensed); the canopy starts with the pilot chute's velocity, and fills at the skydiver's
+    speed through the still air then."""
+    result = simulate(load_case(SKYDIVER, ["systems.main.packed=false"]), "sp", duration=1.0)
+    (deploy,) = [e for e in result.summary.events if e.kind == "deploy"]
+    columns = result.columns
+    (row,) = np.flatnonzero(columns["time"] == deploy.time)
+    apart = [columns[f"pilot_chute_{axis}"][row] - columns[f"vehicle_{axis}"][row]
+             for axis in ("altitude", "east", "north")]
+    assert deploy.time > 0.5   # after the throw
+    assert math.hypot(*apart) == pytest.approx(deploy.trigger["threshold"], rel=1e-3)
+    for axis in ("north", "east", "down"):
+        assert columns[f"canopy_velocity_{axis}"][row] == pytest.approx(columns[f"pilot_chute_velocity_{axis}"][row],
+                                                                        abs=1e-9)
+    (deployment, _) = result.summary.deployments
+    assert deployment.line_stretch_speed == pytest.approx(
+        math.hypot(*[columns[f"vehicle_velocity_{axis}"][row] for axis in ("north", "east", "down")]), rel=1e-9)
+
+
+def test_the_skydiver_s_loads_under_sp_are_full_mass_s():
+    """The opening load (the snatch of the canopy held back near the air's speed) and the snatch as a load cell
+    averaging over 20 ms reads it, within 2 % of full mass's (docs/models/deployment_loads.md, "Pilot chute")."""
+    from pchute_exudyn.physics.load_peaks import averaged_peak
+    result = simulate(load_case(SKYDIVER), "sp", duration=3.0)
+    deployment = {d.system: d for d in result.summary.deployments}["main"]
+    times, loads = result.loads["main"]
+    averaged = averaged_peak(times, loads, deployment.line_stretch_time, 0.4, 0.02)
+    assert deployment.opening_load == pytest.approx(SKYDIVER_FULL_MASS["opening"], rel=0.02)
+    assert averaged == pytest.approx(SKYDIVER_FULL_MASS["snatch_averaged"], rel=0.02)

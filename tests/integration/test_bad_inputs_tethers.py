@@ -13,6 +13,7 @@ from tests.helpers import ROOT
 
 ROCKET = (ROOT / "cases" / "rocket" / "two_section.toml").as_posix()
 AIRDROP = (ROOT / "cases" / "airdrop" / "static_line.toml").as_posix()
+SKYDIVER = (ROOT / "cases" / "skydiver" / "pilot_chute.toml").as_posix()
 
 
 def _run(tmp, *sets, duration="3", case=ROCKET):
@@ -50,6 +51,27 @@ BATTERY = [
      "systems.main.static_line.length = 0: must be > 0 (m)"),
     ("a static line without a release", lambda t: _run(t, case=_without_release(t)),
      "systems.main.static_line: needs start.release: the aircraft the static line is anchored in"),
+    ("a static line and a pilot chute", lambda t: _run(t, "systems.main.pilot_chute.length=2.5", case=AIRDROP),
+     "systems.main.pilot_chute: the bag is held by a static line or a pilot chute: give static_line or pilot_chute, "
+     "not both"),
+    ("a pilot chute and a deploy time", lambda t: _run(t, "systems.main.deploy_time=1.0", case=SKYDIVER),
+     "systems.main.pilot_chute: a system deployed by a pilot chute deploys at its line stretch: give pilot_chute or "
+     "deploy_time/deploy_trigger, not both"),
+    ("a pilot chute and a deploy trigger", lambda t: _run(t, "systems.main.deploy_trigger={time=1.0}", case=SKYDIVER),
+     "systems.main.pilot_chute: a system deployed by a pilot chute deploys at its line stretch"),
+    ("a pilot chute of an unknown body", lambda t: _run(t, "systems.main.pilot_chute.body='drogue'", case=SKYDIVER),
+     "systems.main.pilot_chute.body = 'drogue': unknown body; bodies are: vehicle, pilot_chute, canopy"),
+    ("a pilot chute that is the canopy", lambda t: _run(t, "systems.main.pilot_chute.body='canopy'", case=SKYDIVER),
+     "systems.main.pilot_chute.body = 'canopy': is the system's own canopy"),
+    ("a pilot chute that is the vehicle", lambda t: _run(t, "systems.main.pilot_chute.body='vehicle'", case=SKYDIVER),
+     "systems.main.pilot_chute.body = 'vehicle': is the vehicle"),
+    ("a pilot chute without aerodynamics", lambda t: _run(t, "bodies.pilot_chute.aerodynamics.enabled=false",
+                                                          case=SKYDIVER),
+     "systems.main.pilot_chute.body = 'pilot_chute': has no aerodynamics (enabled)"),
+    ("a reduced canopy on a pilot chute", lambda t: _run(t, "systems.main.canopy_model='reduced'", case=SKYDIVER),
+     "systems.main.canopy_model = 'reduced': reduced has no canopy mass for the pilot chute's snatch to act on"),
+    ("a pilot chute's bridle of no length", lambda t: _run(t, "systems.main.pilot_chute.length=0", case=SKYDIVER),
+     "systems.main.pilot_chute.length = 0: must be > 0 (m)"),
     ("pchute new: a static line without a release", lambda t: ["new", str(t / "new.toml"),
                                                               "--static-line-length", "4"],
      "static_line_length = 4.0: only with release_airspeed (--release-airspeed)"),
