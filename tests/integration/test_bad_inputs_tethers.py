@@ -30,6 +30,15 @@ def _without_release(tmp):
     return path.as_posix()
 
 
+def _without_throw(tmp):
+    """The skydiver with the pilot chute's ``[separations.pilot_chute]`` table cut out: it never leaves him."""
+    text = (ROOT / "cases" / "skydiver" / "pilot_chute.toml").read_text()
+    start = text.index("\n[separations.pilot_chute]")
+    path = tmp / "no_throw.toml"
+    path.write_text(text[:start] + text[text.index("\n[bodies.canopy]", start):])
+    return path.as_posix()
+
+
 BATTERY = [
     ("a cord shorter than the sections are apart", lambda t: _run(t, "tethers.shock_cord.free_length=0.05"),
      "tethers.shock_cord.free_length = 0.05: is shorter than its ends are apart (0.1 m) while 'nose' rides in "
@@ -72,6 +81,8 @@ BATTERY = [
      "systems.main.canopy_model = 'reduced': reduced has no canopy mass for the pilot chute's snatch to act on"),
     ("a pilot chute's bridle of no length", lambda t: _run(t, "systems.main.pilot_chute.length=0", case=SKYDIVER),
      "systems.main.pilot_chute.length = 0: must be > 0 (m)"),
+    ("a pilot chute never thrown", lambda t: _run(t, case=_without_throw(t)),
+     "bodies.pilot_chute.initial: required (only a canopy deployed at line stretch has none)"),
     ("pchute new: a static line without a release", lambda t: ["new", str(t / "new.toml"),
                                                               "--static-line-length", "4"],
      "static_line_length = 4.0: only with release_airspeed (--release-airspeed)"),
