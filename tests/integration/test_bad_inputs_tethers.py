@@ -21,21 +21,13 @@ def _run(tmp, *sets, duration="3", case=ROCKET):
             *[a for s in sets for a in ("--set", s)]]
 
 
-def _without_release(tmp):
-    """The airdrop with its ``[start.release]`` table cut out."""
-    text = (ROOT / "cases" / "airdrop" / "static_line.toml").read_text()
-    start = text.index("[start.release]")
-    path = tmp / "no_release.toml"
-    path.write_text(text[:start] + text[text.index("[atmosphere]", start):])
-    return path.as_posix()
-
-
-def _without_throw(tmp):
-    """The skydiver with the pilot chute's ``[separations.pilot_chute]`` table cut out: it never leaves him."""
-    text = (ROOT / "cases" / "skydiver" / "pilot_chute.toml").read_text()
-    start = text.index("\n[separations.pilot_chute]")
-    path = tmp / "no_throw.toml"
-    path.write_text(text[:start] + text[text.index("\n[bodies.canopy]", start):])
+def _cut(tmp, case: str, table: str, next_table: str) -> str:
+    """``case`` (a path under cases/) written to ``tmp`` with its ``table`` cut out up to ``next_table``: the
+    airdrop without its ``[start.release]``, the skydiver without the pilot chute's throw."""
+    text = (ROOT / "cases" / case).read_text()
+    start = text.index(f"\n{table}")
+    path = tmp / "cut.toml"
+    path.write_text(text[:start] + text[text.index(f"\n{next_table}", start):])
     return path.as_posix()
 
 
@@ -58,7 +50,8 @@ BATTERY = [
      "deploy_time/deploy_trigger, not both"),
     ("a static line of no length", lambda t: _run(t, "systems.main.static_line.length=0", case=AIRDROP),
      "systems.main.static_line.length = 0: must be > 0 (m)"),
-    ("a static line without a release", lambda t: _run(t, case=_without_release(t)),
+    ("a static line without a release", lambda t: _run(t, case=_cut(t, "airdrop/static_line.toml", "[start.release]",
+                                                                            "[atmosphere]")),
      "systems.main.static_line: needs start.release: the aircraft the static line is anchored in"),
     ("a static line and a pilot chute", lambda t: _run(t, "systems.main.pilot_chute.length=2.5", case=AIRDROP),
      "systems.main.pilot_chute: the bag is held by a static line or a pilot chute: give static_line or pilot_chute, "
@@ -81,7 +74,8 @@ BATTERY = [
      "systems.main.canopy_model = 'reduced': reduced has no canopy mass for the pilot chute's snatch to act on"),
     ("a pilot chute's bridle of no length", lambda t: _run(t, "systems.main.pilot_chute.length=0", case=SKYDIVER),
      "systems.main.pilot_chute.length = 0: must be > 0 (m)"),
-    ("a pilot chute never thrown", lambda t: _run(t, case=_without_throw(t)),
+    ("a pilot chute never thrown", lambda t: _run(t, case=_cut(t, "skydiver/pilot_chute.toml",
+                                                                     "[separations.pilot_chute]", "[bodies.canopy]")),
      "bodies.pilot_chute.initial: required (only a canopy deployed at line stretch has none)"),
     ("pchute new: a static line without a release", lambda t: ["new", str(t / "new.toml"),
                                                               "--static-line-length", "4"],
