@@ -1,0 +1,138 @@
+"""A flight computer's log as it comes (``FlightLog``): the times, the heights above the pad and what they are, the
+flight's phases (``physics.flight_phases``) and robust descent rates over height bands.
+
+Formats read (``read_flight_log``, by the file's first line):
+
+* **AltOS** (Altus Metrum TeleMega, TeleMetrum, EasyMega, EasyMini; AltosUI's CSV export): a header line starting
+  ``#version,serial,flight,``; ``time`` in s from boost, ``height`` the barometric height above the pad (m),
+  ``altitude`` the barometric altitude above sea level (m; the GPS altitude, later in the row, has the same name and
+  is not read), ``state_name`` text. A GPS record and a sensor record share a time stamp: the first row of each time
+  is kept.
+* **Generic**: any CSV ``pchute compare`` reads (``results.csv_dialects``) with a time column and a height column
+  named ``height``, ``altitude``, ``agl`` or ``alt``, in m or ft as its unit says; a height without a unit is
+  refused (feet and metres cannot be told apart).
+
+Heights are barometric in both unless a generic column says ``gps``. Times that go back are refused in one line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..physics.flight_phases import FlightPhaseError, Phases, band_descent_rate, flight_phases
+from .csv_dialects import read_csv_columns
+
+FOOT = 0.3048
+"""m per international foot."""
+HEIGHT_UNITS = {"m": 1.0, "ft": FOOT, "feet": FOOT}
+HEIGHT_NAMES = ("height", "altitude", "agl", "alt")
+"""Names of a generic log's height column, in the order they are looked for (the first one present is read)."""
+
+
+@dataclass(frozen=True)
+class FlightLog:
+    """One flight's record.
+
+    Attributes
+    ----------
+    source : str
+        The file it was read from.
+    format : str
+        "AltOS" or "generic".
+    time : ndarray
+        s, increasing (the log's own zero).
+    height : ndarray
+        m, as the log gives it: above the pad (AltOS) or as its column says (the pad level: ``phases.pad_level``).
+    kind : str
+        "barometric" or "gps": what the heights are.
+    pad_altitude : float or None
+        m above sea level of the pad, where the log gives it.
+    """
+
+    source: str
+    format: str
+    time: np.ndarray = field(repr=False)
+    height: np.ndarray = field(repr=False)
+    kind: str = "barometric"
+    pad_altitude: float | None = None
+
+    @property
+    def phases(self) -> Phases:
+        """The pad level, the launch and the apogee (``physics.flight_phases``)."""
+        try:
+            return flight_phases(self.time, self.height)
+        except FlightPhaseError as exc:
+            raise InputError(f"{self.source}: {exc}") from None
+
+    def descent_rate(self, low: float, high: float) -> tuple[float, int]:
+        """(m/s, positive down; samples used) between ``low`` and ``high`` (m above the pad) after the apogee: the
+        Theil-Sen slope of the samples there (``physics.flight_phases.band_descent_rate``)."""
+        phases = self.phases
+        return band_descent_rate(self.time, self.height, phases, phases.pad_level + low, phases.pad_level + high)
+
+
+def read_flight_log(path) -> FlightLog:
+    """The log at ``path`` (the formats of the module docstring). InputError in one line for a file no reader takes,
+    a height of unknown unit, or times that go back."""
+    path = Path(path)
+    with path.open(encoding="utf-8-sig", errors="replace") as handle:
+        first = handle.readline()
+    if first.lstrip().startswith("#version,serial,flight,"):
+        return _altos(path, first)
+    return _generic(path)
+
+
+def _increasing(path: Path, time: np.ndarray, *columns) -> tuple:
+    """``time`` and ``columns`` with the repeats of a time stamp after its first row dropped; InputError when a time
+    goes back."""
+    steps = np.diff(time)
+    if np.any(steps < 0.0):
+        row = int(np.nonzero(steps < 0.0)[0][0]) + 2
+        raise InputError(f"{path}: time goes back at data row {row} ({time[row - 2]:g} s, then {time[row - 1]:g} s): "
+                         "a log's times must not decrease")
+    keep = np.concatenate([[True], steps > 0.0])
+    return (time[keep],) + tuple(column[keep] for column in columns)
+
+
+def _altos(path: Path, header: str) -> FlightLog:
+    names = [name.strip() for name in header.lstrip().lstrip("#").split(",")]
+    where = {name: names.index(name) for name in ("time", "height", "altitude") if name in names}
+    if len(where) < 3:
+        raise InputError(f"{path}: an AltOS log needs the columns time, height and altitude; its header has "
+                         f"{', '.join(names[:12])}...")
+    rows = []
+    with path.open(encoding="utf-8-sig", errors="replace") as handle:
+        next(handle)
+        for number, line in enumerate(handle, start=2):
+            cells = line.split(",")
+            if len(cells) <= max(where.values()):
+                continue   # a blank or cut-off last line
+            try:
+                rows.append([float(cells[where[name]]) for name in ("time", "height", "altitude")])
+            except ValueError:
+                raise InputError(f"{path}: row {number}: time, height or altitude is not a number "
+                                 f"({line.strip()[:60]!r})") from None
+    data = np.array(rows, float)
+    time, height, altitude = _increasing(path, data[:, 0], data[:, 1], data[:, 2])
+    return FlightLog(str(path), "AltOS", time, height, "barometric", float(np.median(altitude - height)))
+
+
+def _generic(path: Path) -> FlightLog:
+    columns, units, _ = read_csv_columns(path)
+    lowered = {name.lower(): name for name in columns}
+    time_name = lowered.get("time") or lowered.get("t")
+    height_name = next((lowered[name] for name in HEIGHT_NAMES if name in lowered), None)
+    if time_name is None or height_name is None:
+        raise InputError(f"{path}: a flight log needs a time column and a height column (one of "
+                         f"{', '.join(HEIGHT_NAMES)}); its columns are {', '.join(columns)}")
+    unit = units.get(height_name, "").lower()
+    if unit not in HEIGHT_UNITS:
+        raise InputError(f"{path}: the height column {height_name!r} has unit {unit or 'none'!r}: say m or ft in "
+                         f"its header (e.g. '{height_name} (ft)'); feet and metres cannot be told apart")
+    time, height = _increasing(path, np.asarray(columns[time_name], float),
+                               np.asarray(columns[height_name], float) * HEIGHT_UNITS[unit])
+    return FlightLog(str(path), "generic", time, height, "gps" if "gps" in height_name.lower() else "barometric")
