@@ -8,6 +8,9 @@ Formats read (``read_flight_log``, by the file's first line):
   ``altitude`` the barometric altitude above sea level (m; the GPS altitude, later in the row, has the same name and
   is not read), ``state_name`` text. A GPS record and a sensor record share a time stamp: the first row of each time
   is kept.
+* **Blue Raven** (Featherweight; the Blue Raven app's CSV export, high or low rate): a header with
+  ``Flight_Time_(s)``, ``Baro_Altitude_AGL_(feet)`` and ``Baro_Altitude_ASL_(feet)``, read in feet and converted;
+  its clock, hex and flag columns are not read.
 * **Generic**: any CSV ``pchute compare`` reads (``results.csv_dialects``) with a time column and a height column
   named ``height``, ``altitude``, ``agl`` or ``alt``, in m or ft as its unit says; a height without a unit is
   refused (feet and metres cannot be told apart).
@@ -29,6 +32,8 @@ from .csv_dialects import read_csv_columns
 FOOT = 0.3048
 """m per international foot."""
 HEIGHT_UNITS = {"m": 1.0, "ft": FOOT, "feet": FOOT}
+BLUE_RAVEN = ("Flight_Time_(s)", "Baro_Altitude_AGL_(feet)", "Baro_Altitude_ASL_(feet)")
+"""The columns a Featherweight Blue Raven export is read by (its header has them; heights in feet)."""
 HEIGHT_NAMES = ("height", "altitude", "agl", "alt")
 """Names of a generic log's height column, in the order they are looked for (the first one present is read)."""
 
@@ -42,7 +47,7 @@ class FlightLog:
     source : str
         The file it was read from.
     format : str
-        "AltOS" or "generic".
+        "AltOS", "Blue Raven" or "generic".
     time : ndarray
         s, increasing (the log's own zero).
     height : ndarray
@@ -83,6 +88,8 @@ def read_flight_log(path) -> FlightLog:
         first = handle.readline()
     if first.lstrip().startswith("#version,serial,flight,"):
         return _altos(path, first)
+    if all(name in first for name in BLUE_RAVEN):
+        return _blue_raven(path, first)
     return _generic(path)
 
 
@@ -98,27 +105,41 @@ def _increasing(path: Path, time: np.ndarray, *columns) -> tuple:
     return (time[keep],) + tuple(column[keep] for column in columns)
 
 
-def _altos(path: Path, header: str) -> FlightLog:
-    names = [name.strip() for name in header.lstrip().lstrip("#").split(",")]
-    where = {name: names.index(name) for name in ("time", "height", "altitude") if name in names}
-    if len(where) < 3:
-        raise InputError(f"{path}: an AltOS log needs the columns time, height and altitude; its header has "
+def _named_columns(path: Path, kind: str, names: list, wanted: tuple) -> np.ndarray:
+    """The ``wanted`` columns (by their first index in the header ``names``) of every data row of ``path`` as floats,
+    the other cells (text, hex) left alone. InputError naming the missing column or the row that is not a number."""
+    missing = [name for name in wanted if name not in names]
+    if missing:
+        raise InputError(f"{path}: a {kind} log needs the column {missing[0]!r}; its header has "
                          f"{', '.join(names[:12])}...")
+    where = [names.index(name) for name in wanted]
     rows = []
     with path.open(encoding="utf-8-sig", errors="replace") as handle:
         next(handle)
         for number, line in enumerate(handle, start=2):
             cells = line.split(",")
-            if len(cells) <= max(where.values()):
+            if len(cells) <= max(where):
                 continue   # a blank or cut-off last line
             try:
-                rows.append([float(cells[where[name]]) for name in ("time", "height", "altitude")])
+                rows.append([float(cells[index]) for index in where])
             except ValueError:
-                raise InputError(f"{path}: row {number}: time, height or altitude is not a number "
+                raise InputError(f"{path}: row {number}: {', '.join(wanted)} must be numbers "
                                  f"({line.strip()[:60]!r})") from None
-    data = np.array(rows, float)
+    return np.array(rows, float).reshape(-1, len(wanted))
+
+
+def _altos(path: Path, header: str) -> FlightLog:
+    names = [name.strip() for name in header.lstrip().lstrip("#").split(",")]
+    data = _named_columns(path, "AltOS", names, ("time", "height", "altitude"))
     time, height, altitude = _increasing(path, data[:, 0], data[:, 1], data[:, 2])
     return FlightLog(str(path), "AltOS", time, height, "barometric", float(np.median(altitude - height)))
+
+
+def _blue_raven(path: Path, header: str) -> FlightLog:
+    names = [name.strip() for name in header.split(",")]
+    data = _named_columns(path, "Blue Raven", names, BLUE_RAVEN)
+    time, above, sea = _increasing(path, data[:, 0], data[:, 1] * FOOT, data[:, 2] * FOOT)
+    return FlightLog(str(path), "Blue Raven", time, above, "barometric", float(np.median(sea - above)))
 
 
 def _generic(path: Path) -> FlightLog:

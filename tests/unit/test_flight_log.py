@@ -1,5 +1,5 @@
-"""Flight logs as they come (``results.flight_log``): an AltOS export excerpt of a real flight, a generic CSV in
-feet, and bad logs refused in one line."""
+"""Flight logs as they come (``results.flight_log``): excerpts of real AltOS and Blue Raven exports (two altimeters
+on one flight agreeing), a generic CSV in feet, and bad logs refused in one line."""
 
 import numpy as np
 import pytest
@@ -66,3 +66,17 @@ def test_a_log_that_never_descends_says_so(tmp_path):
     log = read_flight_log(_generic(tmp_path, "time (s),height (m)", t, np.minimum(20.0 * t, 300.0)))
     with pytest.raises(InputError, match="no descent"):
         log.descent_rate(50.0, 250.0)
+
+
+def test_two_altimeters_on_one_flight_read_the_same_apogee_and_rates():
+    """A Blue Raven (feet, its own column names, hex and flag columns) and a TeleMega (AltOS) flew together on the
+    NUSTARS flight of 2025-08-16 (tests/data/flight_logs/SOURCES.md): from every 20th row of each, the apogee within
+    0.5 % and the drogue's and the main's band rates within 2 % and 5 % (the full logs: 1236.7 against 1235.4 m,
+    22.74 against 22.76 and 5.58 against 5.72 m/s)."""
+    raven = read_flight_log(ROOT / "tests" / "data" / "flight_logs" / "blueraven_nustars_20250816_every20th.csv")
+    altos = read_flight_log(ROOT / "tests" / "data" / "flight_logs" / "altos_nustars_20250816_every20th.csv")
+    assert (raven.format, altos.format) == ("Blue Raven", "AltOS")
+    tops = [log.phases.apogee_height - log.phases.pad_level for log in (raven, altos)]
+    assert tops[0] == pytest.approx(tops[1], rel=0.005) and tops[0] == pytest.approx(1236.0, rel=0.005)
+    assert raven.descent_rate(300.0, 900.0)[0] == pytest.approx(altos.descent_rate(300.0, 900.0)[0], rel=0.02)
+    assert raven.descent_rate(20.0, 120.0)[0] == pytest.approx(altos.descent_rate(20.0, 120.0)[0], rel=0.05)
