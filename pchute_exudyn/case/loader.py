@@ -38,7 +38,7 @@ from .read_systems import read_failures, read_system
 from .read_tethers import check_ejections, check_tethers, read_tethers
 from .read_triggers import check_triggers, read_separations
 from .read_world import read_atmosphere, read_planet, read_simulation, read_start
-from .start import Release, at_conditions, ground_relative, with_static_lines
+from .start import Release, at_conditions, ground_relative, with_bag_anchors
 from .trigger_reach import unreachable_triggers
 from .unit_slips import unit_slips
 
@@ -115,7 +115,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     check_release(body_tables, system_tables, bodies, systems, vehicle, release)
     check_events(top, body_tables, system_tables, simulation_table, bodies, systems, simulation, vehicle)
     bodies, systems = ground_relative(bodies, systems, vehicle, wind, frame, release)
-    systems = with_static_lines(systems, bodies, vehicle, start, release, triggers, system_tables)   # after: its speed
+    systems = with_bag_anchors(systems, bodies, vehicle, start, release, triggers, system_tables)   # after: its speed
     tethers = read_tethers(top.table("tethers", None), bodies, systems)
     check_connections(system_tables, bodies, systems, vehicle, tethers)
     failures = read_failures(top.table("failures", None), systems, simulation.duration, bodies, triggers)

@@ -35,9 +35,9 @@ def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, bag_anc
     snatch); it opens as the system says (an ``inflation`` or a ``drag_area_schedule``, fully open from its
     deployment without either)."""
     if bag_anchor is not None:
-        what = "static line" if bag_anchor.key == "static_line" else "pilot chute"
+        what = bag_anchor.key.replace("_", " ")
         raise t.error("canopy_model", f"reduced has no canopy mass for the {what}'s snatch to act on: a system "
-                                      f"deployed by a {bag_anchor.key} flies rigid", "reduced")
+                                      f"deployed by a {what} flies rigid", "reduced")
     if len(canopies) != 1 or len(lines) != 2 or sorted(line.body == canopies[0] for line in lines) != [False, True]:
         raise t.error("canopy_model", "reduced needs one canopy on one riser in series with one bridle from another "
                                       "body (two lines: a shock cord); use rigid for this layout", "reduced")
@@ -113,7 +113,7 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
 def _read_deployment(t: Table, name: str, bodies: dict, triggers: dict, canopies: tuple) -> tuple:
     """(deploy time in s or None, StaticLine, PilotChute or None): ``deploy_time``, ``deploy_trigger`` (pending: inf),
     ``static_line`` or ``pilot_chute`` (pending until its line stretch: inf, its trigger made by
-    ``case.start.with_static_lines``)."""
+    ``case.start.with_bag_anchors``)."""
     deploy_time = event_time(t, "deploy_time", "deploy_trigger", t.number("deploy_time", "s", None, minimum=0.0),
                              f"{name}.deploy", bodies, triggers)
     static_line = _read_static_line(t, deploy_time)
@@ -124,16 +124,23 @@ def _read_deployment(t: Table, name: str, bodies: dict, triggers: dict, canopies
     return (math.inf if anchor is not None else deploy_time), anchor
 
 
+def _bag_table(t: Table, key: str, deploy_time) -> Table | None:
+    """``[systems.<name>.<key>]``, a static line's or a pilot chute's, or None; refused beside a deploy_time or a
+    deploy_trigger (the system deploys at its line stretch)."""
+    table = t.table(key, None)
+    if table is not None and deploy_time is not None:
+        raise t.error(key, f"a system deployed by a {key.replace('_', ' ')} deploys at its line stretch: give {key} "
+                           "or deploy_time/deploy_trigger, not both")
+    return table
+
+
 def _read_pilot_chute(t: Table, deploy_time, bodies: dict, canopies: tuple) -> PilotChute | None:
     """``[systems.<name>.pilot_chute]``: ``body`` (a body with aerodynamics, not one of the system's canopies) and
     ``length`` (m, its bridle from its centre of mass to the bag); the system then deploys at its line stretch (no
-    deploy_time or deploy_trigger). The vehicle is refused later, once known (``case.start.with_static_lines``)."""
-    pt = t.table("pilot_chute", None)
+    deploy_time or deploy_trigger). The vehicle is refused later, once known (``case.start.with_bag_anchors``)."""
+    pt = _bag_table(t, "pilot_chute", deploy_time)
     if pt is None:
         return None
-    if deploy_time is not None:
-        raise t.error("pilot_chute", "a system deployed by a pilot chute deploys at its line stretch: give "
-                                     "pilot_chute or deploy_time/deploy_trigger, not both")
     body = pt.string("body")
     if body not in bodies:
         raise pt.error("body", f"unknown body; bodies are: {', '.join(bodies)}", body)
@@ -151,12 +158,9 @@ def _read_pilot_chute(t: Table, deploy_time, bodies: dict, canopies: tuple) -> P
 def _read_static_line(t: Table, deploy_time) -> StaticLine | None:
     """``[systems.<name>.static_line]``: ``length`` (m) and ``anchor`` (m, east/north/up from the vehicle's centre
     of mass at the release); the system then deploys at its line stretch (no deploy_time or deploy_trigger)."""
-    st = t.table("static_line", None)
+    st = _bag_table(t, "static_line", deploy_time)
     if st is None:
         return None
-    if deploy_time is not None:
-        raise t.error("static_line", "a system deployed by a static line deploys at its line stretch: give "
-                                     "static_line or deploy_time/deploy_trigger, not both")
     length = st.number("length", "m", above=0.0)
     anchor = tuple(st.vector("anchor", "m", 3, (0.0, 0.0, 0.0)))
     st.finish()

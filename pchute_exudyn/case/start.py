@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..physics.conditions import altitude_and_speed
-from ..physics.deployment import static_line_reach
+from ..physics.deployment import bag_reach
 from ..triggers.definition import LineStretch, Sensor, Trigger
 
 VELOCITY_FRAMES = ("ground", "air")
@@ -125,8 +125,8 @@ def at_conditions(initial, atmosphere, wind, frame: str):
     return replace(initial, altitude=altitude, velocity_east=east, velocity_north=north, velocity_down=-up)
 
 
-def with_static_lines(systems: dict, bodies: dict, vehicle: str, start, release: Release | None, triggers: dict,
-                      system_tables: dict) -> dict:
+def with_bag_anchors(systems: dict, bodies: dict, vehicle: str, start, release: Release | None, triggers: dict,
+                     system_tables: dict) -> dict:
     """The ``systems`` with each static line's anchor resolved (``physics.deployment.StaticLine``: at the release,
     ``anchor`` from the vehicle's centre of mass, flying on at the vehicle's released velocity) and the line stretch
     of each static line or pilot chute (``physics.deployment.PilotChute``: its body's centre of mass, read as the run
@@ -142,7 +142,7 @@ def with_static_lines(systems: dict, bodies: dict, vehicle: str, start, release:
             raise system_tables[name].error("pilot_chute.body", "is the vehicle: the pilot chute is a body of its own "
                                                                 "that extracts the bag from it", line.body)
         riser = system.risers(system.canopies[0])[0]
-        reach = static_line_reach(line, riser.free_length, bodies[system.canopies[0]].points[riser.point],
+        reach = bag_reach(line, riser.free_length, bodies[system.canopies[0]].points[riser.point],
                                   bodies[system.deploy_point[0]].points[system.deploy_point[1]])
         triggers[f"{name}.deploy"] = Trigger(LineStretch(line, reach), Sensor(), f"systems.{name}.{line.key}")
         resolved[name] = replace(system, **{line.key: line})

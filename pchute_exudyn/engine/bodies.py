@@ -178,7 +178,7 @@ def add_bodies(model: Model, case: Case, reduced: bool = False, massless=()) -> 
         label = case.opening_label(system, body.name)
         if opening is not None and loads[body.name] is not None:
             add_inflation_hooks(model, label, body.name, opening, loads[body.name],
-                                _fill_speed_reader(case, system, loads))
+                                _fill_speed_reader(system, loads))
         elif system.cluster and loads[body.name] is not None:
             add_fraction_channel(model, label, schedule, deployed)
     for system in model.systems:
@@ -188,14 +188,13 @@ def add_bodies(model: Model, case: Case, reduced: bool = False, massless=()) -> 
         add_tethers(model, case)
 
 
-def _fill_speed_reader(case: Case, system, loads: dict):
-    """The air speed (m/s, a function of run time) a pilot chute's canopy fills at: the body its bag left's, the
-    deploy point's (``loads``: the phase's ``BodyAerodynamics`` by body, filled in by then); None (the canopy's own)
-    for any other system or that body without aerodynamics. The pilot chute holds the canopy back near the air's
-    speed until the line stretch, and the snatch brings it up to the load's within milliseconds: Knacke's fill time
-    n D0 / V takes the load's speed at line stretch, which a canopy released with its load has itself. (A static
-    line's canopy keeps its own: it leaves at the aircraft's speed, close to the load's.)"""
-    if system.pilot_chute is None:
+def _fill_speed_reader(system, loads: dict):
+    """The air speed (m/s, a function of run time) a canopy whose bag anchor says so (``fills_at_load_speed``: a
+    pilot chute's) fills at: the body its bag left's, the deploy point's (``loads``: the phase's ``BodyAerodynamics``
+    by body, filled in by then; the canopy's own where that body has none); None (the canopy's own) otherwise. The
+    pilot chute holds the canopy back near the air's speed until the line stretch, and the snatch brings it up to
+    the load's within milliseconds: Knacke's fill time n D0 / V takes the load's speed at line stretch."""
+    if system.bag_anchor is None or not system.bag_anchor.fills_at_load_speed:
         return None
     body = system.deploy_point[0]
     return lambda time: (loads.get(body) or loads[system.canopies[0]]).air_speed(time)

@@ -29,9 +29,10 @@ class TriggerMonitor:
         self.pressure_at = pressure_function(case) if case.atmosphere is not None else None
         self.air_motion = case.air_motion()
         self.readers = {}
+        self.reads = {watch.event: _bodies_read(watch, case.vehicle) for watch in watches}   # (sensed, anchor or None)
         for watch in watches:   # a body not in this phase (not deployed yet, cut away) cannot be sensed in it
-            for body in _bodies_read(watch, case.vehicle):
-                if BodyChannel(body, "position") in model.channels:
+            for body in self.reads[watch.event]:
+                if body is not None and BodyChannel(body, "position") in model.channels:
                     self.readers[body] = (model.channels[BodyChannel(body, "position")],
                                           model.channels[BodyChannel(body, "velocity")])
         self.firings: list = []
@@ -77,13 +78,14 @@ class TriggerMonitor:
 
     def _readable(self, watch) -> bool:
         """Whether every body ``watch`` reads flies in this phase (a pilot chute still carried cannot pull)."""
-        return all(body in self.readers for body in _bodies_read(watch, self.case.vehicle))
+        sensed, anchor = self.reads[watch.event]
+        return sensed in self.readers and (anchor is None or anchor in self.readers)
 
     def _watch_truth(self, watch, t: float, truths: dict) -> dict:
         """The true values ``watch`` samples at ``t`` (s): its sensed body's, with a pilot chute's line stretch
         the pilot chute's centre of mass as ``anchor_position`` (m, start frame)."""
-        truth = self._truth(watch.trigger.sensor.body or self.case.vehicle, t, truths)
-        anchor = _anchor_body(watch)
+        sensed, anchor = self.reads[watch.event]
+        truth = self._truth(sensed, t, truths)
         if anchor is None:
             return truth
         return dict(truth, anchor_position=np.array(self.readers[anchor][0](), float))
@@ -136,13 +138,8 @@ class TriggerMonitor:
         return min((w.next_sample(t) for w in self.watches if w.event in self.window), default=math.inf)
 
 
-def _anchor_body(watch) -> str | None:
-    """The body a line stretch's bag hangs from (a pilot chute's; None for any other trigger and a static line)."""
+def _bodies_read(watch, vehicle: str) -> tuple:
+    """(sensed body, anchor body or None): the body ``watch`` senses (default ``vehicle``), and the body a line
+    stretch's bag hangs from (a pilot chute's; None for any other trigger and a static line)."""
     condition = watch.trigger.condition
-    return condition.line.body if isinstance(condition, LineStretch) else None
-
-
-def _bodies_read(watch, vehicle: str) -> list:
-    """The bodies whose state ``watch`` reads: its sensed body (default ``vehicle``), and a pilot chute's."""
-    anchor = _anchor_body(watch)
-    return [watch.trigger.sensor.body or vehicle] + ([] if anchor is None else [anchor])
+    return watch.trigger.sensor.body or vehicle, condition.line.body if isinstance(condition, LineStretch) else None

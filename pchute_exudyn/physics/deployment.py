@@ -48,6 +48,7 @@ class StaticLine:
     key = "static_line"        # the system's key that declares it
     body = None                # no body of the case: the aircraft flies on straight
     described = "static line"
+    fills_at_load_speed = False   # its canopy leaves at the aircraft's speed, close to the load's: its own speed
 
     def anchor_at(self, time: float, body_position=None) -> np.ndarray:
         """The anchor's start-frame position (m) at run time ``time`` (s) (``body_position``: unused)."""
@@ -80,6 +81,7 @@ class PilotChute:
     length: float
     key = "pilot_chute"
     described = "pilot chute's bridle"
+    fills_at_load_speed = True   # held near the air's speed: Knacke's V at line stretch is the load's
 
     def anchor_at(self, time: float, body_position) -> np.ndarray:
         """The anchor's start-frame position (m) at run time ``time`` (s): the pilot chute's centre of mass at
@@ -94,12 +96,11 @@ class PilotChute:
         return f"pilot chute '{self.body}'"
 
 
-def static_line_reach(static_line: StaticLine | PilotChute, riser_free_length: float, riser_point,
-                      deploy_point) -> float:
+def bag_reach(anchor: StaticLine | PilotChute, riser_free_length: float, riser_point, deploy_point) -> float:
     """m: how far the vehicle's centre of mass is from the anchor at line stretch, the static line (or the pilot
     chute's bridle), the canopy's centre to its riser's attach point, the riser and the deploy point's offset laid
     out in one straight line (an upper bound that the straight pull of a taut line makes close)."""
-    return static_line.length + float(np.linalg.norm(riser_point)) + riser_free_length \
+    return anchor.length + float(np.linalg.norm(riser_point)) + riser_free_length \
         + float(np.linalg.norm(deploy_point))
 
 

@@ -21,6 +21,7 @@ Heights are barometric in both unless a generic column says ``gps``. Times that 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -65,9 +66,9 @@ class FlightLog:
     kind: str = "barometric"
     pad_altitude: float | None = None
 
-    @property
+    @cached_property
     def phases(self) -> Phases:
-        """The pad level, the launch and the apogee (``physics.flight_phases``)."""
+        """The pad level, the launch and the apogee (``physics.flight_phases``), found once."""
         try:
             return flight_phases(self.time, self.height)
         except FlightPhaseError as exc:

@@ -223,7 +223,8 @@ class AdaptiveSteps:
         self._limits: dict = {}    # (system, relaxation time) -> its confluence's StepLimit, this check's
         self._remedies: dict = {}  # a confluence limit's description -> the layout or setting its method names
         self._taut_since: dict = {}   # tether -> the time (s) it last came taut (``_tether_cap``)
-        self._held = [system for system in model.systems if system.bag_anchor is not None]   # _held_snatch_cap
+        self._held = [snatch for system in model.systems if system.bag_anchor is not None
+                      for snatch in self._held_snatches(system)]   # _held_snatch_cap
         self._levers: dict = {}       # (body, point) -> its lever's constants (``_lever``)
 
     def after_step(self, t: float) -> float:
@@ -274,24 +275,29 @@ class AdaptiveSteps:
                 cap = min(cap, half_period / SNATCH_STEPS)
         return cap
 
+    def _held_snatches(self, system) -> list:
+        """(system, window in s, step in s) per canopy of a static line's (pilot chute's) system: its canopies, held
+        back at the aircraft's (pilot chute's) velocity, snatch on the lines as a tether's ends do, resolved the same
+        way (SNATCH_STEPS steps a half period pi sqrt(m / K) for SNATCH_PERIODS periods from line stretch; m the
+        canopy's mass, K its riser in series with the bridles together). Constants of the phase, worked out once."""
+        stiffness, _ = self._constants[system.name]
+        bridles = sum(k for k, line in zip(stiffness, system.lines) if line.body not in system.canopies)
+        snatches = []
+        for k, line in zip(stiffness, system.lines):
+            if line.body in system.canopies:
+                series = k * bridles / (k + bridles) if bridles > 0.0 else k
+                half_period = math.pi * math.sqrt(self.case.bodies[line.body].mass / series)
+                snatches.append((system, 2.0 * SNATCH_PERIODS * half_period, half_period / SNATCH_STEPS))
+        return snatches
+
     def _held_snatch_cap(self, t: float) -> float:
-        """The step (s) a static line's (pilot chute's) system allows after its line stretch: its canopies, held back
-        at the aircraft's (pilot chute's) velocity, snatch on the lines as a tether's ends do, resolved the same way
-        (SNATCH_STEPS steps a half period pi sqrt(m / K) for SNATCH_PERIODS periods; m the canopy's mass, K its riser
-        in series with the bridles together), and not relaxed (``_relax``: no longer than the lines' own damping keeps
-        stable); inf for any other system (its canopies leave at the vehicle's velocity)."""
+        """The step (s) the held snatches allow (``_held_snatches``) while their windows are open, not relaxed
+        (``_relax``: no longer than the lines' own damping keeps stable); inf otherwise (and for any other system:
+        its canopies leave at the vehicle's velocity)."""
         cap = math.inf
-        for system in self._held:
-            if t < system.deploy_time:
-                continue
-            stiffness, _ = self._constants[system.name]
-            bridles = sum(k for k, line in zip(stiffness, system.lines) if line.body not in system.canopies)
-            for k, line in zip(stiffness, system.lines):
-                if line.body in system.canopies:
-                    series = k * bridles / (k + bridles) if bridles > 0.0 else k
-                    half_period = math.pi * math.sqrt(self.case.bodies[line.body].mass / series)
-                    if t - system.deploy_time < 2.0 * SNATCH_PERIODS * half_period:   # the lines as they are
-                        cap = min(cap, half_period / SNATCH_STEPS, self.unrelaxed.get(system.name, math.inf))
+        for system, window, step in self._held:
+            if 0.0 <= t - system.deploy_time < window:   # the lines as they are
+                cap = min(cap, step, self.unrelaxed.get(system.name, math.inf))
         return cap
 
     def _reduced_mass(self, tether) -> float:

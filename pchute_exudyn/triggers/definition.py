@@ -69,7 +69,7 @@ class Threshold:
 @dataclass(frozen=True)
 class LineStretch:
     """A static line's or pilot chute's system at line stretch: the sensed body's centre of mass ``value`` (m, its
-    reach: ``physics.deployment.static_line_reach``) from the bag's anchor (``line``: a ``StaticLine``, whose anchor
+    reach: ``physics.deployment.bag_reach``) from the bag's anchor (``line``: a ``StaticLine``, whose anchor
     flies on with the aircraft, or a ``PilotChute``, whose anchor is its body's centre of mass as the run reads it).
     Read from the true positions (a line coming taut, not a sensor), at every step, its crossing interpolated."""
 
