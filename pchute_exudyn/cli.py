@@ -238,9 +238,12 @@ def _add_compare(subparsers) -> None:
                     "each side's rate of descent at chosen altitudes, time to the ground and rate there; the final "
                     "vehicle position, line tensions and confluence lateral velocity. Prints the report; with --out "
                     "also writes comparison.md, comparison.json and figures (overlays with a difference panel). "
-                    "CSV dialects: docs/tutorial.md.")
+                    "CSV dialects: docs/tutorial.md. A run against a flight log (an altimeter's or flight computer's "
+                    "export, read as it comes: docs/flight-logs.md) gives each side's apogee, deployments, descent "
+                    "rates under each canopy, apogee-to-touchdown time and drift, read the same way from both.")
     compare.add_argument("a", help="reference result: a result folder or a CSV file with a time column (s)")
-    compare.add_argument("b", help="result to check: a result folder or a CSV file with a time column (s)")
+    compare.add_argument("b", help="result to check: a result folder, a CSV file with a time column (s) or, against a "
+                                   "run folder, a flight log")
     compare.add_argument("--out", default=None, metavar="DIR", help="folder for the report and the figures")
     compare.add_argument("--settle", type=float, default=None, metavar="S",
                          help="settling time in s after which tension differences are also reported (default 2)")
@@ -285,6 +288,9 @@ def _compare(args) -> int:
         raise InputError(f"--ground = {args.ground!r}: must be a finite altitude (m)")
     altitudes = _altitudes(args.altitudes)
     maps = {"--map-a": parse_column_map(args.map_a), "--map": parse_column_map(args.column_map)}
+    log_side = _flight_log_side(args, maps)
+    if log_side is not None:
+        return _compare_log(args, *log_side)
     a = Result.load(args.a, maps["--map-a"])
     b = Result.load(args.b, maps["--map"])
     for flag, mapping, other, label in (("--map", maps["--map"], a, "A"), ("--map-a", maps["--map-a"], b, "B")):
@@ -313,6 +319,51 @@ def _compare(args) -> int:
                            columns.column("{owner}_velocity_down", vehicle)]
         written = _write_comparison(comparison, {f"A: {args.a}": a, f"B: {args.b}": b}, args.out, vehicle, shown)
         print(f"wrote {', '.join(path.name for path in written)} in {args.out}")
+    return 0
+
+
+def _flight_log_side(args, maps: dict):
+    """(run path, log path) when one side of ``pchute compare`` is a flight log (a flight computer's export, or a
+    CSV with a height column and none of the run's) and the other a run folder; None otherwise."""
+    from .results.flight_log import is_flight_log
+
+    for run, log, flag in ((args.a, args.b, "--map"), (args.b, args.a, "--map-a")):
+        if Path(run).is_dir() and not maps[flag] and Path(log).is_file() and is_flight_log(log):
+            return run, log
+    return None
+
+
+def _compare_log(args, run_path: str, log_path: str) -> int:
+    """``pchute compare RUN LOG``: the run against a flight log (``results.log_compare``)."""
+    from .case import load_case
+    from .results.flight_log import read_flight_log
+    from .results.io import atomic_write_text, ensure_writable_dir, json_text
+    from .results.log_compare import compare_with_log
+    from .results.result import Result
+
+    for flag in ("settle", "altitudes", "ground"):
+        if getattr(args, flag) is not None:
+            raise InputError(f"--{flag}: not for a run against a flight log (its figures: docs/flight-logs.md)")
+    run, log = Result.load(run_path), read_flight_log(log_path)
+    case_file = getattr(run.summary, "case_file", None)
+    air, name, ground = None, "", run.summary.ground_altitude or 0.0
+    if case_file and not Path(case_file).is_file():   # a relative path: from where the run was made
+        beside = Path(run_path).resolve().parent / case_file
+        case_file = str(beside) if beside.is_file() else case_file
+    if case_file and Path(case_file).is_file():
+        atmosphere = load_case(case_file).atmosphere
+        if atmosphere is not None:
+            air, name = (lambda z: atmosphere.states(z + ground)[0]), f"{atmosphere.name} of {case_file}"
+    comparison = compare_with_log(run, log, run_path, log_path, air, name or "none", ground)
+    if air is None and log.kind == "barometric":
+        comparison.notes.append(f"the run's case ({case_file}) is not at hand: the log's heights are as the "
+                                "altimeter gave them")
+    print(comparison.table(), end="")
+    if args.out is not None:
+        out = ensure_writable_dir(args.out)
+        atomic_write_text(out / "comparison.md", comparison.table())
+        atomic_write_text(out / "comparison.json", json_text(comparison.to_dict(), indent=2) + "\n")
+        print(f"wrote comparison.md, comparison.json in {args.out}")
     return 0
 
 

@@ -48,7 +48,10 @@ def predictions(result, targets) -> tuple[list, list]:
         else:
             column = result[target.name]
             keep = np.isfinite(column)
-            values.extend(np.interp(target.times, result.time[keep], column[keep]).tolist())
+            times = np.asarray(target.times)
+            if target.kind == "log":   # the log's times count from its apogee: the run's from its highest point
+                times = times + result.time[int(np.nanargmax(np.where(keep, column, -np.inf)))]
+            values.extend(np.interp(times, result.time[keep], column[keep]).tolist())
     return values, missing
 
 

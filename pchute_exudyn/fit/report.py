@@ -82,7 +82,7 @@ def _markdown(spec: FitSpec, result: FitOutcome, paths: dict) -> str:
     lines += ["", f"Standard errors from the Jacobian at the fit, (J^T J)^-1 {scaled}.", "",
               "| target | target value | std | start | fitted | fitted - target |", "|---|---|---|---|---|---|"]
     for target, measured, initial, fitted in _rows(spec, result):
-        if target.kind == "history":
+        if target.kind in ("history", "log"):
             start_rms, fitted_rms = (float(np.sqrt(np.mean((v - measured) ** 2))) for v in (initial, fitted))
             lines.append(f"| {target.label()} ({target.size} samples, RMS difference) | - | {target.std:g} | "
                          f"{start_rms:.4g} | {fitted_rms:.4g} | {fitted_rms:.4g} |")

@@ -29,6 +29,10 @@ from .spec import FitSpec
 
 DIFFERENCE_STEP = 1e-3
 """Forward-difference step in the scaled coordinates (a thousandth of each key's bound range)."""
+WIDER_STEP = 10.0
+"""The factor a key's step grows by when it changed no residual (``Problem.jacobian``)."""
+WIDEST_STEP = 0.1
+"""The widest step (a tenth of the key's range): a key that changes nothing even then has a column of zeros."""
 
 class FitStore(RecordFolder):
     """The fit folder: ``fit.toml`` (a copy), ``manifest.json`` (fingerprint and the digests of the files the fit
@@ -146,12 +150,30 @@ class Problem:
         return residuals
 
     def jacobian(self, u) -> np.ndarray:
-        """Forward differences, every perturbed run at once (backward at an upper bound)."""
+        """Forward differences, every perturbed run at once (backward at an upper bound). A key whose step changes
+        no residual (a trigger's threshold moves its event by less than one of its samples) is differenced again
+        with a step WIDER_STEP times larger, up to WIDEST_STEP: a column of zeros would leave its standard error
+        undefined."""
         u = np.asarray(u, float)
-        steps = np.where(u + DIFFERENCE_STEP <= 1.0, DIFFERENCE_STEP, -DIFFERENCE_STEP)
-        points = [u] + [u + steps[i] * np.eye(len(u))[i] for i in range(len(u))]
-        base, *moved = [self.residuals_of(r) for r in self.records(points)]
-        return np.column_stack([(r - base) / s for r, s in zip(moved, steps)])
+        step = np.full(len(u), DIFFERENCE_STEP)
+        columns = np.zeros((len(self.measured), len(u)))
+        pending = list(range(len(u)))
+        while pending:
+            signed = {i: _signed_step(u[i], step[i]) for i in pending}
+            points = [u] + [u + signed[i] * np.eye(len(u))[i] for i in pending]
+            base, *moved = [self.residuals_of(r) for r in self.records(points)]
+            for i, r in zip(pending, moved):
+                columns[:, i] = (r - base) / signed[i]
+            pending = [i for i in pending if not columns[:, i].any() and step[i] * WIDER_STEP <= WIDEST_STEP]
+            step[pending] *= WIDER_STEP
+        return columns
+
+
+def _signed_step(u: float, step: float) -> float:
+    """``step`` forward, backward where it would cross the upper bound, and never past the farther bound."""
+    if u + step <= 1.0:
+        return step
+    return -step if u - step >= 0.0 else max(1.0 - u, u) * (1.0 if 1.0 - u >= u else -1.0)
 
 
 class _Budget(Exception):
@@ -204,7 +226,7 @@ def _check_base_run(spec: FitSpec, record: Evaluation) -> None:
     if not record.ok:
         raise InputError(f"the run at the starting values failed: {record.error}")
     for i, target in enumerate(spec.targets):
-        _check_history_span(i, target, record.end_time)
+        _check_history_span(i, target, record)
         if target.name not in record.missing_events:
             continue
         if target.kind == "event":
@@ -215,16 +237,23 @@ def _check_base_run(spec: FitSpec, record: Evaluation) -> None:
                          f"has no such column{'; similar: ' + ', '.join(similar) if similar else ''}")
 
 
-def _check_history_span(i: int, target, end: float | None) -> None:
+def _check_history_span(i: int, target, record: Evaluation) -> None:
     """A history measured past the end of the run at the starting values is refused: the model has no value there
-    (holding its last one would compare the samples with a value the run never computed)."""
-    if target.kind != "history" or end is None or not target.times:
+    (holding its last one would compare the samples with a value the run never computed). A log's descent after the
+    run's touchdown is compared with the ground, where the run ended; a run that ends in the air is refused."""
+    end = record.end_time
+    if target.kind not in ("history", "log") or end is None or not target.times:
         return
+    touchdown = "touchdown" in (record.events or {})
     last = max(target.times)
-    if last > end + 1e-9 * max(1.0, abs(end)):
+    if target.kind == "log" and not touchdown:
+        raise InputError(f"targets[{i}].log: the run at the starting values ends at {end:g} s in the air, before its "
+                         "touchdown: lengthen simulation.duration so that it lands")
+    if target.kind == "history" and last > end + 1e-9 * max(1.0, abs(end)):
+        advice = (f"it touches down then: drop the samples after the touchdown, or fit a flight log's descent with "
+                  f"log = \"<file>\"" if touchdown else "drop them from the file or lengthen simulation.duration")
         raise InputError(f"targets[{i}].history: samples up to {last:g} s run {last - end:g} s past the end of the run "
-                         f"at the starting values ({end:g} s): drop them from the file or lengthen "
-                         "simulation.duration")
+                         f"at the starting values ({end:g} s): {advice}")
 
 
 def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str) -> FitOutcome:
@@ -244,10 +273,17 @@ def outcome(spec: FitSpec, problem: Problem, start, u, status: int, message: str
         name=spec.name, status=status, message=message, keys=[f.key for f in spec.free],
         initial=problem.values(start), fitted=problem.values(u), standard_error=errors.tolist(),
         covariance=covariance.tolist(), covariance_scaled_by_residuals=weighted and m > n,
-        bounds=[[f.low, f.high] for f in spec.free], at_bound=[bool(v <= 1e-9 or v >= 1 - 1e-9) for v in u],
+        bounds=[[f.low, f.high] for f in spec.free], at_bound=at_bounds(u),
         cost=0.5 * float(residuals @ residuals), residuals=residuals.tolist(),
         predictions_initial=initial.predictions, predictions_fitted=fitted.predictions,
         runs=len(problem.store.records), runs_this_time=problem.ran, reused=problem.reused)
+
+
+def at_bounds(u) -> list:
+    """Whether each scaled value lies within the Jacobian's step (DIFFERENCE_STEP of its range) of a bound: the
+    trust-region method stays strictly inside its bounds, so a value pressed against one ends a hair from it, and no
+    closer than the step can the fit's own derivative tell it from the bound."""
+    return [bool(v <= DIFFERENCE_STEP or v >= 1.0 - DIFFERENCE_STEP) for v in u]
 
 
 @dataclass(frozen=True)
@@ -269,7 +305,7 @@ class FitOutcome:
     covariance_scaled_by_residuals : bool
         Whether it is scaled by the residuals' variance (weighted targets) rather than from the targets' std.
     bounds, at_bound : list
-        Each key's [low, high] and whether the fit ended on one.
+        Each key's [low, high] and whether the fit ended on one (within a thousandth of its range: ``at_bounds``).
     cost : float
         Half the sum of the squared residuals at the fit (-).
     residuals : list of float

@@ -66,9 +66,10 @@ class Free:
 
 @dataclass(frozen=True)
 class Target:
-    """One measured quantity: ``kind`` "event" (an event's time, s), "final" (a column's last value) or
-    "history" (a column at ``times``); ``name`` the event label or column; ``measured`` the value(s); ``std`` the
-    standard deviation (same unit), ``weighted`` when given as a weight (1 / std) instead."""
+    """One measured quantity: ``kind`` "event" (an event's time, s), "final" (a column's last value), "history" (a
+    column at ``times``) or "log" (a flight log's descent: the vehicle's height above the ground at ``times``, s
+    after the apogee); ``name`` the event label or column; ``measured`` the value(s); ``std`` the standard deviation
+    (same unit), ``weighted`` when given as a weight (1 / std) instead."""
 
     kind: str
     name: str
@@ -83,7 +84,7 @@ class Target:
 
     def label(self) -> str:
         return {"event": f"event {self.name} (s)", "final": f"final {self.name}",
-                "history": f"history {self.name}"}[self.kind]
+                "history": f"history {self.name}", "log": f"log {self.name} (m)"}[self.kind]
 
 
 @dataclass(frozen=True)
@@ -128,8 +129,9 @@ class FitSpec:
 
         files = [Path(self.source).resolve()] + case_files(self.case)
         for target in tomllib.loads(self.text).get("targets", []):
-            if isinstance(target, dict) and isinstance(target.get("history"), str):
-                files.append((Path(self.source).parent / target["history"]).resolve())
+            for kind in ("history", "log"):
+                if isinstance(target, dict) and isinstance(target.get(kind), str):
+                    files.append((Path(self.source).parent / target[kind]).resolve())
         return files
 
 
@@ -156,7 +158,8 @@ def load_fit(path) -> FitSpec:
     raw_targets = top.raw("targets", None, "")
     if not isinstance(raw_targets, list) or not raw_targets:
         raise top.error("targets", "a fit needs at least one [[targets]] table (event, final or history)")
-    targets = tuple(_read_target(Table(t, ("targets", i), ctx), path.parent) for i, t in enumerate(raw_targets))
+    targets = tuple(_read_target(Table(t, ("targets", i), ctx), path.parent, case)
+                    for i, t in enumerate(raw_targets))
     _check_separations(ctx, targets, sorted(case.separations))
     top.finish()
     if max_runs < len(free) + 2:
@@ -219,11 +222,11 @@ def _case_value(case_path: Path, key: str) -> float:
     raise CaseError(str(case_path), key, "the case does not set it: give initial")
 
 
-def _read_target(t: Table, folder: Path) -> Target:
-    kinds = [k for k in ("event", "final", "history") if k in t.data]
+def _read_target(t: Table, folder: Path, case) -> Target:
+    kinds = [k for k in ("event", "final", "history", "log") if k in t.data]
     if len(kinds) != 1:
-        raise t.error(None, "give exactly one of: event = \"...\" (with time), final = \"<column>\" (with value) or "
-                            "history = \"<file.csv>\" (with column)")
+        raise t.error(None, "give exactly one of: event = \"...\" (with time), final = \"<column>\" (with value), "
+                            "history = \"<file.csv>\" (with column) or log = \"<flight log>\"")
     kind = kinds[0]
     if "std" in t.data and "weight" in t.data:
         raise t.error("weight", "give std or weight, not both")
@@ -235,6 +238,8 @@ def _read_target(t: Table, folder: Path) -> Target:
         target = Target("event", t.string("event"), (t.number("time", "s"),), std, weighted)
     elif kind == "final":
         target = Target("final", t.string("final"), (t.number("value", ""),), std, weighted)
+    elif kind == "log":
+        target = _log_target(t, folder, case, std, weighted)
     else:
         file = (folder / t.string("history")).resolve()
         if not file.is_file():
@@ -265,6 +270,28 @@ def _read_target(t: Table, folder: Path) -> Target:
         raise t.error(None, "measured values must be finite")
     _check_std(t, target)
     return target
+
+
+def _log_target(t: Table, folder: Path, case, std: float, weighted: bool) -> Target:
+    """A flight log's descent (``results.flight_log``): its heights above the pad from the apogee to the touchdown,
+    barometric ones read through the case's air (``physics.barometric``), spikes (samples SPIKE from the running
+    median) left out; times after the apogee. The model's value: its vehicle's height above the ground that long
+    after its own highest point."""
+    from ..physics.flight_phases import APOGEE_WINDOW, SPIKE, running_median
+    from ..registries.columns import column
+    from ..results.flight_log import read_flight_log
+    from ..results.log_compare import log_descent
+
+    file = (folder / t.string("log")).resolve()
+    if not file.is_file():
+        raise t.error("log", f"file not found: {file}", t.data["log"])
+    log = read_flight_log(file)
+    ground = case.simulation.ground_elevation
+    air = None if case.atmosphere is None else (lambda z: case.atmosphere.states(z + ground)[0])
+    _, times, heights = log_descent(log, air, ground)
+    keep = np.abs(heights - running_median(times, heights, APOGEE_WINDOW)) <= SPIKE
+    return Target("log", column("{owner}_height", case.vehicle), tuple(heights[keep].tolist()), std, weighted,
+                  tuple(times[keep].tolist()))
 
 
 def _check_std(t: Table, target: Target) -> None:

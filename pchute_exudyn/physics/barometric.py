@@ -1,0 +1,65 @@
+"""A barometric altimeter's heights read through the day's air.
+
+An altimeter measures pressure and reports the height that pressure has in the standard atmosphere (US76's first
+layer: T = 288.15 K - 6.5 K/km x h, p = 101325 Pa (T / 288.15 K)^(g0 / (R L))). On a day warmer than the standard the
+air is less dense, pressure falls more slowly with height, and the altimeter reads low: on a 35 C day at a 200 m pad
+a reported 1000 m is some 1070 m. The true heights follow from the hydrostatic balance of the day's air,
+dp = -rho(z) g dz: a sample whose standard height is h above a pad of standard height h_pad lies at the height z
+above the pad where g * integral_0^z rho_day = p_std(h_pad) - p_std(h_pad + h) (``geometric_heights``). The day's air
+is a density profile: a case's atmosphere, or a layer of constant lapse through the pad's pressure and temperature
+(``lapse_layer``) where the log or a sounding gives them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .atmosphere import US76_G0, US76_P0, US76_R, US76_T0
+
+STANDARD_LAPSE = 0.0065
+"""K/m: the temperature's fall with height in US76's first layer (0 to 11 km), the altimeters' standard."""
+GRID_STEP = 1.0
+"""m: the spacing of the day's density profile integrated for the heights (the density changes 0.01 % per m)."""
+
+
+def standard_pressure(pressure_altitude):
+    """Pa at ``pressure_altitude`` (m, US76's first layer; array or float): p0 (1 - L h / T0)^(g0 / (R L))."""
+    ratio = 1.0 - STANDARD_LAPSE * np.asarray(pressure_altitude, float) / US76_T0
+    return US76_P0 * ratio ** (US76_G0 / (US76_R * STANDARD_LAPSE))
+
+
+def pressure_altitude(pressure):
+    """m: the standard height of ``pressure`` (Pa; array or float), ``standard_pressure``'s inverse."""
+    ratio = (np.asarray(pressure, float) / US76_P0) ** (US76_R * STANDARD_LAPSE / US76_G0)
+    return US76_T0 * (1.0 - ratio) / STANDARD_LAPSE
+
+
+def lapse_layer(heights, pressure: float, temperature: float, lapse: float = STANDARD_LAPSE,
+                gravity: float = US76_G0):
+    """The day's air at ``heights`` (m above the point where it has ``pressure`` Pa and ``temperature`` K) as one
+    layer of constant ``lapse`` (K/m, temperature falling with height): (pressures Pa, temperatures K, densities
+    kg/m^3). p = p_g (T / T_g)^(g / (R L)), rho = p / (R T); ``gravity`` in m/s^2."""
+    temperatures = temperature - lapse * np.asarray(heights, float)
+    if lapse == 0.0:
+        pressures = pressure * np.exp(-gravity * np.asarray(heights, float) / (US76_R * temperature))
+    else:
+        pressures = pressure * (temperatures / temperature) ** (gravity / (US76_R * lapse))
+    return pressures, temperatures, pressures / (US76_R * temperatures)
+
+
+def geometric_heights(barometric_heights, pad_pressure_altitude: float, day_density, gravity: float = US76_G0):
+    """Heights above the pad (m) of an altimeter's ``barometric_heights`` (m above the pad, standard atmosphere)
+    in the day's air: ``day_density(z)`` gives its density (kg/m^3) at heights z (m above the pad, an array);
+    ``pad_pressure_altitude`` (m) is the pad's standard height (its pressure's: the log's own above-sea-level
+    reading, else the pad's elevation); ``gravity`` (m/s^2) the site's. Each sample's pressure drop below the pad's
+    is matched with the day's column of air (module docstring)."""
+    heights = np.asarray(barometric_heights, float)
+    drops = standard_pressure(pad_pressure_altitude) - standard_pressure(pad_pressure_altitude + heights)
+    # The day's column: a grid reaching past the samples (the day's air is thinner or denser, not 2x so).
+    low = min(float(heights.min()), 0.0) * 1.5 - 10.0
+    high = max(float(heights.max()), 0.0) * 1.5 + 10.0
+    grid = np.arange(low, high + GRID_STEP, GRID_STEP)
+    density = np.asarray(day_density(grid), float)
+    column = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(grid))]) * gravity
+    column -= np.interp(0.0, grid, column)   # zero at the pad
+    return np.interp(drops, column, grid)
