@@ -22,6 +22,17 @@ SPIKE = 5.0
 """m from the running median beyond which a sample is a spike, left out of the apogee's parabola."""
 MOST_PAIRS = 400
 """Samples at most in one Theil-Sen fit (evenly thinned): 80,000 pairs, milliseconds."""
+TOUCHDOWN_WINDOW = 2.0
+"""s: the running median the touchdown is read on (a landing's bounce and the wind on the port last a second)."""
+LANDED_BAND = 5.0
+"""m: on the ground is within this of the pad level, or still to within this (a landing site off the pad's level)."""
+LANDED_HOLD = 5.0
+"""s the height must stay so (and over LANDED_SAMPLES samples at least): a canopy descends at 3 m/s or more, 15 m
+in this time, so no descent passes for it, nor a telemetry record's repeated last value over a gap."""
+LANDED_SAMPLES = 3
+"""Samples at least in the LANDED_HOLD window."""
+REST_CEILING = 100.0
+"""m above the pad level below which a log at rest is on the ground (above it, a stuck sensor, not a landing)."""
 
 
 class FlightPhaseError(ValueError):
@@ -66,12 +77,35 @@ def flight_phases(times, heights) -> Phases:
     launch = int(near[-1]) if len(near) else 0
     smooth = running_median(times, heights, APOGEE_WINDOW)
     coarse = launch + int(np.argmax(smooth[launch:]))
-    if coarse >= len(times) - 2 or smooth[-1] > smooth[coarse] - LAUNCH_RISE:
+    if times[-1] - times[coarse] <= APOGEE_WINDOW:
+        raise FlightPhaseError(f"the height still rises at the log's end (its highest, {smooth[coarse]:.1f} m, at "
+                               f"{times[coarse]:.2f} s of {times[-1]:.2f} s): no apogee; the log must run past it")
+    if smooth[coarse:].min() > smooth[coarse] - LAUNCH_RISE:
         raise FlightPhaseError(f"the height never falls {LAUNCH_RISE:g} m below its highest point "
                                f"({smooth[coarse]:.1f} m at {times[coarse]:.2f} s): no descent")
     time, height = _vertex(times, heights, smooth, times[coarse])
     apogee = int(np.searchsorted(times, time))
     return Phases(pad, launch, float(times[launch]), min(apogee, len(times) - 1), time, height)
+
+
+def touchdown_index(times, heights, phases: Phases) -> int | None:
+    """Index of the touchdown: the first sample after the apogee from which the running median (TOUCHDOWN_WINDOW)
+    stays within LANDED_BAND of the pad level for LANDED_HOLD and LANDED_SAMPLES (or to the log's end), or stays
+    within LANDED_BAND of itself for them below REST_CEILING (a field above or below the pad). None when the log
+    ends in the air."""
+    times, heights = np.asarray(times, float), np.asarray(heights, float)
+    smooth = running_median(times, heights, TOUCHDOWN_WINDOW)
+    ends = np.maximum(np.searchsorted(times, times + LANDED_HOLD, side="right"),
+                      np.arange(len(times)) + LANDED_SAMPLES)
+    for i in range(phases.apogee_index, len(times)):
+        window = smooth[i:ends[i]]
+        if len(window) >= min(LANDED_SAMPLES, len(times) - i) and np.all(np.abs(window - phases.pad_level)
+                                                                         <= LANDED_BAND):
+            return i
+        whole = times[i] + LANDED_HOLD <= times[-1] and ends[i] <= len(times)
+        if whole and np.ptp(window) <= LANDED_BAND and smooth[i] - phases.pad_level <= REST_CEILING:
+            return i
+    return None
 
 
 def _vertex(times, heights, smooth, near: float) -> tuple[float, float]:

@@ -1,21 +1,11 @@
 """A flight computer's log as it comes (``FlightLog``): the times, the heights above the pad and what they are, the
-flight's phases (``physics.flight_phases``) and robust descent rates over height bands.
+flight's phases (``physics.flight_phases``), robust descent rates over height bands, the descent from the apogee to
+the touchdown, and what else the log records (pressure, temperature, GPS, the flight computer's own events).
 
-Formats read (``read_flight_log``, by the file's first line):
-
-* **AltOS** (Altus Metrum TeleMega, TeleMetrum, EasyMega, EasyMini; AltosUI's CSV export): a header line starting
-  ``#version,serial,flight,``; ``time`` in s from boost, ``height`` the barometric height above the pad (m),
-  ``altitude`` the barometric altitude above sea level (m; the GPS altitude, later in the row, has the same name and
-  is not read), ``state_name`` text. A GPS record and a sensor record share a time stamp: the first row of each time
-  is kept.
-* **Blue Raven** (Featherweight; the Blue Raven app's CSV export, high or low rate): a header with
-  ``Flight_Time_(s)``, ``Baro_Altitude_AGL_(feet)`` and ``Baro_Altitude_ASL_(feet)``, read in feet and converted;
-  its clock, hex and flag columns are not read.
-* **Generic**: any CSV ``pchute compare`` reads (``results.csv_dialects``) with a time column and a height column
-  named ``height``, ``altitude``, ``agl`` or ``alt``, in m or ft as its unit says; a height without a unit is
-  refused (feet and metres cannot be told apart).
-
-Heights are barometric in both unless a generic column says ``gps``. Times that go back are refused in one line.
+``read_flight_log`` picks the reader by the file's first line (``results.log_formats``: AltOS, Blue Raven, Raven FIP,
+Eggtimer, CATS, StratoLogger, generic) and refuses a log it cannot use in one line: an empty file, a header without
+rows, text in a numeric column, times that go back, a height of unknown unit, a log that never rises, stops before
+its apogee or never descends.
 """
 
 from __future__ import annotations
@@ -27,16 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..physics.flight_phases import FlightPhaseError, Phases, band_descent_rate, flight_phases
-from .csv_dialects import read_csv_columns
-
-FOOT = 0.3048
-"""m per international foot."""
-HEIGHT_UNITS = {"m": 1.0, "ft": FOOT, "feet": FOOT}
-BLUE_RAVEN = ("Flight_Time_(s)", "Baro_Altitude_AGL_(feet)", "Baro_Altitude_ASL_(feet)")
-"""The columns a Featherweight Blue Raven export is read by (its header has them; heights in feet)."""
-HEIGHT_NAMES = ("height", "altitude", "agl", "alt")
-"""Names of a generic log's height column, in the order they are looked for (the first one present is read)."""
+from ..physics.flight_phases import FlightPhaseError, Phases, band_descent_rate, flight_phases, touchdown_index
+from . import log_formats
+from .log_formats import BLUE_RAVEN, FOOT, HEIGHT_NAMES, HEIGHT_UNITS  # noqa: F401  (their home; read here too)
 
 
 @dataclass(frozen=True)
@@ -48,7 +31,7 @@ class FlightLog:
     source : str
         The file it was read from.
     format : str
-        "AltOS", "Blue Raven" or "generic".
+        The reader's name: "AltOS", "Blue Raven", "Raven FIP", "Eggtimer", "CATS", "StratoLogger" or "generic".
     time : ndarray
         s, increasing (the log's own zero).
     height : ndarray
@@ -57,6 +40,18 @@ class FlightLog:
         "barometric" or "gps": what the heights are.
     pad_altitude : float or None
         m above sea level of the pad, where the log gives it.
+    pressure : ndarray or None
+        Pa, the barometer's reading at each time, where the log has it.
+    temperature : ndarray or None
+        K, at each time: the flight computer's own sensor inside the airframe (board, not ambient) in every named
+        format (``results.log_formats``); in a generic CSV, whatever its ``temperature`` column is.
+    latitude_deg, longitude_deg : ndarray or None
+        degrees, the GPS fix at each time (nan before a fix), where the log has GPS.
+    gps_altitude : ndarray or None
+        m above sea level, the GPS altitude at each time (nan before a fix).
+    events : dict
+        ``{"apogee": s, "main": s}``: the times the flight computer fired its apogee (drogue) and main charges or
+        entered those states, as far as the log records them.
     """
 
     source: str
@@ -65,6 +60,12 @@ class FlightLog:
     height: np.ndarray = field(repr=False)
     kind: str = "barometric"
     pad_altitude: float | None = None
+    pressure: np.ndarray | None = field(default=None, repr=False)
+    temperature: np.ndarray | None = field(default=None, repr=False)
+    latitude_deg: np.ndarray | None = field(default=None, repr=False)
+    longitude_deg: np.ndarray | None = field(default=None, repr=False)
+    gps_altitude: np.ndarray | None = field(default=None, repr=False)
+    events: dict = field(default_factory=dict)
 
     @cached_property
     def phases(self) -> Phases:
@@ -72,7 +73,26 @@ class FlightLog:
         try:
             return flight_phases(self.time, self.height)
         except FlightPhaseError as exc:
-            raise InputError(f"{self.source}: {exc}") from None
+            raise InputError(f"{self.source}: height: {exc}") from None
+
+    @cached_property
+    def touchdown_index(self) -> int | None:
+        """Index of the touchdown (``physics.flight_phases.touchdown_index``: the running median of
+        TOUCHDOWN_WINDOW s back on the pad's level or at rest), None when the log ends in the air."""
+        return touchdown_index(self.time, self.height, self.phases)
+
+    @property
+    def touchdown_time(self) -> float | None:
+        """s (the log's clock) of the touchdown, or None when the log ends in the air."""
+        return None if self.touchdown_index is None else float(self.time[self.touchdown_index])
+
+    def descent(self, after: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """(time in s, height in m above the pad level) of the samples from ``after`` s past the apogee to the
+        touchdown (to the log's end when it ends in the air): the pad samples before the launch and after the
+        landing left out."""
+        start = int(np.searchsorted(self.time, self.phases.apogee_time + after))
+        stop = len(self.time) if self.touchdown_index is None else self.touchdown_index + 1
+        return self.time[start:stop], self.height[start:stop] - self.phases.pad_level
 
     def descent_rate(self, low: float, high: float) -> tuple[float, int]:
         """(m/s, positive down; samples used) between ``low`` and ``high`` (m above the pad) after the apogee: the
@@ -82,79 +102,31 @@ class FlightLog:
 
 
 def read_flight_log(path) -> FlightLog:
-    """The log at ``path`` (the formats of the module docstring). InputError in one line for a file no reader takes,
-    a height of unknown unit, or times that go back."""
+    """The log at ``path`` (the formats of ``results.log_formats``), its launch and apogee found (so that a log that
+    cannot be used is refused here). InputError in one line naming the file, the column and the value."""
     path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such file; give the path of a flight log")
     with path.open(encoding="utf-8-sig", errors="replace") as handle:
-        first = handle.readline()
-    if first.lstrip().startswith("#version,serial,flight,"):
-        return _altos(path, first)
-    if all(name in first for name in BLUE_RAVEN):
-        return _blue_raven(path, first)
-    return _generic(path)
+        first = handle.readline().strip()
+    log = FlightLog(str(path), **_reader(first)(path))
+    log.phases   # noqa: B018  (found now: a log with no launch, apogee or descent is refused on reading)
+    return log
 
 
-def _increasing(path: Path, time: np.ndarray, *columns) -> tuple:
-    """``time`` and ``columns`` with the repeats of a time stamp after its first row dropped; InputError when a time
-    goes back."""
-    steps = np.diff(time)
-    if np.any(steps < 0.0):
-        row = int(np.nonzero(steps < 0.0)[0][0]) + 2
-        raise InputError(f"{path}: time goes back at data row {row} ({time[row - 2]:g} s, then {time[row - 1]:g} s): "
-                         "a log's times must not decrease")
-    keep = np.concatenate([[True], steps > 0.0])
-    return (time[keep],) + tuple(column[keep] for column in columns)
-
-
-def _named_columns(path: Path, kind: str, names: list, wanted: tuple) -> np.ndarray:
-    """The ``wanted`` columns (by their first index in the header ``names``) of every data row of ``path`` as floats,
-    the other cells (text, hex) left alone. InputError naming the missing column or the row that is not a number."""
-    missing = [name for name in wanted if name not in names]
-    if missing:
-        raise InputError(f"{path}: a {kind} log needs the column {missing[0]!r}; its header has "
-                         f"{', '.join(names[:12])}...")
-    where = [names.index(name) for name in wanted]
-    rows = []
-    with path.open(encoding="utf-8-sig", errors="replace") as handle:
-        next(handle)
-        for number, line in enumerate(handle, start=2):
-            cells = line.split(",")
-            if len(cells) <= max(where):
-                continue   # a blank or cut-off last line
-            try:
-                rows.append([float(cells[index]) for index in where])
-            except ValueError:
-                raise InputError(f"{path}: row {number}: {', '.join(wanted)} must be numbers "
-                                 f"({line.strip()[:60]!r})") from None
-    return np.array(rows, float).reshape(-1, len(wanted))
-
-
-def _altos(path: Path, header: str) -> FlightLog:
-    names = [name.strip() for name in header.lstrip().lstrip("#").split(",")]
-    data = _named_columns(path, "AltOS", names, ("time", "height", "altitude"))
-    time, height, altitude = _increasing(path, data[:, 0], data[:, 1], data[:, 2])
-    return FlightLog(str(path), "AltOS", time, height, "barometric", float(np.median(altitude - height)))
-
-
-def _blue_raven(path: Path, header: str) -> FlightLog:
-    names = [name.strip() for name in header.split(",")]
-    data = _named_columns(path, "Blue Raven", names, BLUE_RAVEN)
-    time, above, sea = _increasing(path, data[:, 0], data[:, 1] * FOOT, data[:, 2] * FOOT)
-    return FlightLog(str(path), "Blue Raven", time, above, "barometric", float(np.median(sea - above)))
-
-
-def _generic(path: Path) -> FlightLog:
-    columns, units, _ = read_csv_columns(path)
-    lowered = {name.lower(): name for name in columns}
-    time_name = lowered.get("time") or lowered.get("t")
-    height_name = next((lowered[name] for name in HEIGHT_NAMES if name in lowered), None)
-    if time_name is None or height_name is None:
-        raise InputError(f"{path}: a flight log needs a time column and a height column (one of "
-                         f"{', '.join(HEIGHT_NAMES)}); its columns are {', '.join(columns)}")
-    unit = units.get(height_name, "").lower()
-    if unit not in HEIGHT_UNITS:
-        raise InputError(f"{path}: the height column {height_name!r} has unit {unit or 'none'!r}: say m or ft in "
-                         f"its header (e.g. '{height_name} (ft)'); feet and metres cannot be told apart")
-    time, height = _increasing(path, np.asarray(columns[time_name], float),
-                               np.asarray(columns[height_name], float) * HEIGHT_UNITS[unit])
-    return FlightLog(str(path), "generic", time, height, "gps" if "gps" in height_name.lower() else "barometric")
+def _reader(first: str):
+    """The reader of a file whose first line is ``first``."""
+    cells = [cell.strip() for cell in first.replace(";", ",").split(",")]
+    if first.startswith("#version,serial,flight,"):
+        return log_formats.altos
+    if all(name in cells for name in BLUE_RAVEN):
+        return log_formats.blue_raven
+    if "bILBA" in cells and any(cell.startswith("Time@") for cell in cells):
+        return log_formats.raven_fip
+    if cells[:2] == ["T", "Alt"]:
+        return lambda path: log_formats.eggtimer(path, ";" if ";" in first else ",")
+    if first.startswith("link,ts[deciseconds],state,"):
+        return log_formats.cats_ground_station
+    if "ts" in cells and "height" in cells:
+        return log_formats.cats_flight_info
+    return log_formats.generic

@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from pchute_exudyn.physics.flight_phases import (
+    LANDED_BAND,
     FlightPhaseError,
     band_descent_rate,
     flight_phases,
     theil_sen_slope,
+    touchdown_index,
 )
 
 RATE_DROGUE, RATE_MAIN, MAIN_HEIGHT = 25.0, 6.0, 300.0
@@ -70,10 +72,34 @@ def test_a_single_sample_derivative_is_what_the_band_rate_is_not():
 
 @pytest.mark.parametrize("bad, message", [
     (lambda t, h: (t, np.full_like(h, 1400.0)), "never rises"),
-    (lambda t, h: (t[t < 17.0], h[t < 17.0]), "never falls"),
+    (lambda t, h: (t[t < 17.0], h[t < 17.0]), "still rises at the log's end"),
+    (lambda t, h: (t, np.where(t > 18.0, 2400.0, h)), "never falls"),
     (lambda t, h: (t[::-1], h), "times must increase"),
 ])
-def test_a_log_without_a_launch_a_descent_or_ordered_times_says_which(bad, message):
+def test_a_log_without_a_launch_an_apogee_a_descent_or_ordered_times_says_which(bad, message):
     t, h = _flight()
     with pytest.raises(FlightPhaseError, match=message):
         flight_phases(*bad(t, h))
+
+
+@pytest.mark.parametrize("field", [0.0, 40.0, -25.0])
+def test_the_touchdown_on_a_field_at_or_off_the_pads_level(field):
+    """The main's descent at 6 m/s ends on a field ``field`` m above the pad (a hill; below it, a valley), with 1 m
+    rms noise: the touchdown is where the descent stops, to within the band's crossing (LANDED_BAND at 6 m/s) and a
+    second of the running median."""
+    t, clean = _flight()
+    t, clean = np.concatenate([t, t[-1] + np.arange(1, 201) * 0.05]), np.concatenate([clean, np.full(200, 1400.0)])
+    landed = t[np.argmax((t > 30.0) & (clean <= 1400.0))]   # on the pad's level; 15 s on the ground
+    touchdown = landed - field / RATE_MAIN
+    after = t >= min(landed, touchdown)
+    h = clean.copy()
+    h[after] = np.maximum(1400.0 - RATE_MAIN * (t[after] - landed), 1400.0 + field)
+    h += np.random.default_rng(2).normal(0.0, 1.0, len(t))
+    found = t[touchdown_index(t, h, flight_phases(t, h))]
+    assert found == pytest.approx(touchdown, abs=LANDED_BAND / RATE_MAIN + 1.0)
+
+
+def test_a_log_that_ends_in_the_air_has_no_touchdown():
+    t, h = _flight()
+    keep = t < 60.0
+    assert touchdown_index(t[keep], h[keep], flight_phases(t[keep], h[keep])) is None
