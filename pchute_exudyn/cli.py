@@ -323,12 +323,23 @@ def _compare(args) -> int:
 
 
 def _flight_log_side(args, maps: dict):
-    """(run path, log path) when one side of ``pchute compare`` is a flight log (a flight computer's export, or a
-    CSV with a height column and none of the run's) and the other a run folder; None otherwise."""
-    from .results.flight_log import is_flight_log
+    """(run path, log path) when one side of ``pchute compare`` is a run folder and the other, given without a map,
+    a flight log: a flight computer's own export, or a CSV that shares no column with the run (a generic log of
+    time and height); None otherwise."""
+    from .results.flight_log import named_log_format
+    from .results.result import Result
 
     for run, log, flag in ((args.a, args.b, "--map"), (args.b, args.a, "--map-a")):
-        if Path(run).is_dir() and not maps[flag] and Path(log).is_file() and is_flight_log(log):
+        if not (Path(run).is_dir() and Path(log).is_file()) or maps[flag]:
+            continue
+        if named_log_format(log):
+            return run, log
+        ours = Result.load(run)
+        try:
+            theirs = Result.load(log, {}, ours.vehicle)
+        except InputError:
+            return run, log   # not a result another tool wrote: read as a log (which says what is wrong with it)
+        if not set(theirs.names) & set(ours.names) - {"time"}:
             return run, log
     return None
 

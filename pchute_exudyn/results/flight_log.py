@@ -114,6 +114,13 @@ def read_flight_log(path) -> FlightLog:
     return log
 
 
+def named_log_format(path) -> bool:
+    """Whether the file at ``path`` is a flight computer's own export (a named format of ``results.log_formats``,
+    told by its first line), not a generic CSV."""
+    with Path(path).open(encoding="utf-8-sig", errors="replace") as handle:
+        return _reader(handle.readline().strip()) is not log_formats.generic
+
+
 def _reader(first: str):
     """The reader of a file whose first line is ``first``."""
     cells = [cell.strip() for cell in first.replace(";", ",").split(",")]

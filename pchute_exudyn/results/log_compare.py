@@ -7,9 +7,10 @@ from it by one set of rules, so that a difference is the flight's and not the re
   sample);
 * **the deployments**: each side's own record of when a canopy was released (the run's deploy events; the flight
   computer's firing or state changes where its log has them), and the **rate change** read from the heights alone:
-  the first time after the fastest descent that the descent rate (the height's running median over RATE_WINDOW,
-  differentiated) falls halfway to the rate near the ground. A descent whose fastest rate is not TWO_CANOPIES times
-  its rate near the ground has no rate change: one canopy;
+  the descent rate (the fall of the height's running median over RATE_WINDOW across RATE_SPAN) falls from the drogue's rate (its
+  median over BEFORE_CHANGE before the last sample faster than TWO_CANOPIES times the rate near the ground) halfway
+  to the rate near the ground (the median over the last NEAR_GROUND of the descent). A descent never that fast has
+  no rate change: one canopy;
 * **the descent rates** over height bands set by the log (under the drogue DROGUE_BAND of the way from the rate
   change's height to the apogee; under the main MAIN_BAND of the rate change's height), each the Theil-Sen slope of
   the samples in the band (``physics.flight_phases``), never a derivative of single samples;
@@ -31,9 +32,14 @@ from ..physics.flight_phases import running_median, theil_sen_slope
 RATE_WINDOW = 1.0
 """s: the running median the heights are smoothed with before the rate change is read (ejection spikes)."""
 RATE_GRID = 0.1
-"""s: the spacing the smoothed heights are differentiated on."""
+"""s: the spacing of the rates the rate change is found on."""
+RATE_SPAN = 4.0
+"""s: each rate is the smoothed heights' fall over this span, centred (a small drogue's tumbling rocket swings its
+barometer by metres from second to second)."""
 TWO_CANOPIES = 1.5
 """The fastest descent rate over the rate near the ground above which a descent has a rate change (a main)."""
+BEFORE_CHANGE = 10.0
+"""s: the drogue's rate before the change is the median over this long before the last fast sample."""
 NEAR_GROUND = 0.25
 """The last fraction of the descent's time whose median rate is the rate near the ground."""
 DROGUE_BAND = (0.1, 0.7)
@@ -82,16 +88,21 @@ def rate_change(time, height) -> tuple | None:
     grid = np.arange(time[0], time[-1], RATE_GRID)
     if len(grid) < 20:
         return None
-    smooth = np.interp(grid, time, running_median(time, height, RATE_WINDOW))
-    rate = running_median(grid, -np.gradient(smooth, grid), RATE_WINDOW)
-    fastest = int(np.argmax(rate))
+    smooth = running_median(time, height, RATE_WINDOW)
+    rate = (np.interp(grid - 0.5 * RATE_SPAN, time, smooth) - np.interp(grid + 0.5 * RATE_SPAN, time, smooth)) \
+        / RATE_SPAN
     ground = float(np.median(rate[int((1.0 - NEAR_GROUND) * len(rate)):]))
-    if not rate[fastest] > TWO_CANOPIES * ground:
+    fast = np.nonzero(rate > TWO_CANOPIES * ground)[0]
+    if not len(fast) or ground <= 0.0:
         return None
-    below = np.nonzero(rate[fastest:] <= 0.5 * (rate[fastest] + ground))[0]
-    if not len(below):
+    last = int(fast[-1])   # the last fast sample: the main has not yet taken over
+    start = max(0, last - int(BEFORE_CHANGE / RATE_GRID))
+    halfway = 0.5 * (float(np.median(rate[start:last + 1])) + ground)
+    crossed = np.nonzero(rate[start:] <= halfway)[0]
+    if not len(crossed) or start + crossed[0] == 0:
         return None
-    when = float(grid[fastest + below[0]])
+    k = start + int(crossed[0])
+    when = float(grid[k - 1] + (rate[k - 1] - halfway) / (rate[k - 1] - rate[k]) * RATE_GRID)
     return when, float(np.interp(when, time, height))
 
 

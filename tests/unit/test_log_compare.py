@@ -6,7 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from pchute_exudyn.results.log_compare import band_rate, bands, descent, gps_drift, rate_change, with_rates
+from scipy.optimize import brentq
+
+from pchute_exudyn.results.log_compare import RATE_SPAN, band_rate, bands, descent, gps_drift, rate_change, with_rates
 
 TAU = 1.0   # s: the main's deceleration time constant
 
@@ -20,11 +22,19 @@ def two_canopy_descent(noise: float = 0.0, seed: int = 0):
     return t[keep], h[keep] + np.random.default_rng(seed).normal(0.0, noise, np.count_nonzero(keep))
 
 
+def exact_height(t):
+    after = max(t - 90.0, 0.0)
+    return 2000.0 - 20.0 * t if t < 90.0 else 200.0 - 5.0 * after - 15.0 * TAU * (1.0 - math.exp(-after / TAU))
+
+
 def test_the_rate_change_is_halfway_from_the_drogue_to_the_main():
+    """Where the fall over RATE_SPAN, centred, is 12.5 m/s: halfway from 20 to 5 m/s."""
     t, h = two_canopy_descent()
     when, height = rate_change(t, h)
-    assert when == pytest.approx(90.0 + TAU * math.log(2.0), abs=0.1)   # 5 + 15 e^-x = 12.5
-    assert height == pytest.approx(200.0 - 5.0 * 0.693 - 15.0 * 0.5, abs=2.0)
+    span = RATE_SPAN / 2.0
+    expected = brentq(lambda x: (exact_height(x - span) - exact_height(x + span)) / RATE_SPAN - 12.5, 85.0, 95.0)
+    assert when == pytest.approx(expected, abs=0.05)
+    assert height == pytest.approx(exact_height(when), abs=0.5)
 
 
 def test_one_canopy_has_no_rate_change():
