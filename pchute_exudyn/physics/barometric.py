@@ -63,3 +63,32 @@ def geometric_heights(barometric_heights, pad_pressure_altitude: float, day_dens
     column = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(grid))]) * gravity
     column -= np.interp(0.0, grid, column)   # zero at the pad
     return np.interp(drops, column, grid)
+
+
+def offset_day_density(pad_pressure: float, pad_temperature: float, lapse: float = STANDARD_LAPSE,
+                       gravity: float = US76_G0):
+    """The day's density (kg/m^3) at heights z (m above the pad) as a function: one layer of ``lapse`` (K/m)
+    through the pad's ``pad_pressure`` (Pa) and ``pad_temperature`` (K) (``lapse_layer``)."""
+    return lambda z: lapse_layer(z, pad_pressure, pad_temperature, lapse, gravity)[2]
+
+
+def temperature_offset(barometric_heights, gps_heights, pad_pressure_altitude: float,
+                       gravity: float = US76_G0) -> float:
+    """K: the day's temperature above the standard's (the same at every height) at which the altimeter's
+    ``barometric_heights`` (m above the pad) read through the day (``geometric_heights``) best match ``gps_heights``
+    (m above the pad, the same samples) in least squares. The heights change almost linearly with the offset: two
+    trial days and a Newton step from the better one."""
+    baro, gps = np.asarray(barometric_heights, float), np.asarray(gps_heights, float)
+    pad_pressure = float(standard_pressure(pad_pressure_altitude))
+    standard_pad = US76_T0 - STANDARD_LAPSE * pad_pressure_altitude
+
+    def misfit(offset: float) -> float:
+        day = offset_day_density(pad_pressure, standard_pad + offset, gravity=gravity)
+        heights = geometric_heights(baro, pad_pressure_altitude, day, gravity)
+        return float(np.dot(heights - gps, heights)) / float(np.dot(heights, heights))
+
+    offset, trial = 0.0, 10.0
+    for _ in range(3):   # secant steps on the projected misfit (linear to 1e-3 over +-30 K)
+        low, high = misfit(offset), misfit(offset + trial)
+        offset -= low * trial / (high - low)
+    return offset

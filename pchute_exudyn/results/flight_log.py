@@ -17,9 +17,16 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..physics.barometric import temperature_offset
 from ..physics.flight_phases import FlightPhaseError, Phases, band_descent_rate, flight_phases, touchdown_index
 from . import log_formats
 from .log_formats import BLUE_RAVEN, FOOT, HEIGHT_NAMES, HEIGHT_UNITS  # noqa: F401  (their home; read here too)
+
+
+MIN_GPS_HEIGHT = 50.0
+"""m above the pad: GPS samples lower are left out of the day's temperature (the ground's multipath)."""
+MIN_GPS_FIXES = 50
+"""GPS fixes at least for the day's temperature from the log."""
 
 
 @dataclass(frozen=True)
@@ -93,6 +100,24 @@ class FlightLog:
         start = int(np.searchsorted(self.time, self.phases.apogee_time + after))
         stop = len(self.time) if self.touchdown_index is None else self.touchdown_index + 1
         return self.time[start:stop], self.height[start:stop] - self.phases.pad_level
+
+    def gps_temperature_offset(self, ground_altitude: float | None = None) -> tuple[float, int] | None:
+        """(K, samples): how much warmer than the standard atmosphere the day was, from the log's own GPS: the
+        offset at which its barometric heights, read through the day, best match its GPS heights over the descent
+        (``physics.barometric.temperature_offset``; samples MIN_GPS_HEIGHT above the pad with a fix, GPS heights
+        above the median GPS altitude on the pad). The pad's standard height is the log's own reading, else
+        ``ground_altitude`` (m). None for a log without GPS or barometer, or with fewer than MIN_GPS_FIXES fixes."""
+        if self.gps_altitude is None or self.kind != "barometric":
+            return None
+        pad = self.gps_altitude[: self.phases.launch_index + 1]
+        time, baro = self.descent()
+        gps = self.gps_altitude[np.searchsorted(self.time, time)] - (np.nanmedian(pad) if np.isfinite(pad).any()
+                                                                     else np.nan)
+        fixed = np.isfinite(gps) & (baro > MIN_GPS_HEIGHT)
+        standard = self.pad_altitude if self.pad_altitude is not None else ground_altitude
+        if np.count_nonzero(fixed) < MIN_GPS_FIXES or standard is None:
+            return None
+        return temperature_offset(baro[fixed], gps[fixed], standard), int(np.count_nonzero(fixed))
 
     def descent_rate(self, low: float, high: float) -> tuple[float, int]:
         """(m/s, positive down; samples used) between ``low`` and ``high`` (m above the pad) after the apogee: the
