@@ -26,8 +26,7 @@ import math
 
 from ..case.model import Contact
 from ..errors import InputError
-from ..physics.inflation import nominal_diameter
-from ..physics.inflation import Inflation, InflationStage
+from ..physics.inflation import Inflation, InflationStage, nominal_diameter
 from ..physics.shapes import hemispherical_shell_inertia, solid_cylinder_inertia
 from ..physics.slender_body import (
     axial_coefficient,
@@ -143,8 +142,9 @@ def _body_drag_words(c) -> list:
     area = math.pi * c.diameter**2 / 4.0
     nose_first, tail_first = axial_coefficients(c.length, c.diameter)
     broadside = crossflow_normal_coefficient(90.0, c.length, c.diameter)
-    return [f"# The body's own drag (a slender cylinder's cross flow, physics.slender_body): C_D S {area * nose_first:.4g}"
-            f" m^2 nose first, {area * tail_first:.4g} m^2 tail first, {area * broadside:.4g} m^2 broadside."]
+    return [f"# The body's own drag (a slender cylinder's cross flow, physics.slender_body): C_D S "
+            f"{area * nose_first:.4g} m^2 nose first, {area * tail_first:.4g} m^2 tail first, "
+            f"{area * broadside:.4g} m^2 broadside."]
 
 
 def _wind(c) -> list:
