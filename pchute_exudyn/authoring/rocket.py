@@ -5,9 +5,13 @@ The rocket is a slender cylinder of the given length and diameter, its body +x t
 Two systems ride packed in it (``packed = true``), each one bridle from the rocket's harness to a confluence and one
 riser to its canopy, the canopies flown reduced (``canopy_model = "reduced"``: a light canopy as a massless drag
 point at its riser's end; docs/models/reduced_canopy.md): the drogue deploys on an apogee trigger (sampled at
-TRIGGER_RATE, after ``apogee_lag``), the main on a barometric trigger at ``main_height`` above the ground, and the
-drogue is cut away when the main deploys (as RocketPy, where a second parachute's C_D S replaces the first's). The
-rocket's stated mass, centre of mass and inertia include the packed gear (``mass_includes_packed``).
+TRIGGER_RATE, after ``apogee_lag``), the main on a barometric trigger at ``main_height`` above the ground (after
+``main_lag``, opening over ``main_opening_time`` if given), and the drogue stays on its harness to touchdown
+(``drogue_after_main`` attached) or is cut away when the main deploys (cut: as RocketPy, where a second parachute's
+C_D S replaces the first's). The rocket's own drag as it hangs (``body_drag`` on) is a slender cylinder's at every
+angle of attack (``physics.slender_body``; docs/models/slender_body.md), written as its aerodynamics tables. Each
+canopy is sized by two of its drag area, diameter and C_D (``rocket_start.canopy_drag``). The rocket's stated mass,
+centre of mass and inertia include the packed gear (``mass_includes_packed``).
 Sizing rules, each written beside its number:
 
 * rocket: a solid cylinder, uniform (``physics.shapes.solid_cylinder_inertia``; a rocket's mass sits nearer its

@@ -26,7 +26,7 @@ CROSSFLOW_DRAG = 1.2
 projected area (Hoerner 1965, ch. 3; Wieselsberger's 1.20)."""
 FINITE_CYLINDER_DRAG = ((1.0, 0.64), (2.0, 0.68), (3.0, 0.72), (5.0, 0.74), (10.0, 0.82), (20.0, 0.91),
                         (40.0, 0.98))
-"""(L / d, C_D) of circular cylinders of finite length in subcritical cross flow (Wieselsberger 1922, as tabulated by
+"""(L / d, C_D) of circular cylinders of finite length in subcritical cross flow (Wieselsberger's, as tabulated by
 Goldstein 1938 and Hoerner 1965): eta = C_D / CROSSFLOW_DRAG, Jorgensen's finite-length factor."""
 SKIN_FRICTION = 0.0037
 """C_f (-): the turbulent flat plate's mean skin friction at Re = 3e6 (Prandtl-Schlichting 0.455 / (log10 Re)^2.58;
