@@ -165,6 +165,7 @@ def _run_case(args, figure) -> int:
 def _add_new(subparsers) -> None:
     from .authoring.command_help import choice_fields, command_help
     from .authoring.planets import PLANETS
+    from .authoring.rocket_start import WORDS
     from .registries.canopy_types import CANOPY_TYPES
 
     new = subparsers.add_parser(
@@ -176,7 +177,7 @@ def _add_new(subparsers) -> None:
                     "state over the ground (--dual-deploy, --from-rocketpy). Edit it or run it as it is (`pchute run "
                     "FILE`). The same from Python: pchute_exudyn.new_case(...).")
     new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
-    choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES)}
+    choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES), **WORDS}
     helps = command_help()
     for name, default in choice_fields():
         metavar, text = helps[name]
@@ -184,7 +185,7 @@ def _add_new(subparsers) -> None:
             new.add_argument("--" + name.replace("_", "-"), dest=f"new_{name}", action="store_true", default=None,
                              help=text)
             continue
-        kind = str if name in ("planet", "canopy_type", "name") else int if isinstance(default, int) else float
+        kind = str if isinstance(default, str) else int if isinstance(default, int) else float
         kind = str if name == "from_rocketpy" else kind
         new.add_argument("--" + name.replace("_", "-"), dest=f"new_{name}", type=kind, default=None,
                          choices=choices.get(name), metavar="CSV" if name == "from_rocketpy" else metavar,

@@ -84,13 +84,29 @@ class NewCase:
     length : float or None
         The rocket's length (m, dual deploy).
     drogue_drag_area, main_drag_area : float or None
-        The drogue's and the main's C_D0 S0 (m^2; dual deploy).
+        The drogue's and the main's C_D0 S0 (m^2; dual deploy); give it or the canopy's diameter.
     drogue_mass, main_mass : float or None
         The drogue's and the main's canopy mass (kg); None: 0.15 kg per m^2 of S0.
+    drogue_diameter, main_diameter : float or None
+        The drogue's and the main's nominal diameter D0 (m, dual deploy): S0 = pi D0^2 / 4, C_D S = C_D S0; with the
+        canopy's drag area instead its C_D is C_D S / S0 (then no drag coefficient).
+    drogue_drag_coefficient, main_drag_coefficient : float or None
+        The drogue's and the main's C_D0 on S0 (-, dual deploy); None: drag_coefficient, else the canopy type's.
     main_height : float or None
         The main's deployment height above the ground (m, dual deploy), below the start's.
     apogee_lag : float
         The drogue's delay after the first trigger sample past apogee (s, >= 0).
+    main_lag : float
+        The main's delay after the trigger sample below main_height (s, >= 0; the trigger's lag, dual deploy).
+    main_opening_time : float or None
+        The main's opening time (s, > 0, dual deploy): its drag area grows from 0 at deployment by the canopy type's
+        opening exponent, (t / t_o)^j; None: fully open at deployment.
+    body_drag : {"on", "off"}
+        The rocket body's own drag as it hangs (dual deploy): a slender cylinder's cross flow at any angle of attack
+        (Jorgensen, NASA TR R-474; physics.slender_body); off: none (as RocketPy's descent).
+    drogue_after_main : {"attached", "cut"}
+        The drogue after the main deploys (dual deploy): attached, on its harness to touchdown (a dual deploy as it
+        flies); cut: cut away then (RocketPy's one C_D S at a time).
     shock_cord_length : float or None
         A rocket in two sections on one shock cord of this length (m, dual deploy; authoring.two_section): the nose cone
         thrown off at apogee (after apogee_lag) at ejection_speed, the drogue and the main hanging from its harness,
@@ -151,7 +167,15 @@ class NewCase:
     drogue_mass: float | None = None
     main_mass: float | None = None
     main_height: float | None = None
+    drogue_diameter: float | None = None
+    main_diameter: float | None = None
+    drogue_drag_coefficient: float | None = None
+    main_drag_coefficient: float | None = None
     apogee_lag: float = 1.0
+    main_lag: float = 0.0
+    main_opening_time: float | None = None
+    body_drag: str = "on"
+    drogue_after_main: str = "attached"
     shock_cord_length: float | None = None
     shock_cord_strength: float = 6000.0
     ejection_speed: float = 5.0

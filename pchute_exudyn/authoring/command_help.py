@@ -8,7 +8,7 @@ from dataclasses import asdict, fields
 from .choices import NewCase
 
 UNIT_METAVARS = (("(kg", "KG"), ("(m^2", "M2"), ("(m/s", "M/S"), ("(m)", "M"), ("(m,", "M"), ("(deg", "DEG"),
-                 ("(s,", "S"), ("(s)", "S"), ("(-)", "C"), ("(Pa", "PA"), ("(N,", "N"), ("(N)", "N"))
+                 ("(s,", "S"), ("(s)", "S"), ("(-)", "C"), ("(-,", "C"), ("(Pa", "PA"), ("(N,", "N"), ("(N)", "N"))
 """A command-line metavar from the unit a NewCase attribute's description names first."""
 
 

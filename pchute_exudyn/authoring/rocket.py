@@ -5,9 +5,13 @@ The rocket is a slender cylinder of the given length and diameter, its body +x t
 Two systems ride packed in it (``packed = true``), each one bridle from the rocket's harness to a confluence and one
 riser to its canopy, the canopies flown reduced (``canopy_model = "reduced"``: a light canopy as a massless drag
 point at its riser's end; docs/models/reduced_canopy.md): the drogue deploys on an apogee trigger (sampled at
-TRIGGER_RATE, after ``apogee_lag``), the main on a barometric trigger at ``main_height`` above the ground, and the
-drogue is cut away when the main deploys (as RocketPy, where a second parachute's C_D S replaces the first's). The
-rocket's stated mass, centre of mass and inertia include the packed gear (``mass_includes_packed``).
+TRIGGER_RATE, after ``apogee_lag``), the main on a barometric trigger at ``main_height`` above the ground (after
+``main_lag``, opening over ``main_opening_time`` if given), and the drogue stays on its harness to touchdown
+(``drogue_after_main`` attached) or is cut away when the main deploys (cut: as RocketPy, where a second parachute's
+C_D S replaces the first's). The rocket's own drag as it hangs (``body_drag`` on) is a slender cylinder's at every
+angle of attack (``physics.slender_body``; docs/models/slender_body.md), written as its aerodynamics tables. Each
+canopy is sized by two of its drag area, diameter and C_D (``rocket_start.canopy_drag``). The rocket's stated mass,
+centre of mass and inertia include the packed gear (``mass_includes_packed``).
 Sizing rules, each written beside its number:
 
 * rocket: a solid cylinder, uniform (``physics.shapes.solid_cylinder_inertia``; a rocket's mass sits nearer its
@@ -26,11 +30,17 @@ import math
 
 from ..case.model import Contact
 from ..errors import InputError
-from ..physics.inflation import nominal_diameter
+from ..physics.inflation import Inflation, InflationStage, nominal_diameter
 from ..physics.shapes import hemispherical_shell_inertia, solid_cylinder_inertia
+from ..physics.slender_body import (
+    axial_coefficient,
+    axial_coefficients,
+    crossflow_normal_coefficient,
+    finite_length_factor,
+)
 from ..registries.canopy_types import CANOPY_TYPES
 from .planets import PLANETS, gravity_at
-from .rocket_start import ground, nose_attitude_deg, nose_direction, start_altitude, start_height
+from .rocket_start import canopy_drag, ground, nose_attitude_deg, nose_direction, start_altitude, start_height
 from .rules import (
     AXIAL_FLAT_TO_DEG,
     CANOPY_AREAL_MASS,
@@ -50,6 +60,11 @@ BRIDLE_FRACTION = 0.4
 """A system's bridle (shock cord from the harness) per rocket length (-, assumed: 1 m on a 2.5 m rocket)."""
 RISER_FRACTION = 2.0
 """A system's riser (confluence to the canopy) per rocket length (-, assumed: 5 m on a 2.5 m rocket)."""
+BODY_ANGLES_DEG = tuple(5.0 * k for k in range(37))
+"""The total angles of attack (deg) at which the body's coefficients are tabulated: 0 to 180 in 5 deg steps (the
+engine interpolates linearly between them)."""
+OPENING_POINTS = 8
+"""Intervals of the main's opening schedule (``main_opening_time``): the fill law (t / t_o)^j at 9 points."""
 
 
 def steady_rate(c, drag_area: float, altitude: float) -> float:
@@ -57,6 +72,17 @@ def steady_rate(c, drag_area: float, altitude: float) -> float:
     C_D S)), m the rocket's mass (gear included), g the planet's surface gravity."""
     gravity, atmosphere = gravity_at(c.planet, c.latitude or 0.0, altitude), PLANETS[c.planet][3]
     return math.sqrt(2.0 * c.mass * gravity / (atmosphere().density(altitude) * drag_area))
+
+
+def drag_area(c, which: str) -> float:
+    """The ``which`` canopy's C_D S (m^2; ``rocket_start.canopy_drag``)."""
+    return canopy_drag(c, which)[0]
+
+
+def main_phase_drag_area(c) -> float:
+    """C_D S (m^2) the rocket hangs under once the main is open: the main's, and the drogue's unless it is cut
+    away."""
+    return drag_area(c, "main") + (drag_area(c, "drogue") if c.drogue_after_main == "attached" else 0.0)
 
 
 def dual_deploy_lines(c) -> list:
@@ -68,9 +94,7 @@ def dual_deploy_lines(c) -> list:
 
 def _sizes(c, which: str) -> tuple:
     """(S0 (m^2), mass (kg), projected radius (m), apex distance (m)) of the ``which`` canopy."""
-    drag_coefficient = CANOPY_TYPES[c.canopy_type].drag_coefficient if c.drag_coefficient is None \
-        else c.drag_coefficient
-    area = getattr(c, f"{which}_drag_area") / drag_coefficient
+    area = canopy_drag(c, which)[1]
     mass = getattr(c, f"{which}_mass")
     radius = Contact().projected_radius(area)
     lines = c.suspension_line_length or nominal_diameter(area)
@@ -83,20 +107,19 @@ def _sizes(c, which: str) -> tuple:
 def header_lines(c) -> list:
     planet_lines, atmosphere = PLANETS[c.planet][:2]
     nose = nose_direction(c)
-    drogue = steady_rate(c, c.drogue_drag_area, ground(c))
-    main = steady_rate(c, c.main_drag_area, ground(c))
+    drogue = steady_rate(c, drag_area(c, "drogue"), ground(c))
+    main = steady_rate(c, main_phase_drag_area(c), ground(c))
     return [f"# {c.name}: a rocket's dual deploy, written by `pchute new --dual-deploy` (pchute_exudyn.authoring."
             "rocket; docs/tutorial.md).", "# Units SI; angles in degrees only where named _deg.",
             f"# Start {_n(start_height(c))} m above a ground at {_n(ground(c))} m, velocity over the ground east "
             f"{_n(c.velocity_east or 0.0)}, north {_n(c.velocity_north or 0.0)}, up {_n(c.velocity_up or 0.0)} m/s, "
             f"nose {math.degrees(math.asin(nose[2])):.4g} deg above the horizontal.",
-            f"# Drogue (C_D S {_n(c.drogue_drag_area)} m^2) on an apogee trigger at {TRIGGER_RATE:g} Hz, "
-            f"{_n(c.apogee_lag)} s lag; main (C_D S {_n(c.main_drag_area)} m^2) at {_n(c.main_height)} m above the "
-            + ("ground, the drogue cut away then." if c.shock_cord_length is None else
-               f"ground; the nose cone ejected at apogee on a {_n(c.shock_cord_length)} m shock cord, both canopies on "
-               "its harness, opening by their type's fill law (authoring.two_section)."),
-            f"# Steady rates at the ground: {drogue:.2f} m/s under the drogue, "
-            f"{main:.2f} m/s under the main (sqrt(2 m g / (rho C_D S)), m = {_n(c.mass)} kg).", "",
+            f"# Drogue (C_D S {_n(drag_area(c, 'drogue'))} m^2) on an apogee trigger at {TRIGGER_RATE:g} Hz, "
+            f"{_n(c.apogee_lag)} s lag; main (C_D S {_n(drag_area(c, 'main'))} m^2) at {_n(c.main_height)} m above "
+            + _harness_words(c),
+            f"# Steady rates at the ground: {drogue:.2f} m/s under the drogue, {main:.2f} m/s under the main"
+            + (" and the drogue" if c.drogue_after_main == "attached" else "")
+            + f" (sqrt(2 m g / (rho C_D S)), m = {_n(c.mass)} kg).", *_body_drag_words(c), "",
             "[case]", f"name = {json.dumps(c.name)}",
             f'description = "{c.mass:g} kg rocket: drogue at apogee, main at {c.main_height:g} m above the ground"',
             f'vehicle = "{"booster" if c.shock_cord_length is not None else "rocket"}"', "", "[planet]", *planet_lines,
@@ -104,6 +127,28 @@ def header_lines(c) -> list:
             "[start]", f"latitude_deg = {_n(c.latitude or 0.0)}", f"longitude_deg = {_n(c.longitude or 0.0)}",
             'velocities_relative_to = "ground"          # the initial velocities are over the ground', "",
             "[atmosphere]", f'model = "{atmosphere}"', *_wind(c), ""]
+
+
+def _harness_words(c) -> str:
+    """The header's words on the main's deployment and what becomes of the drogue then."""
+    lag = "" if c.main_lag == 0.0 else f" (after a {_n(c.main_lag)} s lag)"
+    if c.shock_cord_length is None:
+        return f"the ground{lag}, the drogue " + ("cut away then." if c.drogue_after_main == "cut" else
+                                                  "staying on its harness.")
+    return (f"the ground{lag}; the nose cone ejected at apogee on a {_n(c.shock_cord_length)} m shock cord, both "
+            "canopies on its harness, opening by their type's fill law (authoring.two_section)"
+            + (", the drogue cut away when the main deploys." if c.drogue_after_main == "cut" else "."))
+
+
+def _body_drag_words(c) -> list:
+    if c.body_drag == "off":
+        return []
+    area = math.pi * c.diameter**2 / 4.0
+    nose_first, tail_first = axial_coefficients(c.length, c.diameter)
+    broadside = crossflow_normal_coefficient(90.0, c.length, c.diameter)
+    return [f"# The body's own drag (a slender cylinder's cross flow, physics.slender_body): C_D S "
+            f"{area * nose_first:.4g} m^2 nose first, {area * tail_first:.4g} m^2 tail first, "
+            f"{area * broadside:.4g} m^2 broadside."]
 
 
 def _wind(c) -> list:
@@ -133,15 +178,35 @@ def _rocket(c) -> list:
             "   # m/s", f"velocity_down = {_n(-(c.velocity_up or 0.0))}   # m/s",
             f"yaw_deg = {_n(yaw)}   # the nose: pitch {_n(c.nose_pitch_deg or 0.0)} deg, heading "
             f"{_n(math.degrees(math.atan2(*nose_direction(c)[:2])) % 360.0)} deg", f"pitch_deg = {_n(pitch)}",
-            f"roll_deg = {_n(roll)}", ""]
+            f"roll_deg = {_n(roll)}", *body_drag_rows(c, "rocket", c.length), ""]
+
+
+def body_drag_rows(c, body: str, length: float) -> list:
+    """``body``'s aerodynamics as it hangs (``body_drag`` on): a cylinder ``length`` (m) by the rocket's diameter in
+    cross flow at every angle of attack (physics.slender_body), its force at the planform's centroid."""
+    if c.body_drag == "off":
+        return []
+    nose_first, tail_first = axial_coefficients(length, c.diameter)
+    angles = [_n(a) for a in BODY_ANGLES_DEG]
+    axial = [_n(axial_coefficient(a, length, c.diameter)) for a in BODY_ANGLES_DEG]
+    normal = [_n(crossflow_normal_coefficient(a, length, c.diameter)) for a in BODY_ANGLES_DEG]
+    return [f"[bodies.{body}.aerodynamics]   # its own drag as it hangs: a slender cylinder's cross flow (docs/models/"
+            "slender_body.md)", f"reference_area = {_n(math.pi * c.diameter**2 / 4.0)}   # m^2: pi d^2 / 4",
+            "center = [0.0, 0.0, 0.0]   # m: the planform's centroid, the uniform cylinder's centre of mass",
+            f"[bodies.{body}.aerodynamics.axial_coefficient]   # C_A,0 {nose_first:.4g} nose first, C_A,180 "
+            f"{tail_first:.4g} tail first (Hoerner 1965), on q cos^2(alpha)",
+            f"alpha_deg = [{', '.join(angles)}]", f"value = [{', '.join(axial)}]",
+            f"[bodies.{body}.aerodynamics.normal_coefficient]   # Jorgensen (NASA TR R-474): eta "
+            f"{finite_length_factor(length, c.diameter):.4g} at this L/d, C_dc 1.2"
+            , f"alpha_deg = [{', '.join(angles)}]", f"value = [{', '.join(normal)}]"]
 
 
 def canopy_lines(c, which: str) -> list:
     area, mass, radius, apex = _sizes(c, which)
-    drag_coefficient = getattr(c, f"{which}_drag_area") / area
+    drag_coefficient = drag_area(c, which) / area
     alpha, value = NORMAL_COEFFICIENT
     name = f"{which}_canopy"
-    return [f"[bodies.{name}]   # {c.canopy_type}, C_D0 S0 = {_n(getattr(c, f'{which}_drag_area'))} m^2: a "
+    return [f"[bodies.{name}]   # {c.canopy_type}, C_D0 S0 = {_n(drag_area(c, which))} m^2: a "
             "hemispherical shell of the projected radius",
             f"mass = {_n(mass)}   # kg" + (f" ({CANOPY_AREAL_MASS:g} kg per m^2 of S0, assumed)"
                                            if getattr(c, f"{which}_mass") is None else ""),
@@ -158,18 +223,43 @@ def canopy_lines(c, which: str) -> list:
 def _system(c, which: str) -> list:
     trigger = (f'deploy_trigger = {{ quantity = "apogee", rate = {_n(TRIGGER_RATE)}, lag = {_n(c.apogee_lag)} }}'
                "   # after the first sample past apogee" if which == "drogue" else
-               f'deploy_trigger = {{ quantity = "altitude", below = {_n(c.main_height)}, reference = "ground", '
-               f"rate = {_n(TRIGGER_RATE)} }}   # m above the ground")
+               main_trigger(c))
     rows = [f"[systems.{which}]", f'canopy = "{which}_canopy"',
             'canopy_model = "reduced"   # a light canopy: a drag point at the riser\'s end (docs/models/'
             "reduced_canopy.md)", "packed = true   # its canopy and confluence ride in the rocket until it deploys",
-            'deploy_point = "rocket.line_stretch"', trigger]
-    if which == "drogue":
-        rows.append('cutaway_trigger = { after = "main.deploy" }   # cut away when the main deploys (RocketPy: the '
-                    "main's C_D S replaces the drogue's)")
+            'deploy_point = "rocket.line_stretch"', trigger, *harness_rows(c, which), *_opening_rows(c, which)]
     rows += [f"[systems.{which}.confluence]", f"mass = {_n(CONFLUENCE_MASS_FRACTION * c.mass)}   # kg (0.2 % of the "
              "rocket's, assumed)"]
     return rows + line_rows(c, which, "rocket.harness") + [""]
+
+
+def main_trigger(c) -> str:
+    """The main's barometric trigger at ``main_height`` above the ground, with its lag when one is given."""
+    lag = "" if c.main_lag == 0.0 else f", lag = {_n(c.main_lag)}"
+    return (f'deploy_trigger = {{ quantity = "altitude", below = {_n(c.main_height)}, reference = "ground", '
+            f"rate = {_n(TRIGGER_RATE)}{lag} }}   # m above the ground")
+
+
+def harness_rows(c, which: str) -> list:
+    """The drogue's cutaway when the main deploys (``drogue_after_main`` cut); none when it stays attached."""
+    if which != "drogue" or c.drogue_after_main == "attached":
+        return []
+    return ['cutaway_trigger = { after = "main.deploy" }   # cut away when the main deploys (RocketPy: the '
+            "main's C_D S replaces the drogue's)"]
+
+
+def _opening_rows(c, which: str) -> list:
+    """The main's drag area growing over ``main_opening_time`` by its type's fill law from 0 (none: fully open at
+    deployment)."""
+    if which != "main" or c.main_opening_time is None:
+        return []
+    exponent = CANOPY_TYPES[c.canopy_type].opening_exponent
+    opening = Inflation(stages=(InflationStage(0.0, 1.0, 1.0, exponent),))
+    times = [c.main_opening_time * k / OPENING_POINTS for k in range(OPENING_POINTS + 1)]
+    fractions = [opening.fraction(t, [c.main_opening_time]) for t in times]
+    return [f"drag_area_schedule = {{ time = [{', '.join(_n(t) for t in times)}], fraction = "
+            f"[{', '.join(_n(f) for f in fractions)}] }}   # opening in {_n(c.main_opening_time)} s, (t / t_o)^"
+            f"{exponent:g} ({c.canopy_type})"]
 
 
 def line_rows(c, which: str, harness: str) -> list:
@@ -188,8 +278,8 @@ def line_rows(c, which: str, harness: str) -> list:
 
 
 def simulation_lines(c) -> list:
-    drogue_time = (start_height(c) - c.main_height) / steady_rate(c, c.drogue_drag_area, ground(c))
-    main_time = c.main_height / steady_rate(c, c.main_drag_area, ground(c))
+    drogue_time = (start_height(c) - c.main_height) / steady_rate(c, drag_area(c, "drogue"), ground(c))
+    main_time = c.main_height / steady_rate(c, drag_area(c, "main"), ground(c))
     climb = max(c.velocity_up or 0.0, 0.0) / gravity_at(c.planet, c.latitude or 0.0, ground(c))
     duration = 10.0 * math.ceil((1.25 * (drogue_time + main_time) + 2.0 * climb + c.apogee_lag + 20.0) / 10.0)
     return ["[simulation]", f"duration = {_n(duration)}   # s: an upper bound; the run ends at touchdown",

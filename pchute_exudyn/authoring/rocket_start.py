@@ -13,10 +13,21 @@ from ..errors import InputError
 from .choice_checks import check_number, check_positive
 
 ROCKET_ONLY = ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
+               "drogue_diameter", "main_diameter", "drogue_drag_coefficient", "main_drag_coefficient", "main_lag",
+               "main_opening_time", "body_drag", "drogue_after_main",
                "latitude", "longitude", "ground_elevation", "height", "velocity_east", "velocity_north",
                "velocity_up", "nose_pitch_deg", "nose_heading_deg", "from_rocketpy", "shock_cord_length",
                "nose_mass")
 """NewCase fields of the dual-deploy form only."""
+WORDS = {"body_drag": ("on", "off"), "drogue_after_main": ("attached", "cut")}
+"""The dual deploy's worded choices: field -> the words allowed (``pchute new``'s choices too)."""
+NOT_DUAL = {"drag_area": "each canopy's: --drogue-drag-area, --main-drag-area",
+            "canopy_diameter": "each canopy's: --drogue-diameter, --main-diameter",
+            "canopy_mass": "each canopy's: --drogue-mass, --main-mass",
+            "bridles": "a dual deploy hangs each system from one bridle"}
+"""NewCase fields a dual deploy refuses, even given at their default value: field -> what it takes instead."""
+CANOPY_DRAG_COEFFICIENT_MAX = 3.0
+"""The largest C_D on S0 (-) a canopy's drag area and diameter may imply together: beyond it, one is a slip."""
 START_FIELDS = ("altitude", "height", "latitude", "longitude", "velocity_east", "velocity_north", "velocity_up",
                 "nose_pitch_deg", "nose_heading_deg")
 """The start state's NewCase fields, which a RocketPy export gives (``started_from``)."""
@@ -34,12 +45,19 @@ def check_choices(c) -> None:
     if c.planet == "mars":
         raise InputError("planet = 'mars': a dual deploy flies on Earth; give planet 'earth' (--planet earth) or "
                          "'flat'")
-    for key in ("length", "drogue_drag_area", "main_drag_area", "main_height"):
+    check_not_dual(c, [f.name for f in fields(c) if getattr(c, f.name) != f.default])
+    for key in ("length", "main_height"):
         if getattr(c, key) is None:
             raise InputError(f"{key}: required with dual_deploy ({_UNITS[key]})")
     for key in ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
-                "height"):
+                "height", "drogue_diameter", "main_diameter", "drogue_drag_coefficient", "main_drag_coefficient",
+                "main_opening_time"):
         check_positive(key, getattr(c, key), optional=True, unit=_UNITS[key])
+    for key, words in WORDS.items():
+        if getattr(c, key) not in words:
+            raise InputError(f"{key} = {getattr(c, key)!r}: must be one of: {', '.join(words)}")
+    check_canopies(c)
+    check_number("main_lag", c.main_lag, c.main_lag >= 0.0, "must be a number >= 0 (s)")
     for key, low, high, unit in (("latitude", -90.0, 90.0, "deg"), ("longitude", -360.0, 360.0, "deg"),
                                  ("nose_pitch_deg", -90.0, 90.0, "deg, above the horizontal"),
                                  ("nose_heading_deg", -360.0, 360.0, "deg, clockwise from north"),
@@ -64,6 +82,51 @@ def check_choices(c) -> None:
                          f"{height:g} m (the main deploys on the way down)")
 
 
+def check_not_dual(c, given) -> None:
+    """InputError for a field of ``given`` (names) that a dual deploy has no use for (NOT_DUAL): one line naming it
+    and what the dual deploy takes instead, rather than a file that silently leaves it out."""
+    for key in given:
+        if c.dual_deploy and key in NOT_DUAL:
+            raise InputError(f"{key} = {getattr(c, key)!r}: not with dual_deploy (--dual-deploy): {NOT_DUAL[key]}")
+
+
+def check_canopies(c) -> None:
+    """Each canopy's size: its drag area or diameter (or both, then no drag coefficient), one drag coefficient."""
+    for which in ("drogue", "main"):
+        area, diameter, coefficient = (getattr(c, f"{which}_{key}") for key in
+                                       ("drag_area", "diameter", "drag_coefficient"))
+        if area is None and diameter is None:
+            raise InputError(f"{which}_drag_area: required with dual_deploy (m^2), or {which}_diameter (m)")
+        if coefficient is not None and c.drag_coefficient is not None:
+            raise InputError(f"{which}_drag_coefficient = {coefficient!r} and drag_coefficient = "
+                             f"{c.drag_coefficient!r}: give one (--{which}-drag-coefficient or --drag-coefficient, "
+                             "which sets both canopies')")
+        if area is not None and diameter is not None:
+            given = coefficient if coefficient is not None else c.drag_coefficient
+            if given is not None:
+                name = f"{which}_drag_coefficient" if coefficient is not None else "drag_coefficient"
+                raise InputError(f"{name} = {given!r}: not with both {which}_drag_area and {which}_diameter "
+                                 f"(--{which}-drag-area, --{which}-diameter: they give C_D = C_D S / S0); give two "
+                                 "of the three")
+            implied = area / (math.pi * diameter**2 / 4.0)
+            if implied > CANOPY_DRAG_COEFFICIENT_MAX:
+                raise InputError(f"{which}_drag_area = {area!r} and {which}_diameter = {diameter!r}: imply C_D = "
+                                 f"{implied:.3g} on S0 = pi D0^2 / 4, above {CANOPY_DRAG_COEFFICIENT_MAX:g}")
+
+
+def canopy_drag(c, which: str) -> tuple:
+    """(C_D S (m^2), S0 (m^2)) of the ``which`` ("drogue" or "main") canopy: from its drag area and its C_D (its
+    own, else drag_coefficient, else the canopy type's), or from its diameter, S0 = pi D0^2 / 4, and either."""
+    area, diameter, coefficient = (getattr(c, f"{which}_{key}") for key in ("drag_area", "diameter",
+                                                                            "drag_coefficient"))
+    if coefficient is None:
+        coefficient = c.canopy_drag_coefficient
+    if diameter is None:
+        return area, area / coefficient
+    reference = math.pi * diameter**2 / 4.0
+    return (coefficient * reference if area is None else area), reference
+
+
 def check_sections(c) -> None:
     """The two-section form's choices (``shock_cord_length`` and what goes with it)."""
     check_positive("shock_cord_length", c.shock_cord_length, optional=True, unit="m")
@@ -75,6 +138,9 @@ def check_sections(c) -> None:
     if c.shock_cord_length is not None and c.shock_cord_length < 0.3 * c.length:
         raise InputError(f"shock_cord_length = {c.shock_cord_length!r}: must be at least the nose cone's reach out of "
                          f"the booster, {0.3 * c.length:g} m (0.3 x length)")
+    if c.shock_cord_length is not None and c.main_opening_time is not None:
+        raise InputError(f"main_opening_time = {c.main_opening_time!r}: not with shock_cord_length "
+                         "(--shock-cord-length): the two-section form opens each canopy by its type's fill law")
     if c.shock_cord_length is None:
         defaults = {f.name: f.default for f in fields(c)}
         given = [key for key in SECTION_ONLY if getattr(c, key) != defaults[key]]
@@ -88,7 +154,8 @@ SECTION_ONLY = ("nose_mass", "shock_cord_strength", "ejection_speed")
 
 
 _UNITS = {"length": "m", "drogue_drag_area": "m^2", "main_drag_area": "m^2", "main_height": "m",
-          "drogue_mass": "kg", "main_mass": "kg", "height": "m"}
+          "drogue_mass": "kg", "main_mass": "kg", "height": "m", "drogue_diameter": "m", "main_diameter": "m",
+          "drogue_drag_coefficient": "-", "main_drag_coefficient": "-", "main_opening_time": "s"}
 
 
 def ground(c) -> float:

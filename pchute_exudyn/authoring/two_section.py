@@ -7,7 +7,8 @@ nylon rated at ``shock_cord_strength``; its damping DAMPING_RATIO of critical on
 out DROGUE_DELAY after the ejection and the main at ``main_height`` above the ground, both packed in the booster and
 hanging from its eye bolt (the cord's booster end; one bridle and one riser each, reduced canopies), each opening by
 its canopy type's fill law (n, exponent, C_x; CANOPY_TYPES) from line stretch; the drogue stays on its harness after
-the main opens. Sizing:
+the main opens (``drogue_after_main`` attached; cut: cut away then), the booster's own drag that of a cylinder of its
+length (``body_drag``; ``authoring.rocket.body_drag_rows``). Sizing:
 the booster the rocket's length but NOSE_FRACTION, a solid cylinder; the nose a solid cone of NOSE_FRACTION of the
 length and ``nose_mass`` (a tenth of the rocket's unless given); the canopies and lines as ``authoring.rocket``'s.
 """
@@ -19,7 +20,17 @@ import math
 from ..physics.line_materials import LINE_MATERIALS
 from ..physics.shapes import solid_cylinder_inertia
 from ..registries.canopy_types import CANOPY_TYPES
-from .rocket import BRIDLE_FRACTION, TRIGGER_RATE, canopy_lines, header_lines, line_rows, simulation_lines
+from .rocket import (
+    BRIDLE_FRACTION,
+    TRIGGER_RATE,
+    body_drag_rows,
+    canopy_lines,
+    harness_rows,
+    header_lines,
+    line_rows,
+    main_trigger,
+    simulation_lines,
+)
 from .rocket_start import nose_attitude_deg, nose_direction, start_altitude, start_height
 from .rules import CONFLUENCE_MASS_FRACTION
 from .text import number as _n
@@ -77,7 +88,8 @@ def sections_bodies(c) -> list:
             f"altitude = {_n(start_altitude(c))}   # m: {_n(start_height(c))} m above the ground",
             f"velocity_east = {_n(c.velocity_east or 0.0)}   # m/s", f"velocity_north = {_n(c.velocity_north or 0.0)}"
             "   # m/s", f"velocity_down = {_n(-(c.velocity_up or 0.0))}   # m/s",
-            f"yaw_deg = {_n(yaw)}", f"pitch_deg = {_n(pitch)}", f"roll_deg = {_n(roll)}", "",
+            f"yaw_deg = {_n(yaw)}", f"pitch_deg = {_n(pitch)}", f"roll_deg = {_n(roll)}",
+            *body_drag_rows(c, "booster", g["booster_length"]), "",
             "[bodies.nose]                              # a solid cone, body +x toward its tip",
             f"mass = {_n(g['nose_mass'])}   # kg",
             f"inertia = [{_n(cone_axial)}, {_n(cone_across)}, {_n(cone_across)}]   # kg m^2: 3 m r^2 / 10, "
@@ -107,12 +119,11 @@ def sections_system(c, which: str) -> list:
     kind = CANOPY_TYPES[c.canopy_type]
     trigger = (f'deploy_trigger = {{ after = "nose.separation", delay = {_n(DROGUE_DELAY)} }}   # behind the nose'
                if which == "drogue" else
-               f'deploy_trigger = {{ quantity = "altitude", below = {_n(c.main_height)}, reference = "ground", '
-               f"rate = {_n(TRIGGER_RATE)} }}   # m above the ground")
+               main_trigger(c))
     rows = [f"[systems.{which}]", f'canopy = "{which}_canopy"',
             'canopy_model = "reduced"   # a light canopy: a drag point at the riser\'s end (docs/models/'
             "reduced_canopy.md)", "packed = true   # its canopy and confluence ride in the booster until it deploys",
-            'deploy_point = "booster.line_stretch"', trigger, f"[systems.{which}.confluence]",
+            'deploy_point = "booster.line_stretch"', trigger, *harness_rows(c, which), f"[systems.{which}.confluence]",
             f"mass = {_n(CONFLUENCE_MASS_FRACTION * c.mass)}   # kg (0.2 % of the rocket's, assumed)",
             f"[systems.{which}.inflation]   # {c.canopy_type}: {kind.opening_source}",
             "stage_start = [0.0]", "fraction = [1.0]", f"fill_constant = [{_n(kind.fill_constant)}]",

@@ -9,6 +9,7 @@ from .choices import NewCase
 from .descent import DescentWriter
 from .layout import layout
 from .rocket import dual_deploy_lines
+from .rocket_start import check_not_dual
 from .text import aligned
 from .two_section import two_section_lines
 
@@ -48,6 +49,7 @@ def new_choices(given: dict) -> NewCase:
     even at its default value."""
     choices = NewCase(**given)
     check_needs(choices, given)
+    check_not_dual(choices, given)
     return choices
 
 

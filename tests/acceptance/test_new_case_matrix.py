@@ -83,7 +83,8 @@ def test_every_dual_deploy_lands_under_its_main(mass, tmp_path):
     assert main(["new", str(path), "--dual-deploy", "--planet", "earth", "--canopy-type", "flat_circular", "--mass",
                  str(mass), "--diameter", str(diameter), "--length", str(length), "--drogue-drag-area", str(drogue),
                  "--main-drag-area", str(main_area), "--main-height", "150", "--height", "600",
-                 "--ground-elevation", "1400", "--velocity-east", "10"]) == 0
+                 "--ground-elevation", "1400", "--velocity-east", "10", "--body-drag", "off", "--drogue-after-main",
+                 "cut"]) == 0
     assert main(["run", str(path), "--no-plot", "--quiet", "--out", str(tmp_path / "out")]) == 0
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     kinds = [(event["event"], event.get("system")) for event in summary["events"]]

@@ -4,6 +4,7 @@ starts at a RocketPy export's apogee; `pchute compare` reads RocketPy's export w
 gives one line."""
 
 import json
+import math
 
 import pytest
 
@@ -14,9 +15,12 @@ from tests.bad_input_harness import assert_one_line, run_bad_input
 from tests.helpers import ROOT
 
 EXPORTS = ROOT / "validation" / "rocketpy"
-ROCKET = ["--dual-deploy", "--planet", "earth", "--canopy-type", "flat_circular", "--mass", "21.31", "--diameter",
-          "0.15", "--length", "2.5", "--drogue-drag-area", "1", "--main-drag-area", "10", "--main-height", "300",
-          "--drogue-mass", "0.17", "--main-mass", "1.06"]
+FORM = ["--dual-deploy", "--planet", "earth", "--canopy-type", "flat_circular", "--mass", "21.31", "--diameter",
+        "0.15", "--length", "2.5", "--drogue-drag-area", "1", "--main-drag-area", "10", "--main-height", "300",
+        "--drogue-mass", "0.17", "--main-mass", "1.06"]
+ROCKETPY_MATCHED = ["--body-drag", "off", "--drogue-after-main", "cut"]
+"""RocketPy's descent (issue 56): no body drag, one C_D S at a time; the case these tests were written on."""
+ROCKET = FORM + ROCKETPY_MATCHED
 START = ["--latitude", "32.99", "--longitude", "-106.97", "--ground-elevation", "1400", "--height", "2500",
          "--velocity-east", "15"]
 
@@ -133,7 +137,10 @@ def test_the_two_section_form_writes_the_ejection_the_shock_cord_and_the_opening
     """`--shock-cord-length` (issue 55): the nose cone carried until the apogee ejection, tied by a rated nylon
     cord; both canopies packed in the booster, on its eye bolt, opening by their type's law; the run reports the
     cord's snatch and margin."""
-    path, data = _write(tmp_path, *START, "--shock-cord-length", "6", "--ejection-speed", "4", "--nose-mass", "2")
+    path = tmp_path / "rocket.toml"
+    assert main(["new", str(path), *FORM, *START, "--shock-cord-length", "6", "--ejection-speed", "4", "--nose-mass",
+                 "2"]) == 0
+    data = tomllib.loads(path.read_text())
     assert data["case"]["vehicle"] == "booster" and data["bodies"]["nose"]["mass"] == 2.0
     assert data["separations"]["nose"]["speed"] == 4.0
     cord = data["tethers"]["shock_cord"]
@@ -144,6 +151,8 @@ def test_the_two_section_form_writes_the_ejection_the_shock_cord_and_the_opening
         assert system["deploy_point"] == "booster.line_stretch" and system["inflation"]["fill_constant"] == [8.0]
         assert system["packed"] and system["lines"]["bridle"]["attach"] == "booster.harness"
         assert system["inflation"]["overinflation"] == 1.7   # the flat circular's C_x (Knacke)
+    assert "cutaway_trigger" not in data["systems"]["drogue"]   # on its harness after the main opens (the default)
+    assert data["bodies"]["booster"]["aerodynamics"]["reference_area"] == pytest.approx(math.pi * 0.15**2 / 4.0)
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out), "--no-plot", "--quiet", "--t-end", "8"]) == 0
     deployments = {d["system"]: d for d in json.loads((out / "summary.json").read_text())["deployments"]}
