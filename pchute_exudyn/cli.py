@@ -350,6 +350,7 @@ def _compare_log(args, run_path: str, log_path: str) -> int:
     from .case import load_case
     from .results.flight_log import read_flight_log
     from .results.io import atomic_write_text, ensure_writable_dir, json_text
+    from .physics.atmosphere import OutsideAtmosphereError
     from .results.log_compare import compare_with_log
     from .results.result import Result
 
@@ -366,7 +367,11 @@ def _compare_log(args, run_path: str, log_path: str) -> int:
         atmosphere = load_case(case_file).atmosphere
         if atmosphere is not None:
             air, name = (lambda z: atmosphere.states(z + ground)[0]), f"{atmosphere.name} of {case_file}"
-    comparison = compare_with_log(run, log, run_path, log_path, air, name or "none", ground)
+    try:
+        comparison = compare_with_log(run, log, run_path, log_path, air, name or "none", ground)
+    except OutsideAtmosphereError as exc:
+        raise InputError(f"{log_path}: its heights are read through the run's air, which does not reach them: "
+                         f"{exc}") from None
     if air is None and log.kind == "barometric":
         comparison.notes.append(f"the run's case ({case_file}) is not at hand: the log's heights are as the "
                                 "altimeter gave them")

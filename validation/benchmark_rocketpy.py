@@ -118,15 +118,17 @@ def initial_solution(inputs: dict) -> list:
     return [0.0, *inputs["position"], *inputs["velocity"], *(float(e) for e in quaternion), 0.0, 0.0, 0.0]
 
 
-def fly_rocketpy(env, inputs: dict) -> tuple:
-    """One RocketPy flight (its rocket built outside the timing): (flight, seconds of ``Flight(...)``)."""
+def fly_rocketpy(env, inputs: dict, **options) -> tuple:
+    """One RocketPy flight (its rocket built outside the timing): (flight, seconds of ``Flight(...)``); ``options``
+    go to ``Flight`` (validation/flight_rocketpy.py bounds its solver's step)."""
     from rocketpy import Flight
     rocket = rocketpy_rocket(inputs)
     start = initial_solution(inputs)
     with warnings.catch_warnings():   # its pressure-signal record divides by a zero time step at a trigger sample
         warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"rocketpy\.")
         started = time.perf_counter()
-        flight = Flight(rocket=rocket, environment=env, rail_length=1.0, initial_solution=start, max_time=600)
+        flight = Flight(rocket=rocket, environment=env, rail_length=1.0, initial_solution=start, max_time=600,
+                        **options)
         seconds = time.perf_counter() - started
     return flight, seconds
 

@@ -98,6 +98,12 @@ class NewCase:
         The drogue's delay after the first trigger sample past apogee (s, >= 0).
     main_lag : float
         The main's delay after the trigger sample below main_height (s, >= 0; the trigger's lag, dual deploy).
+    harness_offset : float or None
+        How far aft of the rocket's centre of mass its shock cords attach (m, dual deploy without shock_cord_length;
+        None: HARNESS_FRACTION of its length, the bags a bridle's length aft of it). Given, the packed bags ride at
+        the harness; at 0 the lines, the bags and the body's cross flow all act at the centre of mass and the rocket
+        keeps the attitude it has at apogee, across the flow (a rocket hanging from the joint of its two sections);
+        aft of it the rocket hangs nose down from its harness.
     main_opening_time : float or None
         The main's opening time (s, > 0, dual deploy): its drag area grows from 0 at deployment by the canopy type's
         opening exponent, (t / t_o)^j; None: fully open at deployment.
@@ -173,6 +179,7 @@ class NewCase:
     main_drag_coefficient: float | None = None
     apogee_lag: float = 1.0
     main_lag: float = 0.0
+    harness_offset: float | None = None
     main_opening_time: float | None = None
     body_drag: str = "on"
     drogue_after_main: str = "attached"

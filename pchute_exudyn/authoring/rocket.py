@@ -15,7 +15,8 @@ centre of mass and inertia include the packed gear (``mass_includes_packed``).
 Sizing rules, each written beside its number:
 
 * rocket: a solid cylinder, uniform (``physics.shapes.solid_cylinder_inertia``; a rocket's mass sits nearer its
-  skin, so its axial inertia is larger); the harness HARNESS_FRACTION of the length aft of the centre of mass;
+  skin, so its axial inertia is larger); the harness ``harness_offset`` aft of the centre of mass, else
+  HARNESS_FRACTION of the length;
   bridle BRIDLE_FRACTION and riser RISER_FRACTION of the length unless given;
 * canopies: as ``pchute new``'s (authoring.descent): S0 = C_D0 S0 / C_D0 of the canopy type, a hemispherical shell's
   inertia, CANOPY_AREAL_MASS x S0 unless a mass is given; lines stretched LINE_STRAIN under the rocket's weight;
@@ -160,7 +161,7 @@ def _wind(c) -> list:
 
 
 def _rocket(c) -> list:
-    harness = -HARNESS_FRACTION * c.length
+    harness = -(HARNESS_FRACTION * c.length if c.harness_offset is None else c.harness_offset)
     bridle = c.bridle_length or BRIDLE_FRACTION * c.length
     yaw, pitch, roll = nose_attitude_deg(nose_direction(c))
     return ["[bodies.rocket]                            # a solid cylinder, body +x its axis toward the nose",
@@ -170,8 +171,7 @@ def _rocket(c) -> list:
             f"its axis, m (3 r^2 + L^2) / 12 across ({_n(c.diameter)} m by {_n(c.length)} m)",
             "[bodies.rocket.points]                     # m, body axes from the centre of mass",
             f"harness = [{_n(harness)}, 0.0, 0.0]   # where both shock cords attach",
-            f"line_stretch = [{_n(harness - bridle)}, 0.0, 0.0]   # a confluence at deployment: a bridle's length "
-            "aft",
+            *_deploy_point(c, harness, bridle),
             "[bodies.rocket.initial]                    # the start state, over the ground",
             f"altitude = {_n(start_altitude(c))}   # m: the centre of mass, {_n(start_height(c))} m above the ground",
             f"velocity_east = {_n(c.velocity_east or 0.0)}   # m/s", f"velocity_north = {_n(c.velocity_north or 0.0)}"
@@ -199,6 +199,18 @@ def body_drag_rows(c, body: str, length: float) -> list:
             f"[bodies.{body}.aerodynamics.normal_coefficient]   # Jorgensen (NASA TR R-474): eta "
             f"{finite_length_factor(length, c.diameter):.4g} at this L/d, C_dc 1.2"
             , f"alpha_deg = [{', '.join(angles)}]", f"value = [{', '.join(normal)}]"]
+
+
+def _deploy_point(c, harness: float, bridle: float) -> list:
+    """The systems' deploy point, where their packed gear rides: a bridle's length aft of the harness, or with
+    ``harness_offset`` given, the harness itself (the bags packed at the joint the harness is on), so that the gear
+    leaving moves the centre of mass no further from the lines than the offset (at 0: the lines, the gear and the
+    body's cross flow all act at the centre of mass, and the rocket keeps its attitude)."""
+    if c.harness_offset is None:
+        return [f"line_stretch = [{_n(harness - bridle)}, 0.0, 0.0]   # a confluence at deployment: a bridle's "
+                "length aft"]
+    return [f"line_stretch = [{_n(harness)}, 0.0, 0.0]   # the bags ride at the harness: a confluence at deployment "
+            "there, its bridle slack"]
 
 
 def canopy_lines(c, which: str) -> list:

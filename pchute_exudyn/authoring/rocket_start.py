@@ -14,7 +14,7 @@ from .choice_checks import check_number, check_positive
 
 ROCKET_ONLY = ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
                "drogue_diameter", "main_diameter", "drogue_drag_coefficient", "main_drag_coefficient", "main_lag",
-               "main_opening_time", "body_drag", "drogue_after_main",
+               "harness_offset", "main_opening_time", "body_drag", "drogue_after_main",
                "latitude", "longitude", "ground_elevation", "height", "velocity_east", "velocity_north",
                "velocity_up", "nose_pitch_deg", "nose_heading_deg", "from_rocketpy", "shock_cord_length",
                "nose_mass")
@@ -58,6 +58,10 @@ def check_choices(c) -> None:
             raise InputError(f"{key} = {getattr(c, key)!r}: must be one of: {', '.join(words)}")
     check_canopies(c)
     check_number("main_lag", c.main_lag, c.main_lag >= 0.0, "must be a number >= 0 (s)")
+    if c.harness_offset is not None and c.length is not None:
+        check_number("harness_offset", c.harness_offset, abs(c.harness_offset) < 0.5 * c.length,
+                     f"must be a number within half the rocket's length, {0.5 * c.length:g} m, of its centre of mass "
+                     "(m aft of it)")
     for key, low, high, unit in (("latitude", -90.0, 90.0, "deg"), ("longitude", -360.0, 360.0, "deg"),
                                  ("nose_pitch_deg", -90.0, 90.0, "deg, above the horizontal"),
                                  ("nose_heading_deg", -360.0, 360.0, "deg, clockwise from north"),
@@ -141,6 +145,9 @@ def check_sections(c) -> None:
     if c.shock_cord_length is not None and c.main_opening_time is not None:
         raise InputError(f"main_opening_time = {c.main_opening_time!r}: not with shock_cord_length "
                          "(--shock-cord-length): the two-section form opens each canopy by its type's fill law")
+    if c.shock_cord_length is not None and c.harness_offset is not None:
+        raise InputError(f"harness_offset = {c.harness_offset!r}: not with shock_cord_length (--shock-cord-length): "
+                         "the two-section form's harness is the booster's eye bolt")
     if c.shock_cord_length is None:
         defaults = {f.name: f.default for f in fields(c)}
         given = [key for key in SECTION_ONLY if getattr(c, key) != defaults[key]]

@@ -277,6 +277,7 @@ def _log_target(t: Table, folder: Path, case, std: float, weighted: bool) -> Tar
     barometric ones read through the case's air (``physics.barometric``), spikes (samples SPIKE from the running
     median) left out; times after the apogee. The model's value: its vehicle's height above the ground that long
     after its own highest point."""
+    from ..physics.atmosphere import OutsideAtmosphereError
     from ..physics.flight_phases import APOGEE_WINDOW, SPIKE, running_median
     from ..registries.columns import column
     from ..results.flight_log import read_flight_log
@@ -288,7 +289,11 @@ def _log_target(t: Table, folder: Path, case, std: float, weighted: bool) -> Tar
     log = read_flight_log(file)
     ground = case.simulation.ground_elevation
     air = None if case.atmosphere is None else (lambda z: case.atmosphere.states(z + ground)[0])
-    _, times, heights = log_descent(log, air, ground)
+    try:
+        _, times, heights = log_descent(log, air, ground)
+    except OutsideAtmosphereError as exc:
+        raise t.error("log", f"its heights are read through the case's air, which does not reach them: {exc}",
+                      t.data["log"]) from None
     keep = np.abs(heights - running_median(times, heights, APOGEE_WINDOW)) <= SPIKE
     return Target("log", column("{owner}_height", case.vehicle), tuple(heights[keep].tolist()), std, weighted,
                   tuple(times[keep].tolist()))

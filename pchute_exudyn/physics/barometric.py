@@ -18,6 +18,8 @@ from .atmosphere import US76_G0, US76_P0, US76_R, US76_T0
 
 STANDARD_LAPSE = 0.0065
 """K/m: the temperature's fall with height in US76's first layer (0 to 11 km), the altimeters' standard."""
+DAY_REACH = 1.25
+"""The day's column is integrated this many times the samples' heights (above and below the pad)."""
 GRID_STEP = 1.0
 """m: the spacing of the day's density profile integrated for the heights (the density changes 0.01 % per m)."""
 
@@ -55,9 +57,10 @@ def geometric_heights(barometric_heights, pad_pressure_altitude: float, day_dens
     is matched with the day's column of air (module docstring)."""
     heights = np.asarray(barometric_heights, float)
     drops = standard_pressure(pad_pressure_altitude) - standard_pressure(pad_pressure_altitude + heights)
-    # The day's column: a grid reaching past the samples (the day's air is thinner or denser, not 2x so).
-    low = min(float(heights.min()), 0.0) * 1.5 - 10.0
-    high = max(float(heights.max()), 0.0) * 1.5 + 10.0
+    # The day's column: a grid reaching DAY_REACH past the samples (a day's temperature is within 20 % of the
+    # standard's, and so is the height a pressure drop takes).
+    low = min(float(heights.min()), 0.0) * DAY_REACH - 10.0
+    high = max(float(heights.max()), 0.0) * DAY_REACH + 10.0
     grid = np.arange(low, high + GRID_STEP, GRID_STEP)
     density = np.asarray(day_density(grid), float)
     column = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(grid))]) * gravity

@@ -5,7 +5,6 @@ import math
 
 import numpy as np
 import pytest
-
 from scipy.optimize import brentq
 
 from pchute_exudyn.results.log_compare import RATE_SPAN, band_rate, bands, descent, gps_drift, rate_change, with_rates
