@@ -278,7 +278,9 @@ def _altitudes(text):
 
 def _compare(args) -> int:
     from .results.compare import compare_results
+    from .results.log_files import flight_log_side
     from .results.result import Result, parse_column_map
+    from .views.comparison_files import write_comparison
 
     if args.out is not None and not args.out.strip():   # Path("") is the working folder: never meant
         raise InputError(f"--out = {args.out!r}: must name a folder for the report (or leave --out out to print it)")
@@ -289,7 +291,7 @@ def _compare(args) -> int:
         raise InputError(f"--ground = {args.ground!r}: must be a finite altitude (m)")
     altitudes = _altitudes(args.altitudes)
     maps = {"--map-a": parse_column_map(args.map_a), "--map": parse_column_map(args.column_map)}
-    log_side = _flight_log_side(args, maps)
+    log_side = flight_log_side(args.a, args.b, bool(maps["--map-a"]), bool(maps["--map"]))
     if log_side is not None:
         return _compare_log(args, *log_side)
     a = Result.load(args.a, maps["--map-a"])
@@ -318,105 +320,26 @@ def _compare(args) -> int:
     if args.out is not None:
         shown = mapped or [columns.column("{owner}_altitude", vehicle),
                            columns.column("{owner}_velocity_down", vehicle)]
-        written = _write_comparison(comparison, {f"A: {args.a}": a, f"B: {args.b}": b}, args.out, vehicle, shown)
+        written = write_comparison(comparison, {f"A: {args.a}": a, f"B: {args.b}": b}, args.out, vehicle, shown,
+                                   FIGURE_COLUMNS)
         print(f"wrote {', '.join(path.name for path in written)} in {args.out}")
     return 0
 
 
-def _flight_log_side(args, maps: dict):
-    """(run path, log path) when one side of ``pchute compare`` is a run folder and the other, given without a map,
-    a flight log: a flight computer's own export, or a CSV that shares no column with the run (a generic log of
-    time and height); None otherwise."""
-    from .results.flight_log import named_log_format
-    from .results.result import Result
-
-    for run, log, flag in ((args.a, args.b, "--map"), (args.b, args.a, "--map-a")):
-        if not (Path(run).is_dir() and Path(log).is_file()) or maps[flag]:
-            continue
-        if named_log_format(log):
-            return run, log
-        ours = Result.load(run)
-        try:
-            theirs = Result.load(log, {}, ours.vehicle)
-        except InputError:
-            return run, log   # not a result another tool wrote: read as a log (which says what is wrong with it)
-        if not set(theirs.names) & set(ours.names) - {"time"}:
-            return run, log
-    return None
-
-
 def _compare_log(args, run_path: str, log_path: str) -> int:
-    """``pchute compare RUN LOG``: the run against a flight log (``results.log_compare``)."""
-    from .case import load_case
-    from .results.flight_log import read_flight_log
-    from .results.io import atomic_write_text, ensure_writable_dir, json_text
-    from .physics.atmosphere import OutsideAtmosphereError
-    from .results.log_compare import compare_with_log
-    from .results.result import Result
+    """``pchute compare RUN LOG``: the run against a flight log (``results.log_files``)."""
+    from .results.log_files import compare_files
+    from .views.comparison_files import write_comparison
 
     for flag in ("settle", "altitudes", "ground"):
         if getattr(args, flag) is not None:
             raise InputError(f"--{flag}: not for a run against a flight log (its figures: docs/flight-logs.md)")
-    run, log = Result.load(run_path), read_flight_log(log_path)
-    case_file = getattr(run.summary, "case_file", None)
-    air, name, ground = None, "", run.summary.ground_altitude or 0.0
-    if case_file and not Path(case_file).is_file():   # a relative path: from where the run was made
-        beside = Path(run_path).resolve().parent / case_file
-        case_file = str(beside) if beside.is_file() else case_file
-    if case_file and Path(case_file).is_file():
-        atmosphere = load_case(case_file).atmosphere
-        if atmosphere is not None:
-            air, name = (lambda z: atmosphere.states(z + ground)[0]), f"{atmosphere.name} of {case_file}"
-    try:
-        comparison = compare_with_log(run, log, run_path, log_path, air, name or "none", ground)
-    except OutsideAtmosphereError as exc:
-        raise InputError(f"{log_path}: its heights are read through the run's air, which does not reach them: "
-                         f"{exc}") from None
-    if air is None and log.kind == "barometric":
-        comparison.notes.append(f"the run's case ({case_file}) is not at hand: the log's heights are as the "
-                                "altimeter gave them")
+    comparison = compare_files(run_path, log_path)
     print(comparison.table(), end="")
     if args.out is not None:
-        out = ensure_writable_dir(args.out)
-        atomic_write_text(out / "comparison.md", comparison.table())
-        atomic_write_text(out / "comparison.json", json_text(comparison.to_dict(), indent=2) + "\n")
-        print(f"wrote comparison.md, comparison.json in {args.out}")
+        written = write_comparison(comparison, {}, args.out)
+        print(f"wrote {', '.join(path.name for path in written)} in {args.out}")
     return 0
-
-
-def _write_comparison(comparison, labelled: dict, folder, vehicle: str, shown: list) -> list:
-    """comparison.md, comparison.json and the figures in ``folder`` (one per column of ``shown`` but tensions and
-    the confluence's velocity, which have their own); returns the paths written."""
-    from .results.compare import descent_profile
-    from .results.io import atomic_write_text, ensure_writable_dir, json_text
-    from .views.plotting import (
-        plot_column_overlay,
-        plot_confluence_velocity_overlay,
-        plot_descent_rates,
-        plot_tension_overlay,
-        save_figure,
-    )
-
-    out = ensure_writable_dir(folder)
-    written = [out / "comparison.md", out / "comparison.json"]
-    atomic_write_text(written[0], comparison.table())
-    atomic_write_text(written[1], json_text(comparison.to_dict(), indent=2) + "\n")
-    if comparison.lines:
-        written.append(out / "tensions.png")
-        save_figure(plot_tension_overlay(labelled, list(comparison.lines)), written[-1])
-    if comparison.confluence_velocity:
-        written.append(out / "confluence_velocity.png")
-        save_figure(plot_confluence_velocity_overlay(labelled), written[-1])
-    if comparison.descent:
-        written.append(out / "descent_rate.png")
-        profiles = {label: descent_profile(result, vehicle)[1:] for label, result in labelled.items()}
-        save_figure(plot_descent_rates(profiles, vehicle), written[-1])
-    shown = [n for n in shown if n in comparison.columns and columns.owner(n, "tension_{owner}") is None
-             and "confluence_velocity" not in n]
-    for name in shown[:FIGURE_COLUMNS]:
-        written.append(out / f"{name}.png")
-        save_figure(plot_column_overlay(labelled, name, comparison.columns[name]["unit"]), written[-1])
-    return written
 
 
 def _add_linearize(subparsers) -> None:

@@ -50,9 +50,32 @@ def predictions(result, targets) -> tuple[list, list]:
             keep = np.isfinite(column)
             times = np.asarray(target.times)
             if target.kind == "log":   # the log's times count from its apogee: the run's from its highest point
-                times = times + result.time[int(np.nanargmax(np.where(keep, column, -np.inf)))]
-            values.extend(np.interp(times, result.time[keep], column[keep]).tolist())
+                top = result.time[int(np.nanargmax(np.where(keep, column, -np.inf)))]
+                values.extend(aligned_to_log(result.time[keep], column[keep], times + top, target.measured).tolist())
+            else:
+                values.extend(np.interp(times, result.time[keep], column[keep]).tolist())
     return values, missing
+
+
+ALIGN_STEPS = 4
+"""Gauss-Newton steps of a run's alignment to a log (``aligned_to_log``): the shifts are linear to 1e-6 in two."""
+
+
+def aligned_to_log(time, height, times, measured) -> np.ndarray:
+    """A run's ``height`` (m, at its ``time`` s) at a log's sample ``times`` (s on the run's clock), shifted by the
+    time and the height that best match the log's ``measured`` heights (least squares): the log's apogee time and pad
+    level are known only to its noise, a few hundredths of a second and tenths of a metre, which would otherwise bias
+    every fitted value by more than its standard error. The two shifts are profiled out of each run (its residuals
+    are those left after them), so the fit's standard errors include their uncertainty."""
+    rate = np.gradient(height, time)
+    measured = np.asarray(measured, float)
+    delay = offset = 0.0
+    for _ in range(ALIGN_STEPS):
+        values = np.interp(times + delay, time, height) + offset
+        jacobian = np.column_stack([np.interp(times + delay, time, rate), np.ones(len(times))])
+        step, *_ = np.linalg.lstsq(jacobian, measured - values, rcond=None)
+        delay, offset = delay + step[0], offset + step[1]
+    return np.interp(times + delay, time, height) + offset
 
 
 @dataclass(frozen=True)

@@ -61,8 +61,9 @@ def _rows(spec: FitSpec, result: FitOutcome):
 
 def _plot_targets(spec: FitSpec, result: FitOutcome, path: Path) -> None:
     """``targets.png``: each target's history against time (y label its column) or single value (its label)."""
-    panels = [(target.times if target.kind == "history" else None,
-               target.name if target.kind == "history" else target.label(), target.std, measured, initial, fitted)
+    series = ("history", "log")   # drawn against their times (a log's: after its apogee)
+    panels = [(target.times if target.kind in series else None,
+               target.name if target.kind in series else target.label(), target.std, measured, initial, fitted)
               for target, measured, initial, fitted in _rows(spec, result)]
     save_figure(fit_targets_figure(spec.name, panels), path)
 

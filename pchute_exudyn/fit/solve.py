@@ -250,8 +250,8 @@ def _check_history_span(i: int, target, record: Evaluation) -> None:
         raise InputError(f"targets[{i}].log: the run at the starting values ends at {end:g} s in the air, before its "
                          "touchdown: lengthen simulation.duration so that it lands")
     if target.kind == "history" and last > end + 1e-9 * max(1.0, abs(end)):
-        advice = (f"it touches down then: drop the samples after the touchdown, or fit a flight log's descent with "
-                  f"log = \"<file>\"" if touchdown else "drop them from the file or lengthen simulation.duration")
+        advice = ("it touches down then: drop the samples after the touchdown, or fit a flight log's descent with "
+                  "log = \"<file>\"" if touchdown else "drop them from the file or lengthen simulation.duration")
         raise InputError(f"targets[{i}].history: samples up to {last:g} s run {last - end:g} s past the end of the run "
                          f"at the starting values ({end:g} s): {advice}")
 

@@ -18,11 +18,19 @@ import numpy as np
 
 from ..errors import InputError
 from ..physics.barometric import temperature_offset
-from ..physics.flight_phases import FlightPhaseError, Phases, band_descent_rate, flight_phases, touchdown_index
+from ..physics.flight_phases import (
+    FlightPhaseError,
+    Phases,
+    band_descent_rate,
+    flight_phases,
+    theil_sen_slope,
+    touchdown_index,
+)
 from . import log_formats
 from .log_formats import BLUE_RAVEN, FOOT, HEIGHT_NAMES, HEIGHT_UNITS  # noqa: F401  (their home; read here too)
 
-
+LANDING_FIT = 3.0
+"""s: the samples the touchdown's time is extended from, and the rest level's (``FlightLog.touchdown_time``)."""
 MIN_GPS_HEIGHT = 50.0
 """m above the pad: GPS samples lower are left out of the day's temperature (the ground's multipath)."""
 MIN_GPS_FIXES = 50
@@ -90,8 +98,24 @@ class FlightLog:
 
     @property
     def touchdown_time(self) -> float | None:
-        """s (the log's clock) of the touchdown, or None when the log ends in the air."""
-        return None if self.touchdown_index is None else float(self.time[self.touchdown_index])
+        """s (the log's clock) of the touchdown, or None when the log ends in the air: the line through the samples
+        of the LANDING_FIT s before the touchdown sample (a Theil-Sen line) extended to the level the log comes to rest
+        at (the median of its next LANDING_FIT s). The touchdown sample is the first within a few metres of that
+        level, up to a second early under a main."""
+        if self.touchdown_index is None:
+            return None
+        k = self.touchdown_index
+        landed = float(self.time[k])
+        before = (self.time >= landed - LANDING_FIT) & (self.time <= landed)
+        after = (self.time >= landed) & (self.time <= landed + LANDING_FIT)
+        if np.count_nonzero(before) < 5:
+            return landed
+        slope = theil_sen_slope(self.time[before], self.height[before])
+        if not slope < 0.0:
+            return landed
+        intercept = float(np.median(self.height[before] - slope * self.time[before]))
+        reached = (float(np.median(self.height[after])) - intercept) / slope
+        return float(np.clip(reached, landed - LANDING_FIT, landed + LANDING_FIT))
 
     def descent(self, after: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """(time in s, height in m above the pad level) of the samples from ``after`` s past the apogee to the

@@ -7,10 +7,10 @@ from it by one set of rules, so that a difference is the flight's and not the re
   sample);
 * **the deployments**: each side's own record of when a canopy was released (the run's deploy events; the flight
   computer's firing or state changes where its log has them), and the **rate change** read from the heights alone:
-  the descent rate (the fall of the height's running median over RATE_WINDOW across RATE_SPAN) falls from the drogue's rate (its
-  median over BEFORE_CHANGE before the last sample faster than TWO_CANOPIES times the rate near the ground) halfway
-  to the rate near the ground (the median over the last NEAR_GROUND of the descent). A descent never that fast has
-  no rate change: one canopy;
+  the descent rate (the fall of the height's running median over RATE_WINDOW across RATE_SPAN) falls from the
+  drogue's rate (its median over BEFORE_CHANGE before the last sample faster than TWO_CANOPIES times the rate near
+  the ground) halfway to the rate near the ground (the median over the last NEAR_GROUND of the descent). A descent
+  never that fast has no rate change: one canopy;
 * **the descent rates** over height bands set by the log (under the drogue DROGUE_BAND of the way from the rate
   change's height to the apogee; under the main MAIN_BAND of the rate change's height), each the Theil-Sen slope of
   the samples in the band (``physics.flight_phases``), never a derivative of single samples;
@@ -23,7 +23,7 @@ altimeter reads low.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -240,7 +240,7 @@ def log_descent(log, day_density=None, ground_altitude: float = 0.0, gravity: fl
     from ..physics.barometric import geometric_heights
 
     phases = log.phases
-    end = len(log.time) if log.touchdown_time is None else int(np.searchsorted(log.time, log.touchdown_time, "right"))
+    end = len(log.time) if log.touchdown_index is None else log.touchdown_index + 1
     keep = slice(phases.apogee_index, end)
     time = log.time[keep] - phases.apogee_time
     height = log.height[keep] - phases.pad_level
@@ -254,7 +254,10 @@ def log_descent(log, day_density=None, ground_altitude: float = 0.0, gravity: fl
         fixes = np.isfinite(log.latitude_deg[keep]) & np.isfinite(log.longitude_deg[keep])
         if np.count_nonzero(fixes) >= 2:
             drift = gps_drift(log.latitude_deg[keep][fixes], log.longitude_deg[keep][fixes])
-    return descent(time, height, fired, drift, phases.apogee_time), time, height
+    side = descent(time, height, fired, drift, phases.apogee_time)
+    if log.touchdown_time is not None:   # the landing's time, not its first sample near the ground
+        side = replace(side, descent_time=log.touchdown_time - phases.apogee_time)
+    return side, time, height
 
 
 def compare_with_log(result, log, run_label: str, log_label: str, day_density=None, air: str = "",

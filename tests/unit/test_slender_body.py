@@ -101,6 +101,18 @@ def test_the_drogue_stays_on_its_harness_unless_cut_and_the_main_takes_its_lag_a
     assert schedule["fraction"][4] == pytest.approx(0.25, rel=1e-12) and schedule["time"][4] == pytest.approx(0.8)
 
 
+def test_a_harness_offset_puts_the_bags_at_the_harness():
+    """Given, the harness is that far aft of the centre of mass and the bags ride there (at 0: every force of the
+    descent through the centre of mass); not given, HARNESS_FRACTION aft with the bags a bridle's length further."""
+    points = tomllib.loads(new_case_text(**ROCKET, harness_offset=0.0))["bodies"]["rocket"]["points"]
+    assert points["harness"] == [0.0, 0.0, 0.0] and points["line_stretch"] == [0.0, 0.0, 0.0]
+    points = tomllib.loads(new_case_text(**ROCKET, harness_offset=0.25))["bodies"]["rocket"]["points"]
+    assert points["harness"][0] == -0.25 and points["line_stretch"][0] == -0.25
+    points = tomllib.loads(new_case_text(**ROCKET))["bodies"]["rocket"]["points"]
+    assert points["harness"][0] == pytest.approx(-0.12 * LENGTH)
+    assert points["line_stretch"][0] == pytest.approx(-0.12 * LENGTH - 0.4 * LENGTH)
+
+
 FORM = ["--dual-deploy", "--planet", "earth", "--mass", "12.8", "--diameter", "0.1", "--length", "2.6",
         "--main-drag-area", "4", "--main-height", "100", "--height", "800"]
 DROGUE = ["--drogue-drag-area", "0.47"]
@@ -127,6 +139,10 @@ BAD = [
      "main_opening_time = 1.0: not with shock_cord_length (--shock-cord-length)"),
     (FORM + DROGUE + ["--body-drag", "maybe"], "argument --body-drag: invalid choice: 'maybe'"),
     (FORM + DROGUE + ["--drogue-after-main", "kept"], "argument --drogue-after-main: invalid choice: 'kept'"),
+    (FORM + DROGUE + ["--harness-offset", "1.4"],
+     "harness_offset = 1.4: must be a number within half the rocket's length, 1.3 m, of its centre of mass"),
+    (FORM + DROGUE + ["--harness-offset", "0", "--shock-cord-length", "6"],
+     "harness_offset = 0.0: not with shock_cord_length (--shock-cord-length)"),
     (["--body-drag", "off"], "body_drag = 'off': only with dual_deploy (--dual-deploy)"),
     (["--main-lag", "1"], "main_lag = 1.0: only with dual_deploy"),
     (["--drogue-after-main", "cut"], "drogue_after_main = 'cut': only with dual_deploy"),
