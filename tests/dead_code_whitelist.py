@@ -19,6 +19,9 @@ pchute_exudyn.__getattr__, pchute_exudyn.__dir__  # PEP 562: the package's names
 EquilibriumPoint  # found by the method table's discovery (methods.register_builtin), as every method class
 environment.SKIP_KERNEL_BUILD  # read by setup.py (which cannot import the package) by its value
 NewCase.main_mass  # set by keyword from `pchute new --main-mass`, read through dataclasses.fields
+# each canopy's size, read per canopy as getattr(c, f"{which}_drag_area") and alike (authoring.rocket, rocket_start)
+NewCase.drogue_drag_area, NewCase.main_drag_area, NewCase.drogue_diameter, NewCase.main_diameter
+NewCase.drogue_drag_coefficient, NewCase.main_drag_coefficient
 compiled.CompiledKernel.__wrapped__  # inspect.signature and functools follow it to the Python function
 
 # Exudyn reads these: its settings objects' fields, its user functions' parameter names

@@ -220,7 +220,7 @@ def page(rows: list, command: str) -> str:
                   "main's lag fitted (s) | RMS residual (m) | runs |", "|---|---|---|---|---|---|---|---|"]
         for row in fitted:
             f = row["fit"]
-            (dk, (dp, dv, de)), (mk, (mp, mv, me)), (lk, (_, lv, le)) = f["keys"].items()
+            (dp, dv, de), (mp, mv, me), (_, lv, le) = f["keys"].values()
             flight = load_flights()[row["flight"]]
             cd_d, cd_m = flight["drogue"]["drag_coefficient"], flight["main"]["drag_coefficient"]
             bound = [" (at a bound)" if b else "" for b in f["at_bound"]]

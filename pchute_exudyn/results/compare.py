@@ -43,6 +43,7 @@ class Comparison:
     common: list = field(default_factory=list)       # column names compared
     columns: dict = field(default_factory=dict)      # name -> {max, time, rms, unit}: |B - A| per compared column
     descent: dict = field(default_factory=dict)      # descent_metrics: {ground, altitudes, a, b}; {} without
+    missing_descent: str = ""                        # why there are no descent figures, when one side has a height
 
     def column_table(self) -> list:
         """Markdown rows: per compared column its largest and RMS difference and where."""
@@ -73,6 +74,8 @@ class Comparison:
                 f"{self.time[0]:g} to {self.time[-1]:g} s ({len(self.time)} samples); differences are B - A.", ""]
         if self.descent:
             rows += self.descent_table() + [""]
+        elif self.missing_descent:
+            rows += [f"No descent figures: {self.missing_descent}.", ""]
         if self.columns:
             rows += self.column_table() + [""]
         rows += ["| quantity | difference |", "|---|---|"]
@@ -212,6 +215,18 @@ def descent_metrics(a: Result, b: Result, vehicle: str = UNNAMED_VEHICLE, altitu
             "b": descent_side(b, vehicle, altitudes, ground)}
 
 
+def _missing_descent(a: Result, b: Result, vehicle: str) -> str:
+    """Why a comparison has no descent figures when a side has the vehicle's height but not its altitude (a log's
+    height mapped to ``<vehicle>_height``): say so rather than drop the table silently."""
+    altitude, height = column("{owner}_altitude", vehicle), column("{owner}_height", vehicle)
+    sides = [label for label, r in (("A", a), ("B", b)) if altitude not in r and height in r]
+    if not sides:
+        return ""
+    return (f"they are read from {altitude} on both sides, and {' and '.join(sides)} has {height} only: map its "
+            f"height to {altitude} with the ground's altitude added (--map 'h=" + altitude + "+<ground m>'), or "
+            "compare a flight log with a run folder without a map (docs/flight-logs.md)")
+
+
 def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B", settle_time: float = 2.0,
                     vehicle: str = UNNAMED_VEHICLE, confluence: str = "confluence", columns=None, altitudes=None,
                     ground: float | None = None) -> Comparison:
@@ -246,6 +261,7 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
         grounds = (getattr(r.summary, "ground_altitude", None) for r in (a, b))
         ground = next((float(value) for value in grounds if _finite_number(value)), 0.0)
     comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)
+    comparison.missing_descent = _missing_descent(a, b, vehicle) if not comparison.descent else ""
     for template, suffix in (("{owner}_altitude", "altitude"), ("{owner}_east", "east"), ("{owner}_north", "north")):
         name = column(template, vehicle)
         if name in common:

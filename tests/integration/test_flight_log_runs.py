@@ -44,6 +44,7 @@ def test_a_run_against_a_log_of_itself_reads_the_same_figures(flown, tmp_path):
     assert rows["apogee to touchdown"]["run"] == pytest.approx(rows["apogee to touchdown"]["log"], abs=0.2)
 
 
+@pytest.mark.slow   # 14 s; the one-key fit below runs the same path by default
 def test_a_fit_to_a_synthetic_log_recovers_the_canopies_and_the_lag(flown):
     """From 30 % off: both C_D S within 2 %, the lag within 0.2 s, each within 3 standard errors."""
     folder, case = flown
@@ -96,3 +97,14 @@ def test_a_log_the_run_never_lands_for_is_refused_in_one_line(flown, tmp_path):
     assert done.returncode != 0
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and "ends at 5 s in the air" in lines[0] and "lengthen simulation.duration" in lines[0]
+
+
+def test_a_log_mapped_to_a_height_says_why_it_has_no_descent_figures(flown, tmp_path):
+    """Mapped by hand to the vehicle's height (not its altitude), the old comparison says what it needs."""
+    folder, case = flown
+    run = tmp_path / "run"
+    assert run_cli("run", str(case), "--out", str(run)).returncode == 0
+    done = run_cli("compare", str(run), str(folder / "flight.csv"), "--map", "height=rocket_height")
+    assert done.returncode == 0, done.stderr
+    assert "No descent figures: they are read from rocket_altitude on both sides, and B has rocket_height only" \
+        in done.stdout
