@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -16,6 +17,7 @@ from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direc
 from ..registries.methods import INTEGRATORS, METHODS, OptionError, make_options
 from .fields import REQUIRED, Table, check_number, default_of
 from .model import Case, SimulationSettings
+from .soundings import read_wyoming_sounding, sounding_air
 from .start import VELOCITY_FRAMES, Release
 from .tables import AIR_GAMMA, AIR_GAS_CONSTANT, read_atmosphere_table
 
@@ -98,8 +100,12 @@ def read_atmosphere(t: Table, ground_altitude: float, heading: tuple):
     """``[atmosphere]``: the model, and the air's motion (``wind``, ``turbulence``, ``gusts``; docs/case-format.md).
     ``ground_altitude`` (m) is the default ground of the power-law wind and the turbulence; ``heading`` orients the
     turbulence where there is no mean wind."""
-    model = t.string("model", choices=("mars_grc", "us76", "table"))
-    if model == "table":
+    model = t.string("model", choices=("mars_grc", "us76", "table", "sounding"))
+    sounding = None
+    if model == "sounding":
+        sounding = read_wyoming_sounding(t.string("file"))
+        atmosphere, sounding_wind = sounding_air(sounding, AIR_GAMMA, AIR_GAS_CONSTANT)
+    elif model == "table":
         sound = {"gamma": t.number("gamma", "", AIR_GAMMA, above=0.0),
                  "gas_constant": t.number("gas_constant", "J/(kg K)", AIR_GAS_CONSTANT, above=0.0),
                  "speed_of_sound": t.number("speed_of_sound", "m/s", None, above=0.0)}
@@ -116,7 +122,12 @@ def read_atmosphere(t: Table, ground_altitude: float, heading: tuple):
     if scale != 1.0:   # 1: the model itself (not a copy with a factor of 1)
         atmosphere = ScaledAtmosphere(atmosphere, scale)
     w = t.table("wind", None)
+    if sounding is not None and w is not None:
+        raise t.error("wind", f"the sounding {Path(sounding.source).name} gives the wind: leave [atmosphere.wind] out "
+                              "(or use model = \"table\" for the air alone)")
     wind = _read_wind(w, ground_altitude) if w is not None else None
+    if sounding is not None:
+        wind = sounding_wind
     turbulence_table = t.table("turbulence", None)
     turbulence = (_read_turbulence(turbulence_table, ground_altitude, heading) if turbulence_table is not None
                   else None)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .atmosphere import US76_G0, US76_P0, US76_R, US76_T0
+from .atmosphere import US76_G0, US76_P0, US76_R, US76_R0, US76_T0
 
 STANDARD_LAPSE = 0.0065
 """K/m: the temperature's fall with height in US76's first layer (0 to 11 km), the altimeters' standard."""
@@ -95,3 +95,23 @@ def temperature_offset(barometric_heights, gps_heights, pad_pressure_altitude: f
         low, high = misfit(offset), misfit(offset + trial)
         offset -= low * trial / (high - low)
     return offset
+
+
+WATER_TO_AIR = 0.621972
+"""The molar mass of water over dry air's (-): 18.01528 / 28.9644 (US76's air)."""
+
+
+def moist_air_density(pressure, temperature, mixing_ratio):
+    """kg/m^3 of moist air at ``pressure`` (Pa), ``temperature`` (K) and water-vapour ``mixing_ratio`` (kg of
+    water per kg of dry air; arrays or floats): p / (R_d T_v), the virtual temperature T_v = T (1 + r / eps) / (1 + r)
+    with eps = WATER_TO_AIR (a sounding's humid layer is up to 2 % lighter than dry air at its temperature)."""
+    ratio = np.asarray(mixing_ratio, float)
+    virtual = np.asarray(temperature, float) * (1.0 + ratio / WATER_TO_AIR) / (1.0 + ratio)
+    return np.asarray(pressure, float) / (US76_R * virtual)
+
+
+def geometric_altitude(geopotential_height):
+    """m above sea level of a ``geopotential_height`` (m', a radiosonde's HGHT; array or float): h = r0 H / (r0 - H),
+    r0 US76's 6 356 766 m (0.9 m apart at 2 km)."""
+    height = np.asarray(geopotential_height, float)
+    return US76_R0 * height / (US76_R0 - height)
