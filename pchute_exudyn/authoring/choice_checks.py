@@ -81,6 +81,22 @@ def check_reader_ranges(c) -> None:
         raise InputError(f"name = {short_repr(c.name)}: must be one line of printable text (the case's name)")
 
 
+SITE_RANGES = (("latitude", -90.0, 90.0, "deg"), ("longitude", -360.0, 360.0, "deg"),
+               ("ground_elevation", -12000.0, 20000.0, "m"))
+"""The start point's and the ground's allowed values, every form (field, low, high, unit)."""
+
+
+def check_site(c) -> None:
+    """The start point (latitude, longitude) and the ground's elevation within SITE_RANGES; a descent's start
+    altitude above its ground."""
+    for key, low, high, unit in SITE_RANGES:
+        value = getattr(c, key)
+        if value is not None:
+            check_number(key, value, low <= value <= high, f"must be a number from {low:g} to {high:g} ({unit})")
+    if not c.dual_deploy and c.ground_elevation is not None and not c.altitude > c.ground_elevation:
+        raise InputError(f"altitude = {c.altitude!r}: must be above ground_elevation = {c.ground_elevation!r} (m)")
+
+
 def check_needs(c, given) -> None:
     """InputError for a field of ``given`` (names) that means nothing without another (NEEDS): one line naming both
     (``--static-line-time`` without ``--release-airspeed`` would be dropped from the file); or that another field

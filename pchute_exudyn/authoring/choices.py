@@ -9,7 +9,15 @@ from dataclasses import dataclass, fields
 
 from ..errors import InputError
 from ..registries.canopy_types import CANOPY_TYPES
-from .choice_checks import check_choice, check_integer, check_needs, check_number, check_positive, check_reader_ranges
+from .choice_checks import (
+    check_choice,
+    check_integer,
+    check_needs,
+    check_number,
+    check_positive,
+    check_reader_ranges,
+    check_site,
+)
 from .flight_start import check_conditions
 from .planets import PLANETS
 from .rocket_start import check_choices as check_dual_deploy
@@ -124,9 +132,9 @@ class NewCase:
     nose_mass : float or None
         The nose cone's mass (kg, below the rocket's); None: a tenth of the rocket's.
     latitude, longitude : float or None
-        The start point (deg; dual deploy); None: 0.
+        The start point (deg); None: 0. A descent's gravity is the planet's there.
     ground_elevation : float or None
-        The ground's altitude (m, dual deploy); None: 0, or the RocketPy export's.
+        The ground's altitude (m); None: 0, or the RocketPy export's (dual deploy).
     height : float or None
         Start height above the ground (m), instead of ``altitude`` (dual deploy).
     velocity_east, velocity_north, velocity_up : float or None
@@ -222,6 +230,7 @@ class NewCase:
             raise InputError(f"bridle_length = {self.bridle_length!r}: must exceed the attach circle's radius, "
                              f"{ATTACH_RADIUS * self.diameter:g} m (0.35 x diameter)")
         check_dual_deploy(self)
+        check_site(self)
         check_reader_ranges(self)
         check_needs(self, [f.name for f in fields(self) if getattr(self, f.name) != f.default])
 

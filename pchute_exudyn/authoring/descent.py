@@ -72,10 +72,12 @@ class DescentWriter:
         c, p = self.c, self.plan
         planet_lines, atmosphere = PLANETS[c.planet][:2]
         canopy_altitude = column("{owner}_altitude", self.canopy_names()[0])
+        ground = c.ground_elevation or 0.0
         return [f"# {c.name}: written by `pchute new` (pchute_exudyn.authoring.descent; docs/tutorial.md). Units SI;",
                 "# angles in degrees only where named _deg. " + self.start_words()[0], *self.start_words()[1:],
                 f"# Suspended mass {_n(p.total_mass)} kg; steady rate of descent sqrt(2 m g / (rho n C_V S0)) = "
-                f"{p.steady_rate(p.altitude):.3f} m/s at the start,", f"# {p.steady_rate(0.0):.3f} m/s at 0 m: "
+                f"{p.steady_rate(p.altitude):.3f} m/s at the start,",
+                f"# {p.steady_rate(ground):.3f} m/s at {ground:g} m: "
                 + ("C_V = C_D0 for one canopy" if c.canopies == 1 else
                    f"C_V = eta C_D0 cos(theta) + C_N(theta) sin(theta) = {p.vertical_coefficient:.5g}, the drag "
                    f"efficiency eta = {p.drag_efficiency:g}\n# of {c.canopies} canopies flying theta = "
@@ -86,8 +88,9 @@ class DescentWriter:
                 "[case]", f"name = {json.dumps(c.name)}",
                 f'description = "{c.mass:g} kg vehicle under {self.canopy_words()} ({c.planet})"',
                 'vehicle = "vehicle"', "", "[planet]", *planet_lines, "",
-                "[start]                                    # the start point", "latitude_deg = 0.0",
-                "longitude_deg = 0.0", "# initial velocities relative to the air (the wind at the vehicle's "
+                "[start]                                    # the start point",
+                f"latitude_deg = {_n(c.latitude or 0.0)}", f"longitude_deg = {_n(c.longitude or 0.0)}",
+                "# initial velocities relative to the air (the wind at the vehicle's "
                 "start altitude): the descent starts moving with the wind", 'velocities_relative_to = "air"',
                 *self.release(), "",
                 "[atmosphere]", f'model = "{atmosphere}"', *self.wind(), ""]
@@ -295,8 +298,10 @@ class DescentWriter:
     def simulation(self) -> list:
         c, p = self.c, self.plan
         before = (c.static_line_time if c.released else 0.0) + 30.0 if c.deploys else 0.0   # the deployment, opening
-        duration = 10.0 * math.ceil((1.25 * p.altitude / p.steady_rate(0.0) + 10.0 + before) / 10.0)
+        ground = c.ground_elevation or 0.0
+        duration = 10.0 * math.ceil((1.25 * (p.altitude - ground) / p.steady_rate(ground) + 10.0 + before) / 10.0)
         return ["[simulation]", f"duration = {_n(duration)}   # s: an upper bound; the run ends at touchdown "
-                "(the vehicle's centre of mass at 0 m)", "output_step = 0.02                         # s",
+                f"(the vehicle's centre of mass at {ground:g} m)", "output_step = 0.02                         # s",
+                *([] if c.ground_elevation is None else [f"ground_altitude = {_n(ground)}   # m"]),
                 'method = "sp"', 'integrator = "rk4"', "# No [simulation.steps]: RK4 takes adaptive steps "
                 "(docs/models/step_control.md); to fix one, `[simulation.steps] sp = 0.01` or `--dt 0.01`."]

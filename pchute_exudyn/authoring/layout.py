@@ -109,7 +109,7 @@ class Layout:
         the vehicle)."""
         c = self.choices
         atmosphere = PLANETS[c.planet][3]
-        gravity = gravity_at(c.planet, 0.0, altitude)   # the single-system case starts at latitude 0
+        gravity = gravity_at(c.planet, c.latitude or 0.0, altitude)
         density = atmosphere().density(altitude + self.canopy_height)
         drag_area = c.canopies * self.vertical_coefficient * self.reference_area
         return math.sqrt(2.0 * self.total_mass * gravity / (density * drag_area))
@@ -125,7 +125,8 @@ def layout(choices: NewCase) -> Layout:
     line = choices.suspension_line_length or nominal
     if line <= radius:
         raise InputError(f"suspension_line_length = {line!r}: must exceed the canopy's projected radius, {radius:g} m")
-    plan = Layout(choices, gravity_at(choices.planet), area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
+    gravity = gravity_at(choices.planet, choices.latitude or 0.0)
+    plan = Layout(choices, gravity, area, canopy_mass, CONFLUENCE_MASS_FRACTION * choices.mass,
                    choices.bridle_length or choices.diameter, choices.riser_length or 0.5 * nominal,
                    math.sqrt(line**2 - radius**2), radius, *start_state(choices))
     circle = radius if choices.canopies == 2 else radius / math.sin(math.pi / max(choices.canopies, 2))

@@ -15,7 +15,7 @@ from .choice_checks import check_number, check_positive
 ROCKET_ONLY = ("length", "drogue_drag_area", "main_drag_area", "main_height", "drogue_mass", "main_mass",
                "drogue_diameter", "main_diameter", "drogue_drag_coefficient", "main_drag_coefficient", "main_lag",
                "harness_offset", "main_opening_time", "body_drag", "drogue_after_main",
-               "latitude", "longitude", "ground_elevation", "height", "velocity_east", "velocity_north",
+               "height", "velocity_east", "velocity_north",
                "velocity_up", "nose_pitch_deg", "nose_heading_deg", "from_rocketpy", "shock_cord_length",
                "nose_mass")
 """NewCase fields of the dual-deploy form only."""
@@ -62,10 +62,8 @@ def check_choices(c) -> None:
         check_number("harness_offset", c.harness_offset, abs(c.harness_offset) < 0.5 * c.length,
                      f"must be a number within half the rocket's length, {0.5 * c.length:g} m, of its centre of mass "
                      "(m aft of it)")
-    for key, low, high, unit in (("latitude", -90.0, 90.0, "deg"), ("longitude", -360.0, 360.0, "deg"),
-                                 ("nose_pitch_deg", -90.0, 90.0, "deg, above the horizontal"),
+    for key, low, high, unit in (("nose_pitch_deg", -90.0, 90.0, "deg, above the horizontal"),
                                  ("nose_heading_deg", -360.0, 360.0, "deg, clockwise from north"),
-                                 ("ground_elevation", -12000.0, 20000.0, "m"),
                                  *((key, -3000.0, 3000.0, "m/s, over the ground") for key in
                                    ("velocity_east", "velocity_north", "velocity_up"))):
         value = getattr(c, key)
