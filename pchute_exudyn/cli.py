@@ -326,7 +326,7 @@ def _compare(args) -> int:
     return 0
 
 
-def _compare_log(args, run_path: str, log_path: str) -> int:
+def _compare_log(args, run_path: str, log_path: str, run) -> int:
     """``pchute compare RUN LOG``: the run against a flight log (``results.log_files``)."""
     from .results.log_files import compare_files
     from .views.comparison_files import write_comparison
@@ -334,7 +334,7 @@ def _compare_log(args, run_path: str, log_path: str) -> int:
     for flag in ("settle", "altitudes", "ground"):
         if getattr(args, flag) is not None:
             raise InputError(f"--{flag}: not for a run against a flight log (its figures: docs/flight-logs.md)")
-    comparison = compare_files(run_path, log_path)
+    comparison = compare_files(run_path, log_path, run)
     print(comparison.table(), end="")
     if args.out is not None:
         written = write_comparison(comparison, {}, args.out)

@@ -61,12 +61,11 @@ def day_air(log, flight: dict) -> dict:
     """The day's air of a log: the GPS temperature offset (K, fixes), the pad's pressure (Pa) and temperature (K),
     and the table (altitude m above sea level, density kg/m^3, temperature K, pressure Pa) from 100 m under sea level
     to 1 km over the apogee."""
-    from pchute_exudyn.physics.atmosphere import US76_T0
-    from pchute_exudyn.physics.barometric import STANDARD_LAPSE, lapse_layer
+    from pchute_exudyn.physics.barometric import lapse_layer, standard_temperature
 
     offset, fixes = log.gps_temperature_offset()
     pad_pressure = float(np.median(log.pressure[: log.phases.launch_index + 1]))
-    pad_temperature = US76_T0 - STANDARD_LAPSE * log.pad_altitude + offset
+    pad_temperature = float(standard_temperature(log.pad_altitude)) + offset
     heights = np.arange(-flight["pad_gps_altitude"] - 100.0, log.phases.apogee_height - log.phases.pad_level + 1000.0,
                         AIR_STEP)   # from under sea level: a run asks the air at the reference surface too
     pressure, temperature, density = lapse_layer(heights, pad_pressure, pad_temperature)

@@ -101,10 +101,10 @@ def rocketpy_inputs(flight: dict, elevation: float, harness: str = "drogue_stays
 
 def band_rates(time, height, bands: dict) -> dict:
     """Label -> (m/s positive down, samples) over each band (label -> (low, high) m above the pad), by
-    log_compare.band_rate."""
-    from pchute_exudyn.results.log_compare import band_rate
+    physics.flight_phases.band_rate, as results.log_compare reads both sides."""
+    from pchute_exudyn.physics.flight_phases import band_rate
 
-    return {label: band_rate(np.asarray(time, float), np.asarray(height, float), *limits)
+    return {label: band_rate(time, height, *limits)
             for label, limits in bands.items()}
 
 

@@ -24,9 +24,14 @@ GRID_STEP = 1.0
 """m: the spacing of the day's density profile integrated for the heights (the density changes 0.01 % per m)."""
 
 
+def standard_temperature(pressure_altitude):
+    """K at ``pressure_altitude`` (m, US76's first layer; array or float): T0 - L h."""
+    return US76_T0 - STANDARD_LAPSE * np.asarray(pressure_altitude, float)
+
+
 def standard_pressure(pressure_altitude):
     """Pa at ``pressure_altitude`` (m, US76's first layer; array or float): p0 (1 - L h / T0)^(g0 / (R L))."""
-    ratio = 1.0 - STANDARD_LAPSE * np.asarray(pressure_altitude, float) / US76_T0
+    ratio = standard_temperature(pressure_altitude) / US76_T0
     return US76_P0 * ratio ** (US76_G0 / (US76_R * STANDARD_LAPSE))
 
 
@@ -83,7 +88,7 @@ def temperature_offset(barometric_heights, gps_heights, pad_pressure_altitude: f
     trial days and a Newton step from the better one."""
     baro, gps = np.asarray(barometric_heights, float), np.asarray(gps_heights, float)
     pad_pressure = float(standard_pressure(pad_pressure_altitude))
-    standard_pad = US76_T0 - STANDARD_LAPSE * pad_pressure_altitude
+    standard_pad = float(standard_temperature(pad_pressure_altitude))
 
     def misfit(offset: float) -> float:
         day = offset_day_density(pad_pressure, standard_pad + offset, gravity=gravity)

@@ -134,13 +134,18 @@ def theil_sen_slope(times, values) -> float:
     return float(np.median((values[j] - values[i])[spans > 0.0] / spans[spans > 0.0]))
 
 
-def band_descent_rate(times, heights, phases: Phases, low: float, high: float) -> tuple[float, int]:
-    """(descent rate in m/s, positive down; samples used) between heights ``low`` and ``high`` (m, the log's
-    heights) after the apogee: the Theil-Sen slope. (nan, n) with fewer than five samples in the band."""
+def band_rate(times, heights, low: float, high: float) -> tuple[float, int]:
+    """(descent rate in m/s, positive down; samples used): the Theil-Sen slope of the samples whose height lies
+    between ``low`` and ``high`` (m). (nan, n) with fewer than five samples in the band."""
     times, heights = np.asarray(times, float), np.asarray(heights, float)
+    inside = (heights >= low) & (heights <= high)
+    count = int(np.count_nonzero(inside))
+    if count < 5:
+        return float("nan"), count
+    return -theil_sen_slope(times[inside], heights[inside]), count
+
+
+def band_descent_rate(times, heights, phases: Phases, low: float, high: float) -> tuple[float, int]:
+    """``band_rate`` of the samples after the apogee (heights ``low`` and ``high`` in m, the log's heights)."""
     after = slice(phases.apogee_index, None)
-    t, h = times[after], heights[after]
-    inside = (h >= low) & (h <= high)
-    if np.count_nonzero(inside) < 5:
-        return float("nan"), int(np.count_nonzero(inside))
-    return -theil_sen_slope(t[inside], h[inside]), int(np.count_nonzero(inside))
+    return band_rate(np.asarray(times, float)[after], np.asarray(heights, float)[after], low, high)

@@ -96,7 +96,7 @@ class FlightLog:
         TOUCHDOWN_WINDOW s back on the pad's level or at rest), None when the log ends in the air."""
         return touchdown_index(self.time, self.height, self.phases)
 
-    @property
+    @cached_property
     def touchdown_time(self) -> float | None:
         """s (the log's clock) of the touchdown, or None when the log ends in the air: the line through the samples
         of the LANDING_FIT s before the touchdown sample (a Theil-Sen line) extended to the level the log comes to rest

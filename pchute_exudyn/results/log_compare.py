@@ -27,7 +27,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..physics.flight_phases import running_median, theil_sen_slope
+from ..physics.flight_phases import band_rate, running_median
 
 RATE_WINDOW = 1.0
 """s: the running median the heights are smoothed with before the rate change is read (ejection spikes)."""
@@ -116,14 +116,6 @@ def bands(apogee_height: float, change: tuple | None) -> dict:
             "main": tuple(f * change[1] for f in MAIN_BAND)}
 
 
-def band_rate(time, height, low: float, high: float) -> tuple[float, int]:
-    """(m/s positive down, samples): the Theil-Sen slope of the samples between ``low`` and ``high`` (m); (nan, n)
-    with fewer than five."""
-    inside = (height >= low) & (height <= high)
-    count = int(np.count_nonzero(inside))
-    return (-theil_sen_slope(time[inside], height[inside]) if count >= 5 else math.nan), count
-
-
 def descent(time, height, fired=(), drift=None, apogee_time: float = 0.0) -> Descent:
     """A side's ``Descent`` from its ``time`` (s after its apogee) and ``height`` (m above the ground) to its
     touchdown, its recorded deployments ``fired`` ((name, s after the apogee)), its ``drift`` (m or None) and its
@@ -136,8 +128,7 @@ def descent(time, height, fired=(), drift=None, apogee_time: float = 0.0) -> Des
 
 def with_rates(side: Descent, time, height, chosen: dict) -> Descent:
     """``side`` with its rates over the ``chosen`` bands (label -> (low, high) m)."""
-    rates = {label: band_rate(np.asarray(time, float), np.asarray(height, float), *limits)
-             for label, limits in chosen.items()}
+    rates = {label: band_rate(time, height, *limits) for label, limits in chosen.items()}
     return Descent(side.apogee_time, side.apogee_height, side.descent_time, side.fired, side.rate_change, rates,
                    side.drift)
 
@@ -240,10 +231,9 @@ def log_descent(log, day_density=None, ground_altitude: float = 0.0, gravity: fl
     from ..physics.barometric import geometric_heights
 
     phases = log.phases
-    end = len(log.time) if log.touchdown_index is None else log.touchdown_index + 1
-    keep = slice(phases.apogee_index, end)
-    time = log.time[keep] - phases.apogee_time
-    height = log.height[keep] - phases.pad_level
+    time, height = log.descent()
+    gps = np.searchsorted(log.time, time)   # the descent's rows of the log
+    time = time - phases.apogee_time
     if day_density is not None and log.kind == "barometric":
         pad = ground_altitude if log.pad_altitude is None else log.pad_altitude
         height = geometric_heights(height, pad, day_density, *(() if gravity is None else (gravity,)))
@@ -251,9 +241,10 @@ def log_descent(log, day_density=None, ground_altitude: float = 0.0, gravity: fl
              if t >= phases.apogee_time - 2.0 * RATE_WINDOW]
     drift = None
     if log.latitude_deg is not None:
-        fixes = np.isfinite(log.latitude_deg[keep]) & np.isfinite(log.longitude_deg[keep])
+        latitude, longitude = log.latitude_deg[gps], log.longitude_deg[gps]
+        fixes = np.isfinite(latitude) & np.isfinite(longitude)
         if np.count_nonzero(fixes) >= 2:
-            drift = gps_drift(log.latitude_deg[keep][fixes], log.longitude_deg[keep][fixes])
+            drift = gps_drift(latitude[fixes], longitude[fixes])
     side = descent(time, height, fired, drift, phases.apogee_time)
     if log.touchdown_time is not None:   # the landing's time, not its first sample near the ground
         side = replace(side, descent_time=log.touchdown_time - phases.apogee_time)

@@ -12,21 +12,21 @@ from .result import Result
 
 
 def flight_log_side(a: str, b: str, mapped_a: bool, mapped_b: bool) -> tuple | None:
-    """(run path, log path) when one of ``a`` and ``b`` is a run folder and the other, given without a map, a
-    flight log: a flight computer's own export, or a CSV that shares no column with the run (a generic log of time and
-    height); None otherwise."""
+    """(run path, log path, the run's Result when it was read to tell) when one of ``a`` and ``b`` is a run folder
+    and the other, given without a map, a flight log: a flight computer's own export, or a CSV that shares no column
+    with the run (a generic log of time and height); None otherwise."""
     for run, log, mapped in ((a, b, mapped_b), (b, a, mapped_a)):
         if not (Path(run).is_dir() and Path(log).is_file()) or mapped:
             continue
         if named_log_format(log):
-            return run, log
+            return run, log, None
         ours = Result.load(run)
         try:
             theirs = Result.load(log, {}, ours.vehicle)
         except InputError:
-            return run, log   # not a result another tool wrote: read as a log (which says what is wrong with it)
+            return run, log, ours   # not a result another tool wrote: read as a log (which says what is wrong with it)
         if not set(theirs.names) & set(ours.names) - {"time"}:
-            return run, log
+            return run, log, ours
     return None
 
 
@@ -48,12 +48,13 @@ def run_air(run: Result, run_path: str) -> tuple:
     return (lambda z: atmosphere.states(z + ground)[0]), f"{atmosphere.name} of {case_file}", str(case_file)
 
 
-def compare_files(run_path: str, log_path: str) -> LogComparison:
-    """The run in folder ``run_path`` against the flight log at ``log_path``, the log's barometric heights read
-    through the run's air (``run_air``); InputError in one line when that air does not reach them."""
+def compare_files(run_path: str, log_path: str, run: Result | None = None) -> LogComparison:
+    """The run in folder ``run_path`` (``run``: already read) against the flight log at ``log_path``, the log's
+    barometric heights read through the run's air (``run_air``); InputError in one line when that air does not reach
+    them."""
     from ..physics.atmosphere import OutsideAtmosphereError
 
-    run, log = Result.load(run_path), read_flight_log(log_path)
+    run, log = run or Result.load(run_path), read_flight_log(log_path)
     air, name, case_file = run_air(run, run_path)
     try:
         comparison = compare_with_log(run, log, run_path, log_path, air, name, run.summary.ground_altitude or 0.0)

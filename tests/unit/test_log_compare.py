@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from pchute_exudyn.results.log_compare import RATE_SPAN, band_rate, bands, descent, gps_drift, rate_change, with_rates
+from pchute_exudyn.physics.flight_phases import band_rate
+from pchute_exudyn.results.log_compare import RATE_SPAN, bands, descent, gps_drift, rate_change, with_rates
 
 TAU = 1.0   # s: the main's deceleration time constant
 

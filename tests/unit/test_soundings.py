@@ -13,31 +13,8 @@ from pchute_exudyn.physics.atmosphere import US76_R
 from tests.helpers import ROOT
 
 DTX = ROOT / "tests" / "data" / "weather" / "uwyo_72632_DTX_2016010112.txt"
-CASE = """
-[case]
-name = "sounding"
-vehicle = "capsule"
-[planet]
-model = "flat"
-gravity = 9.80665
-[start]
-latitude_deg = 42.7
-[atmosphere]
-model = "sounding"
-file = "{file}"
-[bodies.capsule]
-mass = 10.0
-inertia = [1.0, 1.0, 1.0]
-[bodies.capsule.initial]
-altitude = 1500.0
-[bodies.capsule.aerodynamics]
-reference_area = 1.0
-axial_coefficient = 1.0
-center = [0.0, 0.0, 0.0]
-[simulation]
-duration = 1.0
-ground_altitude = 329.0
-"""
+SOUNDING = {"atmosphere.model": "sounding", "atmosphere.file": str(DTX)}
+"""The shipped rocket case flown in the sounding's air."""
 
 
 def test_a_wyoming_listing_reads_its_levels_in_si():
@@ -53,11 +30,9 @@ def test_a_wyoming_listing_reads_its_levels_in_si():
     assert s.east[0] > 0.0 and s.north[0] > 0.0
 
 
-def test_a_case_flies_in_the_soundings_air_and_wind(tmp_path):
+def test_a_case_flies_in_the_soundings_air_and_wind():
     """Density (log-linear), temperature and wind (linear) at three heights equal the levels' within 1e-6."""
-    path = tmp_path / "case.toml"
-    path.write_text(CASE.format(file=DTX))
-    case, s = load_case(path), read_wyoming_sounding(DTX)
+    case, s = load_case(ROOT / "cases" / "rocket" / "dual_deploy.toml", SOUNDING), read_wyoming_sounding(DTX)
     for altitude in (500.0, 1500.0, 3000.0):
         density, sound = case.atmosphere.state(altitude)
         assert density == pytest.approx(math.exp(np.interp(altitude, s.altitude, np.log(s.density))), rel=1e-6)
@@ -91,8 +66,6 @@ def test_a_bad_listing_is_refused_in_one_line(text, message, tmp_path):
     assert message in str(caught.value) and "\n" not in str(caught.value)
 
 
-def test_a_wind_beside_the_sounding_is_refused(tmp_path):
-    path = tmp_path / "case.toml"
-    path.write_text(CASE.format(file=DTX) + "[atmosphere.wind]\nspeed = 5.0\nfrom_deg = 270.0\n")
+def test_a_wind_beside_the_sounding_is_refused():
     with pytest.raises(CaseError, match="gives the wind: leave \\[atmosphere.wind\\] out"):
-        load_case(path)
+        load_case(ROOT / "cases" / "cev_pa1_winds.toml", SOUNDING)
