@@ -88,7 +88,10 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     info.finish()
 
     planet = read_planet(top.table("planet"))
-    start, frame, release = read_start(top.table("start", {}), planet)
+    start_table = top.table("start", {})
+    start, frame, release = read_start(start_table, planet)
+    site = ((start.latitude_deg, start.longitude_deg)
+            if {"latitude_deg", "longitude_deg"} <= set(start_table.data) else None)
     atmosphere_table = top.table("atmosphere", None)
 
     body_tables = top.named_tables("bodies")
@@ -109,7 +112,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     simulation_table = top.table("simulation")
     simulation = read_simulation(simulation_table)
     bodies, atmosphere, wind, turbulence, gusts = _with_air(atmosphere_table, simulation, body_tables, bodies,
-                                                            vehicle, frame, release)
+                                                            vehicle, frame, release, site)
     check_mach(body_tables, bodies, atmosphere)
     check_supersonic_openings(system_tables, systems, bodies, atmosphere)
     check_release(body_tables, system_tables, bodies, systems, vehicle, release)
@@ -138,14 +141,15 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     return own_vehicle(case, body_tables[vehicle].error) if bodies[vehicle].mass_includes_packed else case
 
 
-def _with_air(atmosphere_table, simulation, body_tables, bodies, vehicle, frame, release) -> tuple:
-    """(bodies, atmosphere, wind, turbulence, gusts): ``[atmosphere]`` read (all None and no gusts without one), the
-    vehicle's start found from its flight conditions when the case gives them, the grounds checked against it."""
+def _with_air(atmosphere_table, simulation, body_tables, bodies, vehicle, frame, release, site) -> tuple:
+    """(bodies, atmosphere, wind, turbulence, gusts): ``[atmosphere]`` read (all None and no gusts without one; a
+    forecast's at ``site``, the start's (latitude, longitude) deg or None), the vehicle's start found from its flight
+    conditions when the case gives them, the grounds checked against it."""
     atmosphere, wind, turbulence, gusts = None, None, None, ()
     if atmosphere_table is not None:
         ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
         atmosphere, wind, turbulence, gusts = read_atmosphere(atmosphere_table, ground,
-                                                               _heading(bodies[vehicle], release))
+                                                               _heading(bodies[vehicle], release), site)
     bodies = _at_conditions(body_tables, bodies, vehicle, atmosphere, wind, frame, release)
     if atmosphere_table is not None:
         initial = bodies[vehicle].initial

@@ -17,9 +17,10 @@ from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direc
 from ..registries.methods import INTEGRATORS, METHODS, OptionError, make_options
 from .fields import REQUIRED, Table, check_number, default_of
 from .model import Case, SimulationSettings
-from .soundings import read_wyoming_sounding, sounding_air
+from .soundings import sounding_air
 from .start import VELOCITY_FRAMES, Release
 from .tables import AIR_GAMMA, AIR_GAS_CONSTANT, read_atmosphere_table
+from .weather_files import read_weather
 
 GRAVITY_MODELS = ("normal", "spherical")
 """``[planet] gravity_model``: the level ellipsoid's normal gravity (the default) or the thesis's spherical gravity
@@ -96,14 +97,15 @@ def _read_release(t: Table | None) -> Release | None:
     return release
 
 
-def read_atmosphere(t: Table, ground_altitude: float, heading: tuple):
+def read_atmosphere(t: Table, ground_altitude: float, heading: tuple, site: tuple | None = None):
     """``[atmosphere]``: the model, and the air's motion (``wind``, ``turbulence``, ``gusts``; docs/case-format.md).
     ``ground_altitude`` (m) is the default ground of the power-law wind and the turbulence; ``heading`` orients the
-    turbulence where there is no mean wind."""
-    model = t.string("model", choices=("mars_grc", "us76", "table", "sounding"))
+    turbulence where there is no mean wind; ``site`` is the start point's (latitude, longitude) in deg when the case
+    gives them (a forecast's air is taken there)."""
+    model = t.string("model", choices=("mars_grc", "us76", "table", "sounding", "forecast"))
     sounding = None
-    if model == "sounding":
-        sounding = read_wyoming_sounding(t.string("file"))
+    if model in ("sounding", "forecast"):
+        sounding = read_weather(t, model, site)
         atmosphere, sounding_wind = sounding_air(sounding, AIR_GAMMA, AIR_GAS_CONSTANT)
     elif model == "table":
         sound = {"gamma": t.number("gamma", "", AIR_GAMMA, above=0.0),
@@ -123,7 +125,7 @@ def read_atmosphere(t: Table, ground_altitude: float, heading: tuple):
         atmosphere = ScaledAtmosphere(atmosphere, scale)
     w = t.table("wind", None)
     if sounding is not None and w is not None:
-        raise t.error("wind", f"the sounding {Path(sounding.source).name} gives the wind: leave [atmosphere.wind] out "
+        raise t.error("wind", f"the {model} {Path(sounding.source).name} gives the wind: leave [atmosphere.wind] out "
                               "(or use model = \"table\" for the air alone)")
     wind = _read_wind(w, ground_altitude) if w is not None else None
     if sounding is not None:

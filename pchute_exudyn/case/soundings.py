@@ -78,7 +78,8 @@ def read_wyoming_sounding(path) -> Sounding:
     head = next((i for i, line in enumerate(lines) if line.split()[:2] == ["PRES", "HGHT"]), None)
     if head is None:
         raise CaseError(str(path), "", "not a University of Wyoming sounding: no table head 'PRES   HGHT   TEMP ...' "
-                                        "(the Text: List output of weather.uwyo.edu)")
+                                        "(the Text: List output of weather.uwyo.edu), nor an IGRA 2 "
+                                        "data file (header records beginning '#' and the station's ID)")
     _check_head(path, lines, head)
     levels = [_fields(path, number + 1, line) for number, line in enumerate(lines[head + 3:], start=head + 3)
               if line.strip() and not line.startswith(("-", "<", "Station"))]
@@ -109,22 +110,34 @@ def _fields(path: Path, number: int, line: str) -> list:
 
 def _sounding(path: Path, station: str, rows: np.ndarray) -> Sounding:
     pressure, height, temperature, _, _, mixing, direction, speed = rows.T
+    east, north = np.array([wind_from_direction(s * KNOT, d) for s, d in zip(speed, direction)], float).reshape(-1, 2).T
+    return profile_sounding(str(path), station, height, pressure * 100.0, temperature + 273.15, mixing / 1000.0,
+                            east, north, "HGHT")
+
+
+def profile_sounding(source: str, station: str, height, pressure, temperature, mixing_ratio, east, north,
+                     height_name: str = "height") -> Sounding:
+    """The ``Sounding`` of levels given in SI, nan where a level lacks a value: ``height`` geopotential (m'),
+    ``pressure`` (Pa), ``temperature`` (K), water-vapour ``mixing_ratio`` (kg/kg; nan: dry air), the wind ``east``
+    and ``north`` (m/s). Every reader (a listing, an IGRA 2 file, a weather model's grid) ends here, so any profile
+    becomes air and wind one way. CaseError naming ``source`` (and ``height_name``, the file's own name for the
+    heights) when fewer than two levels are usable or the heights do not rise."""
+    height, pressure, temperature, mixing, east, north = (np.asarray(column, float) for column in (
+        height, pressure, temperature, mixing_ratio, east, north))
     air = np.isfinite(pressure) & np.isfinite(height) & np.isfinite(temperature)
-    wind = np.isfinite(height) & np.isfinite(direction) & np.isfinite(speed)
+    wind = np.isfinite(height) & np.isfinite(east) & np.isfinite(north)
     for usable, what in ((air, "a pressure, a height and a temperature"), (wind, "a height and a wind")):
         if np.count_nonzero(usable) < 2:
-            raise CaseError(str(path), "", f"fewer than two levels with {what}: a sounding needs at least two")
+            raise CaseError(source, "", f"fewer than two levels with {what}: a sounding needs at least two")
         rising = np.diff(height[usable])
         if np.any(rising <= 0.0):
             at = float(height[usable][1:][rising <= 0.0][0])
-            raise CaseError(str(path), "", f"HGHT = {at:g} m does not rise above the level before it: a sounding's "
-                                           "heights must increase")
-    kelvin = temperature[air] + 273.15
-    east, north = np.array([wind_from_direction(s * KNOT, d) for s, d in zip(speed[wind], direction[wind])]).T
-    ratio = np.where(np.isfinite(mixing[air]), mixing[air], 0.0) / 1000.0
-    return Sounding(str(path), station, geometric_altitude(height[air]), pressure[air] * 100.0, kelvin,
-                    moist_air_density(pressure[air] * 100.0, kelvin, ratio), geometric_altitude(height[wind]),
-                    np.asarray(east, float), np.asarray(north, float))
+            raise CaseError(source, "", f"{height_name} = {at:g} m does not rise above the level before it: a "
+                                        "sounding's heights must increase")
+    ratio = np.where(np.isfinite(mixing[air]), mixing[air], 0.0)
+    return Sounding(source, station, geometric_altitude(height[air]), pressure[air], temperature[air],
+                    moist_air_density(pressure[air], temperature[air], ratio), geometric_altitude(height[wind]),
+                    east[wind], north[wind])
 
 
 def sounding_air(sounding: Sounding, gamma: float, gas_constant: float) -> tuple:

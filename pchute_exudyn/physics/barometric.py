@@ -115,6 +115,15 @@ def moist_air_density(pressure, temperature, mixing_ratio):
     return np.asarray(pressure, float) / (US76_R * virtual)
 
 
+def dewpoint_mixing_ratio(pressure, dewpoint):
+    """kg of water vapour per kg of dry air at ``pressure`` (Pa) whose dew point is ``dewpoint`` (K; arrays or
+    floats): r = eps e / (p - e), e the saturation vapour pressure over water at the dew point,
+    611.2 Pa exp(17.67 t / (t + 243.5)) with t in deg C (Bolton 1980, 0.3 % from -35 to 35 C); eps = WATER_TO_AIR."""
+    celsius = np.asarray(dewpoint, float) - 273.15
+    vapour = 611.2 * np.exp(17.67 * celsius / (celsius + 243.5))
+    return WATER_TO_AIR * vapour / (np.asarray(pressure, float) - vapour)
+
+
 def geometric_altitude(geopotential_height):
     """m above sea level of a ``geopotential_height`` (m', a radiosonde's HGHT; array or float): h = r0 H / (r0 - H),
     r0 US76's 6 356 766 m (0.9 m apart at 2 km)."""
