@@ -101,3 +101,30 @@ def _number(text: str):
         return float(text)
     except ValueError:
         return text
+
+
+def test_a_log_is_read_through_the_forecasts_air_by_compare(tmp_path):
+    """`pchute compare RUN LOG` end to end with a forecast-driven run: an altimeter's log of the run's own descent
+    (its heights the standard atmosphere's for the pressures of the forecast's air, the column of the case's own
+    densities integrated here; a 12 s climb before) is read back through the run's air to the run's apogee height
+    within 0.5 m; as the altimeter gave it, it is 20 m short (the day is 6-9 K warmer than the standard)."""
+    from pchute_exudyn.physics.barometric import pressure_altitude, standard_pressure
+    from pchute_exudyn.results.log_files import compare_files
+
+    case_file = tmp_path / "forecast.toml"
+    case_file.write_text(CASE.replace("_members.nc", ".nc").replace("altitude = 700.0", "altitude = 1200.0"))
+    case = pc.load_case(case_file)
+    result = pc.simulate(case, "sp")
+    result.save(tmp_path / "run", plot=False, csv=False)
+    time = np.arange(-17.0, result["time"][-1] + 5.0, 0.05)   # 5 s on the pad, a 12 s climb, the descent
+    climb = 1000.0 * (1.0 - (np.clip(time, -12.0, 0.0) / 12.0) ** 2)
+    above = np.where(time < 0.0, climb, np.interp(time, result["time"], result["rocket_altitude"] - 200.0))
+    grid = np.arange(0.0, 1001.0, 0.5)
+    density = case.atmosphere.states(grid + 200.0)[0]
+    column = np.concatenate([[0.0], np.cumsum(np.diff(grid) * 0.5 * (density[1:] + density[:-1]))]) * 9.80665
+    baro = pressure_altitude(standard_pressure(200.0) - np.interp(above, grid, column)) - 200.0
+    rows = ["time (s),height (m)"] + [f"{t + 17.0:.3f},{h:.4f}" for t, h in zip(time, np.maximum(baro, 0.0))]
+    (tmp_path / "log.csv").write_text("\n".join(rows) + "\n")
+    apogee = {row[0]: row[2:] for row in compare_files(str(tmp_path / "run"), str(tmp_path / "log.csv")).rows()}[
+        "apogee height above the ground"]
+    assert apogee[1] == pytest.approx(apogee[0], abs=0.5) and apogee[0] - baro.max() > 15.0   # 0.02 m; 20 m
