@@ -110,9 +110,8 @@ def _open(path: Path):
                            "'pchute-exudyn[weather]'")
     try:
         return xarray.open_dataset(path)
-    except Exception as exc:   # any backend's complaint about the file: one line, not its traceback
-        raise _error(path, f"cannot be read as netCDF ({type(exc).__name__}): the file may be cut short or "
-                           "damaged") from None
+    except Exception:   # any backend's complaint about the file: one line, not its traceback
+        raise _error(path, "cannot be read as netCDF: the file may be cut short or damaged") from None
 
 
 def _coordinate(grid, kind: str) -> str | None:
@@ -215,7 +214,7 @@ def _member(path: Path, grid, name: str | None, member, selection: dict, weights
                                "[atmosphere] member out")
         return ""
     values = [v.item() for v in np.asarray(coordinate.values)]
-    listed = ", ".join(f"{v:g}" for v in values[:LISTED]) + (", ..." if len(values) > LISTED else "")
+    listed = ", ".join(str(v) for v in values[:LISTED]) + (", ..." if len(values) > LISTED else "")
     if member is None and len(values) > 1:
         raise _error(path, f"holds {len(values)} ensemble members ({name} = {listed}): choose one with "
                            "[atmosphere] member = N (a study can vary it)")
@@ -223,7 +222,7 @@ def _member(path: Path, grid, name: str | None, member, selection: dict, weights
     if chosen not in values:
         raise _error(path, f"has no ensemble member {member!r}: its members are {name} = {listed}")
     selection[coordinate.dims[0]], weights[coordinate.dims[0]] = [values.index(chosen)], np.array([1.0])
-    return f", member {chosen:g}"
+    return f", member {chosen}"
 
 
 def _interpolated(path: Path, field, names: dict, selection: dict, weights: dict) -> np.ndarray:

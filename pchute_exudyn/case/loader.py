@@ -88,10 +88,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     info.finish()
 
     planet = read_planet(top.table("planet"))
-    start_table = top.table("start", {})
-    start, frame, release = read_start(start_table, planet)
-    site = ((start.latitude_deg, start.longitude_deg)
-            if {"latitude_deg", "longitude_deg"} <= set(start_table.data) else None)
+    start, frame, release, site = read_start(top.table("start", {}), planet)
     atmosphere_table = top.table("atmosphere", None)
 
     body_tables = top.named_tables("bodies")

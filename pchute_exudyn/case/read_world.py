@@ -76,13 +76,15 @@ def _spin_rate(p: Table, planet: Planet) -> float:
 
 
 def read_start(s: Table, planet) -> tuple:
-    """``[start]``: the start frame, what the initial velocities are relative to, and the release (or None)."""
+    """``[start]``: the start frame, what the initial velocities are relative to, the release (or None), and the
+    site, (latitude, longitude) in deg when the case gives both (else None: a forecast's air needs them)."""
     start = StartFrame(planet, s.number("latitude_deg", "deg", 0.0, minimum=-90.0, maximum=90.0),
                        s.number("longitude_deg", "deg", 0.0, minimum=-180.0, maximum=360.0))
     frame = s.string("velocities_relative_to", default_of(Case, "velocities_relative_to"), VELOCITY_FRAMES)
     release = _read_release(s.table("release", None))
     s.finish()
-    return start, frame, release
+    given = {"latitude_deg", "longitude_deg"} <= set(s.data)
+    return start, frame, release, (start.latitude_deg, start.longitude_deg) if given else None
 
 
 def _read_release(t: Table | None) -> Release | None:

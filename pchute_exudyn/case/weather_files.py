@@ -68,7 +68,9 @@ def read_sounding_file(path, time: datetime | None = None) -> Sounding:
     path = Path(path)
     if not path.is_file():
         raise CaseError(str(path), "", "sounding file not found")
-    if is_igra2(path.read_text(errors="replace")[:200]):
+    with path.open(errors="replace") as handle:
+        head = handle.read(200)
+    if is_igra2(head):
         return read_igra2_sounding(path, time)
     sounding = read_wyoming_sounding(path)
     if time is not None and _wyoming_time(sounding.station) != time:

@@ -15,6 +15,8 @@ from pchute_exudyn.errors import CaseError
 from tests.helpers import ROOT
 
 xarray = pytest.importorskip("xarray")
+for module in ("netCDF4", "scipy.interpolate"):   # xarray's backend and interp: imported here, outside the budget
+    pytest.importorskip(module)
 
 WEATHER = ROOT / "tests" / "data" / "weather"
 IGRA = WEATHER / "igra2_USM00070026_2010060100.txt"
@@ -188,6 +190,12 @@ def test_without_xarray_the_extra_to_install_is_named(monkeypatch):
     with pytest.raises(CaseError, match=r"era5_euroc_2022-10-13.nc: reading a netCDF weather file needs xarray and "
                                         r"netCDF4: pip install 'pchute-exudyn\[weather\]'$"):
         read_forecast(EUROC, SITE, _hour(12, 2022, 10, 13), None)
+
+
+def test_a_cut_short_netcdf_file_is_refused_in_one_line(tmp_path):
+    (tmp_path / "cut.nc").write_bytes(EUROC.read_bytes()[:4000])
+    with pytest.raises(CaseError, match=r"cut.nc: cannot be read as netCDF: the file may be cut short or damaged$"):
+        read_forecast(tmp_path / "cut.nc", SITE, _hour(12, 2022, 10, 13), None)
 
 
 def test_a_cut_short_igra2_file_is_refused_in_one_line(tmp_path):
