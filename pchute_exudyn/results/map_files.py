@@ -31,7 +31,7 @@ GPX_NAMESPACE = "http://www.topografix.com/GPX/1/1"
 CREATOR = "pchute-exudyn"
 
 LAYER_COLOURS = {"site": "#d62728", "landing": "#1f77b4", "end": "#7f7f7f", "track": "#ff7f0e",
-                 "ellipse": "#2ca02c"}
+                 "ellipse": "#2ca02c", "target": "#e377c2", "release": "#8c564b"}
 """Each usual layer's colour (#rrggbb) in every format that has colours; another layer is drawn in OTHER_COLOUR."""
 OTHER_COLOUR = "#9467bd"
 
@@ -113,12 +113,14 @@ class MapLayer:
 @dataclass(frozen=True)
 class GeoMap:
     """A map: its title, a description and its layers. ``earth``: the coordinates are on the Earth, so a page may
-    draw map tiles under them (another planet's latitudes on the Earth's tiles would mislead)."""
+    draw map tiles under them (another planet's latitudes on the Earth's tiles would mislead); ``radius`` (m): the
+    planet's equatorial radius, by which a page measures distances (its scale bar)."""
 
     title: str
     layers: tuple = field(default_factory=tuple)
     description: str = ""
     earth: bool = True
+    radius: float = 6378137.0
 
 
 def _degrees(value: float) -> str:

@@ -28,7 +28,8 @@ _SCRIPT = """
 (function () {
   var data = JSON.parse(document.getElementById("map-data").textContent);
   var setup = JSON.parse(document.getElementById("map-setup").textContent);
-  var map = L.map("map", {zoomControl: true});
+  // distances (the scale bar) on the map's own planet: Web Mercator's sphere of the planet's equatorial radius
+  var map = L.map("map", {crs: L.extend({}, L.CRS.EPSG3857, {R: setup.radius})});
   var overlays = {}, counts = {}, base = {};
   function text(tag, content) { var e = document.createElement(tag); e.textContent = content; return e; }
   data.features.forEach(function (feature) {
@@ -83,7 +84,7 @@ def _inline_json(data) -> str:
 
 def page_html(geo_map: GeoMap) -> str:
     """The map as a self-contained HTML page (Leaflet and the map's GeoJSON inline)."""
-    setup = {"title": geo_map.title, "colours": LAYER_COLOURS, "other": OTHER_COLOUR,
+    setup = {"title": geo_map.title, "colours": LAYER_COLOURS, "other": OTHER_COLOUR, "radius": geo_map.radius,
              "tiles": TILES if geo_map.earth else None, "credit": TILE_CREDIT}
     data = geojson_data(geo_map)
     return "\n".join([

@@ -82,7 +82,12 @@ def run_map(result: Result, title: str | None = None) -> GeoMap:
         MapLayer("track", lines=tuple(tracks)), MapLayer("landing" if landed else "end", (end,))]
     name = title or getattr(summary, "case", None) or "run"
     return GeoMap(name, tuple(layers), f"{name}: {getattr(summary, 'method', '')} run, {len(result.time)} samples",
-                  earth=on_earth(site))
+                  earth=on_earth(site), **planet_radius(site))
+
+
+def planet_radius(site: dict | None) -> dict:
+    """``GeoMap``'s ``radius`` (m) of a ``RunSummary.site``: its planet's equatorial radius ({} without a site)."""
+    return {"radius": float(site["equatorial_radius"])} if isinstance(site, dict) else {}
 
 
 def write_run_map(folder, out=None) -> list:

@@ -24,7 +24,7 @@ from ..results.io import RESULT_MARKER, ensure_writable_dir
 from ..results.map_files import GeoMap, MapLayer, MapLine, MapPoint
 from ..results.map_page import write_map_files
 from ..results.result import Result
-from ..results.run_map import MAP_STEM, ground_places, on_earth, site_point, write_run_map
+from ..results.run_map import MAP_STEM, ground_places, on_earth, planet_radius, site_point, write_run_map
 from ..views.study_figures import ellipse
 from .footprint import MINIMUM_RUNS, footprint_statistics, touchdown_points
 from .report import load_table
@@ -78,7 +78,8 @@ def study_map(folder) -> GeoMap:
     layers += [MapLayer(name, tuple(_point(r, landed) for r in rows))
                for name, rows, landed in (("landing", landings, True), ("end", ends, False)) if rows]
     name = f"{folder.name}: {len(landings)} touchdowns of {len(ok)} ok runs"
-    return GeoMap(name, tuple(layers), name, earth=all(on_earth(s) for s in sites.values()) and bool(sites))
+    return GeoMap(name, tuple(layers), name, earth=all(on_earth(s) for s in sites.values()) and bool(sites),
+                  **planet_radius(next(iter(sites.values()), None)))
 
 
 def _number(value) -> bool:
