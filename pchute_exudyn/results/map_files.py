@@ -5,7 +5,8 @@ the same map as an HTML page and writes the four files.
 A map (``GeoMap``) is a list of layers, each a name (``site``, ``landing``, ``track``, ``ellipse``, or any other a
 caller chooses) holding points (``MapPoint``), open lines (``MapLine``, ``closed=False``: a track) and closed
 outlines (``closed=True``: a polygon). Coordinates are geodetic latitude and longitude in degrees (east positive);
-samples that are not finite (a body absent from part of a run) are left out. Heights:
+a sample any of whose values is not finite (a body absent from part of a run) is left out of every format alike.
+Heights:
 
 * GeoJSON's third coordinate and GPX's ``ele`` are ``altitudes``: above the planet's reference ellipsoid (m), what
   RFC 7946 asks for (GPX leaves the datum open);
