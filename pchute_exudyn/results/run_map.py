@@ -70,19 +70,25 @@ def run_map(result: Result, title: str | None = None) -> GeoMap:
                               result[column("{owner}_longitude", body)], f"{body}'s centre of mass over the ground",
                               altitudes=result[column("{owner}_altitude", body)],
                               heights=result[column("{owner}_height", body)]))
-    finite = np.flatnonzero(np.isfinite(result[latitude]) & np.isfinite(result[longitude]))
-    last = int(finite[-1]) if len(finite) else -1
     landed = getattr(summary, "end", None) == "touchdown"
-    east, north = (float(result[column(t, vehicle)][last]) for t in ("{owner}_east", "{owner}_north"))
-    end = MapPoint("touchdown" if landed else "end of the run", float(result[latitude][last]),
-                   float(result[longitude][last]),
-                   f"{vehicle} at t = {result.time[last]:.3f} s: {east:.1f} m east, {north:.1f} m north of the start "
-                   "point", float(result[column("{owner}_altitude", vehicle)][last]))
-    layers = ([MapLayer("site", (site_point(site),))] if site else []) + [
-        MapLayer("track", lines=tuple(tracks)), MapLayer("landing" if landed else "end", (end,))]
+    end = MapLayer("landing" if landed else "end", (_last_place(result, landed),))
+    layers = ([MapLayer("site", (site_point(site),))] if site else []) + [MapLayer("track", lines=tuple(tracks)), end]
     name = title or getattr(summary, "case", None) or "run"
     return GeoMap(name, tuple(layers), f"{name}: {getattr(summary, 'method', '')} run, {len(result.time)} samples",
                   earth=on_earth(site), **planet_radius(site))
+
+
+def _last_place(result: Result, landed: bool) -> MapPoint:
+    """The vehicle's last sample with a place: its touchdown (``landed``) or where the run ended."""
+    vehicle = result.vehicle
+    latitude, longitude = (result[column(t, vehicle)] for t in ("{owner}_latitude", "{owner}_longitude"))
+    finite = np.flatnonzero(np.isfinite(latitude) & np.isfinite(longitude))
+    last = int(finite[-1]) if len(finite) else -1
+    east, north, altitude = (float(result[column(t, vehicle)][last])
+                             for t in ("{owner}_east", "{owner}_north", "{owner}_altitude"))
+    return MapPoint("touchdown" if landed else "end of the run", float(latitude[last]), float(longitude[last]),
+                    f"{vehicle} at t = {result.time[last]:.3f} s: {east:.1f} m east, {north:.1f} m north of the start "
+                    "point", altitude)
 
 
 def planet_radius(site: dict | None) -> dict:
