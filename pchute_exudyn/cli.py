@@ -359,7 +359,6 @@ def _add_linearize(subparsers) -> None:
 
 
 def _linearize(args) -> int:
-
     from .boundary import load_case
     from .results.io import json_text
     from .run.linear_report import format_report, linearization_report
@@ -495,9 +494,7 @@ def _failures_status(outcome, allowed: float) -> int:
 
 def _study_report(args) -> int:
     from .study.report import study_report
-
-    paths = study_report(args.folder)
-    print(f"report: {paths['report']}")
+    print(f"report: {study_report(args.folder)['report']}")
     return 0
 
 
@@ -526,7 +523,6 @@ def _add_animate(subparsers) -> None:
 def _animate(args) -> int:
     from .views.animation import Animation, Run, check_animation_path
     from .views.progress import TerminalProgress
-
     run = Run.load(args.folder)
     other = Run.load(args.compare) if args.compare else None
     out = check_animation_path(Path(args.out) if args.out else Path(args.folder) / "animation.gif")
@@ -577,6 +573,20 @@ def _fit(args) -> int:
     return 0
 
 
+def _add_map(subparsers) -> None:
+    mapped = subparsers.add_parser("map", help="a run or a study on a map: KML, GeoJSON, GPX, an offline HTML page",
+                                   description="Write map.kml, .geojson, .gpx, .html: docs/results.md, Maps.")
+    mapped.add_argument("folder", metavar="FOLDER", help="a result folder of `pchute run` or a study folder")
+    mapped.add_argument("--out", default=None, metavar="DIR", help="write the files into DIR instead")
+    mapped.set_defaults(func=_map)
+
+
+def _map(args) -> int:
+    from .study.maps import write_map
+    print("map: " + ", ".join(str(path) for path in write_map(args.folder, args.out)))
+    return 0
+
+
 def _add_view(subparsers) -> None:
     view = subparsers.add_parser(
         "view", help="replay a finished run in Exudyn's SolutionViewer (needs a display)",
@@ -589,7 +599,6 @@ def _add_view(subparsers) -> None:
 
 def _view(args) -> int:
     from .views.viewer import view
-
     view(args.folder)
     return 0
 
@@ -607,6 +616,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_study(subparsers)
     _add_animate(subparsers)
     _add_view(subparsers)
+    _add_map(subparsers)
     _add_fit(subparsers)
     return parser
 

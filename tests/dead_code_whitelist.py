@@ -45,3 +45,5 @@ result.Result.to_pandas  # the documented way to a DataFrame (docs/results.md)
 _.pytest_runtest_call, _._release_locks, _.fixed_method, _.pytestmark
 # run by name in a process of its own (tests/acceptance/test_line_law_plants.py)
 _.check_every_form
+# Selenium reads it: the Chromium binary the driver starts (tests/browser.py)
+_.binary_location

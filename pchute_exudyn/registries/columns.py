@@ -7,7 +7,8 @@ Every column name a run writes, a study records or a report, a comparison or a f
 outputs with ``register`` (``methods.base.Method.outputs``); a column it writes is ``method_column``'s.
 
 Conventions: altitudes above the reference surface, heights above the case's ground
-(``SimulationSettings.ground_elevation``), east and north along the start point's axes from it (m), velocities
+(``SimulationSettings.ground_elevation``), east and north along the start point's axes from it (m), latitude and
+longitude geodetic on the case's ellipsoid relative to the ground (deg, east positive), velocities
 relative to the ground (m/s, start-point axes, down positive), attitude angles in degrees (``physics.rotations``),
 rates in body axes (rad/s), tensions positive (N).
 """
@@ -77,6 +78,9 @@ DEPLOY_CONDITIONS = {q.name: f"deploy_{q.name}_{{owner}}" for q in QUANTITIES if
 POINT_TEMPLATES = ("{owner}_altitude", "{owner}_height", "{owner}_east", "{owner}_north", "{owner}_velocity_north",
                  "{owner}_velocity_east", "{owner}_velocity_down")
 """The templates of the columns of every body and confluence, in the order a run writes them."""
+GEODETIC_TEMPLATES = ("{owner}_latitude", "{owner}_longitude")
+"""The templates of every body's and confluence's geodetic latitude and longitude (deg) on an ellipsoidal planet,
+written after all other columns of a run (the columns before them keep their places in ``timeseries.csv``)."""
 
 COLUMNS = (
     Column("time", "s", "run time since the start", "run"),
@@ -85,6 +89,10 @@ COLUMNS = (
     Column("{owner}_height", "m", "the same above the ground: altitude minus the case's ground altitude", "point"),
     Column("{owner}_east", "m", "east of the start point, along its axes", "point"),
     Column("{owner}_north", "m", "north of the start point, along its axes", "point"),
+    Column("{owner}_latitude", "deg", "geodetic latitude on the case's ellipsoid, north positive (not on a flat "
+           "planet)", "point"),
+    Column("{owner}_longitude", "deg", "longitude on the case's ellipsoid, east positive, -180 to 180 (not on a flat "
+           "planet)", "point"),
     *_each("{owner}_velocity_{axis}", "m/s", "velocity {axis} relative to the ground, start-point axes", "point",
            ("north", "east", "down")),
     *_each("{owner}_relative_position_{axis}", "m", "position relative to the vehicle, vehicle body axis {axis}",
@@ -126,6 +134,8 @@ COLUMNS = (
         ("final_time", "s", "end of the run"), ("final_altitude", "m", "the vehicle's altitude at the end"),
         ("final_east", "m", "the vehicle's east at the end"), ("final_north", "m", "the vehicle's north at the end"),
         ("final_lateral", "m", "horizontal distance from the start at the end"),
+        ("final_latitude", "deg", "the vehicle's latitude at the end (an ellipsoidal planet)"),
+        ("final_longitude", "deg", "the vehicle's longitude at the end (an ellipsoidal planet)"),
         ("touchdown_time", "s", "time of touchdown"),
         ("touchdown_speed", "m/s", "the vehicle's total speed over the ground at touchdown (all three components)"),
         ("touchdown_descent_rate", "m/s", "its vertical speed at touchdown, along the local vertical, down positive"),

@@ -16,6 +16,9 @@ Files written by ``Result.save`` (each atomically):
 * ``loads.png``: each deployment's load (a system's risers, a tether) against time at every step kept, its snatch,
   opening load, Knacke's estimate and breaking strength marked (``plotting.plot_deployment_loads``), when the run
   has deployments; their histories are ``loads/<name>/time`` and ``loads/<name>/load`` in ``result.npz``.
+
+``pchute map`` adds ``map.kml``, ``map.geojson``, ``map.gpx`` and ``map.html`` to a result folder later
+(``run_map.write_run_map``), listed in its ``result_files`` with the rest.
 """
 
 from __future__ import annotations

@@ -26,6 +26,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..case.events import DISREEF
+from ..physics.planet import FlatPlanet
 from ..registries.columns import UNNAMED_VEHICLE, column
 
 
@@ -437,14 +438,16 @@ class ClusterLoads(SummaryEntry):
 class FinalState:
     """The run's last sample (``summary.json``'s ``final``): its ``time`` (s) and the altitude, east and north (m) of
     the vehicle's centre of mass and of each confluence, by their columns (``values``: ``registries.columns``,
-    ``<owner>_altitude``, ``<owner>_east``, ``<owner>_north``; NaN, null in the file, for a confluence whose system
-    has left). ``altitude``, ``east``, ``north`` and ``lateral`` are the vehicle's."""
+    ``<owner>_altitude``, ``<owner>_east``, ``<owner>_north``, and on an ellipsoidal planet ``<owner>_latitude`` and
+    ``<owner>_longitude`` in deg; NaN, null in the file, for a confluence whose system has left). ``altitude``,
+    ``east``, ``north``, ``place`` and ``lateral`` are the vehicle's."""
 
     time: float
     vehicle: str
     values: dict
 
-    POSITION: ClassVar[tuple] = ("{owner}_altitude", "{owner}_east", "{owner}_north")
+    POSITION: ClassVar[tuple] = ("{owner}_altitude", "{owner}_east", "{owner}_north", "{owner}_latitude",
+                                 "{owner}_longitude")
 
     def value(self, template: str, owner: str | None = None) -> float:
         """The last sample (m) of column ``template`` (``'{owner}_altitude'``) of ``owner`` (default the vehicle; a
@@ -467,6 +470,14 @@ class FinalState:
         return self.value("{owner}_north")
 
     @property
+    def place(self) -> tuple | None:
+        """The vehicle's geodetic latitude and longitude (deg) at the end; None without them (a flat planet, a
+        summary written before they were kept)."""
+        names = [column(t, self.vehicle) for t in ("{owner}_latitude", "{owner}_longitude")]
+        values = [self.values.get(name) for name in names]
+        return None if any(v is None for v in values) else (values[0], values[1])
+
+    @property
     def lateral(self) -> float:
         """The vehicle's horizontal distance (m) from the start point at the end."""
         return math.hypot(self.east, self.north)
@@ -487,6 +498,18 @@ class FinalState:
         renamed = {column(t, UNNAMED_VEHICLE): column(t, vehicle) for t in cls.POSITION}
         return cls(data.get(column("time")), vehicle,
                    {renamed.get(name, name): value for name, value in data.items() if name != column("time")})
+
+
+def site_of(start) -> dict | None:
+    """The start point of a run on its planet (``RunSummary.site``) from its start frame
+    (``physics.planet.StartFrame``): the planet's ``planet`` name, ``equatorial_radius`` and ``polar_radius`` (m),
+    the start's ``latitude_deg`` and ``longitude_deg`` (deg); None on a flat planet (no latitude there)."""
+    planet = start.planet
+    if isinstance(planet, FlatPlanet):
+        return None
+    return {"planet": planet.name, "equatorial_radius": float(planet.equatorial_radius),
+            "polar_radius": float(planet.polar_radius), "latitude_deg": float(start.latitude_deg),
+            "longitude_deg": float(start.longitude_deg)}
 
 
 def events_planned(systems: dict, triggers: dict | None = None) -> dict:
@@ -561,6 +584,9 @@ class RunSummary:
         Per separated body; {} without separations.
     step_control : dict or None
         Adaptive steps: the rule, the smallest, largest and mean step (s) and their count; None: a fixed step.
+    site : dict or None
+        The start point on the planet (``site_of``): the planet's name and semi-axes (m) and the start's geodetic
+        latitude and longitude (deg), what a map of the run needs; None on a flat planet.
     """
 
     case: str
@@ -594,6 +620,7 @@ class RunSummary:
     events_planned: dict = field(default_factory=dict)
     separations: dict = field(default_factory=dict)
     step_control: dict | None = None
+    site: dict | None = None
 
     @property
     def steps_per_second(self) -> float | None:
@@ -650,7 +677,7 @@ class RunSummary:
                 **({"separations": {k: v.to_dict() for k, v in self.separations.items()}} if self.separations
                    else {}), "warnings": list(self.warnings),
                 "failures": self.failures, "events_planned": self.events_planned,
-                "units": self.units,
+                **({"site": self.site} if self.site is not None else {}), "units": self.units,
                 "versions": self.versions, "created": self.created}
 
 

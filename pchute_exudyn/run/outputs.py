@@ -4,7 +4,8 @@ Column names (units in ``units``):
 
 * per body ``<b>``: ``<b>_altitude``, ``<b>_height`` (above the case's ground), ``<b>_east``, ``<b>_north`` (m;
   east/north along the start point's axes, relative to the ground); ``<b>_velocity_north|east|down`` (m/s, relative
-  to the ground, start-point axes);
+  to the ground, start-point axes); on an ellipsoidal planet ``<b>_latitude`` and ``<b>_longitude`` (deg,
+  geodetic, relative to the ground; after every other column);
   ``<b>_yaw_deg|pitch_deg|roll_deg`` (attitude angles, ``physics.rotations``), ``<b>_tilt_deg`` (body +x from
   nadir); ``<b>_rate_x|y|z`` (rad/s, body axes); for aerodynamic bodies ``<b>_angle_of_attack_deg`` (total),
   ``<b>_alpha_deg`` and ``<b>_beta_deg`` (atan2(w, u) and asin(v/|V|) of the air-relative velocity (u, v, w) in body
@@ -27,9 +28,11 @@ from ..errors import SimulationError
 from ..physics.aerodynamics import angles_of_attack_deg, dynamic_pressure_of_speed, mach_number
 from ..physics.kinematics import body_point, relative_to_body
 from ..physics.lines import line_states
+from ..physics.planet import FlatPlanet
 from ..physics.rotations import attitude_angles_deg, tilt_deg
 from ..physics.step_rule import merge_summaries
-from ..registries.columns import POINT_TEMPLATES, column, derived, method_column, unit
+from ..registries.columns import GEODETIC_TEMPLATES, POINT_TEMPLATES, column, derived, method_column, unit
+from ..registries.columns import owner as column_owner
 
 MAX_LINE_STRAIN = 1.0
 """A line without a material stretched beyond (1 + MAX_LINE_STRAIN) times its free length is over-stretched: no
@@ -195,10 +198,22 @@ def check_runaway(case: Case, raw: RawHistory, rows: int) -> None:
         raise SimulationError(limits.message(name, quantity, value, float(raw.time[row])), float(raw.time[row]))
 
 
-def _point_columns(case: Case, owner: str, time, position, velocity, columns: dict) -> None:
-    fixed = case.start.to_planet_fixed(position, time)
-    ground_velocity = case.start.velocity_to_planet_fixed(position, velocity, time)
-    altitude = case.start.altitude(position)
+def _point_columns(case: Case, owner: str, time, position, velocity, columns: dict, places: dict) -> None:
+    """A point's POINT_TEMPLATES columns into ``columns``; its latitude and longitude (GEODETIC_TEMPLATES, an
+    ellipsoidal planet only) into ``places``, which ``derive_columns`` puts after every other column."""
+    start, planet = case.start, case.start.planet
+    fixed = start.to_planet_fixed(position, time)
+    ground_velocity = start.velocity_to_planet_fixed(position, velocity, time)
+    if isinstance(planet, FlatPlanet):
+        altitude = start.altitude(position)
+    else:   # one geodetic pass gives the altitude (StartFrame.altitude's own) and the place
+        latitude, longitude, altitude = planet.geodetic(start.to_planet(position))
+        if planet.rotation_rate != 0.0:
+            # where it is over the turning planet: the position relative to the ground in planet-fixed axes (they
+            # coincide with the start's inertial ones at t = 0)
+            latitude, longitude, _ = planet.geodetic(start.to_planet(fixed))
+        for template, value in zip(GEODETIC_TEMPLATES, (latitude, longitude)):
+            places[column(template, owner)] = value
     values = (altitude, altitude - case.simulation.ground_elevation, fixed[:, 0], fixed[:, 1], ground_velocity[:, 1],
               ground_velocity[:, 0], -ground_velocity[:, 2])
     for template, value in zip(POINT_TEMPLATES, values):
@@ -212,17 +227,18 @@ def derive_columns(case: Case, raw: RawHistory, history: bool = True) -> tuple[d
     turbulence at its centre), the bodies' attitude angles, the other bodies' point columns and every relative
     column."""
     columns: dict = {column("time"): raw.time}
+    places: dict = {}
     order = [case.vehicle] + [name for name in case.bodies if name != case.vehicle]
     for name in order if history else [case.vehicle]:
         body = raw.bodies[name]
-        _point_columns(case, name, raw.time, body["position"], body["velocity"], columns)
+        _point_columns(case, name, raw.time, body["position"], body["velocity"], columns, places)
         if history:
             _attitude_columns(case, name, raw, columns)
     for system in case.systems.values():
         if system.name in raw.confluences:
             point = raw.confluences[system.name]
             label = case.confluence_label(system)
-            _point_columns(case, label, raw.time, point["position"], point["velocity"], columns)
+            _point_columns(case, label, raw.time, point["position"], point["velocity"], columns, places)
             if history and not case.bodies[case.vehicle].fixed:
                 _relative_columns(label, raw.bodies[case.vehicle], point["position"], point["velocity"], columns)
     for system in case.systems.values():
@@ -232,7 +248,16 @@ def derive_columns(case: Case, raw: RawHistory, history: bool = True) -> tuple[d
         name = key.column if isinstance(key, ColumnChannel) else method_column(key.name, key.system,
                                                                                 len(case.systems))
         columns[name] = value
+    columns.update(places)   # after the others (``places_last`` moves them behind the columns made later)
     return columns, units_of(columns)
+
+
+def places_last(*tables: dict) -> None:
+    """Move the latitude and longitude columns (GEODETIC_TEMPLATES) after every other in each of ``tables`` (the
+    columns and their units, once every column is made): the columns a run wrote before them keep their places."""
+    for table in tables:
+        for name in [n for n in table if any(column_owner(n, t) is not None for t in GEODETIC_TEMPLATES)]:
+            table[name] = table.pop(name)
 
 
 def units_of(columns) -> dict:

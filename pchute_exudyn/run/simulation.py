@@ -41,10 +41,11 @@ from ..results.summary import (
     opening_loads,
     opening_warnings,
     separation_summary,
+    site_of,
 )
 from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
 from .deployment_watch import watch_deployments
-from .outputs import check_history, concatenate, derive_columns, scene
+from .outputs import check_history, concatenate, derive_columns, places_last, scene
 from .phases import boundaries, inflation_progress, initial_states, next_phase, retime_openings
 from .sequence import Sequence
 from .step_control import AdaptiveSteps, add_step_monitor, stability_step
@@ -322,7 +323,8 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
         separations=separation_summary(case, raw, events),
-        step_control=None if plan.control is None else {"rule": "adaptive", **(raw.step_control or {})})
+        step_control=None if plan.control is None else {"rule": "adaptive", **(raw.step_control or {})},
+        site=site_of(case.start))
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"
@@ -416,6 +418,7 @@ def _result(plan: RunPlan, raw, facts, events, openings, sequence, traces, histo
     columns, units = derive_columns(flown, raw, history)
     contacts = cluster_columns(flown, raw, columns, units)
     pendulum_columns(flown, raw, columns, units)
+    places_last(columns, units)
     loads: dict = {}   # each deployment's load history, for the loads figure
     summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
                         opening_loads(flown, openings, columns), sequence,

@@ -35,6 +35,8 @@ def scalar_outputs(result) -> dict:
     s, f = result.summary, result.summary.final
     out = {column("final_time"): f.time, column("final_altitude"): f.altitude, column("final_east"): f.east,
            column("final_north"): f.north, column("final_lateral"): f.lateral}
+    if f.place is not None:   # an ellipsoidal planet: where the run ended on it
+        out[column("final_latitude")], out[column("final_longitude")] = f.place
     touchdown = s.touchdown
     if touchdown is not None:
         out[column("touchdown_time")] = touchdown.time
@@ -177,7 +179,7 @@ def _execute(run: RunSpec, load_case, simulate) -> RunRecord:
         outputs = scalar_outputs(result)
         never_fired, warnings = trigger_outcome(case, result.summary)
         record = RunRecord(run.index, "ok", "", outputs, never_fired, warnings, result.summary.wall_time,
-                           result.summary.steps)
+                           result.summary.steps, site=result.summary.site)
     except PchuteError as exc:
         record = RunRecord(run.index, "failed", str(exc), outputs, wall_time=time.perf_counter() - started)
     except Exception as exc:  # a bug, not a user mistake: still recorded, the study goes on

@@ -35,8 +35,8 @@ from ..results.journal import RUN_INDEX, RecordFolder, digests, writing
 from .table import PARQUET_NAME, write_parquet
 
 FIRST_COLUMNS = ["run", "sample", "case", "reference", "reference_run", "method", "integrator", "step"]
-JOURNAL_ONLY = ("warnings",)
-"""Record entries kept in ``runs.jsonl`` alone (lists of text lines): not columns of ``runs.csv``."""
+JOURNAL_ONLY = ("warnings", "site")
+"""Record entries kept in ``runs.jsonl`` alone (lists of text lines, the run's site): not columns of ``runs.csv``."""
 
 
 @dataclass(frozen=True)
@@ -67,6 +67,9 @@ class RunRecord:
         The whole run in its worker (s): loading the case, the run and its outputs.
     write_error : str or None
         Why a worker could not save the run's histories (the study stops with it; never recorded).
+    site : dict or None
+        The run's start point on its planet (``RunSummary.site``: what a map of the footprint needs); in
+        ``runs.jsonl`` only; None on a flat planet, for a failed run and in records written before it was kept.
     """
 
     run: int
@@ -79,6 +82,7 @@ class RunRecord:
     steps: int | None = None
     run_time: float | None = None
     write_error: str | None = None
+    site: dict | None = None
 
     @property
     def ok(self) -> bool:
@@ -88,7 +92,7 @@ class RunRecord:
         """The record's line of ``runs.jsonl``: run, status, error, the outputs, then what is set of the rest."""
         rest = {"never_fired": self.never_fired, "warnings": list(self.warnings) or None,
                 "wall_time": self.wall_time, "steps": self.steps, "write_error": self.write_error,
-                "run_time": self.run_time}
+                "run_time": self.run_time, "site": self.site}
         return {"run": self.run, "status": self.status, **({"error": self.error} if self.error is not None else {}),
                 **self.outputs, **{key: value for key, value in rest.items() if value is not None}}
 

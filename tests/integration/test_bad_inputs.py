@@ -121,6 +121,11 @@ BATTERY = [
      "--follow rover: no such body; the bodies are: vehicle, parachute"),
     ("animate to a PNG", lambda t: ["animate", _short_run(t), "--out", str(t / "a.png")],
      "write a .gif or an .mp4 file"),
+    # map (docs/results.md, Maps)
+    ("map a result without latitudes", lambda t: ["map", _result_folder(t)],
+     "the run has no vehicle_latitude column: a run on a flat planet has no latitude and longitude"),
+    ("map a folder that holds no result", lambda t: ["map", str(t / "work")],
+     "neither a result folder of `pchute run` (no summary.json) nor a study folder (no runs.csv)"),
     # winds, turbulence and gusts (docs/models/winds.md)
     ("negative turbulence intensity", lambda t: ["run", CASE1, "--set", TURBULENCE + "seed=1", "--set",
                                                  TURBULENCE + "sigma_u=-1", "--set", TURBULENCE + "sigma_v=1", "--set",
