@@ -14,9 +14,10 @@ TARGET_AND_AIRCRAFT = (
     ("--airspeed", "M/S", "the aircraft's airspeed (m/s); default the case's [start.release]"),
     ("--heading-deg", "DEG", "the aircraft's heading, clockwise from north (deg); default the case's"),
     ("--altitude", "M", "release altitude of the load's centre of mass (m); default the case's"))
-SPREADS = (("--wind-error", 0.15, "F", "relative 1-sigma scale of each wind key"),
-           ("--drag-error", 0.05, "F", "relative 1-sigma scale of each canopy's drag"),
-           ("--release-error", 5.0, "M", "1-sigma release position error per axis (m)"))
+SPREADS = (("--wind-error", None, "F", "relative 1-sigma scale of each wind key (default 0.15 where the case has "
+                                       "a wind; 0: none)"),
+           ("--drag-error", 0.05, "F", "relative 1-sigma scale of each canopy's drag (default 0.05; 0: none)"),
+           ("--release-error", 5.0, "M", "1-sigma release position error per axis (m; default 5; 0: none)"))
 
 
 def add_parser(subparsers):
@@ -44,7 +45,7 @@ def add_parser(subparsers):
                                   "by the release case")
     for flag, default, metavar, text in SPREADS:
         rp.add_argument(flag, type=float, default=default, metavar=metavar,
-                        help=f"with --runs: {text} (default {default:g}; 0: none)")
+                        help=f"with --runs: {text}")
     rp.add_argument("--seed", type=int, default=1, help="with --runs: the study's seed (default 1)")
     rp.add_argument("--sampling", choices=("random", "latin_hypercube", "sobol"), default="latin_hypercube",
                     help="with --runs: how the draws are spread (default latin_hypercube)")
@@ -60,14 +61,16 @@ def release_point(args) -> int:
     """Run the command: the solve, the Monte Carlo if asked, the folder; exit status 1 when it did not converge."""
     from ..views.progress import TerminalProgress
     from . import Dispersion, release_footprint, solve_release_point
+    from .placement import merged_data, parsed_overrides
     from .release_files import check_release_folder, release_folder, write_release_case, write_release_point
 
     out = Path(args.out) if args.out else Path("release_points") / Path(args.case).stem
     check_release_folder(out, args.overwrite)
     dispersion = None if args.runs is None else Dispersion(args.runs, args.wind_error, args.drag_error,
                                                            args.release_error, args.seed, args.sampling)
-    if dispersion is not None:
+    if dispersion is not None:   # before the solve's runs
         dispersion.check()
+        dispersion.wind_keys(merged_data(args.case, parsed_overrides(args.overrides)), args.case)
     shown = TerminalProgress.wanted(args.quiet, sys.stderr)
     release = solve_release_point(
         args.case, args.target_east, args.target_north, target_latitude_deg=args.target_latitude,

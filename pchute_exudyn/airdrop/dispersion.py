@@ -36,6 +36,8 @@ from .placement import initial_tables, merged_data
 from .release_files import CASE_FILE
 from .release_point import touchdown_point
 
+DEFAULT_WIND_ERROR = 0.15
+"""Relative 1-sigma scale of each wind key by default (-)."""
 WIND_KEYS = ("east", "north", "speed")
 """Keys of [atmosphere.wind] a dispersion scales (a from_deg is kept)."""
 STUDY_FILE = "footprint_study.toml"
@@ -51,7 +53,8 @@ class Dispersion:
     runs : int
         Runs (>= MINIMUM_RUNS).
     wind : float
-        Relative scale of each wind key (-; 0.15: 15 %).
+        Relative scale of each wind key (-; 0.15: 15 %); None: DEFAULT_WIND_ERROR where the case has a wind, else
+        none (a scale given for a case without wind is refused: it would disperse nothing).
     drag : float
         Relative scale of each canopy's axial coefficient, i.e. its drag area (-).
     release : float
@@ -65,7 +68,7 @@ class Dispersion:
     """
 
     runs: int
-    wind: float = 0.15
+    wind: float | None = None
     drag: float = 0.05
     release: float = 5.0
     seed: int = 1
@@ -75,7 +78,8 @@ class Dispersion:
         if isinstance(self.runs, bool) or not isinstance(self.runs, int) or self.runs < MINIMUM_RUNS:
             raise InputError(f"--runs = {self.runs!r}: must be an integer >= {MINIMUM_RUNS} (a footprint needs a "
                              "covariance)")
-        for flag, value in (("--wind-error", self.wind), ("--drag-error", self.drag),
+        for flag, value in (("--wind-error", DEFAULT_WIND_ERROR if self.wind is None else self.wind),
+                            ("--drag-error", self.drag),
                             ("--release-error", self.release)):
             if isinstance(value, bool) or not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise InputError(f"{flag} = {value!r}: must be a finite standard deviation >= 0")
@@ -83,6 +87,18 @@ class Dispersion:
             raise InputError(f"--seed = {self.seed!r}: must be an integer >= 0")
         if self.sampling not in SAMPLINGS:
             raise InputError(f"--sampling = {self.sampling!r}: must be one of {', '.join(SAMPLINGS)}")
+
+
+    def wind_keys(self, data: dict, case) -> list:
+        """The keys of the case's [atmosphere.wind] (merged ``data`` of case file ``case``) the dispersion scales:
+        those not zero; InputError when a wind error was given for a case without them."""
+        wind = data.get("atmosphere", {}).get("wind", {})
+        blowing = [key for key in WIND_KEYS if np.any(np.asarray(wind.get(key, 0.0), float) != 0.0)]
+        if self.wind is not None and self.wind > 0.0 and not blowing:
+            raise InputError(f"--wind-error = {self.wind:g}: case {case} has no wind to scale (no "
+                             "[atmosphere.wind], or one of zero; a sounding's wind is not dispersed): give "
+                             "--wind-error 0")
+        return blowing
 
 
 @dataclass(frozen=True)
@@ -116,12 +132,11 @@ def dispersion_study_text(case_file: Path, dispersion: Dispersion, release) -> t
     case = load_case(case_file)
     data = merged_data(case_file, {})
     parameters = []   # (key, distribution keys, description)
-    wind = data.get("atmosphere", {}).get("wind", {})
-    if dispersion.wind > 0.0:
-        for key in WIND_KEYS:
-            if np.any(np.asarray(wind.get(key, 0.0), float) != 0.0):
-                parameters.append((f"atmosphere.wind.{key}", {"mean": 1.0, "std": dispersion.wind}, True,
-                                   f"wind {key} x N(1, {dispersion.wind:g})"))
+    blowing = dispersion.wind_keys(data, release.case)
+    spread = DEFAULT_WIND_ERROR if dispersion.wind is None else dispersion.wind
+    for key in blowing if spread > 0.0 else ():
+        parameters.append((f"atmosphere.wind.{key}", {"mean": 1.0, "std": spread}, True,
+                           f"wind {key} x N(1, {spread:g})"))
     if dispersion.drag > 0.0:
         for canopy in dict.fromkeys(c for system in case.systems.values() for c in system.canopies):
             if "axial_coefficient" in data["bodies"][canopy].get("aerodynamics", {}):
