@@ -61,6 +61,7 @@ def release_point(args) -> int:
     """Run the command: the solve, the Monte Carlo if asked, the folder; exit status 1 when it did not converge."""
     from ..views.progress import TerminalProgress
     from . import Dispersion, release_footprint, solve_release_point
+    from .dispersion import one_case_study
     from .placement import merged_data, parsed_overrides
     from .release_files import check_release_folder, release_folder, write_release_case, write_release_point
 
@@ -71,6 +72,8 @@ def release_point(args) -> int:
     if dispersion is not None:   # before the solve's runs
         dispersion.check()
         dispersion.wind_keys(merged_data(args.case, parsed_overrides(args.overrides)), args.case)
+    if args.monte_carlo is not None:
+        one_case_study(args.monte_carlo)   # a bad study file is one line before the solve's runs
     shown = TerminalProgress.wanted(args.quiet, sys.stderr)
     release = solve_release_point(
         args.case, args.target_east, args.target_north, target_latitude_deg=args.target_latitude,

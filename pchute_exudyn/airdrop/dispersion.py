@@ -178,6 +178,16 @@ def landing_points(study_folder: Path) -> np.ndarray:
     return points
 
 
+def one_case_study(study_file):
+    """The study file ``study_file`` read (``study.spec.load_study``), refused (InputError) unless it runs one case
+    file, which the release case replaces."""
+    spec = load_study(study_file)
+    if len(spec.cases) != 1:
+        raise InputError(f"--monte-carlo {study_file}: the study runs {len(spec.cases)} case files; a release "
+                         "point's footprint runs one, the release case")
+    return spec
+
+
 def release_footprint(folder, release, dispersion: Dispersion | None = None, study_file=None, workers=None,
                       progress: bool = False) -> Footprint:
     """Run the Monte Carlo around ``release`` (a ``ReleasePoint``) in ``folder``, which holds its release case
@@ -186,11 +196,7 @@ def release_footprint(folder, release, dispersion: Dispersion | None = None, stu
     folder = Path(folder)
     case_file = folder / CASE_FILE
     if study_file is not None:
-        spec = load_study(study_file)
-        if len(spec.cases) != 1:
-            raise InputError(f"--monte-carlo {study_file}: the study runs {len(spec.cases)} case files; a release "
-                             "point's footprint runs one, the release case")
-        spec = replace(spec, cases=(case_file.resolve(),), histories=True)
+        spec = replace(one_case_study(study_file), cases=(case_file.resolve(),), histories=True)
         described = tuple(p.key for p in spec.parameters)
     else:
         dispersion.check()

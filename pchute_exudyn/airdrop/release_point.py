@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..boundary import load_case
-from ..errors import InputError
+from ..errors import CaseError, InputError
 from ..registries.columns import column
 from ..run.simulation import simulate
 from .placement import (
@@ -93,11 +93,25 @@ def touchdown_point(result) -> tuple:
     reached the ground, up to a step's travel beyond it); InputError for a run that did not land."""
     touchdown = result.summary.touchdown
     if touchdown is None:
-        raise InputError(f"the run of {result.summary.case} ended at {result.summary.final.time:g} s without "
+        raise InputError(f"the run of case {result.summary.case!r} ended at {result.summary.final.time:g} s without "
                          "reaching the ground: raise simulation.duration (--set simulation.duration=...)")
     time = result.time
     return tuple(float(np.interp(touchdown.time, time, result[column(name, result.vehicle)]))
                  for name in ("{owner}_east", "{owner}_north"))
+
+
+AIRCRAFT_FLAGS = {"start.release.airspeed": "--airspeed", "start.release.heading_deg": "--heading-deg"}
+
+
+def _check_aircraft(path, overrides: dict, given: dict) -> None:
+    """The case with the aircraft's options (``given``: flag -> value) loads; else InputError naming the flag."""
+    try:
+        load_case(path, overrides)
+    except CaseError as exc:
+        flag = AIRCRAFT_FLAGS.get(exc.field)
+        if flag is None or given.get(flag) is None:
+            raise
+        raise InputError(f"{flag} = {given[flag]:g}: {exc.detail}") from None
 
 
 class _Problem:
@@ -118,8 +132,12 @@ class _Problem:
         east, north, start_altitude = vehicle_start(data, base.vehicle)
         if altitude is not None and start_altitude is None:
             raise InputError(f"--altitude: case {path} starts its vehicle from flight conditions, not an altitude")
+        if altitude is not None and not (math.isfinite(altitude) and altitude > base.simulation.ground_altitude):
+            raise InputError(f"--altitude = {altitude:g}: must be a finite altitude (m) above the ground "
+                             f"({base.simulation.ground_altitude:g} m, simulation.ground_altitude)")
         self.aircraft = {**aircraft, **moved(data, 0.0, 0.0, 0.0 if altitude is None else
                                              float(altitude) - float(start_altitude))}
+        _check_aircraft(path, {**self.user, **self.aircraft}, {"--airspeed": airspeed, "--heading-deg": heading_deg})
         self.data = merged_data(path, {**self.user, **self.aircraft})
         self.origin = np.array([east, north])
         self.runs = 0

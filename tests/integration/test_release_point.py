@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 import pchute_exudyn as pc
-from pchute_exudyn.airdrop import solve_release_point
+from pchute_exudyn.airdrop import release_footprint, solve_release_point
 from pchute_exudyn.airdrop.placement import local_to_site, site_to_local
+from pchute_exudyn.airdrop.release_files import write_release_case
 from pchute_exudyn.cli import main
 from tests.helpers import MER, run_cli
 
@@ -114,7 +115,7 @@ def test_the_site_is_the_ellipsoids():
 
 def test_a_target_by_latitude_and_longitude_is_the_same_target(airdrop):
     """The JSON's target latitude and longitude, given back from Python, solve the same release point; each run is
-    reported as it ends."""
+    reported as it ends; a study file of one's own gives the footprint there."""
     folder, _, data = airdrop
     solved = data["release_point"]
     runs = []
@@ -124,6 +125,17 @@ def test_a_target_by_latitude_and_longitude_is_the_same_target(airdrop):
     assert (again.release_east, again.release_north) == pytest.approx((solved["release_east"],
                                                                        solved["release_north"]), abs=0.2)
     assert [i.miss for i in runs] == [i.miss for i in again.iterations] and again.converged
+    # a study file of one's own runs at it, the release case in place of its case
+    (folder / "mine.toml").write_text('[study]\ncase = "shear.toml"\nruns = 4\nseed = 7\nsampling = "latin_hypercube"\n'
+                                      '[parameters."canopy.aerodynamics.axial_coefficient"]\ndistribution = "normal"\n'
+                                      'mean = 1.0\nstd = 0.05\nrelative = true\n')
+    (folder / "mine").mkdir()
+    write_release_case(folder / "mine", again)
+    footprint = release_footprint(folder / "mine", again, study_file=folder / "mine.toml", workers=2)
+    assert (footprint.runs, len(footprint.points), footprint.dispersions) == (
+        4, 4, ("canopy.aerodynamics.axial_coefficient",))
+    assert "release_case.toml" in (folder / "mine" / "monte_carlo" / "manifest.json").read_text()
+    assert footprint.target_inside   # the drag changes the descent time, and so the drift, by 2.5 % at most
 
 
 def test_bad_input_is_one_line(tmp_path, capsys):
@@ -131,6 +143,7 @@ def test_bad_input_is_one_line(tmp_path, capsys):
     (tmp_path / "flat.toml").write_text(_light_airdrop(planet="flat"))
     (tmp_path / "nowhere.toml").write_text('extends = "earth.toml"\nremove = ["start.latitude_deg", '
                                            '"start.longitude_deg"]\n')
+    (tmp_path / "two.toml").write_text('[study]\ncase = ["earth.toml", "flat.toml"]\n')
     site = ["--target-latitude", "35.001", "--target-longitude", "-117.0"]
     for case, extra, message in (
             ("earth.toml", [], "no target: give --target-east and --target-north"),
@@ -140,7 +153,11 @@ def test_bad_input_is_one_line(tmp_path, capsys):
             (MER / "case1.toml", ["--target-east", "5", "--target-north", "5"], "no [start.release]"),
             ("earth.toml", ["--target-east", "5", "--target-north", "5", "--runs", "12", "--wind-error", "0.2"],
              "--wind-error = 0.2: case"),
-            ("earth.toml", ["--target-east", "5", "--target-north", "5", "--runs", "2"], "--runs = 2: must be")):
+            ("earth.toml", ["--target-east", "5", "--target-north", "5", "--runs", "2"], "--runs = 2: must be"),
+            ("earth.toml", ["--target-east", "5", "--target-north", "5", "--airspeed", "-4"],
+             "--airspeed = -4: must be >= 0 (m/s)"),
+            ("earth.toml", ["--target-east", "5", "--target-north", "5", "--monte-carlo", str(tmp_path / "two.toml")],
+             "the study runs 2 case files")):
         code = main(["release-point", str(tmp_path / case), "--out", str(tmp_path / "out"), *extra])
         err = capsys.readouterr().err
         assert code == 1 and err.count("\n") == 1 and message in err and "Traceback" not in err, err
