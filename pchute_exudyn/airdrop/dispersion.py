@@ -75,6 +75,7 @@ class Dispersion:
     sampling: str = "latin_hypercube"
 
     def check(self) -> None:
+        """InputError naming the option of the first value out of its range."""
         if isinstance(self.runs, bool) or not isinstance(self.runs, int) or self.runs < MINIMUM_RUNS:
             raise InputError(f"--runs = {self.runs!r}: must be an integer >= {MINIMUM_RUNS} (a footprint needs a "
                              "covariance)")
@@ -118,6 +119,7 @@ class Footprint:
     dispersions: tuple
 
     def to_dict(self) -> dict:
+        """The JSON form: the centre and its interval (m) first, then the statistics and the points."""
         (east_low, east_high), (north_low, north_high) = self.centre_interval
         return {"centre_east": self.statistics["mean_east"], "centre_north": self.statistics["mean_north"],
                 "centre_interval_95": {"east": [east_low, east_high], "north": [north_low, north_high]},

@@ -59,10 +59,10 @@ def vehicle_start(data: dict, vehicle: str) -> tuple:
 
 
 def has_site(case, data: dict) -> bool:
-    """Whether the case places its start on a planet's surface: an ellipsoid planet and [start] latitude_deg or
-    longitude_deg given."""
+    """Whether the case places its start on a planet's surface: an ellipsoid planet and [start] latitude_deg and
+    longitude_deg both given (as a forecast's air needs them)."""
     start = data.get("start", {})
-    return not isinstance(case.planet, FlatPlanet) and ("latitude_deg" in start or "longitude_deg" in start)
+    return not isinstance(case.planet, FlatPlanet) and {"latitude_deg", "longitude_deg"} <= set(start)
 
 
 def check_site(case, data: dict, flag: str) -> None:
