@@ -200,11 +200,13 @@ def release_footprint(folder, release, dispersion: Dispersion | None = None, stu
     if study_file is not None:
         spec = replace(one_case_study(study_file), cases=(case_file.resolve(),), histories=True)
         described = tuple(p.key for p in spec.parameters)
-    else:
+    elif isinstance(dispersion, Dispersion):
         dispersion.check()
         text, described = dispersion_study_text(case_file, dispersion, release)
         atomic_write_text(folder / STUDY_FILE, text)
         spec = load_study(folder / STUDY_FILE)
+    else:
+        raise InputError(f"dispersion = {dispersion!r}: give a Dispersion, or a study file (study_file)")
     outcome = run_study(spec, folder / STUDY_FOLDER, workers=workers, progress=progress)
     points = landing_points(folder / STUDY_FOLDER)
     if len(points) < MINIMUM_RUNS:

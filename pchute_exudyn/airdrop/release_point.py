@@ -12,11 +12,12 @@ centre of mass at the ground, interpolated in time at the run's touchdown (``tou
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..boundary import load_case
+from ..boundary import check_overrides, load_case
 from ..errors import CaseError, InputError
 from ..registries.columns import column
 from ..run.simulation import simulate
@@ -119,7 +120,8 @@ class _Problem:
 
     def __init__(self, path, entries, airspeed, heading_deg, altitude):
         self.path = path
-        self.user = parsed_overrides(entries)
+        entries = check_overrides(entries)
+        self.user = dict(entries) if isinstance(entries, Mapping) else parsed_overrides(entries)
         base = load_case(path, dict(self.user))
         if base.release is None:
             raise InputError(f"case {path}: no [start.release]: a release point is for a load released from an "
@@ -169,8 +171,8 @@ def solve_release_point(path, target_east: float | None = None, target_north: fl
     target_east, target_north : float
         The target (m, start frame); or ``target_latitude_deg``, ``target_longitude_deg`` (deg) for a case with a
         site.
-    overrides : list of "key=value" str
-        As ``pchute run --set``.
+    overrides : list of "key=value" str, or a mapping of dotted keys to values
+        As ``pchute run --set`` (``load_case``'s).
     airspeed, heading_deg, altitude : float, optional
         The aircraft's airspeed (m/s), heading (deg clockwise from north) and the release altitude (m, geodetic, of
         the vehicle's centre of mass); default: the case's.
