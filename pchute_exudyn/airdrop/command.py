@@ -16,6 +16,8 @@ TARGET_AND_AIRCRAFT = (
     ("--altitude", "M", "release altitude of the load's centre of mass (m); default the case's"))
 SPREADS = (("--wind-error", None, "F", "relative 1-sigma scale of each wind key (default 0.15 where the case has "
                                        "a wind; 0: none)"),
+           ("--wind-direction-error", None, "DEG", "1-sigma turn of a wind given as speed and from_deg (default 10 "
+                                                   "where the case's wind has them; 0: none)"),
            ("--drag-error", 0.05, "F", "relative 1-sigma scale of each canopy's drag (default 0.05; 0: none)"),
            ("--release-error", 5.0, "M", "1-sigma release position error per axis (m; default 5; 0: none)"))
 
@@ -67,11 +69,12 @@ def release_point(args) -> int:
 
     out = Path(args.out) if args.out else Path("release_points") / Path(args.case).stem
     check_release_folder(out, args.overwrite)
-    dispersion = None if args.runs is None else Dispersion(args.runs, args.wind_error, args.drag_error,
-                                                           args.release_error, args.seed, args.sampling)
+    dispersion = None if args.runs is None else Dispersion(
+        args.runs, args.wind_error, args.drag_error, args.release_error, args.seed, args.sampling,
+        args.wind_direction_error)
     if dispersion is not None:   # before the solve's runs
         dispersion.check()
-        dispersion.wind_keys(merged_data(args.case, parsed_overrides(args.overrides)), args.case)
+        dispersion.wind_parameters(merged_data(args.case, parsed_overrides(args.overrides)), args.case)
     if args.monte_carlo is not None:
         one_case_study(args.monte_carlo)   # a bad study file is one line before the solve's runs
     shown = TerminalProgress.wanted(args.quiet, sys.stderr)

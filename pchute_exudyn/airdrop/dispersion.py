@@ -2,10 +2,10 @@
 statistics, its bootstrap) of the case started at the release point.
 
 The dispersions are study parameters on the release case's keys: each wind key of [atmosphere.wind] (east, north or
-speed) scaled by a normal factor (1, ``wind``), each canopy's axial coefficient (its drag area) by a normal factor
-(1, ``drag``), and the vehicle's release east and north drawn normal about the release point (``release``, m; a
-timing error dt at ground speed V belongs in it as V dt along the track). Or a study file of the user's, run with
-the release case in place of its own.
+speed) scaled by a normal factor (1, ``wind``), a ``from_deg`` turned by a normal angle (0, ``direction``), each
+canopy's axial coefficient (its drag area) by a normal factor (1, ``drag``), and the vehicle's release east and
+north drawn normal about the release point (``release``, m; a timing error dt at ground speed V belongs in it as
+V dt along the track). Or a study file of the user's, run with the release case in place of its own.
 
 Each run's touchdown point is the solve's: interpolated at its touchdown time from its history, which the study keeps.
 The footprint's centre is the mean touchdown point; its 95 % interval is the percentile bootstrap of that mean
@@ -38,8 +38,10 @@ from .release_point import touchdown_point
 
 DEFAULT_WIND_ERROR = 0.15
 """Relative 1-sigma scale of each wind key by default (-)."""
+DEFAULT_DIRECTION_ERROR = 10.0
+"""1-sigma turn (deg) of a wind given as speed and from_deg, by default."""
 WIND_KEYS = ("east", "north", "speed")
-"""Keys of [atmosphere.wind] a dispersion scales (a from_deg is kept)."""
+"""Keys of [atmosphere.wind] a dispersion scales (a from_deg is turned)."""
 STUDY_FILE = "footprint_study.toml"
 STUDY_FOLDER = "monte_carlo"
 
@@ -65,6 +67,9 @@ class Dispersion:
         How the draws are spread (``study.spec.SAMPLINGS``): a Latin hypercube by default, whose every marginal is
         stratified, so that a few runs give the centre (the bootstrap, which treats the runs as independent, is then
         on the safe side).
+    direction : float or None
+        The 1-sigma turn (deg) of a wind given as ``speed`` and ``from_deg``; None: DEFAULT_DIRECTION_ERROR where the
+        case's wind has them, else none (given for a case without them: refused).
     """
 
     runs: int
@@ -73,6 +78,7 @@ class Dispersion:
     release: float = 5.0
     seed: int = 1
     sampling: str = "latin_hypercube"
+    direction: float | None = None
 
     def check(self) -> None:
         """InputError naming the option of the first value out of its range."""
@@ -80,7 +86,8 @@ class Dispersion:
             raise InputError(f"--runs = {self.runs!r}: must be an integer >= {MINIMUM_RUNS} (a footprint needs a "
                              "covariance)")
         for flag, value in (("--wind-error", DEFAULT_WIND_ERROR if self.wind is None else self.wind),
-                            ("--drag-error", self.drag),
+                            ("--wind-direction-error", DEFAULT_DIRECTION_ERROR if self.direction is None
+                             else self.direction), ("--drag-error", self.drag),
                             ("--release-error", self.release)):
             if isinstance(value, bool) or not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise InputError(f"{flag} = {value!r}: must be a finite standard deviation >= 0")
@@ -90,16 +97,26 @@ class Dispersion:
             raise InputError(f"--sampling = {self.sampling!r}: must be one of {', '.join(SAMPLINGS)}")
 
 
-    def wind_keys(self, data: dict, case) -> list:
-        """The keys of the case's [atmosphere.wind] (merged ``data`` of case file ``case``) the dispersion scales:
-        those not zero; InputError when a wind error was given for a case without them."""
+    def wind_parameters(self, data: dict, case) -> list:
+        """The study parameters (key, distribution, relative, description) of the case's [atmosphere.wind] (merged
+        ``data`` of case file ``case``): a factor on each key not zero, a turn of a ``from_deg``; InputError when an
+        error was given for a case without what it disperses."""
         wind = data.get("atmosphere", {}).get("wind", {})
         blowing = [key for key in WIND_KEYS if np.any(np.asarray(wind.get(key, 0.0), float) != 0.0)]
-        if self.wind is not None and self.wind > 0.0 and not blowing:
-            raise InputError(f"--wind-error = {self.wind:g}: case {case} has no wind to scale (no "
-                             "[atmosphere.wind], or one of zero; a sounding's wind is not dispersed): give "
-                             "--wind-error 0")
-        return blowing
+        turning = "from_deg" in wind and "speed" in blowing
+        for flag, value, found, what in (("--wind-error", self.wind, blowing, "wind to scale"),
+                                         ("--wind-direction-error", self.direction, turning, "from_deg to turn")):
+            if value is not None and value > 0.0 and not found:
+                raise InputError(f"{flag} = {value:g}: case {case} has no {what} ([atmosphere.wind] absent, zero or "
+                                 f"without it; a sounding's wind is not dispersed): give {flag} 0")
+        scale = DEFAULT_WIND_ERROR if self.wind is None else self.wind
+        turn = DEFAULT_DIRECTION_ERROR if self.direction is None else self.direction
+        parameters = [(f"atmosphere.wind.{key}", {"mean": 1.0, "std": scale}, True, f"wind {key} x N(1, {scale:g})")
+                      for key in blowing if scale > 0.0]
+        if turning and turn > 0.0:
+            parameters.append(("atmosphere.wind.from_deg", {"mean": float(wind["from_deg"]), "std": turn}, False,
+                               f"wind from_deg + N(0, {turn:g} deg)"))
+        return parameters
 
 
 @dataclass(frozen=True)
@@ -134,11 +151,7 @@ def dispersion_study_text(case_file: Path, dispersion: Dispersion, release) -> t
     case = load_case(case_file)
     data = merged_data(case_file, {})
     parameters = []   # (key, distribution keys, description)
-    blowing = dispersion.wind_keys(data, release.case)
-    spread = DEFAULT_WIND_ERROR if dispersion.wind is None else dispersion.wind
-    for key in blowing if spread > 0.0 else ():
-        parameters.append((f"atmosphere.wind.{key}", {"mean": 1.0, "std": spread}, True,
-                           f"wind {key} x N(1, {spread:g})"))
+    parameters += dispersion.wind_parameters(data, release.case)
     if dispersion.drag > 0.0:
         for canopy in dict.fromkeys(c for system in case.systems.values() for c in system.canopies):
             if "axial_coefficient" in data["bodies"][canopy].get("aerodynamics", {}):

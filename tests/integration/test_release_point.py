@@ -153,6 +153,8 @@ def test_bad_input_is_one_line(tmp_path, capsys):
             (MER / "case1.toml", ["--target-east", "5", "--target-north", "5"], "no [start.release]"),
             ("earth.toml", ["--target-east", "5", "--target-north", "5", "--runs", "12", "--wind-error", "0.2"],
              "--wind-error = 0.2: case"),
+            ("earth.toml", ["--target-east", "5", "--target-north", "5", "--runs", "12", "--wind-direction-error", "5"],
+             "has no from_deg to turn"),
             ("earth.toml", ["--target-east", "5", "--target-north", "5", "--runs", "2"], "--runs = 2: must be"),
             ("earth.toml", ["--target-east", "5", "--target-north", "5", "--airspeed", "-4"],
              "--airspeed = -4: must be >= 0 (m/s)"),
