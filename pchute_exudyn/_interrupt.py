@@ -12,6 +12,7 @@ anything heavy is imported; a program that imports the package keeps its own han
 
 from __future__ import annotations
 
+import contextlib
 import signal
 import sys
 import threading
@@ -115,3 +116,18 @@ def install() -> None:
     if installed and sys.unraisablehook is not _unraisable:
         _PREVIOUS_HOOK[0] = sys.unraisablehook
         sys.unraisablehook = _unraisable
+
+
+@contextlib.contextmanager
+def signals_interrupt():
+    """While a run, a study, a fit or a release point goes on, SIGTERM stops it as Ctrl-C does (``terminate``): a
+    study's workers stopped, finished runs kept, one line, exit status 143 (signals reach only the main thread:
+    elsewhere nothing changes)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)

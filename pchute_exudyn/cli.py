@@ -3,17 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 import os
 import re
-import signal
 import sys
-import threading
 from dataclasses import fields, replace
 from pathlib import Path
 
 from . import __version__, _interrupt
+from ._interrupt import signals_interrupt as _signals_interrupt
 from .errors import InputError, PchuteError
 from .kernels import lock, selection
 from .registries import columns
@@ -415,21 +413,6 @@ def _timeout_seconds(text: str) -> float:
     return value
 
 
-@contextlib.contextmanager
-def _signals_interrupt():
-    """While a run, a study or a fit goes on, SIGTERM stops it as Ctrl-C does (``_interrupt.terminate``): a study's
-    workers stopped, finished runs kept, one line, exit status 143 (signals reach only the main thread: elsewhere
-    nothing changes)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGTERM, _interrupt.terminate)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-
-
 def _interrupted_status(exc: KeyboardInterrupt) -> int:
     terminated = isinstance(exc, _interrupt.Terminated) or getattr(exc, "terminated", False)
     return EXIT_TERMINATED if terminated else EXIT_INTERRUPTED
@@ -587,6 +570,16 @@ def _map(args) -> int:
     return 0
 
 
+def _add_release_point(subparsers) -> None:
+    from .airdrop.command import add_parser, release_point
+    add_parser(subparsers).set_defaults(func=lambda args: _with_signals(release_point, args))
+
+
+def _with_signals(command, args) -> int:
+    with _signals_interrupt():
+        return command(args)
+
+
 def _add_view(subparsers) -> None:
     view = subparsers.add_parser(
         "view", help="replay a finished run in Exudyn's SolutionViewer (needs a display)",
@@ -618,6 +611,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_view(subparsers)
     _add_map(subparsers)
     _add_fit(subparsers)
+    _add_release_point(subparsers)
     return parser
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 from collections.abc import Iterable, Mapping
 from dataclasses import replace
 from pathlib import Path
@@ -210,6 +211,27 @@ def override_leaves(path, overrides: Mapping[str, Any]) -> dict:
             changed[".".join(prefix)] = new
     walk(before, after, ())
     return changed
+
+
+def extending_case_text(path, overrides: Mapping[str, Any], folder, header: str) -> str:
+    """A case file, to be written in ``folder``, extending the case file ``path`` with the values ``overrides``
+    change (``override_leaves``; whole arrays where a key indexed one), under the comment line ``header``."""
+    leaves = override_leaves(path, overrides)
+    relative = Path(os.path.relpath(path, folder)).as_posix()
+    lines = [f"# {header}", f'extends = "{relative}"', ""]
+    tables: dict = {}
+    for full, value in leaves.items():
+        table, _, key = full.rpartition(".")
+        tables.setdefault(table, []).append(f"{key} = {_toml(value)}")
+    for table, entries in tables.items():
+        lines += [f"[{table}]", *entries, ""]
+    return "\n".join(lines)
+
+
+def _toml(value) -> str:
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    return repr(float(value)) if isinstance(value, float) else repr(value)
 
 
 def _with_source(case: Case, source: str) -> Case:

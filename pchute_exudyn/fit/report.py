@@ -3,12 +3,11 @@ at the start and fitted) and ``calibrated.toml`` (a case file extending the base
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 
-from ..case.loader import override_leaves
+from ..case.loader import extending_case_text
 from ..results.io import atomic_write_text, json_text
 from ..views.fit_figures import fit_targets_figure
 from ..views.plotting import save_figure
@@ -31,22 +30,8 @@ def write_report(spec: FitSpec, result: FitOutcome, folder) -> dict:
 
 def calibrated_case(spec: FitSpec, fitted: list, folder: Path) -> str:
     """A case file extending the base case with the fitted values (whole arrays where a key indexed one)."""
-    leaves = override_leaves(spec.case, spec.overrides(fitted))
-    relative = Path(os.path.relpath(spec.case, folder)).as_posix()
-    lines = [f"# {spec.name}: the fitted values of `pchute fit {spec.source.name}`", f'extends = "{relative}"', ""]
-    tables: dict = {}
-    for full, value in leaves.items():
-        table, _, key = full.rpartition(".")
-        tables.setdefault(table, []).append(f"{key} = {_toml(value)}")
-    for table, entries in tables.items():
-        lines += [f"[{table}]", *entries, ""]
-    return "\n".join(lines)
-
-
-def _toml(value) -> str:
-    if isinstance(value, list):
-        return "[" + ", ".join(_toml(v) for v in value) + "]"
-    return repr(float(value)) if isinstance(value, float) else repr(value)
+    return extending_case_text(spec.case, spec.overrides(fitted), folder,
+                               f"{spec.name}: the fitted values of `pchute fit {spec.source.name}`")
 
 
 def _rows(spec: FitSpec, result: FitOutcome):

@@ -28,6 +28,18 @@ def bootstrap_interval(values: np.ndarray, percentile: float) -> tuple[float, fl
     return float(np.percentile(estimates, tail)), float(np.percentile(estimates, 100.0 - tail))
 
 
+def bootstrap_mean_interval(points: np.ndarray) -> np.ndarray:
+    """The 95 % percentile-bootstrap interval of the mean of ``points`` (n, d), per column: (d, 2) lower and upper
+    bounds, from the means of BOOTSTRAP_RESAMPLES resamples of whole rows with replacement (a landing footprint's
+    centre: east and north drawn together)."""
+    points = np.asarray(points, float)
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    rows = rng.integers(0, len(points), size=(BOOTSTRAP_RESAMPLES, len(points)))
+    means = points[rows].mean(axis=1)
+    tail = 100.0 * (1.0 - CONFIDENCE) / 2.0
+    return np.percentile(means, [tail, 100.0 - tail], axis=0).T
+
+
 def runs_needed(percentile: float) -> int:
     """Runs for the ``percentile``-th percentile to have at least ten runs beyond it (100 for the median's
     neighbours, 1000 for the 1st and 99th): with fewer it is set by a handful of extreme runs."""
