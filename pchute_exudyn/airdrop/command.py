@@ -66,6 +66,7 @@ def release_point(args) -> int:
     from .dispersion import one_case_study
     from .placement import merged_data, parsed_overrides
     from .release_files import check_release_folder, release_folder, write_release_case, write_release_point
+    from .release_map import write_release_map
 
     out = Path(args.out) if args.out else Path("release_points") / Path(args.case).stem
     check_release_folder(out, args.overwrite)
@@ -90,6 +91,7 @@ def release_point(args) -> int:
             footprint = release_footprint(staging, release, dispersion, args.monte_carlo, args.workers,
                                           progress=shown)
         write_release_point(staging, release, footprint)
+        write_release_map(staging, release, footprint)
     print(_summary_line(release, out))
     if footprint is not None:
         print(_footprint_line(footprint))

@@ -102,12 +102,17 @@ def _ellipses(site: dict, rows: list) -> tuple:
     points = touchdown_points(rows)
     if len(points) < MINIMUM_RUNS:
         return ()
-    stats = footprint_statistics(points)
-    if not stats["sigma_major"] > 0.0:
-        return ()
     altitudes = [r[column("final_altitude")] for r in rows if _number(r.get(column("touchdown_time")))
                  and _number(r.get(column("final_altitude")))]
-    altitude = float(np.median(altitudes)) if altitudes else 0.0
+    return ellipse_outlines(site, footprint_statistics(points), float(np.median(altitudes)) if altitudes else 0.0)
+
+
+def ellipse_outlines(site: dict, stats: dict, altitude: float) -> tuple:
+    """The dispersion ellipses of ``stats`` (``footprint.footprint_statistics``) as closed map outlines in latitude
+    and longitude, carried through the start frame of ``site`` (``RunSummary.site``) at ``altitude`` (m above the
+    ellipsoid); none when the points have no spread."""
+    if not stats["sigma_major"] > 0.0:
+        return ()
     outlines = []
     for label, e in stats["ellipses"].items():
         curve = ellipse(stats, e["k"])

@@ -98,6 +98,25 @@ def test_the_footprint_is_centred_on_the_target(airdrop):
     assert "Landing footprint" in (out / "release_point.md").read_text()
 
 
+def test_the_release_point_goes_on_a_map(airdrop):
+    """The case has a site: map.geojson (valid GeoJSON) holds the target and the release point where the JSON puts
+    them, the 12 Monte Carlo touchdowns and the footprint's ellipses around the target."""
+    import geojson
+
+    _, out, data = airdrop
+    solved = data["release_point"]
+    text = (out / "map.geojson").read_text()
+    assert geojson.loads(text).is_valid
+    mapped = json.loads(text)   # the coordinates as written (the geojson library rounds them to 1e-6 deg)
+    named = {f["properties"]["name"]: f["geometry"]["coordinates"] for f in mapped["features"]}
+    assert named["target"][:2] == pytest.approx([solved["target_longitude_deg"], solved["target_latitude_deg"]],
+                                                abs=1e-9)
+    assert named["release point"][:2] == pytest.approx([solved["longitude_deg"], solved["latitude_deg"]], abs=1e-9)
+    layers = [f["properties"]["layer"] for f in mapped["features"]]
+    assert layers.count("landing") == 12 and layers.count("ellipse") >= 2
+    assert {"map.kml", "map.gpx", "map.html"} <= {p.name for p in out.iterdir()}
+
+
 def test_the_site_is_the_ellipsoids():
     """1 km north at 35 deg is 1000 / M of latitude, M = a (1 - e^2) / (1 - e^2 sin^2)^1.5 the meridian's radius;
     and a target given by latitude and longitude goes back to its east and north."""
