@@ -12,8 +12,8 @@ MIN_COLUMN = 900    # px of text column at that window (Material's default grid 
 PAGES = ["index", "tutorial", "case-format", "methods", "models/gravity", "models/step_control", "models/canopy",
          "validation", "validation/flown_loads", "validation/rescue_drops", "validation/flight_logs",
          "validation/log_fit"]
-FORMULA_PAGES = {"methods", "models/gravity", "models/step_control", "models/canopy", "validation",
-                 "validation/flown_loads"}
+FORMULA_PAGES = {"tutorial", "case-format", "methods", "models/gravity", "models/step_control", "models/canopy",
+                 "validation", "validation/flown_loads", "validation/rescue_drops"}
 
 # what the page shows, measured in it: one object per page
 MEASURE = r"""
