@@ -9,11 +9,10 @@ from tests.browser import chromium_page, screenshot_is_blank
 
 WINDOW = 1400       # px, a laptop's browser window
 MIN_COLUMN = 900    # px of text column at that window (Material's default grid gave 690)
-PAGES = ["index", "tutorial", "case-format", "methods", "models/gravity", "models/step_control", "models/canopy",
-         "validation", "validation/flown_loads", "validation/rescue_drops", "validation/flight_logs",
-         "validation/log_fit"]
-FORMULA_PAGES = {"tutorial", "case-format", "methods", "models/gravity", "models/step_control", "models/canopy",
-                 "validation", "validation/flown_loads", "validation/rescue_drops"}
+PAGES = ["index", "tutorial", "case-format", "models/gravity", "validation", "validation/flown_loads",
+         "validation/rescue_drops", "validation/flight_logs", "validation/log_fit"]
+FORMULA_PAGES = {"tutorial", "case-format", "models/gravity", "validation", "validation/flown_loads",
+                 "validation/rescue_drops"}
 
 # what the page shows, measured in it: one object per page
 MEASURE = r"""
