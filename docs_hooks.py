@@ -1,6 +1,7 @@
-"""MkDocs hook (mkdocs.yml, ``hooks:``): the images the pages show from outside docs/ are published with the site.
+"""MkDocs hook (mkdocs.yml, ``hooks:``): the images the pages show from outside docs/ are published with the site, and
+inline code of several words wraps only at its spaces.
 
-Images: a page shows a figure the validation scripts write where they write it, ``![...](../validation/output/x/y.png)``, a
+A page shows a figure the validation scripts write where they write it, ``![...](../validation/output/x/y.png)``, a
 link that also works on the repository's own file view. MkDocs knows only the files under docs/, so this hook adds
 each such image to the site's files under ``repository/<its path in the repository>``; MkDocs then checks the link
 and rewrites it to that copy like any other. Links to other files outside docs/ are not links: the pages name such a
