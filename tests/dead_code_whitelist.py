@@ -14,7 +14,7 @@ from pchute_exudyn.methods.sp import balance, memory
 from pchute_exudyn.physics import aerodynamics, air, compiled, gravity, kinematics, planet
 from pchute_exudyn.results import result, summary
 
-docs_hooks.on_files  # mkdocs calls its hooks by name
+docs_hooks.on_files, docs_hooks.on_page_content  # mkdocs calls its hooks by name
 pchute_exudyn.__getattr__, pchute_exudyn.__dir__  # PEP 562: the package's names imported when first used
 EquilibriumPoint  # found by the method table's discovery (methods.register_builtin), as every method class
 environment.SKIP_KERNEL_BUILD  # read by setup.py (which cannot import the package) by its value

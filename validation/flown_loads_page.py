@@ -41,8 +41,8 @@ def _inputs(flights: dict) -> list:
         rows.append(f"| {flight['flight']} | {flight['role']} | {flight['inputs']['source']} | {n['mach']:.3f}, "
                     f"{n['dynamic_pressure']:.0f} | {n['mass']:.0f} | {n['drag_coefficient']:.3f} | "
                     f"{n['mass_ratio']:.4f} | {n['load_factor']:.3f} |")
-    return rows + ["", "R_m = rho (C_D S)^(3/2) / m at line stretch: every flight is close to an infinite-mass "
-                   "opening, yet the light ASPIRE payload slows noticeably during the fill (its R_m is three times "
+    return rows + ["", r"$R_m = \rho\, (C_D S)^{3/2} / m$ at line stretch: every flight is close to an infinite-mass "
+                   "opening, yet the light ASPIRE payload slows noticeably during the fill (its $R_m$ is three times "
                    "the capsules'), which the simulation carries. Sources of every case value: "
                    "[models/sources.md](../models/sources.md#disk-gap-band-flights).", ""]
 
@@ -51,10 +51,10 @@ def _calibration(result: dict, flown: dict) -> list:
     c = result["calibration"]
     constants = c["constants"]
     rows = ["## Calibration", "",
-            f"C_k(M) = C_ref + s_M (M - {c['reference_mach']:g}) fitted, simulation in the loop, to the three "
-            f"calibration flights' flown peaks (least squares in relative error): **C_ref = "
-            f"{constants['load_factor']:.4f}, s_M = {constants['mach_slope']:.4f}** (cases/edl/msl.toml holds them "
-            "to four digits; `--check` verifies it). The wake term is left out (k_w = 0): with two Earth flights "
+            f"$C_k(M) = C_\\text{{ref}} + s_M (M - {c['reference_mach']:g})$ fitted, simulation in the loop, to the three "
+            f"calibration flights' flown peaks (least squares in relative error): **$C_\\text{{ref}}$ = "
+            f"{constants['load_factor']:.4f}, $s_M$ = {constants['mach_slope']:.4f}** (cases/edl/msl.toml holds them "
+            "to four digits; `--check` verifies it). The wake term is left out ($k_w = 0$): with two Earth flights "
             "and one Mars flight it cannot be told apart from the Mach slope.", "",
             "| calibration flight | flown (kN) | nominal run (kN) | residual |", "|---|---|---|---|"]
     for key, residual in c["residuals"].items():

@@ -189,11 +189,11 @@ def step_method_lines() -> list:
     return lines + [f"    | {label} | {cells(configuration)} |" for label, configuration in STEP_METHOD.items()]
 
 
-PRESET_ROWS = {"thesis's settings (massless, kappa_max 5)": "sp 0.01 thesis",
-               "with the confluence mass to first order only (kappa_max 5)": "sp 0.01 thesis order 1",
-               "with kappa_max 10 only (massless)": "sp 0.01 thesis kappa_max 10",
-               "**accurate** (first order, kappa_max 10)": "sp 0.01 accurate",
-               "first order, kappa_max 20": "sp 0.01 accurate kappa_max 20"}
+PRESET_ROWS = {r"thesis's settings (massless, $\kappa_\text{max}$ 5)": "sp 0.01 thesis",
+               r"with the confluence mass to first order only ($\kappa_\text{max}$ 5)": "sp 0.01 thesis order 1",
+               r"with $\kappa_\text{max}$ 10 only (massless)": "sp 0.01 thesis kappa_max 10",
+               r"**accurate** (first order, $\kappa_\text{max}$ 10)": "sp 0.01 accurate",
+               r"first order, $\kappa_\text{max}$ 20": "sp 0.01 accurate kappa_max 20"}
 
 
 def preset_lines() -> list:
@@ -210,8 +210,8 @@ def preset_lines() -> list:
     worst = max(rows[(c, "sp 0.01 accurate")] for c in cases)
     lines.append(f"2e-2 s (cases 3-4: {wide[0]:.0f} and {wide[1]:.0f} N, against {ten[0]:.0f} and {ten[1]:.0f} N with "
                  "10). On PA1 the accurate preset keeps the capsule's")
-    lines.append(f"  (the confluence's weight and inertia kept to first order, our addition, and kappa_max = 10: within "
-                 f"{worst:.2g} N of the")
+    lines.append(r"  (the confluence's weight and inertia kept to first order, our addition, and $\kappa_\text{max}$ = 10: "
+                 f"within {worst:.2g} N of")
     return lines
 
 
@@ -253,9 +253,9 @@ def footprint_lines() -> list:
 
 CLOSED_FORMS = {1: "two identical canopies, mirror-symmetric start: riser tension difference / peak",
                 2: "the pair against one canopy of twice the mass and drag area: steady rate",
-                3: "the pair against sqrt(2 W / (rho C_A S)): steady rate",
-                4: "two of three canopies against three: rate ratio against sqrt(3/2) sqrt(eta3/eta2)",
-                5: "two canopies pushed together: largest overlap against v sqrt(mu / k)"}
+                3: r"the pair against $\sqrt{2 W / (\rho C_A S)}$: steady rate",
+                4: r"two of three canopies against three: rate ratio against $\sqrt{3/2}\, \sqrt{\eta_3/\eta_2}$",
+                5: r"two canopies pushed together: largest overlap against $v \sqrt{\mu / k}$"}
 
 
 def cluster_lines() -> list:
@@ -284,7 +284,7 @@ def cluster_lines() -> list:
               f"| touchdown, full mass implicit 1e-2 s - RK4 (s); riser peaks (%) | {implicit[1]}; {implicit[2]} |",
               f"| median speed-up of SP 1e-2 s over full mass RK4 5e-4 s, 3 rounds side by side | {speedup}x |",
               f"| rate of descent over the last 5 s, three / two mains (m/s) | {rates.group(2)} / {rates.group(1)} "
-              f"({rates.group(3)} times; sqrt(3/2) sqrt(eta3/eta2) = {rates.group(4)}) |",
+              f"({rates.group(3)} times; " r"$\sqrt{3/2}\, \sqrt{\eta_3/\eta_2}$" f" = {rates.group(4)}) |",
               "| main1 / main2 riser peak, three mains -> two (kN) | "
               + " / ".join(f"{a:.1f} -> {b:.1f}" for a, b in peaks) + " |",
               f"| mean flyout once open, three / two mains (deg) | {nominal[6].split(' / ')[0]} / "

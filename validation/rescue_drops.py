@@ -131,8 +131,9 @@ def page(rows: list) -> str:
              "Sixteen EN 12491 strength drops of paraglider rescue parachutes (Para-test, November and December "
              "2020; fredvol/logger_200hz on GitHub: an accelerometer at 200 Hz on the dummy, the peak read as m a), "
              "80 to 230 kg at the norm's 40 m/s. The canopies' sizes are not published: each is sized as EN 12491 "
-             f"allows at the tested mass, a sink rate of {SINK_RATE:g} m/s at sea level (C_D0 S0 = 2 m g / "
-             f"(rho_0 V_S^2), {2 * G0 / (SEA_LEVEL_DENSITY * SINK_RATE ** 2):.3f} m^2 per kg), on a flat circular's "
+             f"allows at the tested mass, a sink rate of {SINK_RATE:g} m/s at sea level ("
+             r"$C_{D0} S_0 = 2 m g / (\rho_0 V_S^2)$, "
+             f"{2 * G0 / (SEA_LEVEL_DENSITY * SINK_RATE ** 2):.3f} m² per kg), on a flat circular's "
              f"shape (C_D0 {DRAG_COEFFICIENT:g}), 0.15 kg/m^2 (`pchute new`'s), one riser, line stretch "
              f"{LINE_STRETCH:g} s after the release (assumed), flown by SP. The case inputs and their sources: "
              "`validation/data/deployment_loads.md`.", "",
@@ -164,10 +165,10 @@ def page(rows: list) -> str:
               "pulse's length (+-0.05 s) and the airspeed (the logs' ground speed is 29-36 m/s, the wind unlogged). "
               "A drop marked (bound) sits at the search's smallest n: its measured pulse is shorter than a canopy of "
               "the norm's size can give at 40 m/s even opened at once (the dummy's speed falls from 40 to about 8 m/s, "
-              "where its load is 2 g, in L (1/8 - 1/40) s, L = 2 m / (rho C_D S) = 3.3 m: about 0.33 s), so its canopy "
+              "where its load is 2 g, in $L\\,(1/8 - 1/40)$ s, $L = 2 m / (\\rho C_D S)$ = 3.3 m: about 0.33 s), so its canopy "
               "was smaller or its airspeed lower than assumed. This is a check with the differences explained, not a "
               "blind prediction: the canopies' sizes and fill times are the inputs these records lack.",
-              "", "Knacke's hand check (C_x X_1 q C_D S at the catalogue's n) is in `drops.json` beside each run."]
+              "", "Knacke's hand check ($C_x X_1\\, q\\, C_D S$ at the catalogue's n) is in `drops.json` beside each run."]
     return "\n".join(lines) + "\n"
 
 
