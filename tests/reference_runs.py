@@ -80,6 +80,12 @@ def _leaves(value, path=""):
 ADDED_SINCE = ("descent_rate", "horizontal_speed_over_ground")
 """Entries the code added after the recording (issue 48: the touchdown event's split along the local vertical): a
 new record's leaf so named is left out where the recording has none; every recorded entry is still compared."""
+ADDED_SUFFIXES = ("_latitude", "_longitude")
+"""Endings of entries added after the recording (issue 57: each body's latitude and longitude), left out alike."""
+
+
+def _added_since(leaf: str) -> bool:
+    return leaf in ADDED_SINCE or leaf.endswith(ADDED_SUFFIXES)
 
 
 def largest_difference(got: dict, want: dict) -> tuple[float, str]:
@@ -88,7 +94,7 @@ def largest_difference(got: dict, want: dict) -> tuple[float, str]:
     ``want`` lacks are not differences."""
     want_leaves = dict(_leaves(want))
     got_leaves = {path: value for path, value in _leaves(got)
-                  if path in want_leaves or path.rsplit("/", 1)[-1] not in ADDED_SINCE}
+                  if path in want_leaves or not _added_since(path.rsplit("/", 1)[-1])}
     if got_leaves.keys() != want_leaves.keys():
         return math.inf, f"keys {sorted(got_leaves.keys() ^ want_leaves.keys())}"
     worst = (0.0, "")
