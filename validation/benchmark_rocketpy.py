@@ -15,6 +15,9 @@ Run:  python validation/benchmark_rocketpy.py [--repeat 5] [--out DIR]
 3. ``--repeat`` interleaved rounds after one unrecorded warm-up of each: our whole ``pc.simulate`` call, our engine's
    solve (``summary.wall_time``) and RocketPy's ``Flight(...)`` construction (its solve); medians.
 4. Deployment times, descent rates at altitudes where each canopy's descent is steady, touchdown time and drift.
+5. The same case written by hand, without ``canopy_model`` (as ``pchute new`` wrote it before the reduced canopy;
+   the loader now chooses it, ``case.canopy_choice``), timed in the same rounds beside it flown rigid (the old
+   default), and its descent rates against the rigid canopies' at a fixed 1e-3 s step.
 
 Writes validation/output/rocketpy/benchmark.md and benchmark.json. Needs RocketPy: ``pip install -e ".[bench]"``.
 """
@@ -141,20 +144,53 @@ def fly_ours(case) -> tuple:
     return result, time.perf_counter() - started
 
 
-def timed_rounds(case, env, inputs: dict, repeat: int) -> dict:
-    """A warm-up of each, then ``repeat`` interleaved rounds; the last round's runs and every round's times."""
+def hand_written_cases(folder: Path) -> tuple:
+    """(the hand-written case, the same flown rigid): CASE without its ``canopy_model`` lines, written to ``folder``
+    (a case as ``pchute new --dual-deploy`` wrote it before the reduced canopy: no step, no canopy model named)."""
+    import pchute_exudyn as pc
+    from pchute_exudyn.results.io import atomic_write_text
+    path = folder / "dual_deploy_by_hand.toml"
+    folder.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, "".join(line for line in CASE.read_text().splitlines(keepends=True)
+                                    if not line.startswith("canopy_model")))
+    return pc.load_case(path), pc.load_case(path, {f"{s}.canopy_model": "rigid" for s in ("drogue", "main")})
+
+
+def timed_rounds(case, env, inputs: dict, repeat: int, by_hand: tuple) -> dict:
+    """A warm-up of each, then ``repeat`` interleaved rounds; the last round's runs and every round's times (``by_hand``:
+    the hand-written case and the same flown rigid, ``hand_written_cases``)."""
     fly_ours(case)
     fly_rocketpy(env, inputs)
-    times = {"ours_call": [], "ours_solve": [], "rocketpy_flight": []}
+    for other in by_hand:
+        fly_ours(other)
+    times = {"ours_call": [], "ours_solve": [], "rocketpy_flight": [], "hand_solve": [], "hand_rigid_solve": []}
     for k in range(repeat):
         result, call = fly_ours(case)
         flight, seconds = fly_rocketpy(env, inputs)
+        hand, rigid = (fly_ours(other)[0] for other in by_hand)
         times["ours_call"].append(call)
         times["ours_solve"].append(result.summary.wall_time)
         times["rocketpy_flight"].append(seconds)
+        times["hand_solve"].append(hand.summary.wall_time)
+        times["hand_rigid_solve"].append(rigid.summary.wall_time)
         print(f"  round {k + 1}/{repeat}: pc.simulate {call:.3f} s (solve {result.summary.wall_time:.3f} s), "
-              f"RocketPy Flight {seconds:.3f} s", flush=True)
-    return {"result": result, "flight": flight, "times": times}
+              f"RocketPy Flight {seconds:.3f} s, by hand: solve {hand.summary.wall_time:.3f} s (rigid "
+              f"{rigid.summary.wall_time:.3f} s)", flush=True)
+    return {"result": result, "flight": flight, "times": times, "hand": hand, "hand_rigid": rigid}
+
+
+def by_hand_check(by_hand: tuple, runs: dict) -> dict:
+    """The hand-written case's canopy models as chosen, steps, and its descent rates against the rigid canopies' at a
+    fixed 1e-3 s step (the reference)."""
+    import pchute_exudyn as pc
+    reference = pc.simulate(by_hand[1], step=1e-3)
+    hand, rigid = runs["hand"], runs["hand_rigid"]
+    ours, theirs = our_track(hand), our_track(reference)
+    rates = [{"under": canopy, "altitude": level, "chosen": rate_at(ours, level), "rigid_fixed": rate_at(theirs, level),
+              "percent": percent(rate_at(ours, level), rate_at(theirs, level))}
+             for canopy, levels in (("drogue", DROGUE_ALTITUDES), ("main", MAIN_ALTITUDES)) for level in levels]
+    return {"models": hand.summary.canopy_models, "steps": hand.summary.steps, "rigid_steps": rigid.summary.steps,
+            "reference_steps": reference.summary.steps, "rates": rates}
 
 
 # -- reading both descents --------------------------------------------------------------------------------------------
@@ -343,10 +379,27 @@ def timing_rows(times: dict) -> tuple[list, dict]:
     rows = ["| run | median (s) | min (s) | max (s) | this / RocketPy's `Flight(...)` |", "|---|---|---|---|---|"]
     for key, label in (("ours_call", "ours: the whole `pc.simulate(case)` call"),
                        ("ours_solve", "ours: the engine's solve (`summary.wall_time`)"),
+                       ("hand_solve", "ours, hand-written case without canopy_model: the solve"),
+                       ("hand_rigid_solve", "ours, the same with rigid canopies (the old default): the solve"),
                        ("rocketpy_flight", "RocketPy: `Flight(...)` (its solve)")):
         v = times[key]
         rows.append(f"| {label} | {med[key]:.3f} | {min(v):.3f} | {max(v):.3f} | {med[key] / rocketpy:.2f} |")
     return rows, med
+
+
+def by_hand_rows(h: dict, med: dict) -> list:
+    """The report's section on the hand-written case (``by_hand_check``)."""
+    chosen = ", ".join(f"{name} {entry['model']} ({entry['chosen']})" for name, entry in h["models"].items())
+    return ["## A case written by hand, without canopy_model", "",
+            f"The case above without its `canopy_model` lines: the loader chooses {chosen} (light canopies, "
+            f"docs/models/reduced_canopy.md). {h['steps']} steps against {h['rigid_steps']} with rigid canopies (the "
+            f"old default); its solve {med['hand_solve']:.3f} s is {med['hand_solve'] / med['rocketpy_flight']:.2f} "
+            f"of RocketPy's `Flight(...)` and {med['hand_solve'] / med['hand_rigid_solve']:.2f} of the rigid "
+            "canopies' solve.", "",
+            f"| under | altitude (m above sea level) | chosen model | rigid, fixed 1e-3 s ({h['reference_steps']} "
+            "steps) | chosen vs rigid fixed (%) |", "|---|---|---|---|---|",
+            *(f"| {r['under']} | {r['altitude']:g} | {fmt(r['chosen'])} | {fmt(r['rigid_fixed'])} | "
+              f"{fmt(r['percent'], '+.4f')} |" for r in h["rates"]), ""]
 
 
 def report(args, inputs: dict, runs: dict, c: dict) -> tuple[str, dict]:
@@ -387,6 +440,7 @@ def report(args, inputs: dict, runs: dict, c: dict) -> tuple[str, dict]:
         f"Steps: ours {c['ours_steps']} (adaptive RK4 with SP), RocketPy {c['rocketpy_steps']} (LSODA, rtol 1e-6, "
         "its solution points). A deployment is the trigger time + the lag in both.",
         "",
+        *by_hand_rows(c["by_hand"], med),
         "## Deployments (s)", "",
         "| system | trigger: ours | trigger: RocketPy | deployment: ours | deployment: RocketPy | ours - RocketPy |",
         "|---|---|---|---|---|---|",
@@ -486,6 +540,7 @@ def report(args, inputs: dict, runs: dict, c: dict) -> tuple[str, dict]:
                             "platform": platform.platform()},
                "rocketpy_inputs": inputs, "times": runs["times"], "medians": med,
                "ratios": {"ours_solve_over_rocketpy": med["ours_solve"] / med["rocketpy_flight"],
+                          "hand_solve_over_rocketpy": med["hand_solve"] / med["rocketpy_flight"],
                           "ours_call_over_rocketpy": med["ours_call"] / med["rocketpy_flight"]},
                **c}
     return "\n".join(lines), payload
@@ -518,8 +573,10 @@ def main(argv=None) -> int:
     case = pc.load_case(CASE)
     inputs = rocketpy_inputs(case)
     env = rocketpy_environment(inputs)
-    runs = timed_rounds(case, env, inputs, args.repeat)
-    text, payload = report(args, inputs, runs, comparison(case, inputs, runs))
+    by_hand = hand_written_cases(args.out)
+    runs = timed_rounds(case, env, inputs, args.repeat, by_hand)
+    text, payload = report(args, inputs, runs, {**comparison(case, inputs, runs), "by_hand": by_hand_check(by_hand,
+                                                                                                           runs)})
     args.out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(args.out / "benchmark.md", text)
     atomic_write_text(args.out / "benchmark.json", json.dumps(finite(payload), indent=1, allow_nan=False) + "\n")

@@ -32,6 +32,7 @@ import math
 
 import numpy as np
 
+from ..case.canopy_choice import LIGHT_CANOPY_TIME
 from ..physics.cluster import spread_directions
 from ..physics.inflation import nominal_diameter
 from ..physics.rotations import attitude_angles_deg, attitude_matrix
@@ -44,7 +45,6 @@ from .planets import PLANETS
 from .rules import (
     AXIAL_FLAT_TO_DEG,
     EDGE_ON_NORMAL,
-    LIGHT_CANOPY_TIME,
     LINE_DAMPING_TIME,
     LINE_STRAIN,
     NORMAL_COEFFICIENT,

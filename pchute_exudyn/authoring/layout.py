@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..case.canopy_choice import drag_time_constant
 from ..case.model import Contact
 from ..errors import InputError
 from ..physics.cluster import DEFAULT_DRAG_EFFICIENCY, drag_efficiency, touching_spread
@@ -99,8 +100,7 @@ class Layout:
         its drag acts then (``canopy_height`` above the vehicle); inf at rest."""
         c = self.choices
         density = PLANETS[c.planet][3]().density(self.altitude + self.canopy_height)
-        drag = density * c.canopy_drag_coefficient * self.reference_area * speed
-        return self.canopy_mass / drag if drag > 0.0 else math.inf
+        return drag_time_constant(self.canopy_mass, density, c.canopy_drag_coefficient, self.reference_area, speed)
 
     def steady_rate(self, altitude: float) -> float:
         """The closed-form steady rate of descent (m/s) of the vehicle at ``altitude`` (m), sqrt(2 m g / (rho n C_V

@@ -12,12 +12,6 @@ LINE_STRAIN = 0.025
 """Stretch (-) of each line under its share of the vehicle's weight in steady descent (MER's riser: 2.6 %)."""
 LINE_DAMPING_TIME = 0.01
 """Line damping / stiffness (s): MER's 470 N s/m on 47 000 N/m."""
-LIGHT_CANOPY_TIME = 0.05
-"""The drag time constant (s) below which a canopy is light: m_canopy / (rho C_D0 S0 V) at the start, rho and V the
-density and the steady rate of descent there (a release: its airspeed). A light canopy's speed along its riser settles
-faster than the steps its descent needs, so with one bridle (its riser in series with it) ``pchute new`` writes
-``canopy_model = "reduced"`` (SP flies it as a massless drag point at the riser's end), removing its fast modes. Not
-in a release: its canopy opens by an inflation, which a reduced canopy refuses."""
 CONFLUENCE_MASS_FRACTION = 0.002
 """Confluence mass / vehicle mass (-) when none is given (assumed: links and swivel)."""
 ATTACH_RADIUS = 0.35

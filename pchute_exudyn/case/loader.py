@@ -17,6 +17,7 @@ from typing import Any
 
 from ..physics.conditions import ConditionsError
 from ..registries.columns import UNNAMED_VEHICLE
+from .canopy_choice import with_canopy_models
 from .carried import own_vehicle, packed_by_default
 from .checks import (
     check_connections,
@@ -118,6 +119,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     bodies, systems = ground_relative(bodies, systems, vehicle, wind, frame, release)
     systems = with_bag_anchors(systems, bodies, vehicle, start, release, triggers, system_tables)   # after: its speed
     tethers = read_tethers(top.table("tethers", None), bodies, systems)
+    systems = with_canopy_models(systems, bodies, vehicle, atmosphere, planet, start, tethers, release)
     check_connections(system_tables, bodies, systems, vehicle, tethers)
     failures = read_failures(top.table("failures", None), systems, simulation.duration, bodies, triggers)
     separations = read_separations(top.table("separations", None), bodies, vehicle, triggers, systems,

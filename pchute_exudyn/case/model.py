@@ -294,7 +294,10 @@ class ParachuteSystem:
         rigid: the canopy is a 6-DoF body (every method); reduced: with the SP method, a single canopy on a riser in
         series with one bridle is a massless drag point at the riser's end (its weight and inertia to first order,
         its attitude along its air-relative velocity: docs/models/reduced_canopy.md); full mass and the equilibrium
-        point fly it rigid.
+        point fly it rigid. A case that names none gets one at load (``case.canopy_choice``).
+    canopy_model_chosen : bool
+        True: the case did not name the canopy model (``canopy_model = "auto"``) and the loader chose it by the
+        light-canopy rule (``case.canopy_choice``); False: the case named it.
     packed : bool
         True: until it deploys, the system's gear rides in the vehicle (``case.carried``): each canopy that leaves it
         and the confluence, as point masses (a packed bag), at the deploy point, so
@@ -322,6 +325,7 @@ class ParachuteSystem:
     deploy_spread: float | None = None
     contact: Contact | None = None
     canopy_model: str = "rigid"
+    canopy_model_chosen: bool = False
     packed: bool = False
     static_line: StaticLine | None = None
     pilot_chute: PilotChute | None = None

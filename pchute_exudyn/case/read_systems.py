@@ -25,29 +25,30 @@ from .read_bodies import read_initial
 from .read_opening import read_supersonic
 from .read_triggers import read_trigger
 
-CANOPY_MODELS = ("rigid", "reduced")
-"""``canopy_model`` of a system (``case.model.ParachuteSystem``)."""
+CANOPY_MODELS = ("auto", "rigid", "reduced")
+"""``canopy_model`` of a system (``case.model.ParachuteSystem``); "auto", the default, is resolved at load
+(``case.canopy_choice``)."""
 
 
-def _check_reduced(t: Table, canopies: tuple, lines: list, bodies: dict, bag_anchor=None) -> None:
-    """A reduced canopy (docs/models/reduced_canopy.md) is one canopy with aerodynamics, on a riser in series with one
-    bridle from another body, not deployed by a static line or a pilot chute (``bag_anchor``: it has no mass for the
-    snatch); it opens as the system says (an ``inflation`` or a ``drag_area_schedule``, fully open from its
-    deployment without either)."""
+def reduced_refusal(canopies: tuple, lines, bodies: dict, bag_anchor=None) -> str | None:
+    """Why a system cannot fly a reduced canopy (docs/models/reduced_canopy.md), or None: a reduced canopy is one canopy
+    with aerodynamics, on a riser in series with one bridle from another body, not deployed by a static line or a
+    pilot chute (``bag_anchor``: it has no mass for the snatch), without apparent mass; it opens as the system says
+    (an ``inflation`` or a ``drag_area_schedule``, fully open from its deployment without either)."""
     if bag_anchor is not None:
         what = bag_anchor.key.replace("_", " ")
-        raise t.error("canopy_model", f"reduced has no canopy mass for the {what}'s snatch to act on: a system "
-                                      f"deployed by a {what} flies rigid", "reduced")
+        return (f"reduced has no canopy mass for the {what}'s snatch to act on: a system deployed by a {what} flies "
+                "rigid")
     if len(canopies) != 1 or len(lines) != 2 or sorted(line.body == canopies[0] for line in lines) != [False, True]:
-        raise t.error("canopy_model", "reduced needs one canopy on one riser in series with one bridle from another "
-                                      "body (two lines: a shock cord); use rigid for this layout", "reduced")
+        return ("reduced needs one canopy on one riser in series with one bridle from another body (two lines: a "
+                "shock cord); use rigid for this layout")
     body = bodies[canopies[0]]
     if body.aerodynamics is None or not body.aerodynamics.enabled:
-        raise t.error("canopy_model", f"reduced needs canopy '{canopies[0]}' to have aerodynamics, enabled (its "
-                                      "drag is what holds it)", "reduced")
+        return f"reduced needs canopy '{canopies[0]}' to have aerodynamics, enabled (its drag is what holds it)"
     if body.apparent_mass is not None:
-        raise t.error("canopy_model", f"reduced drops canopy '{canopies[0]}''s inertia to first order, so it takes no "
-                                      "apparent_mass; use rigid to keep the air it carries", "reduced")
+        return (f"reduced drops canopy '{canopies[0]}''s inertia to first order, so it takes no apparent_mass; use "
+                "rigid to keep the air it carries")
+    return None
 
 
 def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None) -> ParachuteSystem:
@@ -68,13 +69,14 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
     if schedule is not None and inflation is not None:
         raise t.error("inflation", "a system has a drag_area_schedule or an inflation, not both")
     efficiency, spread, contact = _read_cluster(t, canopies)
-    canopy_model = t.string("canopy_model", "rigid", CANOPY_MODELS)
+    canopy_model = t.string("canopy_model", "auto", CANOPY_MODELS)
     line_tables = t.named_tables("lines")
     if not line_tables:
         raise t.error("lines", "a system needs at least one line")
     lines = [_read_line(line_name, lt, bodies) for line_name, lt in line_tables.items()]
-    if canopy_model == "reduced":
-        _check_reduced(t, canopies, lines, bodies, bag_anchor)
+    refusal = reduced_refusal(canopies, lines, bodies, bag_anchor) if canopy_model == "reduced" else None
+    if refusal is not None:
+        raise t.error("canopy_model", refusal, "reduced")
     if deploy_time is not None:
         missing = [key for key, value in ((canopy_key, canopies), ("deploy_point", deploy_point)) if not value]
         if missing:

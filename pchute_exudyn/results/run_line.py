@@ -21,7 +21,7 @@ def run_line(summary: RunSummary, out, stability_limit: float | None = None) -> 
     return (f"{s.case}: {s.method}/{s.integrator} {step}, {ending} {f.time:.2f} s in "
             f"{s.wall_time:.2f} s of wall time ({s.steps} steps); final {s.vehicle} altitude "
             f"{f.altitude:.2f} m, east {f.east:.3f} m, north {f.north:.3f} m"
-            f"{touchdown_text(s.touchdown)}{loads_text(s.deployments)} -> {out}"
+            f"{touchdown_text(s.touchdown)}{loads_text(s.deployments)}{canopy_models_text(s.canopy_models)} -> {out}"
             + (f" ({len(s.warnings)} warning(s): see summary.json)" if s.warnings else ""))
 
 
@@ -46,3 +46,11 @@ def touchdown_text(touchdown: TouchdownEvent | None) -> str:
     return (f"; at touchdown descent rate {touchdown.descent_rate:.2f} m/s, horizontal speed "
             f"{touchdown.horizontal_speed_over_ground:.2f} m/s, total speed {touchdown.speed:.2f} m/s "
             "(over the ground)")
+
+
+def canopy_models_text(canopy_models) -> str:
+    """The run line's account of the canopy models the loader chose (the case named none: ``canopy_model = "auto"``),
+    e.g. "; canopy model chosen: drogue reduced, main reduced"; '' when the case named every one."""
+    chosen = [f"{name} {entry['model']}" for name, entry in (canopy_models or {}).items()
+              if entry.get("chosen") == "auto"]
+    return "; canopy model chosen: " + ", ".join(chosen) if chosen else ""

@@ -500,6 +500,15 @@ class FinalState:
                    {renamed.get(name, name): value for name, value in data.items() if name != column("time")})
 
 
+def canopy_models_flown(systems: dict, method: str) -> dict:
+    """Per system with canopies, ``{"model", "chosen"}``: the canopy model the run flies (a reduced canopy only with
+    the SP method; every other method flies it rigid) and "auto" when the loader chose it (the case named none),
+    "case" when the case named it."""
+    return {name: {"model": system.canopy_model if method == "sp" else "rigid",
+                   "chosen": "auto" if system.canopy_model_chosen else "case"}
+            for name, system in systems.items() if system.canopies}
+
+
 def site_of(start) -> dict | None:
     """The start point of a run on its planet (``RunSummary.site``) from its start frame
     (``physics.planet.StartFrame``): the planet's ``planet`` name, ``equatorial_radius`` and ``polar_radius`` (m),
@@ -587,6 +596,9 @@ class RunSummary:
     site : dict or None
         The start point on the planet (``site_of``): the planet's name and semi-axes (m) and the start's geodetic
         latitude and longitude (deg), what a map of the run needs; None on a flat planet.
+    canopy_models : dict
+        Per system with canopies, the canopy model flown (``model``: "rigid" or "reduced") and who chose it
+        (``chosen``: "case", or "auto" by the light-canopy rule, ``case.canopy_choice``); ``canopy_models_flown``.
     """
 
     case: str
@@ -621,6 +633,7 @@ class RunSummary:
     separations: dict = field(default_factory=dict)
     step_control: dict | None = None
     site: dict | None = None
+    canopy_models: dict = field(default_factory=dict)
 
     @property
     def steps_per_second(self) -> float | None:
@@ -677,7 +690,8 @@ class RunSummary:
                 **({"separations": {k: v.to_dict() for k, v in self.separations.items()}} if self.separations
                    else {}), "warnings": list(self.warnings),
                 "failures": self.failures, "events_planned": self.events_planned,
-                **({"site": self.site} if self.site is not None else {}), "units": self.units,
+                **({"site": self.site} if self.site is not None else {}),
+                **({"canopy_models": self.canopy_models} if self.canopy_models else {}), "units": self.units,
                 "versions": self.versions, "created": self.created}
 
 

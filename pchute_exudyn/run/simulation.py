@@ -33,6 +33,7 @@ from ..results.summary import (
     RunSummary,
     StartEvent,
     TouchdownEvent,
+    canopy_models_flown,
     descent_rate_events,
     events_planned,
     failures_flown,
@@ -324,7 +325,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
         separations=separation_summary(case, raw, events),
         step_control=None if plan.control is None else {"rule": "adaptive", **(raw.step_control or {})},
-        site=site_of(case.start))
+        site=site_of(case.start), canopy_models=canopy_models_flown(case.systems, plan.method.name))
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"

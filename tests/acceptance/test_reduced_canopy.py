@@ -34,7 +34,7 @@ def test_a_reduced_drogue_opens_and_descends_as_the_rigid_one_of_full_mass():
      "reduced needs one canopy on one riser in series with one bridle from another body"),
     ({"drogue_canopy.apparent_mass": {"projected_radius": 0.43, "axial": 1.0, "lateral": 0.5, "rotational": 0.1}},
      "so it takes no apparent_mass"),
-    ({"systems.drogue.canopy_model": "soft"}, "must be one of: rigid, reduced"),
+    ({"systems.drogue.canopy_model": "soft"}, "must be one of: auto, rigid, reduced"),
 ])
 def test_a_reduced_canopy_where_it_cannot_fly_is_one_line(override, message):
     with pytest.raises(pc.CaseError, match=message):

@@ -10,7 +10,8 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.authoring.choices import NewCase
 from pchute_exudyn.authoring.layout import layout
-from pchute_exudyn.authoring.rules import LIGHT_CANOPY_TIME, LINE_STRAIN
+from pchute_exudyn.authoring.rules import LINE_STRAIN
+from pchute_exudyn.case.canopy_choice import LIGHT_CANOPY_TIME
 from pchute_exudyn.cli import main
 from pchute_exudyn.engine.state import initial_body_state, initial_confluence_state, initial_point
 from pchute_exudyn.physics.atmosphere import US76

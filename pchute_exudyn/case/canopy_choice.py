@@ -1,0 +1,72 @@
+"""The canopy model of a system whose case does not name one (``canopy_model = "auto"``, the default): reduced where a
+reduced canopy is valid (``read_systems.reduced_refusal``) and the canopy is light against its drag, rigid otherwise.
+The lightness rule (``LIGHT_CANOPY_TIME``, ``drag_time_constant``) is also the one ``pchute new`` writes by
+(``authoring.layout``). docs/models/reduced_canopy.md, "Chosen by itself"."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from .read_systems import reduced_refusal
+
+LIGHT_CANOPY_TIME = 0.05
+"""The drag time constant (s) below which a canopy is light: m_canopy / (rho C_D0 S0 V). A light canopy's speed along
+its riser settles faster than the steps its descent needs, so it may fly as a reduced canopy (SP: a massless drag
+point at the riser's end), without its fast modes."""
+
+
+def drag_time_constant(mass: float, density: float, drag_coefficient: float, reference_area: float,
+                       speed: float) -> float:
+    """A canopy's drag time constant m / (rho C_D0 S0 V) (s): ``mass`` m (kg), air ``density`` rho (kg/m^3),
+    ``drag_coefficient`` C_D0 (-) on ``reference_area`` S0 (m^2), airspeed ``speed`` V (m/s); inf at rest."""
+    drag = density * drag_coefficient * reference_area * speed
+    return mass / drag if drag > 0.0 else math.inf
+
+
+def steady_drag_time(canopy_mass: float, suspended_mass: float, gravity: float, density: float,
+                     drag_coefficient: float, reference_area: float) -> float:
+    """``drag_time_constant`` (s) at the steady rate of descent V = sqrt(2 M g / (rho C_D0 S0)) under the canopy
+    alone: m / sqrt(2 M g rho C_D0 S0), ``canopy_mass`` m and ``suspended_mass`` M (kg, everything it holds up),
+    ``gravity`` g (m/s^2), ``density`` rho (kg/m^3)."""
+    rate = math.sqrt(2.0 * suspended_mass * gravity / (density * drag_coefficient * reference_area))
+    return drag_time_constant(canopy_mass, density, drag_coefficient, reference_area, rate)
+
+
+def with_canopy_models(systems: dict, bodies: dict, vehicle: str, atmosphere, planet, start, tethers: dict,
+                       release) -> dict:
+    """``systems`` with each ``"auto"`` canopy model resolved (``canopy_model_chosen`` set True): reduced where valid
+    and light (``canopy_drag_time`` below LIGHT_CANOPY_TIME), rigid otherwise and in a ``release`` from an aircraft
+    (as ``pchute new`` writes it: the canopy opens at the aircraft's airspeed, its motion before it fills kept)."""
+    suspended = sum(b.mass for b in bodies.values() if not b.fixed and b.mass is not None) \
+        + sum(s.confluence.mass for s in systems.values())
+    tethered = {body for tether in tethers.values() for body, _ in tether.ends}
+    resolved = {}
+    for name, system in systems.items():
+        if system.canopy_model == "auto":
+            light = release is None and canopy_drag_time(system, bodies, vehicle, atmosphere, planet, start,
+                                                         tethered, suspended) < LIGHT_CANOPY_TIME
+            system = replace(system, canopy_model="reduced" if light else "rigid", canopy_model_chosen=True)
+        resolved[name] = system
+    return resolved
+
+
+def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, start, tethered: set,
+                     suspended_mass: float) -> float:
+    """The drag time constant (s, ``steady_drag_time``) of ``system``'s canopy at the vehicle's start: rho at its
+    altitude, g the planet's at the start point's surface, C_D0 the canopy's C_A at zero angle (Mach 0),
+    ``suspended_mass`` (kg) every free body's and confluence's; inf where a reduced canopy is not valid (its layout,
+    a bag anchor, a canopy among the ``tethered`` bodies) or there is no air or start to judge by."""
+    if reduced_refusal(system.canopies, system.lines, bodies, system.bag_anchor) is not None \
+            or system.canopies[0] in tethered or atmosphere is None or bodies[vehicle].initial is None:
+        return math.inf
+    canopy = bodies[system.canopies[0]]
+    drag_coefficient = canopy.aerodynamics.axial_coefficient(0.0)
+    gravity = float(np.linalg.norm(planet.gravity(start.origin)))
+    density = atmosphere.density(bodies[vehicle].initial.altitude)
+    if not (drag_coefficient > 0.0 and density > 0.0 and gravity > 0.0):
+        return math.inf
+    return steady_drag_time(canopy.mass, suspended_mass, gravity, density, drag_coefficient,
+                            canopy.aerodynamics.reference_area)
