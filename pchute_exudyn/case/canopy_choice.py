@@ -63,6 +63,8 @@ def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, sta
             or system.canopies[0] in tethered or atmosphere is None or bodies[vehicle].initial is None:
         return math.inf
     canopy = bodies[system.canopies[0]]
+    if canopy.fixed or canopy.mass is None:
+        return math.inf
     drag_coefficient = canopy.aerodynamics.axial_coefficient(0.0)
     gravity = float(np.linalg.norm(planet.gravity(start.origin)))
     density = atmosphere.density(bodies[vehicle].initial.altitude)
