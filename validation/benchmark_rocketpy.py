@@ -144,16 +144,18 @@ def fly_ours(case) -> tuple:
     return result, time.perf_counter() - started
 
 
-def hand_written_cases(folder: Path) -> tuple:
-    """(the hand-written case, the same flown rigid): CASE without its ``canopy_model`` lines, written to ``folder``
-    (a case as ``pchute new --dual-deploy`` wrote it before the reduced canopy: no step, no canopy model named)."""
+def hand_written_cases() -> tuple:
+    """(the hand-written case, the same flown rigid): CASE without its ``canopy_model`` lines (a case as ``pchute new
+    --dual-deploy`` wrote it before the reduced canopy: no step, no canopy model named), loaded from a scratch
+    folder."""
+    import tempfile
+
     import pchute_exudyn as pc
-    from pchute_exudyn.results.io import atomic_write_text
-    path = folder / "dual_deploy_by_hand.toml"
-    folder.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(path, "".join(line for line in CASE.read_text().splitlines(keepends=True)
-                                    if not line.startswith("canopy_model")))
-    return pc.load_case(path), pc.load_case(path, {f"{s}.canopy_model": "rigid" for s in ("drogue", "main")})
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "dual_deploy_by_hand.toml"
+        path.write_text("".join(line for line in CASE.read_text().splitlines(keepends=True)
+                                if not line.startswith("canopy_model")))
+        return pc.load_case(path), pc.load_case(path, {f"{s}.canopy_model": "rigid" for s in ("drogue", "main")})
 
 
 def timed_rounds(case, env, inputs: dict, repeat: int, by_hand: tuple) -> dict:
@@ -573,7 +575,7 @@ def main(argv=None) -> int:
     case = pc.load_case(CASE)
     inputs = rocketpy_inputs(case)
     env = rocketpy_environment(inputs)
-    by_hand = hand_written_cases(args.out)
+    by_hand = hand_written_cases()
     runs = timed_rounds(case, env, inputs, args.repeat, by_hand)
     text, payload = report(args, inputs, runs, {**comparison(case, inputs, runs), "by_hand": by_hand_check(by_hand,
                                                                                                            runs)})
