@@ -12,6 +12,10 @@
   not rerun (the run takes 20-40 s). ``python tests/reference_runs.py --case1-rk4`` records it again with the code it
   imports; the slow test ``test_the_recorded_case1_reference_is_what_the_code_computes`` (tests/acceptance/
   test_full_model.py, ``python -m pytest -m slow``) reruns it and asks for the recorded numbers within 1e-9.
+* The shipped rocket from apogee to 8 s past its drogue's deployment, full mass, RK4 at 1e-4 s, the canopy rigid
+  (``ROCKET_DROGUE``): the figures the reduced drogue is compared with (tests/acceptance/test_reduced_canopy.py), read
+  back instead of rerun (10-20 s). ``python tests/reference_runs.py --rocket-drogue`` records them again; the slow test
+  ``test_the_recorded_rigid_drogue_reference_is_what_the_code_computes`` reruns it and asks for them within 1e-9.
 """
 
 from __future__ import annotations
@@ -175,8 +179,51 @@ def case1_rk4_reference() -> RecordedRun:
     return RecordedRun(CASE1_RK4)
 
 
+ROCKET_DROGUE = ROOT / "tests" / "data" / "rocket_drogue_full_rk4_1e-4_9s.json"
+"""The shipped rocket (``ROCKET_DROGUE_RUN``), full mass, RK4 at 1e-4 s for 9 s, its drogue deployed at 1.01 s:
+``rocket_drogue_figures`` of the run and the commit whose package code wrote them."""
+ROCKET_DROGUE_RUN = ("cases/rocket/dual_deploy.toml", {"systems.drogue.deploy_trigger": {"time": 1.01}}, "full",
+                     "rk4", 1e-4, 9.0)   # the deployment time as sampled at 100 Hz
+
+
+def rocket_drogue_case():
+    """The rocket case of ``ROCKET_DROGUE_RUN`` (the reduced drogue's test runs SP on it)."""
+    from pchute_exudyn import load_case
+    return load_case(ROOT / ROCKET_DROGUE_RUN[0], ROCKET_DROGUE_RUN[1])
+
+
+def rocket_drogue_full_run():
+    """The real full-mass run the recording holds (10-20 s of wall time), with the code imported."""
+    from pchute_exudyn import simulate
+    return simulate(rocket_drogue_case(), *ROCKET_DROGUE_RUN[2:])
+
+
+def rocket_drogue_figures(result) -> dict:
+    """What the reduced drogue is compared on: steps, the rocket's final descent rate (m/s) and altitude (m), the
+    drogue riser's peak tension (N)."""
+    return {"steps": int(result.summary.steps),
+            "rocket_velocity_down": result.final("rocket_velocity_down"),
+            "rocket_altitude": result.final("rocket_altitude"),
+            "peak_tension_drogue_riser": float(np.nanmax(result["tension_drogue_riser"]))}
+
+
+def record_rocket_drogue(path=ROCKET_DROGUE) -> None:
+    """Run ``rocket_drogue_full_run`` and write its figures to ``path``."""
+    recorded = {**rocket_drogue_figures(rocket_drogue_full_run()), "package_commit": _package_commit(),
+                "command": "python tests/reference_runs.py --rocket-drogue"}
+    path.write_text(json.dumps(recorded, indent=1, allow_nan=False) + "\n")
+
+
+@lru_cache(maxsize=1)
+def rocket_drogue_reference() -> dict:
+    """The recorded figures of the rigid drogue's full-mass run (``ROCKET_DROGUE``)."""
+    return json.loads(ROCKET_DROGUE.read_text())
+
+
 if __name__ == "__main__":
-    if sys.argv[1:2] == ["--case1-rk4"]:
+    if sys.argv[1:2] == ["--rocket-drogue"]:
+        record_rocket_drogue(Path(sys.argv[2]) if len(sys.argv) > 2 else ROCKET_DROGUE)
+    elif sys.argv[1:2] == ["--case1-rk4"]:
         record_case1_rk4(Path(sys.argv[2]) if len(sys.argv) > 2 else CASE1_RK4)
     else:
         out = {name: record(name, *rest) for name, *rest in RUNS}
