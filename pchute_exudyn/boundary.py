@@ -9,7 +9,6 @@ import functools
 import numbers
 import os
 from collections.abc import Mapping
-from concurrent.futures import Executor
 from dataclasses import fields
 from pathlib import Path
 
@@ -69,6 +68,8 @@ def check_workers(value, name: str = "workers"):
 
 def check_executor(value, name: str = "executor"):
     """``value`` if it is None or a ``concurrent.futures.Executor`` (a process pool, a Dask client's executor)."""
+    from concurrent.futures import Executor  # here: a run (it takes no executor) does without its import
+
     if value is None or isinstance(value, Executor):
         return value
     raise InputError(f"{name} = {short_repr(value)}: must be None (a local process pool) or a "
