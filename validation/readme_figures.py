@@ -425,7 +425,8 @@ def startup_lines() -> list:
     return [f"Around the solve (`python validation/startup_budget.py --repeat 5 --before DIR`, "
             f"table `validation/output/startup_budget.md`, DIR a checkout of {commit}): a warm `pchute run "
             f"cases/mer/case1.toml --method sp --no-plot` takes {now[1]} s for its {now[2]} s solve ({now[3]}; "
-            f"before: {before[1]} s, {before[3]}) and the overview figure adds {now[5]} s (before: {before[5]} s); "
+            f"before: {before[1]} s, {before[3]}), the overview figure adds {now[5]} s (before: {before[5]} s) and "
+            f"`pchute --help` takes {now[6]} s (before: {before[6]} s); "
             f"after a fresh install (code {installed['now']}, before {installed['before']}) the first run of the "
             f"440-s descent takes {first('now', long)}, before "
             f"{first('before', long)}; of MER case 1 {first('now', mer)}, before {first('before', mer)}."]

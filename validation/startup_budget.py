@@ -12,9 +12,10 @@ Run:  python validation/startup_budget.py [--repeat 5] [--before DIR] [--no-inst
    package's imports, loading the compiled kernel module, the case, the model, the step-limit checks, the solve,
    the outputs and summary, each result file.
 3. A fresh install (unless ``--no-install``, which keeps the earlier report's section, marked as kept): a copy of
-   this code's files in a new folder, a new virtual environment, the README's install command (pip's download cache kept, every cache of ours empty: kernel folder,
-   bytecode, numba's and matplotlib's caches); then the first and a later run of the 440-s single-canopy descent
-   (cases/simple/descent_440s.toml) and of MER case 1 with SP, with the figure (the plain command) and without.
+   this code's files in a new folder, a new virtual environment, the README's install command (pip's download
+   cache kept, every cache of ours empty: kernel folder, bytecode, numba's and matplotlib's caches); then the
+   first and a later run of the 440-s single-canopy descent (cases/simple/descent_440s.toml) and of MER case 1
+   with SP, with the figure (the plain command) and without.
    With ``--before DIR``, the same for that code.
 
 Writes validation/output/startup_budget.md.
