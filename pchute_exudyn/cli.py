@@ -16,33 +16,15 @@ from .errors import InputError, PchuteError
 from .kernels import lock, selection
 from .registries import columns
 from .registries.methods import INTEGRATORS, METHODS
+from .views.command_parser import EXIT_USAGE
+from .views.command_parser import CommandParser as _Parser
 
 EXIT_ERROR = 1
-EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130   # 128 + SIGINT, as shells report an interrupted command
 EXIT_TERMINATED = 143    # 128 + SIGTERM
 DEFAULT_SETTLE = 2.0     # s: pchute compare's settling time without --settle
 FIGURE_COLUMNS = 12      # pchute compare draws at most this many single-column figures (the first compared)
 ADAPTIVE_STEP_ESTIMATE = 1e-2   # s: an adaptive run's steps counted at the thesis's step when deciding on a build
-
-
-class _Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line (no usage block). A command's parser may take its options from
-    ``arguments(parser)`` when the command is chosen: those that need the method table (Exudyn behind it) or the
-    authoring layer cost `pchute --help` and every other command nothing."""
-
-    def __init__(self, *args, arguments=None, **kwargs):
-        super().__init__(*args, **kwargs)
-        self._arguments = arguments
-
-    def parse_known_args(self, args=None, namespace=None):
-        if self._arguments is not None:
-            arguments, self._arguments = self._arguments, None
-            arguments(self)
-        return super().parse_known_args(args, namespace)
-
-    def error(self, message):
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
 def _add_run(subparsers) -> None:
