@@ -9,13 +9,9 @@ import functools
 import numbers
 import os
 from collections.abc import Mapping
-from concurrent.futures import Executor
 from dataclasses import fields
 from pathlib import Path
 
-from .authoring.choices import NewCase
-from .authoring.write import new_case as _new_case
-from .authoring.write import new_case_text as _new_case_text
 from .case import Case, parse_override
 from .case import load_case as _load_case
 from .errors import InputError, short_repr
@@ -72,6 +68,8 @@ def check_workers(value, name: str = "workers"):
 
 def check_executor(value, name: str = "executor"):
     """``value`` if it is None or a ``concurrent.futures.Executor`` (a process pool, a Dask client's executor)."""
+    from concurrent.futures import Executor  # here: a run (it takes no executor) does without its import
+
     if value is None or isinstance(value, Executor):
         return value
     raise InputError(f"{name} = {short_repr(value)}: must be None (a local process pool) or a "
@@ -152,6 +150,8 @@ def load_case(path, overrides=()) -> Case:
 def check_new_case_choices(choices, kwargs: dict) -> None:
     """``new_case``'s and ``new_case_text``'s arguments: a NewCase or None, keywords that are its fields, numbers a
     float holds; InputError naming the argument otherwise (NewCase itself checks each value)."""
+    from .authoring.choices import NewCase
+
     if choices is not None and not isinstance(choices, NewCase):
         raise InputError(f"choices = {short_repr(choices)}: must be a NewCase or None (or give its fields as "
                          f"keywords), not {type(choices).__name__}")
@@ -163,13 +163,21 @@ def check_new_case_choices(choices, kwargs: dict) -> None:
         _check_value(key, value, "")
 
 
-@functools.wraps(_new_case)
-def new_case(choices=None, **kwargs):
-    check_new_case_choices(choices, kwargs)
-    return _new_case(choices, **kwargs)
+def _checked(writer):
+    """``writer`` (``authoring.write.new_case`` or ``new_case_text``) behind the checks of its arguments."""
+    @functools.wraps(writer)
+    def checked(choices=None, **kwargs):
+        check_new_case_choices(choices, kwargs)
+        return writer(choices, **kwargs)
+    return checked
 
 
-@functools.wraps(_new_case_text)
-def new_case_text(choices=None, **kwargs) -> str:
-    check_new_case_choices(choices, kwargs)
-    return _new_case_text(choices, **kwargs)
+def __getattr__(name: str):
+    """``new_case`` and ``new_case_text``, made when first asked for (PEP 562): a run imports this module for its
+    checks, and the authoring layer only when a case is written."""
+    if name not in ("new_case", "new_case_text"):
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    from .authoring import write
+
+    value = globals()[name] = _checked(getattr(write, name))
+    return value

@@ -16,9 +16,10 @@ from .errors import InputError, PchuteError
 from .kernels import lock, selection
 from .registries import columns
 from .registries.methods import INTEGRATORS, METHODS
+from .views.command_parser import EXIT_USAGE
+from .views.command_parser import CommandParser as _Parser
 
 EXIT_ERROR = 1
-EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130   # 128 + SIGINT, as shells report an interrupted command
 EXIT_TERMINATED = 143    # 128 + SIGTERM
 DEFAULT_SETTLE = 2.0     # s: pchute compare's settling time without --settle
@@ -26,18 +27,14 @@ FIGURE_COLUMNS = 12      # pchute compare draws at most this many single-column 
 ADAPTIVE_STEP_ESTIMATE = 1e-2   # s: an adaptive run's steps counted at the thesis's step when deciding on a build
 
 
-class _Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line (no usage block)."""
-
-    def error(self, message):
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
-
-
 def _add_run(subparsers) -> None:
-    run = subparsers.add_parser(
+    subparsers.add_parser(
         "run", help="simulate a case and write its result files",
         description="Simulate a case file and write timeseries.csv, result.npz, summary.json, overview.png and "
-                    "ground_track.png into the output folder. Prints a one-line summary.")
+                    "ground_track.png into the output folder. Prints a one-line summary.", arguments=_run_arguments)
+
+
+def _run_arguments(run) -> None:
     run.add_argument("case", help="case file (TOML), e.g. cases/mer/case1.toml")
     run.add_argument("--method", choices=tuple(METHODS), default=None,
                      help="confluence method: " + "; ".join(f"{name} = {cls.summary}" + (
@@ -115,10 +112,10 @@ def _method_options(args, method_class) -> dict:
 
 
 def _run(args) -> int:
-    from .views.figure_process import FigureProcess
-
-    # imports matplotlib on another core while the run goes on (started by ``command`` when it runs the process)
-    figure = None if args.no_plot else (_entry.pop("figure", None) or FigureProcess())
+    figure = None
+    if not args.no_plot:   # imports matplotlib on another core while the run goes on (started by ``command``)
+        from .views.figure_process import FigureProcess
+        figure = _entry.pop("figure", None) or FigureProcess()
     try:
         with _signals_interrupt():
             return _run_case(args, figure)
@@ -161,19 +158,22 @@ def _run_case(args, figure) -> int:
 
 
 def _add_new(subparsers) -> None:
-    from .authoring.command_help import choice_fields, command_help
-    from .authoring.planets import PLANETS
-    from .authoring.rocket_start import WORDS
-    from .registries.canopy_types import CANOPY_TYPES
-
-    new = subparsers.add_parser(
+    subparsers.add_parser(
         "new", help="write a new, runnable case file from a few choices",
         description="Write a complete, commented case file: a vehicle under one canopy (or a cluster) on bridles "
                     "and a riser per canopy, in steady descent (every line stretched by its steady load, moving with "
                     "the air and down at the steady rate), released from an aircraft (--release-airspeed) or at line "
                     "stretch at flight conditions (--mach, --dynamic-pressure); or a rocket's dual deploy from a "
                     "state over the ground (--dual-deploy, --from-rocketpy). Edit it or run it as it is (`pchute run "
-                    "FILE`). The same from Python: pchute_exudyn.new_case(...).")
+                    "FILE`). The same from Python: pchute_exudyn.new_case(...).", arguments=_new_arguments)
+
+
+def _new_arguments(new) -> None:
+    from .authoring.command_help import choice_fields, command_help
+    from .authoring.planets import PLANETS
+    from .authoring.rocket_start import WORDS
+    from .registries.canopy_types import CANOPY_TYPES
+
     new.add_argument("file", help="the case file to write (TOML), e.g. my_case.toml")
     choices = {"planet": tuple(PLANETS), "canopy_type": tuple(CANOPY_TYPES), **WORDS}
     helps = command_help()

@@ -421,11 +421,14 @@ def startup_lines() -> list:
         return f"{cells[2]} s against {cells[3]} s later ({cells[4]})"
     long, mer = "440-s descent (descent_440s.toml), with the figure", "MER case 1 SP, with the figure"
     commit = re.search(r"\| before \((\w+)", text).group(1)
+    installed = {side: re.search(rf"\| {side} \((\w+)[^|]*\| (?:440|MER)", text).group(1) for side in ("now", "before")}
     return [f"Around the solve (`python validation/startup_budget.py --repeat 5 --before DIR`, "
             f"table `validation/output/startup_budget.md`, DIR a checkout of {commit}): a warm `pchute run "
             f"cases/mer/case1.toml --method sp --no-plot` takes {now[1]} s for its {now[2]} s solve ({now[3]}; "
-            f"before: {before[1]} s, {before[3]}) and the overview figure adds {now[5]} s (before: {before[5]} s); "
-            f"after a fresh install the first run of the 440-s descent takes {first('now', long)}, before "
+            f"before: {before[1]} s, {before[3]}), the overview figure adds {now[5]} s (before: {before[5]} s) and "
+            f"`pchute --help` takes {now[6]} s (before: {before[6]} s); "
+            f"after a fresh install (code {installed['now']}, before {installed['before']}) the first run of the "
+            f"440-s descent takes {first('now', long)}, before "
             f"{first('before', long)}; of MER case 1 {first('now', mer)}, before {first('before', mer)}."]
 
 

@@ -5,16 +5,18 @@ Run:  python validation/startup_budget.py [--repeat 5] [--before DIR] [--no-inst
 
 1. Warm runs: the whole process of ``pchute run cases/mer/case1.toml --method sp --no-plot`` (MER case 1, 60 s, SP
    at 1e-2 s; the process's wall time, interpreter start and exit included) against the solve it reports
-   (summary.json ``wall_time``), and the same with the overview figure; with ``--before DIR`` (a checkout of the
+   (summary.json ``wall_time``; process / solve: the median of each run's own ratio, which a machine's load
+   moves less), and the same with the overview figure; with ``--before DIR`` (a checkout of the
    code before, ``git worktree add DIR COMMIT``, its kernels compiled and cached first) the same commands with that
-   code, in interleaved rounds (medians).
+   code, in interleaved rounds (medians); and the whole process of ``pchute --help`` in the same rounds.
 2. Where a warm process's time goes: one run with each part timed (no profiler): interpreter start and exit, the
    package's imports, loading the compiled kernel module, the case, the model, the step-limit checks, the solve,
    the outputs and summary, each result file.
-3. A fresh install (unless ``--no-install``): a copy of this code's files in a new folder, a new virtual
-   environment, the README's install command (pip's download cache kept, every cache of ours empty: kernel folder,
-   bytecode, numba's and matplotlib's caches); then the first and a later run of the 440-s single-canopy descent
-   (cases/simple/descent_440s.toml) and of MER case 1 with SP, with the figure (the plain command) and without.
+3. A fresh install (unless ``--no-install``, which keeps the earlier report's section, marked as kept): a copy of
+   this code's files in a new folder, a new virtual environment, the README's install command (pip's download
+   cache kept, every cache of ours empty: kernel folder, bytecode, numba's and matplotlib's caches); then the
+   first and a later run of the 440-s single-canopy descent (cases/simple/descent_440s.toml) and of MER case 1
+   with SP, with the figure (the plain command) and without.
    With ``--before DIR``, the same for that code.
 
 Writes validation/output/startup_budget.md.
@@ -107,8 +109,17 @@ def run_process(python: str, code: Path, case: Path, arguments: list, env: dict)
     return wall, solve
 
 
+def help_process(code: Path, env: dict) -> float:
+    """The whole-process wall time of ``pchute --help`` (s)."""
+    started = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "pchute_exudyn", "--help"], check=True, capture_output=True, cwd=code,
+                   env=env)
+    return time.perf_counter() - started
+
+
 def warm_rounds(repeat: int, before: Path | None) -> dict:
-    """{(side, figure): [(wall, solve)]} over ``repeat`` interleaved rounds, each side warmed first."""
+    """{(side, figure): [(wall, solve)], (side, "help"): [wall]} over ``repeat`` interleaved rounds, each side
+    warmed first."""
     sides = {"now": (ROOT, environment())}
     if before is not None:
         sides["before"] = (before, environment(code=before))
@@ -121,6 +132,7 @@ def warm_rounds(repeat: int, before: Path | None) -> dict:
             for figure in (False, True):
                 found.setdefault((side, figure), []).append(
                     run_process(sys.executable, code, MER, [] if figure else ["--no-plot"], env))
+            found.setdefault((side, "help"), []).append(help_process(code, env))
     return found
 
 
@@ -145,15 +157,16 @@ def _median(pairs, index):
 
 def warm_section(rounds: dict, repeat: int, before: Path | None) -> list:
     lines = ["| code | whole process, no figure (s) | its solve (s) | process / solve | with the figure (s) | "
-             "the figure adds (s) |", "|---|---|---|---|---|---|"]
+             "the figure adds (s) | `pchute --help` (s) |", "|---|---|---|---|---|---|---|"]
     for side in ("before", "now"):
         if (side, False) not in rounds:
             continue
         plain, plotted = rounds[(side, False)], rounds[(side, True)]
         wall, solve, with_figure = _median(plain, 0), _median(plain, 1), _median(plotted, 0)
         label = f"before ({commit_of(before)})" if side == "before" else f"now ({commit_of(ROOT)})"
-        lines.append(f"| {label} | {wall:.3f} | {solve:.3f} | {wall / solve:.2f}x | {with_figure:.3f} | "
-                     f"{with_figure - wall:.3f} |")
+        ratio = statistics.median(process / solved for process, solved in plain)   # each round's own: a load shared
+        lines.append(f"| {label} | {wall:.3f} | {solve:.3f} | {ratio:.2f}x | {with_figure:.3f} | "
+                     f"{with_figure - wall:.3f} | {statistics.median(rounds[(side, 'help')]):.3f} |")
     return lines
 
 
@@ -225,6 +238,18 @@ def install_section(results: dict) -> list:
     return lines
 
 
+INSTALL_HEADING = "## The first runs after a fresh install"
+KEPT = " (kept from an earlier report: this one ran with --no-install)"
+
+
+def kept_install_section(text: str) -> list:
+    """The fresh-install section of an earlier report, marked as kept (``--no-install`` keeps it); [] if none."""
+    if INSTALL_HEADING not in text:
+        return []
+    section = text[text.index(INSTALL_HEADING):].rstrip("\n").splitlines()
+    return [INSTALL_HEADING + KEPT, *section[1:], ""]
+
+
 def commit_of(code: Path | None) -> str:
     if code is None:
         return "-"
@@ -240,6 +265,7 @@ def main(argv=None) -> int:
     parser.add_argument("--before", type=Path, default=None, help="checkout of the code before")
     parser.add_argument("--no-install", action="store_true", help="skip the fresh-install section")
     args = parser.parse_args(argv)
+    earlier = OUT.read_text() if OUT.is_file() else ""
     readme = (ROOT / "README.md").read_text()
     if INSTALL not in readme:
         raise SystemExit(f"the README's install command is no longer {INSTALL}")
@@ -273,11 +299,13 @@ def main(argv=None) -> int:
                 before_cases = cases if side == "now" else \
                     [(c if c != LONG else _long_case(Path(folder)), a, n) for c, a, n in cases]
                 results[label] = fresh_install(code, Path(folder), before_cases)
-        lines += ["## The first runs after a fresh install", "",
+        lines += [INSTALL_HEADING, "",
                   f"A new virtual environment and the README's install command (`{INSTALL}`) on a copy of the "
                   "code's files; empty kernel folder, bytecode, numba and matplotlib caches (pip's download cache "
                   "kept). The code before has no 440-s case file: the same file is copied into its tree.", "",
                   *install_section(results), ""]
+    else:
+        lines += kept_install_section(earlier)
     OUT.write_text("\n".join(lines))
     print("\n".join(lines))
     return 0

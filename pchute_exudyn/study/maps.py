@@ -25,9 +25,7 @@ from ..results.map_files import GeoMap, MapLayer, MapLine, MapPoint
 from ..results.map_page import write_map_files
 from ..results.result import Result
 from ..results.run_map import MAP_STEM, ground_places, on_earth, planet_radius, site_point, write_run_map
-from ..views.study_figures import ellipse
 from .footprint import MINIMUM_RUNS, footprint_statistics, touchdown_points
-from .report import load_table
 from .store import StudyStore
 
 TRACK_SAMPLES = 1000
@@ -55,6 +53,8 @@ def write_map(folder, out=None) -> list:
 def study_map(folder) -> GeoMap:
     """The map of study folder ``folder`` (module docstring); InputError when its runs record no latitude (a study on
     a flat planet, or one recorded by an earlier version)."""
+    from .report import load_table  # here: the report's figures import matplotlib, which a map never draws with
+
     folder = Path(folder)
     ok = [r for r in load_table(folder) if r.get("status") == "ok" and r.get("reference") != "True"]
     latitude, longitude, landed_at = column("final_latitude"), column("final_longitude"), column("touchdown_time")
@@ -111,6 +111,8 @@ def ellipse_outlines(site: dict, stats: dict, altitude: float) -> tuple:
     """The dispersion ellipses of ``stats`` (``footprint.footprint_statistics``) as closed map outlines in latitude
     and longitude, carried through the start frame of ``site`` (``RunSummary.site``) at ``altitude`` (m above the
     ellipsoid); none when the points have no spread."""
+    from ..views.study_figures import ellipse  # here, as load_table: its module draws with matplotlib
+
     if not stats["sigma_major"] > 0.0:
         return ()
     outlines = []
