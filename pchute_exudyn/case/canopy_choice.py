@@ -72,3 +72,12 @@ def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, sta
         return math.inf
     return steady_drag_time(canopy.mass, suspended_mass, gravity, density, drag_coefficient,
                             canopy.aerodynamics.reference_area)
+
+
+def canopy_models_flown(systems: dict, flies_reduced: bool) -> dict:
+    """Per system with canopies, ``{"model", "chosen"}``: the canopy model the run flies (a reduced canopy only where
+    the method ``flies_reduced`` canopies, ``Method.flies_reduced_canopies``) and "auto" when the loader chose it (the
+    case named none), "case" when the case named it."""
+    return {name: {"model": system.canopy_model if flies_reduced else "rigid",
+                   "chosen": "auto" if system.canopy_model_chosen else "case"}
+            for name, system in systems.items() if system.canopies}

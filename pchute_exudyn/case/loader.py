@@ -88,11 +88,9 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     description = info.string("description", "")
     vehicle = info.string("vehicle", UNNAMED_VEHICLE)
     info.finish()
-
     planet = read_planet(top.table("planet"))
     start, frame, release, site = read_start(top.table("start", {}), planet)
     atmosphere_table = top.table("atmosphere", None)
-
     body_tables = top.named_tables("bodies")
     if not body_tables:
         raise top.error("bodies", "a case needs at least one body")

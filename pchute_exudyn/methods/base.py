@@ -81,6 +81,8 @@ class Method:
     """Option sets under which ``tools.record_signatures`` runs the method (each option set a different kernel path)."""
     step_limited: ClassVar[bool] = False
     """Whether the method's confluences have dynamics that limit an explicit step (``confluence_limits``)."""
+    flies_reduced_canopies: ClassVar[bool] = False
+    """Whether a system's ``canopy_model = "reduced"`` is flown as such (every other method flies the canopy rigid)."""
     implicit_hint: ClassVar[str] = ""
     """What to suggest besides a smaller step when an RK4 step exceeds the limit (e.g. the implicit integrator)."""
 

@@ -500,15 +500,6 @@ class FinalState:
                    {renamed.get(name, name): value for name, value in data.items() if name != column("time")})
 
 
-def canopy_models_flown(systems: dict, method: str) -> dict:
-    """Per system with canopies, ``{"model", "chosen"}``: the canopy model the run flies (a reduced canopy only with
-    the SP method; every other method flies it rigid) and "auto" when the loader chose it (the case named none),
-    "case" when the case named it."""
-    return {name: {"model": system.canopy_model if method == "sp" else "rigid",
-                   "chosen": "auto" if system.canopy_model_chosen else "case"}
-            for name, system in systems.items() if system.canopies}
-
-
 def site_of(start) -> dict | None:
     """The start point of a run on its planet (``RunSummary.site``) from its start frame
     (``physics.planet.StartFrame``): the planet's ``planet`` name, ``equatorial_radius`` and ``polar_radius`` (m),
@@ -598,7 +589,7 @@ class RunSummary:
         latitude and longitude (deg), what a map of the run needs; None on a flat planet.
     canopy_models : dict
         Per system with canopies, the canopy model flown (``model``: "rigid" or "reduced") and who chose it
-        (``chosen``: "case", or "auto" by the light-canopy rule, ``case.canopy_choice``); ``canopy_models_flown``.
+        (``chosen``: "case", or "auto" by the light-canopy rule): ``case.canopy_choice.canopy_models_flown``.
     """
 
     case: str

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..boundary import check_callable, check_case, check_flag
+from ..case.canopy_choice import canopy_models_flown
 from ..case.carried import case_at
 from ..case.model import Case
 from ..case.plausible import check_time_scales
@@ -33,7 +34,6 @@ from ..results.summary import (
     RunSummary,
     StartEvent,
     TouchdownEvent,
-    canopy_models_flown,
     descent_rate_events,
     events_planned,
     failures_flown,
@@ -325,7 +325,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
         separations=separation_summary(case, raw, events),
         step_control=None if plan.control is None else {"rule": "adaptive", **(raw.step_control or {})},
-        site=site_of(case.start), canopy_models=canopy_models_flown(case.systems, plan.method.name))
+        site=site_of(case.start), canopy_models=canopy_models_flown(case.systems, plan.method.flies_reduced_canopies))
 
 
 ENGINE_SOLUTION = "exudyn_solution_phase{}.txt"

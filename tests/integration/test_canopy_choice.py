@@ -9,9 +9,13 @@ import pytest
 import pchute_exudyn as pc
 from pchute_exudyn.authoring.choices import NewCase
 from pchute_exudyn.authoring.layout import layout
-from pchute_exudyn.case.canopy_choice import LIGHT_CANOPY_TIME, drag_time_constant, steady_drag_time
+from pchute_exudyn.case.canopy_choice import (
+    LIGHT_CANOPY_TIME,
+    canopy_models_flown,
+    drag_time_constant,
+    steady_drag_time,
+)
 from pchute_exudyn.results.run_line import run_line
-from pchute_exudyn.results.summary import canopy_models_flown
 from tests.helpers import ROOT
 
 ROCKET = ROOT / "cases" / "rocket" / "dual_deploy.toml"
@@ -62,5 +66,5 @@ def test_the_choice_is_in_the_summary_and_the_run_line(by_hand, tmp_path):
     assert result.summary.to_dict()["canopy_models"] == result.summary.canopy_models
     assert "; canopy model chosen: drogue reduced, main reduced -> out" in run_line(result.summary, "out")
     assert "canopy model chosen" not in run_line(pc.simulate(pc.load_case(ROCKET), duration=0.5).summary, "out")
-    flown = canopy_models_flown(pc.load_case(by_hand).systems, "full")   # full mass flies every canopy rigid
+    flown = canopy_models_flown(pc.load_case(by_hand).systems, pc.METHODS["full"].flies_reduced_canopies)   # rigid
     assert flown["drogue"] == {"model": "rigid", "chosen": "auto"}

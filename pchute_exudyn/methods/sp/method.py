@@ -33,6 +33,7 @@ class SingularPerturbation(Method):
     name = "sp"
     summary = "singular perturbation: the confluence velocity from the line-force balance (thesis ch. 3)"
     step_limited = True
+    flies_reduced_canopies = True
     record_variants = ({"order": 0}, {"order": 1}, {"slack_rule": "force"})
     integrator_note = ("its confluence is integrated in step with RK4's four stages, which an implicit solver's "
                        "Newton iterations do not follow; use rk4 (--dt auto for adaptive steps), or --method full "
