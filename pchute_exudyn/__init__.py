@@ -27,6 +27,7 @@ from .kernels.selection import select as _select_kernel_form  # noqa: E402
 
 _select_kernel_form()   # compiled, jit or Python kernels, before physics is imported (see kernels.selection)
 
+from .registries.lazy_names import lazy_names  # noqa: E402
 from .registries.methods import METHODS  # noqa: E402
 
 METHODS.fill_with(lambda: import_module(".methods", __name__).register_builtin())   # when the table is first read
@@ -41,14 +42,4 @@ __all__ = ["METHODS", "Case", "CaseError", "InputError", "NewCase", "PchuteError
            "__version__", "compare_results", "load_case", "new_case", "new_case_text", "simulate"]
 
 
-def __getattr__(name: str):
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module 'pchute_exudyn' has no attribute {name!r}")
-    value = getattr(import_module(f".{home}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)

@@ -5,7 +5,7 @@ around it (``dispersion``: a study) and the folder that records both (``release_
 The names below are imported when first used (PEP 562): the command line imports ``airdrop.command`` to build its
 parser, and the study stack behind a dispersion (matplotlib's among it) only when a release point is solved."""
 
-from importlib import import_module
+from ..registries.lazy_names import lazy_names
 
 _HOMES = {"Dispersion": "dispersion", "Footprint": "dispersion", "release_footprint": "dispersion",
           "ReleasePoint": "release_point", "solve_release_point": "release_point"}
@@ -13,14 +13,4 @@ _HOMES = {"Dispersion": "dispersion", "Footprint": "dispersion", "release_footpr
 __all__ = sorted(_HOMES)
 
 
-def __getattr__(name: str):
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(import_module(f".{home}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)

@@ -10,7 +10,7 @@
 The names below are imported when first used (PEP 562), so that the kernels' build imports the kernel modules alone.
 """
 
-from importlib import import_module
+from ...registries.lazy_names import lazy_names
 
 _HOMES = {"SingularPerturbation": "method", "SPOptions": "options", "PRESETS": "options", "SPConfluence": "confluence",
           "StageSolution": "confluence", "build_sp_model": "builder"}
@@ -18,14 +18,4 @@ _HOMES = {"SingularPerturbation": "method", "SPOptions": "options", "PRESETS": "
 __all__ = sorted(_HOMES)
 
 
-def __getattr__(name: str):
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(import_module(f".{home}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)
