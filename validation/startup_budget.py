@@ -92,7 +92,11 @@ MODULE_LOAD = ("import os, time; os.environ['PCHUTE_KERNELS'] = 'python'; import
 
 
 def environment(extra: dict | None = None, code: Path | None = None) -> dict:
-    base = {k: v for k, v in os.environ.items() if not k.startswith("PCHUTE_KERNEL")}
+    """The processes' environment: this one's, less the kernel choice and ``PYTHONDONTWRITEBYTECODE`` (a warm run
+    reads the modules' bytecode from ``__pycache__`` as a user's second run does; with the variable set, as in some
+    sandboxes, every run compiles the package's 300 modules again, 0.3 s of a 1 s run)."""
+    base = {k: v for k, v in os.environ.items()
+            if not k.startswith("PCHUTE_KERNEL") and k != "PYTHONDONTWRITEBYTECODE"}
     if code is not None:   # the code before, imported from its checkout with its compiled (numba) kernels
         base.update(PYTHONPATH=str(code), PCHUTE_KERNELS="compiled")
     return {**base, **(extra or {})}

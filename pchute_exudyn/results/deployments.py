@@ -48,16 +48,21 @@ def _merged(trace, columns: dict, lines: list, labels: list, start: float, end: 
     """The times (s) and per-line tensions (N, rows; the lines ``lines`` by name, their columns ``labels``) of the step
     trace and the output samples in [start, end], in time order (a step kept and a sample at the same time once; a
     line the trace lacks, of a canopy that never left the vehicle, NaN)."""
-    time = columns[column("time")]
+    time = np.asarray(columns[column("time")], float)
     inside = (time >= start - 1e-9) & (time <= end + 1e-9)
-    tensions = [columns[column("tension_{owner}", label)] for label in labels]   # looked up once, not per sample
-    rows = {float(t): tuple(float(tension[k]) for tension in tensions)
-            for k, t in zip(np.flatnonzero(inside), time[inside])}
+    times = [time[inside]]
+    rows = [np.column_stack([np.asarray(columns[column("tension_{owner}", label)], float)[inside]
+                             for label in labels]).reshape(len(times[0]), len(labels))]
     if trace is not None:
-        rows.update({t: tuple(row.get(name, math.nan) for name in lines)
-                     for t, row in zip(trace.times, trace.tensions) if start - 1e-9 <= t <= end + 1e-9})
-    times = sorted(rows)
-    return times, np.array([rows[t] for t in times], float).reshape(len(times), len(labels))
+        kept = [k for k, t in enumerate(trace.times) if start - 1e-9 <= t <= end + 1e-9]
+        times.append(np.array([trace.times[k] for k in kept], float))
+        rows.append(np.array([[trace.tensions[k].get(name, math.nan) for name in lines] for k in kept],
+                             float).reshape(len(kept), len(labels)))
+    # a time in both (or twice) once, with its last row: the steps' override the samples' (np.unique keeps the
+    # first of equal times, so it looks at them reversed); in time order
+    merged_times, merged_rows = np.concatenate(times)[::-1], np.concatenate(rows)[::-1]
+    unique, first = np.unique(merged_times, return_index=True)
+    return unique.tolist(), merged_rows[first]
 
 
 def _vehicle_air(case, raw, time: float) -> tuple:

@@ -182,6 +182,7 @@ def pa1_inflation():
     return {method: simulate(case, method) for method in ("sp", "full")}
 
 
+@pytest.mark.long
 def test_pa1_inflation_events_and_stage_loads(pa1_inflation):
     summary = pa1_inflation["sp"].summary
     kinds = [(e.kind, getattr(e, "system", None), getattr(e, "stage", None)) for e in summary.events]
@@ -200,6 +201,7 @@ def test_pa1_inflation_events_and_stage_loads(pa1_inflation):
     assert summary.opening_loads["drogue"][0]["end"] == 9.5   # cut away
 
 
+@pytest.mark.long
 def test_pa1_inflation_sp_matches_full_mass(pa1_inflation):
     sp, full = pa1_inflation["sp"].summary, pa1_inflation["full"].summary
     assert abs(sp.touchdown.time - full.touchdown.time) <= 0.2
@@ -207,6 +209,7 @@ def test_pa1_inflation_sp_matches_full_mass(pa1_inflation):
         assert a["peaks"]["riser"]["tension"] == pytest.approx(b["peaks"]["riser"]["tension"], rel=0.03)
 
 
+@pytest.mark.long
 @pytest.mark.benchmark
 def test_pa1_inflation_sp_is_eight_times_faster_than_full_mass(pa1_inflation):
     sp, full = pa1_inflation["sp"].summary, pa1_inflation["full"].summary

@@ -23,7 +23,10 @@ def test_every_example_is_listed():
     assert all(f"]({name})" in gallery for name in EXAMPLES)
 
 
-@pytest.mark.parametrize("script", sorted(EXAMPLES))
+# the animation example (45 s) runs in the long tier (CI's second command); its frames are drawn in the default one
+# (tests/integration/test_animation.py)
+@pytest.mark.parametrize("script", [pytest.param(name, marks=pytest.mark.long) if name == "run_and_animate.py" else name
+                                    for name in sorted(EXAMPLES)])
 def test_example_runs_and_draws(script, tmp_path):
     env = {**os.environ, "MPLBACKEND": "Agg"}
     done = subprocess.run([sys.executable, str(ROOT / "examples" / script), str(tmp_path)], cwd=tmp_path, env=env,

@@ -90,6 +90,7 @@ def test_energy_is_conserved_without_damping_or_aerodynamics():
     assert np.abs(energy - energy[0]).max() < 0.05
 
 
+@pytest.mark.long
 def test_halving_the_rk4_step_changes_the_60s_result_very_little(case1_rk4_reference, case1_rk4_double_step):
     """A real run at 2e-4 s against the recorded one at 1e-4 s (tests/reference_runs.py)."""
     # measured: 6e-6 m in final altitude, 0.013 N in tension (2e-4 s against 1e-4 s)
@@ -111,6 +112,7 @@ def test_implicit_at_1e2_agrees_with_rk4_at_1e4(mer_case1, case1_rk4_reference):
         assert np.abs(np.interp(ref.time, implicit.time, implicit[name]) - ref[name]).max() < tolerance, name
 
 
+@pytest.mark.long
 def test_late_riser_tension_carries_the_weight_below_it(mer_case1, case1_rk4_double_step):
     r = case1_rk4_double_step   # a real 60-s full-mass RK4 run (2e-4 s: within 0.013 N of the thesis's 1e-4 s)
     late = r.time > 50.0
@@ -126,6 +128,7 @@ def test_late_riser_tension_carries_the_weight_below_it(mer_case1, case1_rk4_dou
     np.testing.assert_allclose(r["tension_bridle1"], r["tension_bridle3"], rtol=1e-6, atol=0.01)
 
 
+@pytest.mark.long
 def test_results_are_symmetric_and_stay_on_the_vertical(case1_rk4_double_step):
     r = case1_rk4_double_step
     for column in ("vehicle_east", "vehicle_north", "parachute_east", "confluence_north"):
@@ -157,6 +160,7 @@ def test_unstable_rk4_step_is_refused_before_it_spoils_results():
         pc.simulate(case, "full", "rk4", 1e-3, 5.0)
 
 
+@pytest.mark.long
 def test_limit_falls_under_load_and_the_run_stops_where_it_is_crossed():
     # 4e-4 s is stable at free length but not once the lines carry ~2000 N (about t = 33 s)
     case = pc.load_case(MER / "case1.toml")

@@ -32,6 +32,7 @@ def test_sp_is_ten_times_faster_than_full_mass_rk4_at_the_thesis_step(mer_case1)
     assert sp.summary.wall_time * 10 < full.summary.wall_time, (sp.summary.wall_time, full.summary.wall_time)
 
 
+@pytest.mark.long
 def test_full_mass_converges_to_sp_as_the_confluence_mass_vanishes():
     """m_c -> 0 makes Eq. 1.2 the balance SP solves (Eq. 3.1): full-mass tensions approach SP's.
 

@@ -37,6 +37,7 @@ def test_the_tutorial_shows_commands_of_every_kind():
     assert "docs/tutorial.md" in (ROOT / "README.md").read_text()
 
 
+@pytest.mark.long
 def test_every_tutorial_command_runs(tmp_path, monkeypatch, capsys):
     # from a folder outside the repository, the clone named as the tutorial says: through PCHUTE_REPO
     monkeypatch.setenv("PCHUTE_REPO", str(ROOT))

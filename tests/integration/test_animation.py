@@ -60,6 +60,7 @@ def test_slack_lines_are_drawn_grey_and_dashed(mer_runs):
         assert (artist.get_color() == "0.6") == slack, line
 
 
+@pytest.mark.long
 def test_animate_writes_a_gif_and_an_mp4(mer_runs, tmp_path):
     sp, full = mer_runs
     gif = tmp_path / "clip.gif"

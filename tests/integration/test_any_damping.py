@@ -70,6 +70,7 @@ def test_where_every_line_is_damped_enough_it_is_sp_bit_for_bit(step):
     assert "sp_relaxation_time" not in sp.summary.method_settings
 
 
+@pytest.mark.long
 def test_undamped_mer_runs_at_the_thesis_step_and_stays_near_full_mass():
     """MER case 1, every line undamped, 2 s from rest: SP any_damping at 1e-2 s against full mass RK4 at 2e-5 s."""
     overrides = ["main.lines.*.damping=0"]

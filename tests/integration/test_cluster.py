@@ -184,6 +184,7 @@ def pa1_main_out_sp():
     return pc.simulate(pc.load_case(MAIN_OUT), "sp")
 
 
+@pytest.mark.long
 def test_pa1_cluster_sp_agrees_with_full_mass(pa1_cluster_sp):
     """Full mass implicit here (about 6 s); full mass RK4 in validation/cev_pa1_cluster.py."""
     full = pc.simulate(pc.load_case(PA1_CLUSTER), "full", "implicit")
@@ -284,6 +285,7 @@ relative = true
 """
 
 
+@pytest.mark.long
 def test_a_cluster_study_draws_the_failed_canopy_and_reports_load_share_flyout_and_pendulum(tmp_path):
     from pchute_exudyn.study import dask_executor, load_study, run_study
     from pchute_exudyn.study.report import study_report

@@ -65,6 +65,7 @@ def test_designs_fill_the_space_and_map_through_the_inverse_cdf(tmp_path, sampli
     assert spec.expand()[5].values == runs[5].values          # the same design every time
 
 
+@pytest.mark.long
 def test_designs_give_identical_results_with_one_and_two_workers_and_dask(tmp_path):
     for sampling in ("latin_hypercube", "sobol"):
         spec = spec_for(tmp_path, sampling, 8)

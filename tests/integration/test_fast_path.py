@@ -245,6 +245,7 @@ def test_the_python_form_of_the_kernels_gives_the_compiled_results(tmp_path):
             np.testing.assert_allclose(runs["python"][1][name], runs["compiled"][1][name], rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.long
 def test_without_the_compiled_module_a_short_run_runs_the_python_form_and_a_long_one_waits_for_the_build(tmp_path):
     """No module of the current source in the kernel folder (``PCHUTE_KERNEL_DIR``, empty here): a short run uses
     the Python form and starts a background build; the 440-s descent at 1e-2 s (44 000 steps, about 20 s with the

@@ -56,6 +56,7 @@ def test_a_fit_to_a_synthetic_log_recovers_the_canopies_and_the_lag(flown):
         assert np.isfinite(row["standard_error"]) and row["standard_error"] > 0.0
 
 
+@pytest.mark.long
 def test_a_fit_with_the_trigger_height_free_has_a_finite_standard_error(flown, tmp_path):
     """A 0.001-of-range step moves the main's trigger by less than one of its 100 Hz samples: the step widens."""
     folder, case = flown

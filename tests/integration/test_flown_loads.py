@@ -24,6 +24,7 @@ def _records():
     return json.loads((RECORDS / "calibration.json").read_text()), json.loads((RECORDS / "predictions.json").read_text())
 
 
+@pytest.mark.long
 def test_the_shipped_cases_hold_the_calibration_the_three_flights_give():
     calibration = flown_loads.calibrate()
     assert flown_loads.calibrated_in_case(calibration) == []

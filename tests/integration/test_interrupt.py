@@ -9,6 +9,8 @@ import subprocess
 import sys
 import time
 
+import pytest
+
 from tests.helpers import MER, run_cli, start_cli
 
 RUN = ["run", MER / "case1.toml", "--method", "full", "--t-end", "20", "--no-plot"]
@@ -85,6 +87,7 @@ def test_sigterm_mid_run_exits_143_with_one_line_and_nothing_written(tmp_path):
     assert "Traceback" not in error and not out.exists()
 
 
+@pytest.mark.long
 def test_progress_only_on_a_terminal_and_not_with_quiet(tmp_path):
     short = RUN[:-3] + ["--t-end", "3", "--no-plot"]
     process, terminal = _start_on_terminal(short + ["--quiet", "--out", str(tmp_path / "a")], tmp_path)

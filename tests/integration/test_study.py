@@ -153,6 +153,7 @@ def test_a_retried_run_keeps_its_latest_record(tmp_path):
     assert records[1].to_dict() == {"run": 1, "status": "ok"}            # read back as written (no entry added)
 
 
+@pytest.mark.long
 def test_report_of_a_grid_with_a_reference(tmp_path):
     text = f"""
 [study]
@@ -258,6 +259,7 @@ def test_changed_study_is_not_resumed_into_the_same_folder(tmp_path):
         run_study(changed, tmp_path / "s", workers=1, progress=False)
 
 
+@pytest.mark.long
 def test_a_dask_worker_killed_mid_study_loses_and_duplicates_no_run(tmp_path):
     """A real worker process is killed (SIGKILL) while the study runs: Dask reschedules its run, and every run is
     recorded exactly once."""

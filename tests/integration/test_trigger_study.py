@@ -6,6 +6,8 @@ import json
 import math
 from dataclasses import replace
 
+import pytest
+
 import pchute_exudyn as pc
 from pchute_exudyn.results.summary import RunSummary
 from pchute_exudyn.study import load_study, run_study
@@ -122,6 +124,7 @@ def test_report_of_a_synthetic_table_with_deployments_and_a_separation(tmp_path)
     assert "## Deployment box" in report
 
 
+@pytest.mark.long
 def test_a_small_triggered_study_keeps_the_deployment_conditions(tmp_path):
     case = tmp_path / "pa1_triggers.toml"
     case.write_text(TRIGGERED_PA1)

@@ -198,6 +198,7 @@ relative = true
 """
 
 
+@pytest.mark.long
 def test_footprint_study_same_on_one_and_two_workers_and_dask_and_reported(tmp_path):
     """A small version of validation/studies/pa1_footprint.toml: per-run turbulence seeds from the study's seed
     sequence, identical stored results on 1 and 2 worker processes and a Dask LocalCluster, and a report with the
