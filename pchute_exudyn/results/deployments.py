@@ -51,8 +51,8 @@ def _merged(trace, columns: dict, lines: list, labels: list, start: float, end: 
     time = columns[column("time")]
     inside = (time >= start - 1e-9) & (time <= end + 1e-9)
     tensions = [columns[column("tension_{owner}", label)] for label in labels]   # looked up once, not per sample
-    rows = {float(t): tuple(float(tension[k]) for tension in tensions)
-            for k, t in zip(np.flatnonzero(inside), time[inside])}
+    picked = [np.asarray(tension)[inside].tolist() for tension in tensions]   # Python floats, column by column
+    rows = dict(zip(time[inside].tolist(), zip(*picked))) if picked else dict.fromkeys(time[inside].tolist(), ())
     if trace is not None:
         rows.update({t: tuple(row.get(name, math.nan) for name in lines)
                      for t, row in zip(trace.times, trace.tensions) if start - 1e-9 <= t <= end + 1e-9})
