@@ -4,16 +4,16 @@ Run:  python validation/benchmark_study_scale.py [--study pa1|airdrop] [--runs 2
 
 ``--study pa1``: validation/studies/pa1_footprint.toml (PA1 in wind and Dryden turbulence, SP accurate preset,
 adaptive steps); ``--study airdrop``: validation/studies/airdrop_footprint.toml (cases/airdrop/cluster_600m.toml, a
-three-canopy cluster released at 600 m, wind and each canopy's drag dispersed). Each is cut to ``--runs`` draws (the
-same draws on both sides: the study's seed). Each side (this code, and with ``--before`` a checkout of the code
-before, ``git worktree add DIR main``) runs the study in its own process on ``--workers`` local worker processes
-with compiled kernels, one side after the other, before first, on the same machine. The table gives each side's
-wall time, the sum of its runs' solve times, the ratio wall x workers / sum of solves (1: nothing outside the
-solves), the time a run takes in its worker outside its solve, and the steps; then whether every run's record
-(its outputs, status, warnings, steps; not its timings) is identical on both sides, and each footprint outcome's
-percentiles now against the 95 % bootstrap interval of the code before's (``study.statistics``). Writes
-validation/output/benchmark_study_scale_<study>.md. The issue's target (issue 58, item 5): the 2000-run PA1 study in
-60 s or less on 2 workers.
+three-canopy cluster released at 600 m, in a steady wind: cluster_600m_winds.toml; the wind's speed and direction and
+each canopy's drag dispersed). Each is cut to ``--runs`` draws (the same draws on both sides: the study's seed).
+Each side (this code, and with ``--before`` a checkout of the code before, ``git worktree add DIR main``) runs the
+study in its own process on ``--workers`` local worker processes with compiled kernels (built first if missing), one
+side after the other, before first, on the same machine. The table gives each side's wall time, the sum of its runs'
+solve times, the ratio wall x workers / sum of solves (1: nothing outside the solves), the time a run takes in its
+worker outside its solve, and the steps; then whether every run's record (its outputs, status, warnings, steps; not
+its timings) is identical on both sides, and each footprint outcome's percentiles now against the 95 % bootstrap
+interval of the code before's (``study.statistics``). Writes validation/output/benchmark_study_scale_<study>.md. The
+issue's target (issue 58, item 5): the 2000-run PA1 study in 60 s or less on 2 workers.
 """
 
 from __future__ import annotations
