@@ -12,7 +12,7 @@ import math
 import exudyn.itemInterface as eii
 import numpy as np
 
-from ..case.model import Body, Case
+from ..case.model import Body, Case, DragAreaSchedule
 from ..errors import SimulationError
 from ..physics.aerodynamics import (
     FIELD,
@@ -38,6 +38,15 @@ from .phase_model import CURRENT, OV, Model
 
 EDGE_ON_DEG = 5.0
 """How close to 90 deg (deg) a body's angle of attack counts as edge-on for a failed implicit step's message."""
+
+
+def held_end(schedule) -> tuple:
+    """(time since deployment in s from which ``schedule`` holds its last fraction, that fraction): a drag-area
+    table's last breakpoint and its value there, the very number it returns at any later time (evaluated once: a
+    stage then costs a comparison); (inf, nan) for a schedule that follows an opening as it goes."""
+    if isinstance(schedule, DragAreaSchedule):
+        return schedule.time[-1], schedule(schedule.time[-1])
+    return math.inf, math.nan
 
 
 class BodyAerodynamics:
@@ -105,6 +114,7 @@ class AerodynamicLoads:
         self.altitude = case.start.altitude_scalar
         self.atmosphere = case.atmosphere
         self.scheduled: list = []        # the members whose fraction follows a schedule
+        self._timed: list = []           # (index, schedule, deployed_at, held_end(schedule)...) of those members
         self._kernel = aerodynamics_stage
         self._arguments = ()             # the kernel's arguments after the stage time (``bind``)
         self.parts = ()                  # (data, field, work) of those arguments
@@ -146,6 +156,7 @@ class AerodynamicLoads:
         self.values = self.work[values_at:].reshape(count, VALUE_COLUMNS)
         self.fractions[:] = 1.0
         self.scheduled = [m for m in self.members if m.schedule is not None]
+        self._timed = [(m.index, m.schedule, m.deployed_at) + held_end(m.schedule) for m in self.scheduled]
         self.frame = self.case.start.kernel_frame
         self.atmosphere_parameters = (self.atmosphere.kernel_parameters() if self.atmosphere is not None
                                       else np.zeros(0))   # a model without air has no aerodynamics either
@@ -169,8 +180,9 @@ class AerodynamicLoads:
     def schedule(self, t: float) -> None:
         """Set the drag-area fractions that follow a schedule or an opening for stage time ``t`` (s)."""
         fractions = self.fractions
-        for member in self.scheduled:
-            fractions[member.index] = member.schedule(t - member.deployed_at)
+        for index, schedule, deployed_at, held_from, held in self._timed:
+            since = t - deployed_at
+            fractions[index] = held if since >= held_from else schedule(since)
 
     def apply(self, t: float) -> None:
         """Add every body's load at stage time ``t`` (s) for the body states to the generalized forces (the arrays

@@ -226,6 +226,8 @@ class AdaptiveSteps:
         self._held = [snatch for system in model.systems if system.bag_anchor is not None
                       for snatch in self._held_snatches(system)]   # _held_snatch_cap
         self._levers: dict = {}       # (body, point) -> its lever's constants (``_lever``)
+        self._relaxed: dict = {}      # (system, relaxation time) -> (the system so relaxed, its line constants)
+        self._tethers = tether_constants(case, model.bodies)   # the phase's bodies and tethers are fixed
 
     def after_step(self, t: float) -> float:
         """The coming step (s) after the step that ended at ``t`` (s; at the phase start, the first step)."""
@@ -365,8 +367,13 @@ class AdaptiveSteps:
         fixed = min([(self.rule.largest / CAP_FRACTION, "the largest step")] + self._rotation_limits(),
                     key=lambda item: item[0])
 
+        found: dict = {}   # a step's body limits depend on it only through the lines' relaxation times (a grid)
+
         def bodies_at(cap):
-            return min([fixed] + self._body_limits(CAP_FRACTION * cap, drag), key=lambda item: item[0])
+            taus = tuple(self.method.relaxation(CAP_FRACTION * cap, system) for system in self.model.systems)
+            if taus not in found:
+                found[taus] = min([fixed] + self._body_limits(CAP_FRACTION * cap, drag), key=lambda item: item[0])
+            return found[taus]
         cap = bodies_at(fixed[0])
         relaxing = any(self.method.relaxation(CAP_FRACTION * fixed[0], s) > 0.0 for s in self.model.systems)
         if cap[0] < fixed[0] and relaxing:
@@ -403,14 +410,14 @@ class AdaptiveSteps:
             stiffness, damping = self._constants[system.name]
             tau = self.method.relaxation(step, system)
             if tau > 0.0:   # the lines as the method damps them at that step
-                stiffness, damping = line_constants(self.method.relaxed(system, tau))
+                stiffness, damping = self._relaxed_system(system, tau)[1]
             for line, k, c in zip(system.lines, stiffness, damping):
                 if line.body in self.model.massless:   # a reduced canopy: its own limit (``_confluence_limits``)
                     continue
                 total = sums.setdefault(line.body, [0.0, 0.0])
                 total[0] += k
                 total[1] += c
-        for body, k, c in tether_constants(self.case, self.model.bodies):
+        for body, k, c in self._tethers:
             total = sums.setdefault(body, [0.0, 0.0])
             total[0] += k
             total[1] += c
@@ -451,6 +458,15 @@ class AdaptiveSteps:
             self._levers[key] = (arm, crosswise_inertia(body.inertia, lever) if arm > 0.0 else math.nan)
         return self._levers[key]
 
+    def _relaxed_system(self, system, tau: float) -> tuple:
+        """(``method.relaxed(system, tau)``, its ``line_constants``): constants of the phase for each relaxation
+        time ``tau`` (s, on the method's grid), worked out once."""
+        key = (system.name, tau)
+        if key not in self._relaxed:
+            relaxed = self.method.relaxed(system, tau)
+            self._relaxed[key] = (relaxed, line_constants(relaxed))
+        return self._relaxed[key]
+
     def _confluence_limits(self, step: float, only=None) -> list:
         """(limit, cause) of each confluence (or ``only``'s) with its lines as the method relaxes them at ``step``
         (s), kept per system and relaxation until the next check of the caps, and of the method's own states at
@@ -462,7 +478,7 @@ class AdaptiveSteps:
                 continue
             key = (system.name, self.method.relaxation(step, system))
             if key not in self._limits:
-                relaxed = self.method.relaxed(system, key[1])
+                relaxed = self._relaxed_system(system, key[1])[0]
                 self._limits[key] = self.method.confluence_limits(relaxed, self.model.attach_positions(system),
                                                                   confluence.state_position())
             for found in self._limits[key]:
