@@ -211,7 +211,8 @@ def fresh_install(code: Path, folder: Path, cases: list) -> dict:
     python = str(folder / "venv" / "bin" / "python")
     caches = {"XDG_CACHE_HOME": str(folder / "cache"), "NUMBA_CACHE_DIR": str(folder / "numba"),
               "MPLCONFIGDIR": str(folder / "matplotlib")}
-    env = {**{k: v for k, v in os.environ.items() if not k.startswith(("PCHUTE_", "PYTHONPATH", "VIRTUAL_ENV"))},
+    env = {**{k: v for k, v in os.environ.items()
+              if not k.startswith(("PCHUTE_", "PYTHONPATH", "VIRTUAL_ENV", "PYTHONDONTWRITEBYTECODE"))},
            "PATH": f"{folder / 'venv' / 'bin'}:{os.environ['PATH']}", **caches}
     subprocess.run([python, "-m", "pip", "install", "--quiet", "--upgrade", "pip"], check=True, env=env)
     started = time.perf_counter()
@@ -292,7 +293,9 @@ def main(argv=None) -> int:
              "With the figure:", "", *budget_section(figure), ""]
     if not args.no_install:
         results = {}
-        cases = [(LONG, [], "440-s descent (descent_440s.toml), with the figure"),
+        cases = [(MER, ["--method", "full", "--integrator", "rk4"], "the README's first run (MER case 1, full mass, "
+                  "RK4 1e-4 s, with the figure)"),
+                 (LONG, [], "440-s descent (descent_440s.toml), with the figure"),
                  (LONG, ["--no-plot"], "440-s descent, --no-plot"),
                  (MER, [], "MER case 1 SP, with the figure"), (MER, ["--no-plot"], "MER case 1 SP, --no-plot")]
         for side, code in (("before", args.before), ("now", ROOT)):
