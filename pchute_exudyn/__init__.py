@@ -18,10 +18,11 @@ __version__ = "0.1.0"
 
 from importlib import import_module
 
-from . import _interrupt
+from . import _interrupt, environment
 
 if _interrupt.launched_as_command():   # Ctrl-C while the command starts: an interrupt, not a broken import
     _interrupt.install()
+    environment.single_thread_blas()   # before numpy's import starts its BLAS threads
 
 from .kernels.selection import select as _select_kernel_form  # noqa: E402
 

@@ -4,6 +4,8 @@ Each constant is the variable's name; the package reads ``os.environ`` only thro
 is imported here (it sits below every other module, the physics kernels included).
 """
 
+import os
+
 KERNELS = "PCHUTE_KERNELS"
 """The kernels' form: ``compiled`` (the compiled module, or ``jit`` when none of the current source exists), ``jit``
 or ``python``; unset: automatic (``kernels.selection``). Any other value is an input error. The process sets it to
@@ -31,3 +33,14 @@ WAYLAND_DISPLAY = "WAYLAND_DISPLAY"
 SKIP_KERNEL_BUILD = "PCHUTE_SKIP_KERNEL_BUILD"
 """Read by the install (``setup.py``) alone: ``1`` installs without building the compiled kernel module, which
 otherwise fails the install when it cannot be built (runs then use the Python form and build it in the background)."""
+BLAS_THREADS = "OPENBLAS_NUM_THREADS"
+"""OpenBLAS's thread count (numpy's BLAS): the ``pchute`` command sets it to 1 unless the user has set it
+(``single_thread_blas``), before numpy is imported. The command's arrays are small (a body's 6x6, a line table),
+so BLAS threads never pay for themselves, yet starting them costs every command about 60 ms of its start-up (numpy's
+import 0.21 s against 0.15 s here); a study's worker processes inherit it, as they should (their parallelism is the
+processes'). A program that imports the package keeps its own setting."""
+
+
+def single_thread_blas() -> None:
+    """Set ``BLAS_THREADS`` to 1 for this process and its children unless set (the command; see ``BLAS_THREADS``)."""
+    os.environ.setdefault(BLAS_THREADS, "1")
