@@ -4,7 +4,7 @@ Run:  python validation/benchmark_study_scale.py [--study pa1|airdrop] [--runs 2
 
 ``--study pa1``: validation/studies/pa1_footprint.toml (PA1 in wind and Dryden turbulence, SP accurate preset,
 adaptive steps); ``--study airdrop``: validation/studies/airdrop_footprint.toml (cases/airdrop/cluster_600m.toml, a
-three-canopy cluster released at 600 m, in a steady wind: cluster_600m_winds.toml; the wind's speed and direction and
+three-canopy cluster released at 600 m, in a steady wind: cluster_600m_wind.toml; the wind's speed and direction and
 each canopy's drag dispersed). Each is cut to ``--runs`` draws (the same draws on both sides: the study's seed).
 Each side (this code, and with ``--before`` a checkout of the code before, ``git worktree add DIR main``) runs the
 study in its own process on ``--workers`` local worker processes with compiled kernels (built first if missing), one

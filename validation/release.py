@@ -106,14 +106,14 @@ def main(argv=None) -> int:
     for label, result in results.items():
         descent = result.summary.descent
         stated = plan.steady_rate(0.0)
-        rate_error = descent["mean_rate"] / stated - 1.0
+        rate_error = descent.mean_rate / stated - 1.0
         if label == "SP" and abs(rate_error) > RATE_TOLERANCE:
             failed.append(f"settled rate {rate_error:+.2%} from the stated one")
         when = np.interp(-500.0, -result["vehicle_altitude"], result.time)
         at_500 = float(np.interp(when, result.time, result["vehicle_velocity_down"]))
         settle_rows.append(f"| {label} | {result.summary.step:g} | {result.summary.final.time:.2f} | "
                            f"{calm_after(result):.1f} | {at_500:.4f} ({at_500 / plan.steady_rate(500.0) - 1:+.2%}) | "
-                           f"{descent['mean_rate']:.4f} ({rate_error:+.2%}) | "
+                           f"{descent.mean_rate:.4f} ({rate_error:+.2%}) | "
                            f"{result.summary.final.east:.1f} | {walls[label]:.1f} |")
     figure(results, OUT / "release.png")
     v = versions()

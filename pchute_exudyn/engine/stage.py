@@ -78,6 +78,7 @@ class Stage:
         self.contacts = []                # engine.contact_loads.CanopyContact of each cluster: after the aerodynamics
         self.generalized = np.zeros(6 * len(self.free))
         self.gravity_taken = False        # whether the stage adds the free bodies' gravity (``take_over_gravity``)
+        self.gravity_layout = self.layout  # the layout whose rows carry the masses the stage's gravity adds
         self.refreshed = None             # (time, post-step call) of the last refresh
         self.rows = self.states.tolist()  # the states at the last refresh, as lists
         system_data = model.mbs.systemData
@@ -160,19 +161,24 @@ class Stage:
         """The stage adds the free bodies' gravity itself, after every other force (the fused stage kernel, or
         ``force``; ``physics.kinematics.add_gravity_forces``, bit for bit what the engine's gravity connectors add)
         and their connectors are switched off: they cost the engine about a microsecond per body and stage. Only on
-        a spherical planet, without canopy contact (added after the kernel's forces, it would come after the
-        gravity), and for the bodies on which nothing else adds a force (an apparent mass's item would change the
-        order of the engine's sum, and its rounding). With normal gravity (``methods.sp.stepping.add_body_gravity``)
-        the bodies' normal-gravity loads lose their user function (a Python call per body and stage)."""
+        a spherical planet (or with normal gravity), and for the bodies on which nothing else adds a force (an
+        apparent mass's item would change the order of the engine's sum, and its rounding). With normal gravity
+        (``methods.sp.stepping.add_body_gravity``) the bodies' normal-gravity loads lose their user function (a
+        Python call per body and stage). Canopy contact is added after the fused kernel's forces, so with it the
+        masses go to a layout of their own (``gravity_layout``), which that kernel does not see, and the stage adds
+        the gravity after the contact (the same sum, in the same order, as the force item and then the engine's
+        loads: bit for bit)."""
         connectors = self.model.gravity_connectors
-        if (self.gravity[0] == 0.0 and not self.normal) or self.contacts:
+        if self.gravity[0] == 0.0 and not self.normal:
             return
+        if self.contacts:
+            self.gravity_layout = self.layout.copy()
         for name in self.free:
             if name not in connectors:
                 continue
             connector, mass = connectors[name]
             self.gravity_taken = True
-            self.layout[self.row[name], BODY_MASS_AT] = mass
+            self.gravity_layout[self.row[name], BODY_MASS_AT] = mass
             if self.normal:
                 self.model.mbs.SetLoadParameter(connector, "loadVectorUserFunction", 0)
             else:
@@ -243,7 +249,7 @@ class Stage:
             for contact in self.contacts:
                 contact.add_forces(self.states, generalized)
             if self.gravity_taken:
-                self._add_gravity(self.layout, self.states, *self.gravity, generalized)
+                self._add_gravity(self.gravity_layout, self.states, *self.gravity, generalized)
             return generalized.tolist()   # the engine takes a list faster than an array
         except Exception as exc:  # keep our own error for the solver to report
             self.model.record_failure(exc)
@@ -256,6 +262,7 @@ class Stage:
         fused, loads, states, generalized = self.fused, self.loads, self.states, self.generalized
         contacts, record_failure = self.contacts, self.model.record_failure
         add_gravity, layout, gravity = self._add_gravity, self.layout, self.gravity
+        contact_gravity = self.gravity_layout if contacts and self.gravity_taken else None   # after the contact
         schedule = loads.schedule if loads.scheduled else None
 
         def fused_force(mbs, t, item, q, q_t):
@@ -274,6 +281,8 @@ class Stage:
                 if contacts:
                     for contact in contacts:
                         contact.add_forces(states, generalized)
+                    if contact_gravity is not None:
+                        add_gravity(contact_gravity, states, *gravity, generalized)
                 return generalized.tolist()   # the engine takes a list faster than an array
             except Exception as exc:  # keep our own error for the solver to report
                 record_failure(exc)

@@ -14,6 +14,7 @@
     (``physics.linearization.body_line_step_limit``; the mass with the air it carries along its axis when it has an
     apparent mass);
   * each moving body pitching on its lines (``_rotation_limits``: a light canopy on its riser wobbles at 20 Hz);
+  * each cluster's canopies on their contacts (``_contact_limits``);
   * each confluence by its method's limits at the current geometry (SP's damped mode, a full-mass confluence's
     modes), with the lines as the method damps them at that step (``Method.relaxed``), and the method's own states
     (``Method.state_limits``: a reduced canopy's drag point).
@@ -36,7 +37,7 @@ from ..errors import InputError, SimulationError
 from ..methods.base import Method, line_constants, unstable_step_message
 from ..physics.compiled import machine_code
 from ..physics.kinematics import ROW_POSITION, ROW_VELOCITY
-from ..physics.linearization import body_line_step_limit, spectral_step_bound
+from ..physics.linearization import body_line_step_limit, max_stable_step_rk4, spectral_step_bound
 from ..physics.rk4 import RK4_IMAGINARY_LIMIT
 from ..physics.step_rule import CAP_FRACTION, StepRule, extrapolation_error, next_step
 from ..registries.methods import INTEGRATORS
@@ -228,6 +229,7 @@ class AdaptiveSteps:
         self._levers: dict = {}       # (body, point) -> its lever's constants (``_lever``)
         self._relaxed: dict = {}      # (system, relaxation time) -> (the system so relaxed, its line constants)
         self._tethers = tether_constants(case, model.bodies)   # the phase's bodies and tethers are fixed
+        self._contacts = None         # (limit, cause) of each cluster's contact network (``_contact_limits``)
 
     def after_step(self, t: float) -> float:
         """The coming step (s) after the step that ended at ``t`` (s; at the phase start, the first step)."""
@@ -364,8 +366,8 @@ class AdaptiveSteps:
         previous = self.cap
         self._limits = {}
         drag = self._drag_damping()
-        fixed = min([(self.rule.largest / CAP_FRACTION, "the largest step")] + self._rotation_limits(),
-                    key=lambda item: item[0])
+        fixed = min([(self.rule.largest / CAP_FRACTION, "the largest step")] + self._rotation_limits()
+                    + self._contact_limits(), key=lambda item: item[0])
 
         found: dict = {}   # a step's body limits depend on it only through the lines' relaxation times (a grid)
 
@@ -446,6 +448,37 @@ class AdaptiveSteps:
                     stiff.setdefault(line.body, []).append(tension * arm / inertia)
         return [(RK4_IMAGINARY_LIMIT / math.sqrt(sum(rates)), f"body {body} pitching on its lines")
                 for body, rates in stiff.items()]
+
+    def _contact_limits(self) -> list:
+        """Each cluster's canopies on their contacts (``engine.contact_loads``), every pair counted touching (the
+        stiffest case; in a steady descent their envelopes touch): the modes of the mass-weighted contact network,
+        each canopy also on its lines' own stiffness and damping as if the confluence were held, and RK4's limit
+        along their rays. Without it a relaxed cluster's steps grow to the contacts' 5 Hz (RK4's limit at 0.09 s)
+        and the canopies chatter on each other. Constants of the phase, worked out once."""
+        if self._contacts is None:
+            stage = self.model.stage
+            self._contacts = [] if stage is None else [self._contact_limit(contact) for contact in stage.contacts]
+        return self._contacts
+
+    def _contact_limit(self, contact) -> tuple:
+        """(limit in s, cause) of one cluster's contact network (``_contact_limits``)."""
+        names = [load.body for load in contact.loads]
+        count = len(names)
+        stiffness, damping = np.zeros((count, count)), np.zeros((count, count))
+        for a, b, k, c in contact.pairs:   # each pair's spring-damper between its two canopies
+            for matrix, value in ((stiffness, k), (damping, c)):
+                matrix[[int(a), int(b)], [int(a), int(b)]] += value
+                matrix[[int(a), int(b)], [int(b), int(a)]] -= value
+        for system in self.model.systems:
+            for line, k, c in zip(system.lines, *self._constants[system.name]):
+                if line.body in names:
+                    i = names.index(line.body)
+                    stiffness[i, i] += k
+                    damping[i, i] += c
+        scale = 1.0 / np.sqrt([self.case.bodies[name].mass for name in names])
+        state = np.block([[np.zeros((count, count)), np.eye(count)],
+                          [-scale[:, None] * stiffness * scale, -scale[:, None] * damping * scale]])
+        return max_stable_step_rk4(np.linalg.eigvals(state)), f"the canopies {', '.join(names)} on their contacts"
 
     def _lever(self, line) -> tuple:
         """(|p| in m, the body's smallest moment of inertia across p in kg m^2) of a line's attach point p: constants

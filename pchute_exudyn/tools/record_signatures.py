@@ -97,6 +97,10 @@ stiffness = 4000.0
 damping = 600.0
 """
 """A second canopy on the same confluence: a cluster, for the canopy-contact kernel."""
+TRIO = (CLUSTER.replace('"twin"]', '"twin", "third"]')
+        + CLUSTER.split('"twin"]\n', 1)[1].replace("twin", "third").replace("east = 3.0", "east = -3.0"))
+"""A third canopy: a cluster of three, whose four bodies' coordinates cross into SP's fused stage kernels as tuples of
+24 floats (without it such a cluster runs those kernels' Python form)."""
 BRIDLE = """[systems.main.lines.{name}]
 attach = "probe.{name}"
 free_length = 0.7
@@ -121,6 +125,8 @@ def record(cases=()) -> dict:
         path.write_text(base)
         every_method(pc.load_case(path))
         path.write_text(base + CLUSTER)
+        every_method(pc.load_case(path), variants=False)
+        path.write_text(base + TRIO)
         every_method(pc.load_case(path), variants=False)
     pc.simulate(pc.load_case(ROCKET), "sp")   # reduced canopies (methods.sp.canopy_kernels), adaptive steps, triggers
     confluence_velocity([(0.0, 0.0, 1.1)], [(0.0, 0.0, 0.0)], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0),

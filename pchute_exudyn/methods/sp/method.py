@@ -58,14 +58,12 @@ class SingularPerturbation(Method):
         (Eq. 3.10 linearised), then never limits RK4 below 1.86 steps, and a line already damped more is as it is.
         Steps that long are taken only where the motion is smooth, where the lines stretch slowly. A pair in series
         has no confluence mode and is not relaxed. tau is rounded down to a grid of eighth octaves, so that the
-        lines' damping changes only when the step has changed by 9 %. A cluster's lines are not relaxed either: its
-        canopies' flyout and breathing keep them stretching, and damping them more changes how the canopies share
-        the load (on ``pchute new``'s three-canopy Mars cluster the tensions left their steady values by 9 % within
-        10 s with relaxed lines, by 2.3 % at a fixed 0.01 s and without relaxation)."""
+        lines' damping changes only when the step has changed by 9 %. A cluster's lines are relaxed as a single
+        canopy's: its flyout keeps them stretching, and the relaxation's cap (``relaxation_cap``: the extra damping
+        within ``run.step_control.RELAXATION_SHARE`` of each line's tension) keeps its steps short while they do,
+        so the canopies share the load as at a fixed step (docs/models/step_control.md, "Clusters")."""
         if len(system.lines) == 2:
             return 0.0
-        if len(system.canopies) > 1:
-            return self.options.effective_relaxation_time
         tau = step / RELAXED_STEPS   # on a grid of eighth octaves, rounded down: it changes only every 9 %
         tau = 2.0 ** (math.floor(8.0 * math.log2(tau)) / 8.0) if tau > 0.0 else 0.0
         return max(self.options.effective_relaxation_time, tau)
