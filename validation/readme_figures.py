@@ -407,13 +407,18 @@ def rocketpy_lines() -> list:
             f"(medians of {data['rounds']} rounds in one process)."]
 
 
+README_RUN = "the README's first run (MER case 1, full mass, RK4 1e-4 s, with the figure)"
+"""The fresh-install table's row of the README's quick-start run (startup_budget.py)."""
+
+
 def startup_lines() -> list:
     """A warm run around its solve and a fresh install's first runs (startup_budget.py)."""
     text = (OUT / "startup_budget.md").read_text()
     rows = [[c.strip() for c in line.strip().strip("|").split("|")] for line in text.splitlines()
             if line.startswith(("| now", "| before"))]
-    warm = {cells[0].split(" ")[0]: cells for cells in rows if not cells[1].startswith(("440", "MER"))}
-    runs = {(cells[0].split(" ")[0], cells[1]): cells for cells in rows if cells[1].startswith(("440", "MER"))}
+    fresh = ("440", "MER", "the README")   # the fresh-install table's runs; the warm table's first cell is a number
+    warm = {cells[0].split(" ")[0]: cells for cells in rows if not cells[1].startswith(fresh)}
+    runs = {(cells[0].split(" ")[0], cells[1]): cells for cells in rows if cells[1].startswith(fresh)}
     now, before = warm["now"], warm["before"]
 
     def first(side, label):
@@ -421,7 +426,8 @@ def startup_lines() -> list:
         return f"{cells[2]} s against {cells[3]} s later ({cells[4]})"
     long, mer = "440-s descent (descent_440s.toml), with the figure", "MER case 1 SP, with the figure"
     commit = re.search(r"\| before \((\w+)", text).group(1)
-    installed = {side: re.search(rf"\| {side} \((\w+)[^|]*\| (?:440|MER)", text).group(1) for side in ("now", "before")}
+    installed = {side: re.search(rf"\| {side} \((\w+)[^|]*\| (?:440|MER|the README)", text).group(1)
+                 for side in ("now", "before")}
     return [f"Around the solve (`python validation/startup_budget.py --repeat 5 --before DIR`, "
             f"table `validation/output/startup_budget.md`, DIR a checkout of {commit}): a warm `pchute run "
             f"cases/mer/case1.toml --method sp --no-plot` takes {now[1]} s for its {now[2]} s solve ({now[3]}; "
@@ -429,7 +435,8 @@ def startup_lines() -> list:
             f"`pchute --help` takes {now[6]} s (before: {before[6]} s); "
             f"after a fresh install (code {installed['now']}, before {installed['before']}) the first run of the "
             f"440-s descent takes {first('now', long)}, before "
-            f"{first('before', long)}; of MER case 1 {first('now', mer)}, before {first('before', mer)}."]
+            f"{first('before', long)}; of MER case 1 {first('now', mer)}, before {first('before', mer)}; the "
+            f"README's first run (full mass, RK4 1e-4 s) {first('now', README_RUN)}."]
 
 
 def attitude_lines() -> list:
