@@ -26,11 +26,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 from pchute_exudyn.boundary import most_workers
 from pchute_exudyn.results.io import atomic_write_text
-from pchute_exudyn.study.statistics import bootstrap_interval
+from pchute_exudyn.study.statistics import percentile_table
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -130,18 +128,8 @@ def timing_row(label: str, r: dict, workers: int) -> str:
 def percentile_lines(now: dict, before: dict) -> list:
     """Each outcome's PERCENTILES now against the code before's value and 95 % bootstrap interval."""
     lines = ["| outcome | percentile | before | its 95 % bootstrap interval | now | inside |", "|---|---|---|---|---|---|"]
-    inside_all = True
-    for key in OUTCOMES:
-        a, b = np.asarray(now[key], float), np.asarray(before[key], float)
-        if not len(a) or not len(b):
-            continue
-        for p in PERCENTILES:
-            low, high = bootstrap_interval(b, p)
-            value = float(np.percentile(a, p))
-            inside = bool(low <= value <= high)
-            inside_all &= inside
-            lines.append(f"| {key} | {p:g} | {np.percentile(b, p):.4f} | {low:.4f} .. {high:.4f} | {value:.4f} | "
-                         f"{'yes' if inside else 'NO'} |")
+    rows, inside_all = percentile_table(before, now, OUTCOMES, PERCENTILES)
+    lines += rows
     return lines + ["", f"Every percentile inside its interval: {'yes' if inside_all else 'NO'} ({len(now['final_east'])} "
                         f"and {len(before['final_east'])} touchdowns)."]
 

@@ -28,7 +28,7 @@ import numpy as np
 import pchute_exudyn as pc
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.study import load_study, run_study
-from pchute_exudyn.study.statistics import bootstrap_interval
+from pchute_exudyn.study.statistics import percentile_table
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -191,17 +191,7 @@ def study_side(runs: int, workers: int, step: float | None) -> dict:
 def percentile_rows(adaptive: dict, fixed: dict) -> tuple:
     """Markdown rows of each outcome's PERCENTILES, adaptive against the fixed study's bootstrap interval; and
     whether every one lies inside."""
-    rows, inside_all = [], True
-    for key in OUTCOMES:
-        a, f = adaptive["outcomes"][key], fixed["outcomes"][key]
-        for p in PERCENTILES:
-            low, high = bootstrap_interval(f, p)
-            value = float(np.percentile(a, p))
-            inside = low <= value <= high
-            inside_all &= inside
-            rows.append(f"| {key} | {p:g} | {np.percentile(f, p):.4f} | {low:.4f} .. {high:.4f} | {value:.4f} | "
-                        f"{'yes' if inside else 'NO'} |")
-    return rows, inside_all
+    return percentile_table(fixed["outcomes"], adaptive["outcomes"], OUTCOMES, PERCENTILES)
 
 
 def main(argv=None) -> int:

@@ -20,10 +20,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 from pchute_exudyn.results.io import atomic_write_text
-from pchute_exudyn.study.statistics import bootstrap_interval
+from pchute_exudyn.study.statistics import percentile_table
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -97,16 +95,8 @@ def percentile_comparison(adaptive: dict, fixed: dict) -> list:
     lines = ["## The footprint at adaptive steps against the fixed-step study", "",
              "| outcome | percentile | fixed 1e-2 s | its 95 % bootstrap interval | adaptive | inside |",
              "|---|---|---|---|---|---|"]
-    inside_all = True
-    for key in OUTCOMES:
-        a, f = np.asarray(adaptive[key], float), np.asarray(fixed[key], float)
-        for p in PERCENTILES:
-            low, high = bootstrap_interval(f, p)
-            value = float(np.percentile(a, p))
-            inside = low <= value <= high
-            inside_all &= inside
-            lines.append(f"| {key} | {p:g} | {np.percentile(f, p):.4f} | {low:.4f} .. {high:.4f} | {value:.4f} | "
-                         f"{'yes' if inside else 'NO'} |")
+    rows, inside_all = percentile_table(fixed, adaptive, OUTCOMES, PERCENTILES)
+    lines += rows
     lines += ["", f"Every percentile inside its interval: {'yes' if inside_all else 'NO'} ({len(adaptive['final_east'])} "
               f"and {len(fixed['final_east'])} touchdowns).", ""]
     return lines

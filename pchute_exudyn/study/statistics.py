@@ -28,6 +28,25 @@ def bootstrap_interval(values: np.ndarray, percentile: float) -> tuple[float, fl
     return float(np.percentile(estimates, tail)), float(np.percentile(estimates, 100.0 - tail))
 
 
+def percentile_table(reference: dict, candidate: dict, outcomes, percentiles) -> tuple[list, bool]:
+    """Markdown rows ``| outcome | percentile | reference's | its 95 % bootstrap interval | candidate's | inside |`` of
+    each outcome's (a key of both: sample arrays) percentiles (%), the candidate's against the reference's interval
+    (``bootstrap_interval``); and whether every one lies inside. An outcome either side lacks is left out."""
+    rows, inside_all = [], True
+    for key in outcomes:
+        ref, cand = np.asarray(reference[key], float), np.asarray(candidate[key], float)
+        if not len(ref) or not len(cand):
+            continue
+        for p in percentiles:
+            low, high = bootstrap_interval(ref, p)
+            value = float(np.percentile(cand, p))
+            inside = bool(low <= value <= high)
+            inside_all &= inside
+            rows.append(f"| {key} | {p:g} | {np.percentile(ref, p):.4f} | {low:.4f} .. {high:.4f} | {value:.4f} | "
+                        f"{'yes' if inside else 'NO'} |")
+    return rows, inside_all
+
+
 def bootstrap_mean_interval(points: np.ndarray) -> np.ndarray:
     """The 95 % percentile-bootstrap interval of the mean of ``points`` (n, d), per column: (d, 2) lower and upper
     bounds, from the means of BOOTSTRAP_RESAMPLES resamples of whole rows with replacement (a landing footprint's
