@@ -14,7 +14,6 @@ from . import __version__, _interrupt
 from ._interrupt import signals_interrupt as _signals_interrupt
 from .errors import InputError, PchuteError
 from .kernels import lock, selection
-from .registries import columns
 from .registries.methods import INTEGRATORS, METHODS
 from .views.command_parser import EXIT_USAGE
 from .views.command_parser import CommandParser as _Parser
@@ -275,6 +274,7 @@ def _altitudes(text):
 
 
 def _compare(args) -> int:
+    from .registries import columns
     from .results.compare import compare_results
     from .results.log_files import flight_log_side
     from .results.result import Result, parse_column_map

@@ -15,8 +15,6 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from .columns import method_outputs, register
-
 
 @dataclass(frozen=True)
 class Integrator:
@@ -101,6 +99,7 @@ class MethodTable(Mapping):
             raise ValueError(f"method {name!r} names unknown integrator(s) {unknown}; "
                              f"integrators are {tuple(INTEGRATORS)}")
         self._classes[name] = method_class
+        from .columns import method_outputs, register  # here: the table's import (every command's) needs no numpy
         register(*method_outputs(getattr(method_class, "outputs", {})))   # its columns (``registries.columns``)
         return method_class
 
