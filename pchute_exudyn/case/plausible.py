@@ -13,7 +13,6 @@ checked when the run is planned: ``check_time_scales``.
 
 from __future__ import annotations
 
-import fnmatch
 import functools
 import math
 from dataclasses import dataclass
@@ -136,11 +135,29 @@ RANGES: tuple = (
 def range_of(key: str) -> Range | None:
     """The range of the full dotted ``key`` (gusts indexed: ``atmosphere.gusts[0].amplitude``), None for none;
     remembered per key (a study's worker loads the same keys in every run: 0.1 ms each through the patterns)."""
-    pattern_key = key.replace("[", "\x00")   # fnmatch reads [..] as a character set: compare brackets literally
     for entry in RANGES:
-        if fnmatch.fnmatchcase(pattern_key, entry.pattern.replace("[*]", "\x00*]")):
+        if _matches(key, entry.pattern):
             return entry
     return None
+
+
+def _matches(key: str, pattern: str) -> bool:
+    """Whether ``key`` matches ``pattern``, whose ``*`` stands for any run of characters (dots and brackets
+    included) and every other character for itself (``[*]`` a bracketed index): fnmatch's rule for such patterns,
+    without compiling 100 regular expressions at a run's start (20 ms)."""
+    parts = pattern.split("*")
+    head, tail = parts[0], parts[-1]
+    if len(parts) == 1:
+        return key == pattern
+    if len(key) < len(head) + len(tail) or not key.startswith(head) or not key.endswith(tail):
+        return False
+    position, end = len(head), len(key) - len(tail)
+    for part in parts[1:-1]:   # each middle piece at its leftmost place after the last (greedy is exact for *)
+        found = key.find(part, position, end)
+        if found < 0:
+            return False
+        position = found + len(part)
+    return True
 
 
 def numbers(value) -> list:

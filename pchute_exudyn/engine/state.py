@@ -52,6 +52,7 @@ class Phase:
     confluence_states: dict = field(default_factory=dict)
     events: list = field(default_factory=list)
     inflation: dict = field(default_factory=dict)   # system -> physics.inflation.InflationProgress (whole run)
+    drawn: bool = True   # the bodies carry Exudyn graphics, for a script that opens Exudyn's viewer on the model
 
 
 # ---------------------------------------------------------------------------------------------------------------

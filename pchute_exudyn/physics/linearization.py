@@ -142,8 +142,14 @@ def max_stable_step_rk4(eigenvalues) -> float:
     2.828). Eigenvalues with a non-negative real part impose no limit (unstable physics, not numerics); returns inf
     when none limits.
     """
+    return _smallest_limit(np.atleast_1d(np.asarray(eigenvalues, dtype=complex)).tolist())
+
+
+def _smallest_limit(eigenvalues: list) -> float:
+    """``max_stable_step_rk4`` of a list of Python complex numbers (no array round trip: the step control's checks
+    call it hundreds of times a run)."""
     limit = float("inf")
-    for lam in np.atleast_1d(np.asarray(eigenvalues, dtype=complex)).tolist():
+    for lam in eigenvalues:
         if lam.real >= 0.0 or lam.imag < 0.0:  # conjugates share the limit of their partner
             continue
         limit = min(limit, _stable_step_along(lam.real, lam.imag))
@@ -191,11 +197,19 @@ def body_line_step_limit(mass, stiffness, damping) -> float:
     C_bar and K_bar share their eigenvectors and every other layout's modes are those of a smaller K on the same
     rays, slower; with other ratios it is an estimate (``spectral_step_bound`` bounds any layout, up to twice
     smaller). Sideways stiffness T/L of stretched lines is left out. inf without stiffness or damping."""
-    c, k = float(np.sum(damping)), float(np.sum(stiffness))
+    c, k = _total(damping), _total(stiffness)
     if c <= 0.0 and k <= 0.0:
         return math.inf
     root = cmath.sqrt(c * c - 4.0 * mass * k)
-    return max_stable_step_rk4([(-c + root) / (2.0 * mass), (-c - root) / (2.0 * mass)])
+    return _smallest_limit([(-c + root) / (2.0 * mass), (-c - root) / (2.0 * mass)])
+
+
+def _total(values) -> float:
+    """``float(np.sum(values))``, a single number's sum without numpy (numpy's sum starts from +0.0: -0.0 sums to
+    0.0, as here)."""
+    if isinstance(values, list) and len(values) == 1 and isinstance(values[0], float):
+        return 0.0 + values[0]
+    return float(np.sum(values))
 
 
 def damped_line_step_limit(stiffness, damping) -> float | None:

@@ -190,6 +190,7 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
                sequence: Sequence | None = None, traces: dict | None = None):
     """Build and integrate one phase; returns the model, its checked history, its touchdown and its trigger monitor
     (each None when the phase has none). ``traces``: the run's deployment load traces (``run.deployment_watch``)."""
+    phase.drawn = solution_file is not None   # Exudyn's graphics only where its solution file is kept
     model = plan.method.build(case, phase)
     if traces is not None:
         watch_deployments(model, case, traces, phase.inflation)
