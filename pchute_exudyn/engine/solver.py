@@ -120,8 +120,10 @@ def grid_times(times, start: float, step: float, output_step: float) -> list:
     k_output = np.rint(exact / output_step) * output_step
     on_output = np.where(np.abs(exact - k_output) <= ROUND_OFF * step, k_output, exact)
     off_step = np.abs(t - exact) > ROUND_OFF * step
-    return [time if off else _printed(grid) for time, off, grid in zip(t.tolist(), off_step.tolist(),
-                                                                       on_output.tolist())]
+    printed = list(map(_printed, on_output.tolist()))   # map: no Python frame per sample (a fixed step's 6000)
+    if not off_step.any():
+        return printed
+    return [time if off else grid for time, off, grid in zip(t.tolist(), off_step.tolist(), printed)]
 
 
 @functools.lru_cache(maxsize=1 << 16)

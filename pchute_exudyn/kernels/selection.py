@@ -23,7 +23,6 @@ built the module.
 
 from __future__ import annotations
 
-import hashlib
 import importlib.machinery
 import importlib.util
 import json
@@ -56,9 +55,22 @@ SIGNATURES = PACKAGE / "kernels" / "signatures.json"
 (``python -m pchute_exudyn.tools.record_signatures`` writes it)."""
 
 
+def _sha256():
+    """A SHA-256 hash object: Python's own implementation where it has one (``hashlib`` loads OpenSSL: 7 ms of every
+    start-up), the same digest."""
+    try:
+        from _sha256 import sha256   # CPython 3.11
+    except ImportError:
+        try:
+            from _sha2 import sha256   # CPython 3.12 and later
+        except ImportError:
+            from hashlib import sha256
+    return sha256()
+
+
 def source_key() -> str:
     """A digest of the kernels' source, the signatures they are compiled for, and the Python that loads them."""
-    digest = hashlib.sha256()
+    digest = _sha256()
     for path in kernel_sources():
         digest.update(path.name.encode() + path.read_bytes())
     digest.update(SIGNATURES.read_bytes() if SIGNATURES.is_file() else b"")

@@ -33,7 +33,7 @@ from ..errors import InputError
 from ..registries.columns import UNNAMED_VEHICLE, owner
 from . import rocketpy_export
 from .csv_dialects import map_columns, parse_column_map  # noqa: F401  (parse_column_map: API)
-from .io import FILES_KEY, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
+from .io import FILES_KEY, BackgroundSyncs, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
 from .number_text import table_text
 from .summary import RunSummary
 
@@ -231,11 +231,21 @@ class Result:
         return {key: folder / path.name for key, path in written.items()}
 
     def _write(self, folder: Path, plot: bool, csv: bool, draw=None) -> dict:
+        syncs = BackgroundSyncs()   # the large timeseries.csv goes to disk while the other files are written
+        try:
+            paths = self._write_files(folder, plot, csv, draw, syncs)
+        except BaseException:
+            syncs.wait(raising=False)
+            raise
+        syncs.wait()
+        return paths
+
+    def _write_files(self, folder: Path, plot: bool, csv: bool, draw, syncs: BackgroundSyncs) -> dict:
         summary = {} if self.summary is None else self.summary.to_dict()   # the files' form of the summary
         paths = {"npz": folder / NPZ_NAME, "summary": folder / SUMMARY_NAME}
         if csv:
             paths["csv"] = folder / CSV_NAME
-            atomic_write_text(paths["csv"], table_text(self.names, [self.columns[n] for n in self.names]))
+            atomic_write_text(paths["csv"], table_text(self.names, [self.columns[n] for n in self.names]), syncs)
         scene = {f"{SCENE}/{k}": v for k, v in self.scene_arrays.items()}
         if self.scene is not None:
             scene[SCENE] = json_text(self.scene)
