@@ -24,9 +24,14 @@ if _interrupt.launched_as_command():   # Ctrl-C while the command starts: an int
     _interrupt.install()
     environment.single_thread_blas()   # before numpy's import starts its BLAS threads
 
+from .kernels.selection import cache_directory as _cache_directory  # noqa: E402
 from .kernels.selection import select as _select_kernel_form  # noqa: E402
 
 _select_kernel_form()   # compiled, jit or Python kernels, before physics is imported (see kernels.selection)
+
+from .kernels import dataclass_code as _dataclass_code  # noqa: E402
+
+_dataclass_code.install(_cache_directory())   # before the first of the package's dataclasses is defined
 
 from .registries.lazy_names import lazy_names  # noqa: E402
 from .registries.methods import METHODS  # noqa: E402

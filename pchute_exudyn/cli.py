@@ -13,7 +13,7 @@ from pathlib import Path
 from . import __version__, _interrupt
 from ._interrupt import signals_interrupt as _signals_interrupt
 from .errors import InputError, PchuteError
-from .kernels import lock, selection
+from .kernels import dataclass_code, lock, selection
 from .registries.methods import INTEGRATORS, METHODS
 from .views.command_parser import EXIT_USAGE
 from .views.command_parser import CommandParser as _Parser
@@ -633,6 +633,7 @@ def command() -> None:
     except KeyboardInterrupt as exc:   # Ctrl-C or SIGTERM before the command's own handling began (``_interrupt``)
         print(f"{' '.join(['pchute', *sys.argv[1:2]])}: {str(exc) or 'interrupted'}", file=sys.stderr)
         code = _interrupted_status(exc)
+    dataclass_code.save()   # atexit would not run: the classes this command compiled, for the next one
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()

@@ -22,7 +22,7 @@ import warnings
 from importlib import import_module
 from pathlib import Path
 
-from . import lock, selection
+from . import dataclass_code, lock, selection
 
 COMMAND = "pchute_exudyn.kernels.build"
 """This module as a command (``python -m``), run again in the jit form."""
@@ -197,6 +197,8 @@ def main(argv=None) -> int:
         if failed is not None:
             failed.unlink(missing_ok=True)
         print(f"compiled kernels: {table.parent / json.loads(table.read_text())['file']}")
+        if args.out is None:
+            dataclass_code.warm_and_save()   # the classes' code too (``dataclass_code``): a fast first run
     finally:
         if args.lock is not None:
             args.lock.unlink(missing_ok=True)

@@ -59,10 +59,10 @@ def _sha256():
     """A SHA-256 hash object: Python's own implementation where it has one (``hashlib`` loads OpenSSL: 7 ms of every
     start-up), the same digest."""
     try:
-        from _sha256 import sha256   # CPython 3.11
+        from _sha256 import sha256  # CPython 3.11
     except ImportError:
         try:
-            from _sha2 import sha256   # CPython 3.12 and later
+            from _sha2 import sha256  # CPython 3.12 and later
         except ImportError:
             from hashlib import sha256
     return sha256()

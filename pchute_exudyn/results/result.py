@@ -33,7 +33,15 @@ from ..errors import InputError
 from ..registries.columns import UNNAMED_VEHICLE, owner
 from . import rocketpy_export
 from .csv_dialects import map_columns, parse_column_map  # noqa: F401  (parse_column_map: API)
-from .io import FILES_KEY, BackgroundSyncs, atomic_write_text, atomic_writer, check_result_folder, json_text, staged_folder
+from .io import (
+    FILES_KEY,
+    BackgroundSyncs,
+    atomic_write_text,
+    atomic_writer,
+    check_result_folder,
+    json_text,
+    staged_folder,
+)
 from .number_text import table_text
 from .summary import RunSummary
 
