@@ -27,7 +27,7 @@ LIMIT = 5000
 """Entries at most: a cache grown past it (edited classes leave their old texts behind) starts again."""
 
 _code: dict = {}
-_state = {"new": False, "file": None}
+_state = {"new": False, "file": None, "loaded": True}
 
 
 def cache_file(folder: Path) -> Path:
@@ -36,15 +36,8 @@ def cache_file(folder: Path) -> Path:
 
 
 def install(folder: Path) -> None:
-    """Read the cache in ``folder`` (if any) and compile this package's dataclass methods through it from now on."""
-    path = cache_file(folder)
-    _state["file"] = path
-    try:
-        loaded = marshal.loads(path.read_bytes())
-        if isinstance(loaded, dict) and len(loaded) <= LIMIT:
-            _code.update(loaded)
-    except (OSError, EOFError, ValueError, TypeError):   # none yet, or damaged: compiled afresh and rewritten
-        pass
+    """Compile this package's dataclass methods through the cache in ``folder`` from now on (read at the first)."""
+    _state["file"], _state["loaded"] = cache_file(folder), False
     dataclasses.exec = _exec   # the dataclasses module's own name lookup finds this before the builtin
     atexit.register(save)      # a script's or a test's process; the command saves before its fast exit
 
@@ -54,11 +47,24 @@ def _exec(source, globals=None, locals=None):
     if not (isinstance(source, str) and isinstance(globals, dict)
             and str(globals.get("__name__", "")).startswith(PACKAGE + ".")):
         return builtins.exec(source, globals, locals)
+    if not _state["loaded"]:
+        _load()
     code = _code.get(source)
     if code is None:   # as exec compiles a text: file name <string>, no future features of this module inherited
         code = _code[source] = compile(source, "<string>", "exec", dont_inherit=True)
         _state["new"] = True
     return builtins.exec(code, globals, locals)
+
+
+def _load() -> None:
+    """Read the cache file (4 ms: not before a class needs it, so `pchute --help` does not)."""
+    _state["loaded"] = True
+    try:
+        loaded = marshal.loads(_state["file"].read_bytes())
+        if isinstance(loaded, dict) and len(loaded) <= LIMIT:
+            _code.update(loaded)
+    except (OSError, EOFError, ValueError, TypeError):   # none yet, or damaged: compiled afresh and rewritten
+        pass
 
 
 def warm_and_save() -> None:
