@@ -19,7 +19,6 @@ import dataclasses
 import marshal
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 PACKAGE = __name__.split(".")[0]
@@ -84,6 +83,8 @@ def save() -> None:
         return
     _state["new"] = False
     entries = _code if len(_code) <= LIMIT else {}
+    import tempfile  # here only: most processes have nothing new to save
+
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, temp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
