@@ -27,7 +27,8 @@ if _interrupt.launched_as_command():   # Ctrl-C while the command starts: an int
 from .kernels.selection import cache_directory as _cache_directory  # noqa: E402
 from .kernels.selection import select as _select_kernel_form  # noqa: E402
 
-_select_kernel_form()   # compiled, jit or Python kernels, before physics is imported (see kernels.selection)
+if not (_interrupt.launched_as_command() and _interrupt.asks_only_about_the_command()):   # pchute --help: none
+    _select_kernel_form()   # compiled, jit or Python kernels, before physics is imported (see kernels.selection)
 
 from .kernels import dataclass_code as _dataclass_code  # noqa: E402
 
