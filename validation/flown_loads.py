@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import shutil
 import sys
 import tempfile
 from dataclasses import dataclass, field
@@ -31,10 +30,12 @@ import numpy as np
 from flown_loads_page import page
 
 from pchute_exudyn import load_case, simulate
+from pchute_exudyn.boundary import most_workers
 from pchute_exudyn.case.files import load_merged
+from pchute_exudyn.errors import PchuteError
 from pchute_exudyn.physics.inflation import nominal_diameter
 from pchute_exudyn.physics.supersonic_opening import mass_ratio
-from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.results.io import atomic_write_text, atomic_writer
 from pchute_exudyn.study import load as load_runs
 from pchute_exudyn.study import load_study, run_study
 
@@ -166,17 +167,18 @@ def _value(path: Path, dotted: str) -> float:
     return float(data)
 
 
-def predict(key: str, runs: int, spread: float, workers: int) -> dict:
+def predict(key: str, runs: int, spread: float, workers: int, kept: dict) -> dict:
     """The flight's Monte Carlo: the first peak's median, 1st and 99th percentiles (N), and the runs that failed.
-    The study runs in a temporary folder; its table is kept as runs/<key>.csv."""
-    spec_path = OUT / "study_files" / key / "study.toml"
-    spec_path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(spec_path, study_text(key, runs, spread))
+    The study runs in a temporary folder; its file and table go into ``kept`` (study_files/<key>/study.toml and
+    runs/<key>.csv, written by ``main`` once every flight has its prediction)."""
+    text = study_text(key, runs, spread)
     with tempfile.TemporaryDirectory() as scratch:
+        spec_path = Path(scratch) / "study.toml"   # the case's path in it is absolute
+        spec_path.write_text(text)
         folder = Path(scratch) / key
         run_study(load_study(spec_path), folder, workers=workers, progress=sys.stderr.isatty())
-        (OUT / "runs").mkdir(exist_ok=True)
-        shutil.copyfile(folder / "runs.csv", OUT / "runs" / f"{key}.csv")
+        kept[Path("study_files") / key / "study.toml"] = text
+        kept[Path("runs") / f"{key}.csv"] = (folder / "runs.csv").read_bytes()   # as the study wrote it
         table = load_runs(folder)
     peaks = table["peak_tension_riser"].to_numpy(float)
     peaks = peaks[np.isfinite(peaks)]
@@ -191,10 +193,10 @@ def calibrated_in_case(calibration: dict) -> list:
             if float(f"{value:.4g}") != getattr(opening, name)]
 
 
-def predictions(calibration: dict, runs: int, workers: int) -> dict:
+def predictions(calibration: dict, runs: int, workers: int, kept: dict) -> dict:
     """Every flight's inputs (with their sources) and predicted first peak (N), as predictions.json holds them."""
-    return {key: {**flight_inputs(key, calibration["spread"]), **predict(key, runs, calibration["spread"], workers)}
-            for key in FLIGHTS}
+    return {key: {**flight_inputs(key, calibration["spread"]),
+                  **predict(key, runs, calibration["spread"], workers, kept)} for key in FLIGHTS}
 
 
 def flight_inputs(key: str, spread: float) -> dict:
@@ -215,13 +217,41 @@ def flight_inputs(key: str, spread: float) -> dict:
             "nominal": first_peak(key), "unit": "N"}
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors as one line and exit status 1 (not the usage text and status 2)."""
+
+    def error(self, message):
+        raise SystemExit(f"flown_loads.py: {message}")
+
+
+def check_arguments(args) -> None:
+    """Every argument, before anything is computed or written: one line naming the bad one (exit status 1)."""
+    if args.runs < 1:
+        raise SystemExit(f"flown_loads.py: --runs = {args.runs}: must be >= 1")
+    if not 1 <= args.workers <= most_workers():
+        raise SystemExit(f"flown_loads.py: --workers = {args.workers}: must be from 1 to {most_workers()}")
+    if args.compare:
+        missing = [name for name in ("calibration.json", "predictions.json") if not (OUT / name).is_file()]
+        if missing:
+            raise SystemExit(f"flown_loads.py: --compare: {OUT.relative_to(ROOT) / missing[0]} is missing: run "
+                             "without --compare first (it calibrates and predicts)")
+
+
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = _Parser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=400, help="Monte Carlo runs per flight (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
     parser.add_argument("--check", action="store_true", help="only check that msl.toml holds the calibration")
     parser.add_argument("--compare", action="store_true", help="only write the page from predictions.json")
     args = parser.parse_args(argv)
+    check_arguments(args)
+    try:
+        return _main(args)
+    except (PchuteError, OSError, ValueError) as exc:
+        raise SystemExit(f"flown_loads.py: {exc}") from None
+
+
+def _main(args) -> int:
     if args.compare:
         return write_page()
     calibration = calibrate()
@@ -230,10 +260,18 @@ def main(argv=None) -> int:
         print(f"cases/edl/msl.toml: {OPENING}.{name} = {held!r}, the calibration gives {fitted:.4g}", file=sys.stderr)
     if stale or args.check:
         return 1 if stale else 0
-    OUT.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(OUT / "calibration.json", json.dumps(calibration, indent=2, allow_nan=False) + "\n")
-    flights = predictions(calibration, args.runs, args.workers)
-    atomic_write_text(OUT / "predictions.json", json.dumps(flights, indent=2, allow_nan=False) + "\n")
+    kept: dict = {}
+    flights = predictions(calibration, args.runs, args.workers, kept)
+    # written only now, every flight predicted: a run that fails leaves the committed outputs as they were
+    kept[Path("calibration.json")] = json.dumps(calibration, indent=2, allow_nan=False) + "\n"
+    kept[Path("predictions.json")] = json.dumps(flights, indent=2, allow_nan=False) + "\n"
+    for relative, content in kept.items():
+        (OUT / relative).parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(content, bytes):
+            with atomic_writer(OUT / relative, "wb") as handle:
+                handle.write(content)
+        else:
+            atomic_write_text(OUT / relative, content)
     print(f"wrote {OUT / 'calibration.json'} and {OUT / 'predictions.json'}")
     return write_page()
 

@@ -5,7 +5,9 @@ Carlo of an opening brackets its nominal run."""
 from __future__ import annotations
 
 import json
+import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -56,9 +58,37 @@ def test_the_predictions_meet_the_targets_held_out_within_15_and_calibration_wit
 def test_a_small_opening_monte_carlo_brackets_its_nominal_run_and_follows_the_load_factor(tmp_path, monkeypatch):
     monkeypatch.setattr(flown_loads, "OUT", tmp_path)
     nominal = flown_loads.first_peak("mars2020")["peak"]
-    result = flown_loads.predict("mars2020", 16, 0.11, 1)
+    kept = {}
+    result = flown_loads.predict("mars2020", 16, 0.11, 1, kept)
     assert result["failed"] == 0 and result["p01"] < nominal < result["p99"]
     assert abs(result["median"] / nominal - 1.0) < 0.1
-    table = np.genfromtxt(tmp_path / "runs" / "mars2020.csv", delimiter=",", names=True, dtype=None, encoding=None)
+    assert list(tmp_path.iterdir()) == []   # the study file and its table are the caller's to write
+    (tmp_path / "runs.csv").write_bytes(kept[Path("runs") / "mars2020.csv"])
+    table = np.genfromtxt(tmp_path / "runs.csv", delimiter=",", names=True, dtype=None, encoding=None)
     drawn = table["systemsmaininflationsupersonicload_factor"]
     assert spearmanr(drawn, table["peak_tension_riser"])[0] > 0.5
+
+
+@pytest.mark.parametrize("arguments, line", [
+    (["--runs", "0"], "flown_loads.py: --runs = 0: must be >= 1"),
+    (["--runs", "-5"], "flown_loads.py: --runs = -5: must be >= 1"),
+    (["--workers", "0"], "flown_loads.py: --workers = 0: must be from 1 to "),
+    (["--runs", "x"], "flown_loads.py: argument --runs: invalid int value: 'x'"),
+])
+def test_bad_arguments_stop_in_one_line_before_anything_is_written(arguments, line):
+    """Each bad argument is refused before the calibration runs: the committed outputs keep every byte."""
+    before = {path: path.read_bytes() for path in RECORDS.rglob("*") if path.is_file()}
+    done = subprocess.run([sys.executable, str(ROOT / "validation" / "flown_loads.py"), *arguments],
+                          capture_output=True, text=True, timeout=60, cwd=ROOT)
+    assert done.returncode == 1 and done.stderr.startswith(line) and done.stderr.count("\n") == 1, done.stderr
+    assert "Traceback" not in done.stderr
+    assert {path: path.read_bytes() for path in RECORDS.rglob("*") if path.is_file()} == before
+
+
+def test_compare_without_the_records_is_one_line(monkeypatch, tmp_path, capsys):
+    monkeypatch.setattr(flown_loads, "OUT", tmp_path / "flown_loads")
+    monkeypatch.setattr(flown_loads, "ROOT", tmp_path)
+    with pytest.raises(SystemExit) as stopped:
+        flown_loads.main(["--compare"])
+    assert str(stopped.value) == ("flown_loads.py: --compare: flown_loads/calibration.json is missing: run without "
+                                  "--compare first (it calibrates and predicts)")
