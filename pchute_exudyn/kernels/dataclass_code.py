@@ -42,10 +42,13 @@ def install(folder: Path) -> None:
 
 
 def _exec(source, globals=None, locals=None):
-    """``exec`` as ``dataclasses`` calls it, with the compiled code of a package class's method source remembered."""
-    if not (isinstance(source, str) and isinstance(globals, dict)
-            and str(globals.get("__name__", "")).startswith(PACKAGE + ".")):
+    """``exec`` as ``dataclasses`` calls it, with the compiled code of a package class's method source remembered.
+    A text is always compiled here with ``dont_inherit``: ``exec`` of a text would take this module's future features
+    (``annotations``: every other module's dataclass ``__init__`` would carry its annotations as strings)."""
+    if not isinstance(source, str):
         return builtins.exec(source, globals, locals)
+    if not (isinstance(globals, dict) and str(globals.get("__name__", "")).startswith(PACKAGE + ".")):
+        return builtins.exec(compile(source, "<string>", "exec", dont_inherit=True), globals, locals)
     if not _state["loaded"]:
         _load()
     code = _code.get(source)
