@@ -18,7 +18,6 @@ issue's target (issue 58, item 5): the 2000-run PA1 study in 60 s or less on 2 w
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import subprocess
@@ -26,7 +25,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from pchute_exudyn.boundary import most_workers
+from script_arguments import OneLineParser
+
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.study.statistics import percentile_table
 
@@ -69,26 +69,16 @@ print(json.dumps({
 """
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse with its errors as one line and exit status 1 (not the usage text and status 2)."""
-
-    def error(self, message):
-        raise SystemExit(f"benchmark_study_scale.py: {message}")
-
-
-def check_arguments(args) -> None:
+def check_arguments(parser: OneLineParser, args) -> None:
     """Every argument, before anything runs or is written: one line naming the bad one (exit status 1)."""
-    if args.runs < 1:
-        raise SystemExit(f"benchmark_study_scale.py: --runs = {args.runs}: must be >= 1")
-    if not 1 <= args.workers <= most_workers():
-        raise SystemExit(f"benchmark_study_scale.py: --workers = {args.workers}: must be from 1 to {most_workers()}")
+    parser.check_counts(args)
     before = args.before
     if before is not None:
         if not (before / "pchute_exudyn" / "__init__.py").is_file():
-            raise SystemExit(f"benchmark_study_scale.py: --before {before}: not a checkout of pchute-exudyn (no "
-                             "pchute_exudyn/__init__.py); make one with git worktree add DIR main")
+            parser.refuse(f"--before {before}: not a checkout of pchute-exudyn (no pchute_exudyn/__init__.py); make "
+                          "one with git worktree add DIR main")
         if before.resolve() == ROOT:
-            raise SystemExit(f"benchmark_study_scale.py: --before {before}: is this checkout; give the code before")
+            parser.refuse(f"--before {before}: is this checkout; give the code before")
 
 
 def side(code: Path, study: Path, runs: int, workers: int) -> dict:
@@ -161,13 +151,13 @@ def report(args, now: dict, before: dict | None) -> list:
 
 
 def main(argv=None) -> int:
-    parser = _Parser(description=__doc__.splitlines()[0])
+    parser = OneLineParser(__file__, __doc__.splitlines()[0])
     parser.add_argument("--study", choices=sorted(STUDIES), default="pa1", help="which footprint study (default pa1)")
     parser.add_argument("--runs", type=int, default=2000, help="draws of the study (default 2000)")
     parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     parser.add_argument("--before", type=Path, default=None, help="checkout of the code before")
     args = parser.parse_args(argv)
-    check_arguments(args)
+    check_arguments(parser, args)
     study = STUDIES[args.study]
     before = side(args.before, study, args.runs, args.workers) if args.before is not None else None
     now = side(ROOT, study, args.runs, args.workers)

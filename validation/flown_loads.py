@@ -18,7 +18,6 @@ Run:  python validation/flown_loads.py [--runs 400] [--workers 2] [--check | --c
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
@@ -28,9 +27,9 @@ from pathlib import Path
 
 import numpy as np
 from flown_loads_page import page
+from script_arguments import OneLineParser
 
 from pchute_exudyn import load_case, simulate
-from pchute_exudyn.boundary import most_workers
 from pchute_exudyn.case.files import load_merged
 from pchute_exudyn.errors import PchuteError
 from pchute_exudyn.physics.inflation import nominal_diameter
@@ -217,34 +216,24 @@ def flight_inputs(key: str, spread: float) -> dict:
             "nominal": first_peak(key), "unit": "N"}
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse with its errors as one line and exit status 1 (not the usage text and status 2)."""
-
-    def error(self, message):
-        raise SystemExit(f"flown_loads.py: {message}")
-
-
-def check_arguments(args) -> None:
+def check_arguments(parser: OneLineParser, args) -> None:
     """Every argument, before anything is computed or written: one line naming the bad one (exit status 1)."""
-    if args.runs < 1:
-        raise SystemExit(f"flown_loads.py: --runs = {args.runs}: must be >= 1")
-    if not 1 <= args.workers <= most_workers():
-        raise SystemExit(f"flown_loads.py: --workers = {args.workers}: must be from 1 to {most_workers()}")
+    parser.check_counts(args)
     if args.compare:
         missing = [name for name in ("calibration.json", "predictions.json") if not (OUT / name).is_file()]
         if missing:
-            raise SystemExit(f"flown_loads.py: --compare: {OUT.relative_to(ROOT) / missing[0]} is missing: run "
-                             "without --compare first (it calibrates and predicts)")
+            parser.refuse(f"--compare: {OUT.relative_to(ROOT) / missing[0]} is missing: run without --compare first "
+                          "(it calibrates and predicts)")
 
 
 def main(argv=None) -> int:
-    parser = _Parser(description=__doc__.splitlines()[0])
+    parser = OneLineParser(__file__, __doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=400, help="Monte Carlo runs per flight (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
     parser.add_argument("--check", action="store_true", help="only check that msl.toml holds the calibration")
     parser.add_argument("--compare", action="store_true", help="only write the page from predictions.json")
     args = parser.parse_args(argv)
-    check_arguments(args)
+    check_arguments(parser, args)
     try:
         return _main(args)
     except (PchuteError, OSError, ValueError) as exc:

@@ -15,7 +15,6 @@ for 2000 runs and sets it against issue 58's 60-s target. Writes validation/outp
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import re
@@ -25,26 +24,14 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from script_arguments import OneLineParser
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 STUDIES = {"pa1": HERE / "studies" / "pa1_footprint.toml", "airdrop": HERE / "studies" / "airdrop_footprint.toml"}
 PROJECTED_RUNS = 2000
 TARGET = 60.0
 """s: issue 58's wall-time target of the 2000-run PA1 study on 2 workers."""
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with its errors as one line and exit status 1."""
-
-    def error(self, message):
-        raise SystemExit(f"study_floor.py: {message}")
-
-
-def check_arguments(args) -> None:
-    if not 1 <= args.runs <= 2000:
-        raise SystemExit(f"study_floor.py: --runs = {args.runs}: must be from 1 to 2000")
-    if args.workers < 1:
-        raise SystemExit(f"study_floor.py: --workers = {args.workers}: must be >= 1")
 
 
 class Clock:
@@ -146,12 +133,15 @@ def report(args, found: dict) -> list:
 
 
 def main(argv=None) -> int:
-    parser = _Parser(description=__doc__.splitlines()[0])
+    parser = OneLineParser(__file__, __doc__.splitlines()[0])
     parser.add_argument("--study", choices=sorted(STUDIES), default="pa1", help="which footprint study (default pa1)")
     parser.add_argument("--runs", type=int, default=20, help="draws run (default 20)")
     parser.add_argument("--workers", type=int, default=2, help="workers of the projection (default 2)")
     args = parser.parse_args(argv)
-    check_arguments(args)
+    if not 1 <= args.runs <= 2000:
+        parser.refuse(f"--runs = {args.runs}: must be from 1 to 2000")
+    if args.workers < 1:
+        parser.refuse(f"--workers = {args.workers}: must be >= 1")
     os.environ.setdefault("PCHUTE_KERNELS", "compiled")
     sys.path.insert(0, str(ROOT))
     from pchute_exudyn.results.io import atomic_write_text
