@@ -30,7 +30,7 @@ def write_release_map(folder: Path, release, footprint=None) -> list:
     site = site_of(case.start)
     if site is None:
         return []
-    geo_map = release_map(release, footprint, site, case.simulation.ground_elevation)
+    geo_map = release_map(release, footprint, site, case.simulation.ground_altitude)
     return write_map_files(geo_map, Path(folder), MAP_STEM)
 
 

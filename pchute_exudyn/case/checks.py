@@ -149,7 +149,7 @@ def check_events(top, body_tables, system_tables, simulation_table, bodies, syst
                 body.initial is None and systems[canopies[name]].deploy_time is None:
             raise body_tables[name].error("initial", "required (only a canopy deployed at line stretch has none)")
     ground = simulation.ground_altitude
-    if ground is not None and not bodies[vehicle].fixed and ground >= bodies[vehicle].initial.altitude:
+    if simulation.stop_at_ground and not bodies[vehicle].fixed and ground >= bodies[vehicle].initial.altitude:
         raise simulation_table.error("ground_altitude", f"must be below the vehicle's start altitude "
                                                         f"({bodies[vehicle].initial.altitude:g} m; the default is the "
                                                         "surface, 0 m; stop_at_ground = false flies on)", ground)

@@ -128,7 +128,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     top.allowed.extend(("extends", "remove"))
     top.finish()
     warnings = check_plausible(data, ctx) + unit_slips(bodies[vehicle]) + unreachable_triggers(
-        triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude) \
+        triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude,
+        simulation.stop_at_ground) \
         + tether_warnings
     check_escape(body_tables, bodies, planet)
     case = Case(name=name, description=description, source=source, planet=planet, start=start,
@@ -145,8 +146,7 @@ def _with_air(atmosphere_table, simulation, body_tables, bodies, vehicle, frame,
     conditions when the case gives them, the grounds checked against it."""
     atmosphere, wind, turbulence, gusts = None, None, None, ()
     if atmosphere_table is not None:
-        ground = simulation.ground_altitude if simulation.ground_altitude is not None else 0.0
-        atmosphere, wind, turbulence, gusts = read_atmosphere(atmosphere_table, ground,
+        atmosphere, wind, turbulence, gusts = read_atmosphere(atmosphere_table, simulation.ground_altitude,
                                                                _heading(bodies[vehicle], release), site)
     bodies = _at_conditions(body_tables, bodies, vehicle, atmosphere, wind, frame, release)
     if atmosphere_table is not None:

@@ -440,22 +440,26 @@ class SimulationSettings:
         Default confluence method (a name in ``registries.methods.METHODS``).
     integrator : str
         Default integrator (one of ``registries.methods.INTEGRATORS``).
-    steps : dict of str to float
-        Default integration step (s) per method, keyed ``<method>`` for rk4 and ``<method>_implicit``.
+    steps : dict of str to float or str
+        Default integration step (s) per method, keyed ``<method>`` for rk4 and ``<method>_implicit``; an RK4 key's
+        may be ``"auto"`` (``registries.methods.ADAPTIVE_STEP``: adaptive steps).
     spectral_radius : float
         Numerical damping of the generalized-alpha integrator (spectral radius at infinity, 0..1).
     options : dict of str to options
         The options the case sets per method (``[simulation.<method>]``), as each method's validated ``Options``
         object; a method missing here runs with its defaults.
-    ground_altitude : float or None
-        Geodetic altitude of the ground (m; default 0, the planet's reference surface): the run ends at touchdown,
-        when the vehicle's centre of mass reaches it. None when the case flies on (``stop_at_ground = false``).
+    ground_altitude : float
+        Geodetic altitude of the ground (m; default 0, the planet's reference surface): every height, every trigger
+        and wind above the ground and every output measure from it, whether or not the run stops there.
     descent_rate_events : tuple of float
         Descent rates (m/s) whose first downward crossing by the vehicle is logged (e.g. 9.144 = 30 ft/s).
     seed : int
         Seed of the triggers' sensor noise (``triggers.sensors``).
     step_rule : StepRule
         The adaptive steps of an RK4 run that sets no step (``physics.step_rule``).
+    stop_at_ground : bool
+        True: the run ends at touchdown, when the vehicle's centre of mass reaches ``ground_altitude``; False
+        (``stop_at_ground = false``): it flies on below the ground, which stays where it is for everything else.
     """
 
     duration: float
@@ -465,19 +469,14 @@ class SimulationSettings:
     steps: dict = field(default_factory=dict)
     spectral_radius: float = 0.9
     options: dict = field(default_factory=dict)
-    ground_altitude: float | None = None
+    ground_altitude: float = 0.0
     descent_rate_events: tuple = ()
     seed: int = 0
     step_rule: StepRule = field(default_factory=StepRule)
+    stop_at_ground: bool = True
 
-    @property
-    def ground_elevation(self) -> float:
-        """Geodetic altitude of the ground (m) that heights are measured from: ``ground_altitude``, the reference
-        surface (0 m) when the case flies on below it."""
-        return self.ground_altitude or 0.0
-
-    def default_step(self, method: str, integrator: str) -> float | None:
-        """The case's step (s) for ``method`` with ``integrator``, or None when the case sets none."""
+    def default_step(self, method: str, integrator: str) -> float | str | None:
+        """The case's step (s, or "auto") for ``method`` with ``integrator``, or None when the case sets none."""
         return self.steps.get(INTEGRATORS[integrator].step_key(method))
 
 
@@ -566,11 +565,12 @@ class Case:
     def runaway_limits(self) -> RunawayLimits:
         """The speed and rates no body of this case reaches unless its run diverged (``physics.runaway``; computed once
         per case): from the
-        bodies' start speeds and rates, the fall from the highest start altitude to the ground (0 m when the case
-        flies on below it), the air's largest speed up there and the planet's rotation."""
+        bodies' start speeds and rates, the fall from the highest start altitude to the ground (to the reference
+        surface, 0 m, when the case flies on below the ground), the air's largest speed up there and the planet's
+        rotation."""
         starting = [body.initial for body in self.free_bodies() if body.initial is not None]
         top = max([state.altitude for state in starting], default=0.0)
-        ground = self.simulation.ground_elevation
+        ground = self.simulation.ground_altitude if self.simulation.stop_at_ground else 0.0
         gravity = math.hypot(*self.start.gravity_scalar(0.0, 0.0, 0.0))   # at the start point, on the ground
         steady = self.wind.largest_speed(top) if self.wind is not None else 0.0
         sigma = self.turbulence.largest_sigma(top) if self.turbulence is not None else 0.0

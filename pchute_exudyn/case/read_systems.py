@@ -86,7 +86,10 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
         raise t.error("deploy_point", f"is on the system's own canopy '{deploy_point[0]}': a system deploys from "
                                       "the body it hangs from (e.g. \"vehicle.line_stretch\")",
                       ".".join(deploy_point))
-    if cutaway_time is not None and math.isfinite(cutaway_time) and cutaway_time <= (deploy_time or 0.0):
+    # a deployment a trigger (or a bag's line stretch) places, pending here (inf), is checked when it fires
+    # (run.sequence): a fixed cut-away must come after it then
+    placed = deploy_time is None or math.isfinite(deploy_time)
+    if placed and cutaway_time is not None and math.isfinite(cutaway_time) and cutaway_time <= (deploy_time or 0.0):
         raise t.error("cutaway_trigger.time" if "cutaway_trigger" in t.data else "cutaway_time",
                       f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
                       cutaway_time)

@@ -14,7 +14,7 @@ from ..physics.gravity import PUBLISHED_SPIN, published_spin
 from ..physics.planet import FlatPlanet, Planet, StartFrame
 from ..physics.step_rule import StepRule
 from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direction
-from ..registries.methods import INTEGRATORS, METHODS, OptionError, make_options
+from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError, make_options
 from .fields import REQUIRED, Table, check_number, default_of
 from .model import Case, SimulationSettings
 from .soundings import sounding_air
@@ -246,7 +246,7 @@ def read_simulation(t: Table) -> SimulationSettings:
     rule = _read_step_rule(t.table("step_control", None))
     t.finish()
     return SimulationSettings(duration, output_step, method, integrator, steps, spectral_radius, options,
-                              ground_altitude if stop_at_ground else None, tuple(descent_rates), seed, rule)
+                              ground_altitude, tuple(descent_rates), seed, rule, stop_at_ground)
 
 
 def _read_step_rule(t: Table | None) -> StepRule:
@@ -281,17 +281,29 @@ def _read_method_options(t: Table) -> dict:
 
 
 def _read_steps(t: Table, duration: float) -> dict:
-    """``[simulation.steps]``: ``<method>`` (rk4) and ``<method>_<integrator>`` keys, s."""
+    """``[simulation.steps]``: ``<method>`` (rk4) and ``<method>_<integrator>`` keys, s; an RK4 key may be
+    ``"auto"`` (adaptive steps, as ``--dt auto``), an implicit integrator's needs a number."""
     steps = {}
     step_table = t.table("steps", None)
     if step_table is None:
         return steps
-    keys = [INTEGRATORS[integrator].step_key(name)
-            for name, method_class in METHODS.items() for integrator in method_class.integrators]
-    for key in keys:
-        if key in step_table.data:
-            steps[key] = step_table.number(key, "s", above=0.0, maximum=duration)
-        else:
-            step_table.allowed.append(key)
+    for name, method_class in METHODS.items():
+        for integrator in method_class.integrators:
+            key = INTEGRATORS[integrator].step_key(name)
+            if key in step_table.data:
+                steps[key] = _read_step(step_table, key, integrator, duration)
+            else:
+                step_table.allowed.append(key)
     step_table.finish()
     return steps
+
+
+def _read_step(t: Table, key: str, integrator: str, duration: float) -> float | str:
+    """One ``[simulation.steps]`` key of ``integrator``: a step > 0 (s), or ``"auto"`` for RK4."""
+    value, explicit = t.raw(key, None, "s"), INTEGRATORS[integrator].explicit
+    if value == ADAPTIVE_STEP and not explicit:
+        raise t.error(key, f"adaptive steps are RK4's; the {integrator} integrator needs a step > 0 (s)", value)
+    if value == ADAPTIVE_STEP:
+        return value
+    auto = f" or {ADAPTIVE_STEP!r} (adaptive steps)" if explicit else ""
+    return check_number(value, "s", None, 0.0, duration, lambda m: t.error(key, m + auto, value))

@@ -26,7 +26,7 @@ def true_values(case: Case, position, velocity, time: float, air_motion=None) ->
     airspeed = float(np.linalg.norm(air))
     density, sound = case.atmosphere.state(altitude) if case.atmosphere is not None else (0.0, math.nan)
     gamma = case.atmosphere.kernel_parameters()[GAMMA_AT] if case.atmosphere is not None else 1.4
-    truth = {"altitude": altitude, "altitude_ground": altitude - case.simulation.ground_elevation,
+    truth = {"altitude": altitude, "altitude_ground": altitude - case.simulation.ground_altitude,
              "pressure": pressure_of(density, sound, gamma), "density": density, "speed_of_sound": sound,
              "vertical_velocity": -float(np.dot(case.start.down(np.array([x, y, z])), velocity)),
              "speed": float(np.linalg.norm(ground)), "airspeed": airspeed,

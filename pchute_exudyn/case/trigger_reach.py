@@ -17,18 +17,19 @@ SENSOR_ERRORS = {"pressure_noise": "pressure", "pressure_bias": "pressure", "cor
 """A trigger's sensor keys of an error, and the error each is of (``registries.quantities.Quantity.error``)."""
 
 
-def unreachable_triggers(triggers: dict, initial, ground_altitude: float | None) -> tuple:
+def unreachable_triggers(triggers: dict, initial, ground_altitude: float, stop_at_ground: bool) -> tuple:
     """One warning line per trigger of ``triggers`` (event -> Trigger) that cannot fire from the vehicle's initial
     state ``initial`` (``InitialState``: altitude in m, velocity_down in m/s; None for a release, which is not judged)
-    before touchdown on ``ground_altitude`` (m above the ellipsoid; None: the run has no ground)."""
+    before touchdown on ``ground_altitude`` (m above the ellipsoid; ``stop_at_ground`` False: the run flies on below
+    it, and a level below the ground is reached)."""
     lines = []
     for trigger in triggers.values():
         condition = trigger.condition
         if not isinstance(condition, Threshold) or condition.quantity != "altitude":
             continue
-        offset = (ground_altitude or 0.0) if condition.reference == "ground" else 0.0
+        offset = ground_altitude if condition.reference == "ground" else 0.0
         level = condition.value + offset   # m above the ellipsoid
-        if condition.below and ground_altitude is not None and level <= ground_altitude:
+        if condition.below and stop_at_ground and level <= ground_altitude:
             lines.append(f"{trigger.key} cannot fire: the run ends at touchdown on the ground at "
                          f"{ground_altitude:g} m before the altitude falls to {level:g} m")
         elif not condition.below and initial is not None and initial.altitude < level \

@@ -207,12 +207,14 @@ MAX_DESCENT_ACCELERATION = 30.0
 class Touchdown:
     """Stop condition: the vehicle's centre of mass reaches the ground altitude (m). Interpolates the crossing;
     ``crossing`` then holds (time in s, ground-relative velocity in m/s at the step's end, the unit vector down the
-    local vertical there), both in the planet-fixed start-point axes (``StartFrame.velocity_to_planet_fixed``).
+    local vertical there, both in the planet-fixed start-point axes (``StartFrame.velocity_to_planet_fixed``), and
+    the place of the centre of mass at the crossing: the ground's altitude, east and north in m, as the output
+    columns measure them).
 
-    Every run has one (the ground is the surface unless the case flies on), so it checks cheaply: after a check at
-    height h above the ground descending at v, the vehicle cannot reach the ground before t_min, the root of
-    v t + a t^2 / 2 = h with a = MAX_DESCENT_ACCELERATION, and the next check waits half of that. Near the ground
-    that is every step, so the crossing is interpolated between consecutive steps, as if every step were checked.
+    Every run that stops at the ground has one, so it checks cheaply: after a check at height h above the ground
+    descending at v, the vehicle cannot reach the ground before t_min, the root of v t + a t^2 / 2 = h with
+    a = MAX_DESCENT_ACCELERATION, and the next check waits half of that. Near the ground that is every step, so the
+    crossing is interpolated between consecutive steps, as if every step were checked.
     """
 
     def __init__(self, model: Model, case: Case, ground_altitude: float):
@@ -230,7 +232,7 @@ class Touchdown:
         x, y, z = self.position()
         height = self.altitude(x, y, z)
         if height > self.ground:
-            self.previous = (t, height)
+            self.previous = (t, height, (x, y, z))
             down, a = -self.velocity()[2], MAX_DESCENT_ACCELERATION
             self.next_check = t + 0.5 * (math.sqrt(down * down + 2.0 * a * (height - self.ground)) - down) / a
             return False
@@ -243,5 +245,10 @@ class Touchdown:
         start, position = self.case.start, np.array([x, y, z])
         ground_velocity = start.velocity_to_planet_fixed(position, np.asarray(self.velocity(), float), time)
         down = start.down(start.to_planet_fixed(position, time))   # the local vertical, in the same axes
-        self.crossing = (float(time), ground_velocity, down)
+        # the place at the crossing, interpolated as its time is (the step's end may lie below the ground): on the
+        # ground, east and north where the interpolated position is
+        before = np.array(self.previous[2] if self.previous is not None else position, float)
+        fixed = start.to_planet_fixed(before + w * (position - before), time)
+        place = (float(self.ground), float(fixed[0]), float(fixed[1]))
+        self.crossing = (float(time), ground_velocity, down, place)
         return True

@@ -287,7 +287,7 @@ def _log_target(t: Table, folder: Path, case, std: float, weighted: bool) -> Tar
     if not file.is_file():
         raise t.error("log", f"file not found: {file}", t.data["log"])
     log = read_flight_log(file)
-    ground = case.simulation.ground_elevation
+    ground = case.simulation.ground_altitude
     air = None if case.atmosphere is None else (lambda z: case.atmosphere.states(z + ground)[0])
     try:
         _, times, heights = log_descent(log, air, ground)

@@ -7,7 +7,7 @@ Every column name a run writes, a study records or a report, a comparison or a f
 outputs with ``register`` (``methods.base.Method.outputs``); a column it writes is ``method_column``'s.
 
 Conventions: altitudes above the reference surface, heights above the case's ground
-(``SimulationSettings.ground_elevation``), east and north along the start point's axes from it (m), latitude and
+(``SimulationSettings.ground_altitude``), east and north along the start point's axes from it (m), latitude and
 longitude geodetic on the case's ellipsoid relative to the ground (deg, east positive), velocities
 relative to the ground (m/s, start-point axes, down positive), attitude angles in degrees (``physics.rotations``),
 rates in body axes (rad/s), tensions positive (N).

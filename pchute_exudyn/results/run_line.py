@@ -8,9 +8,12 @@ from .summary import RunSummary, TouchdownEvent
 def run_line(summary: RunSummary, out, stability_limit: float | None = None) -> str:
     """The one-line account of a finished run (``pchute run``): its method, step (adaptive: the steps taken, smallest
     to largest, and their mean; chosen from the stability limit: that limit), end, wall time, final position and
-    deployment loads."""
+    deployment loads; a run that touched down ends at the interpolated touchdown, not at its last step past it."""
     s, f = summary, summary.final
     ending = "touchdown at" if s.end == "touchdown" else "ended at"
+    landed = s.touchdown if s.touchdown is not None and getattr(s.touchdown, "altitude", None) is not None else None
+    time, altitude, east, north = (f.time, f.altitude, f.east, f.north) if landed is None else \
+        (landed.time, landed.altitude, landed.east, landed.north)
     control = s.step_control
     if control and control.get("count"):
         step = (f"adaptive steps {control['smallest']:.3g} to {control['largest']:.3g} s (mean "
@@ -18,9 +21,9 @@ def run_line(summary: RunSummary, out, stability_limit: float | None = None) -> 
     else:
         chosen = "" if stability_limit is None else f" (none set: from the stability limit {stability_limit:.3g} s)"
         step = f"step {s.step:g} s{chosen}"
-    return (f"{s.case}: {s.method}/{s.integrator} {step}, {ending} {f.time:.2f} s in "
+    return (f"{s.case}: {s.method}/{s.integrator} {step}, {ending} {time:.2f} s in "
             f"{s.wall_time:.2f} s of wall time ({s.steps} steps); final {s.vehicle} altitude "
-            f"{f.altitude:.2f} m, east {f.east:.3f} m, north {f.north:.3f} m"
+            f"{altitude:.2f} m, east {east:.3f} m, north {north:.3f} m"
             f"{touchdown_text(s.touchdown)}{loads_text(s.deployments)}{canopy_models_text(s.canopy_models)} -> {out}"
             + (f" ({len(s.warnings)} warning(s): see summary.json)" if s.warnings else ""))
 

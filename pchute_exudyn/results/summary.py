@@ -244,24 +244,29 @@ class TouchdownEvent(Event):
     start point's axes (``vertical_speed``, ``horizontal_speed``) and along the local vertical at the touchdown point
     (``descent_rate``, ``horizontal_speed_over_ground``); the two agree on a flat planet and part by the planet's
     curvature over the drift (a 10 km drift on Earth tilts the vertical by 1.6 mrad). ``descent_rate`` squared plus
-    ``horizontal_speed_over_ground`` squared is ``speed`` squared."""
+    ``horizontal_speed_over_ground`` squared is ``speed`` squared. Its ``time`` and place (``altitude``, ``east``,
+    ``north``) are interpolated to the crossing of the ground, where the run's last sample may lie a step past it.
+    """
 
     speed: float = 0.0              # m/s, total speed relative to the ground (all three components)
     vertical_speed: float = 0.0     # m/s, along the start point's up axis, downward positive
     horizontal_speed: float = 0.0   # m/s, across the start point's up axis
     descent_rate: float | None = field(default=None, metadata=OPTIONAL)   # m/s, along the local vertical, down +
     horizontal_speed_over_ground: float | None = field(default=None, metadata=OPTIONAL)   # m/s, across it
+    altitude: float | None = field(default=None, metadata=OPTIONAL)   # m, the vehicle's centre of mass then
+    east: float | None = field(default=None, metadata=OPTIONAL)       # m, along the start point's axes
+    north: float | None = field(default=None, metadata=OPTIONAL)      # m
     kind: ClassVar[str] = "touchdown"
 
     @classmethod
-    def from_crossing(cls, time: float, ground_velocity, down) -> TouchdownEvent:
-        """From the crossing time (s), the ground-relative velocity (m/s, east/north/up) and the unit vector down the
-        local vertical there (the same axes)."""
+    def from_crossing(cls, time: float, ground_velocity, down, place=(None, None, None)) -> TouchdownEvent:
+        """From the crossing time (s), the ground-relative velocity (m/s, east/north/up), the unit vector down the
+        local vertical there (the same axes) and the vehicle's altitude, east and north then (m)."""
         v = np.asarray(ground_velocity, float)
         descent = float(np.dot(v, down))
         level = v - descent * np.asarray(down, float)
         return cls(float(time), float(np.linalg.norm(v)), float(-v[2]), float(np.hypot(v[0], v[1])), descent,
-                   float(np.linalg.norm(level)))
+                   float(np.linalg.norm(level)), *place)
 
 
 def first_fall_through(time, values, level: float, after: float = -math.inf) -> float | None:
@@ -544,7 +549,8 @@ class RunSummary:
     step, duration, output_step : float
         The integration step (s; adaptive steps: the largest allowed), the simulated time (s), the output step (s).
     ground_altitude : float or None
-        The ground's altitude (m); None: the run flies on below the ground (``stop_at_ground = false``).
+        The ground's altitude (m), whether or not the run stops there (None: a summary of an earlier version of a run
+        that flew on below the ground, which did not keep it).
     end : str
         "touchdown" or "duration".
     steps : int
@@ -590,6 +596,8 @@ class RunSummary:
     canopy_models : dict
         Per system with canopies, the canopy model flown (``model``: "rigid" or "reduced") and who chose it
         (``chosen``: "case", or "auto" by the light-canopy rule): ``case.canopy_choice.canopy_models_flown``.
+    stop_at_ground : bool
+        False: the run flew on below the ground (``stop_at_ground = false``); ``summary.json`` holds the key then only.
     """
 
     case: str
@@ -625,6 +633,7 @@ class RunSummary:
     step_control: dict | None = None
     site: dict | None = None
     canopy_models: dict = field(default_factory=dict)
+    stop_at_ground: bool = True
 
     @property
     def steps_per_second(self) -> float | None:
@@ -656,6 +665,8 @@ class RunSummary:
                       if isinstance(events, list) else (),
                       "warnings": tuple(data["warnings"]) if isinstance(data.get("warnings"), list) else (),
                       "final": FinalState.from_dict(data.get("final"), data.get("vehicle")),
+                      # an earlier version kept no ground for a run that flew on below it
+                      "stop_at_ground": data.get("stop_at_ground", data.get("ground_altitude", 0.0) is not None),
                       "pendulum": Pendulum.from_dict(data.get("pendulum")),
                       "descent": Descent.from_dict(data.get("descent")),
                       "cluster": _entries(ClusterLoads, data.get("cluster")),
@@ -669,7 +680,8 @@ class RunSummary:
                 "vehicle": self.vehicle, "method": self.method, "integrator": self.integrator, "step": self.step,
                 **({"step_control": self.step_control} if self.step_control is not None else {}),
                 "duration": self.duration, **self.method_settings, **self.method_facts,
-                "output_step": self.output_step, "ground_altitude": self.ground_altitude, "end": self.end,
+                "output_step": self.output_step, "ground_altitude": self.ground_altitude,
+                **({} if self.stop_at_ground else {"stop_at_ground": False}), "end": self.end,
                 "steps": self.steps, "wall_time": self.wall_time, "steps_per_second": self.steps_per_second,
                 "final": None if self.final is None else self.final.to_dict(), "peak_tension": self.peak_tension,
                 "events": [event.to_dict() for event in self.events],

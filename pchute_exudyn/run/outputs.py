@@ -214,7 +214,7 @@ def _point_columns(case: Case, owner: str, time, position, velocity, columns: di
             latitude, longitude, _ = planet.geodetic(start.to_planet(fixed))
         for template, value in zip(GEODETIC_TEMPLATES, (latitude, longitude)):
             places[column(template, owner)] = value
-    values = (altitude, altitude - case.simulation.ground_elevation, fixed[:, 0], fixed[:, 1], ground_velocity[:, 1],
+    values = (altitude, altitude - case.simulation.ground_altitude, fixed[:, 0], fixed[:, 1], ground_velocity[:, 1],
               ground_velocity[:, 0], -ground_velocity[:, 2])
     for template, value in zip(POINT_TEMPLATES, values):
         columns[column(template, owner)] = value

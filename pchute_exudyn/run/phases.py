@@ -153,9 +153,9 @@ def _balanced(case: Case, system: ParachuteSystem, body_states: dict, canopies: 
 def check_above_ground(case: Case, system: str, canopies: dict, time: float) -> None:
     """Refuse a deployment that places a canopy below the ground (a run that stops there): the vehicle is too low,
     or climbing, at the deploy time. Raises SimulationError naming the system, the canopy and the altitudes."""
-    ground = case.simulation.ground_altitude
-    if ground is None:
+    if not case.simulation.stop_at_ground:
         return
+    ground = case.simulation.ground_altitude
     for canopy, state in canopies.items():
         altitude = float(case.start.altitude(state.position))
         if altitude < ground:

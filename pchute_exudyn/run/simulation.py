@@ -197,7 +197,7 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
     if plan.control is None and INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
     touchdown = monitor = None
-    if case.simulation.ground_altitude is not None and not case.bodies[case.vehicle].fixed:
+    if case.simulation.stop_at_ground and not case.bodies[case.vehicle].fixed:
         touchdown = Touchdown(model, case, case.simulation.ground_altitude)
         model.add_stop_condition(touchdown)
     if sequence is not None and sequence.pending_watches():
@@ -313,7 +313,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         case=case.name, case_file=case.source, description=case.description, vehicle=case.vehicle,
         method=plan.method.name, integrator=plan.integrator, step=plan.step, duration=plan.duration,
         output_step=min(case.simulation.output_step, plan.duration),
-        ground_altitude=case.simulation.ground_altitude,
+        ground_altitude=case.simulation.ground_altitude, stop_at_ground=case.simulation.stop_at_ground,
         end="touchdown" if any(e.kind == "touchdown" for e in events) else "duration", steps=raw.steps,
         wall_time=raw.wall_time, final=_final_values(case, columns), peak_tension=peaks, events=tuple(events),
         units=units, versions=versions(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
@@ -408,8 +408,10 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     """
     _check_arguments(case, progress, engine_solution, history)
     plan = _plan(case, plan, method, integrator, step, duration, options, option_values)
+    if not engine_solution:   # no folder: a process killed mid-run (a study's worker on Ctrl-C) leaves none behind
+        return _result(plan, *run(case, plan, progress), history, {})
     with tempfile.TemporaryDirectory() as folder:
-        flown = run(case, plan, progress, folder if engine_solution else None)
+        flown = run(case, plan, progress, folder)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
     return _result(plan, *flown, history, attachments)
 

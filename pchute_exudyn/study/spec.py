@@ -335,7 +335,17 @@ def read_configuration(t: Table, single_step: bool) -> list:
         t.allowed.extend(["step", "steps"])
     options = _read_options(t, method)
     t.finish()
+    if integrator is not None:
+        _check_adaptive(t, steps, integrator, "")
     return [Configuration(method, integrator, step, options) for step in steps]
+
+
+def _check_adaptive(t: Table, steps: list, integrator: str, whose: str) -> None:
+    """Refuse adaptive steps ("auto") for an implicit ``integrator`` (``whose``: where it comes from, or "")."""
+    if ADAPTIVE_STEP in steps and not INTEGRATORS[integrator].explicit:
+        key = "steps" if "steps" in t.data else "step"
+        raise t.error(key, f"adaptive steps ({ADAPTIVE_STEP!r}) are RK4's; the {integrator} integrator{whose} needs "
+                           "a step > 0 (s)", t.data[key])
 
 
 def _read_parameter(key: str, t: Table, source: str) -> Parameter:
@@ -454,14 +464,18 @@ def load_study(path) -> StudySpec:
     outer = s.raw("configurations", [{}], "")
     if not isinstance(outer, list) or not outer:
         raise s.error("configurations", "must be a non-empty array of tables ([[study.configurations]])", outer)
-    for i, entry in enumerate(outer):
-        configurations.extend(read_configuration(Table(entry, ("study", "configurations", i), ctx), False))
+    read = [(table, read_configuration(table, False))
+            for table in (Table(entry, ("study", "configurations", i), ctx) for i, entry in enumerate(outer))]
+    for _, entries in read:
+        configurations.extend(entries)
     reference_table = s.table("reference", None)
     reference, reference_per = None, "sample"
     if reference_table is not None:
         reference_per = reference_table.string("per", "sample", ("sample", "case"))
         reference = read_configuration(reference_table, True)[0]
+        read.append((reference_table, [reference]))
     s.finish()
+    _check_case_integrators(read, cases)
     parameters = []
     for key, table in top.named_tables("parameters", {}).items():
         parameters.append(_read_parameter(key, table, source))
@@ -477,6 +491,16 @@ def load_study(path) -> StudySpec:
     _check_run_count(spec, s)
     _check_parameters(spec, source)
     return spec
+
+
+def _check_case_integrators(read: list, cases: tuple) -> None:
+    """Refuse adaptive steps in a configuration that names no integrator when a case's own is implicit (``read``:
+    each configuration table with what it gave; a case is loaded only for such a configuration)."""
+    auto = [t for t, entries in read if any(c.integrator is None and c.step == ADAPTIVE_STEP for c in entries)]
+    for case in cases if auto else ():
+        integrator = load_case(case).simulation.integrator
+        for t in auto:
+            _check_adaptive(t, [ADAPTIVE_STEP], integrator, f" of case {case.name} (its simulation.integrator)")
 
 
 def _check_run_count(spec: StudySpec, s: Table) -> None:

@@ -465,8 +465,11 @@ def test_a_signal_stops_workers_keeps_finished_runs_and_exits_cleanly(tmp_path, 
     else:
         args = ["fit", fit_file(tmp_path, duration=12.0), "--out", tmp_path / "out", executor, "2"]
         journal = tmp_path / "out" / "evaluations.jsonl"
+    scratch = tmp_path / "scratch"   # the processes' temporary folder: left empty (issue 59)
+    scratch.mkdir()
     # as from an interactive shell: SIGINT at its default (a test runner may have been started with it ignored)
-    process = _start(args, tmp_path, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    process = _start(args, tmp_path, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+                     env={**os.environ, "TMPDIR": str(scratch)})
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and not (journal.is_file() and journal.read_text().count("\n") >= 2):
         time.sleep(0.02)
@@ -480,6 +483,8 @@ def test_a_signal_stops_workers_keeps_finished_runs_and_exits_cleanly(tmp_path, 
                         "same command to resume\n") and err.count("\n") == 1, err
     time.sleep(0.3)
     assert not _alive(workers) and not _mentioning(str(tmp_path / "out"))   # no process left
+    # no temporary folder left (Dask keeps its shared dask-scratch-space after any cluster, interrupted or not)
+    assert [p.name for p in scratch.iterdir() if p.name != "dask-scratch-space"] == []
     records = journal_lines(journal)                                       # every line whole
     keys = [r["run"] if kind == "study" else tuple(r["values"]) for r in records]
     assert len(keys) == len(set(keys)) >= 2
