@@ -136,7 +136,7 @@ def _run_case(args, figure) -> int:
     method, integrator = method_class.name, plan.integrator
     out = Path(args.out) if args.out else Path("results") / f"{Path(args.case).stem}_{method}_{integrator}"
     check_result_folder(out, args.overwrite)  # fail before a long run, not after it; nothing is created yet
-    for warning in case.warnings:   # implausible but possible values (case.plausible): the run goes on
+    for warning in case.warnings + plan.warnings:   # implausible values (case.plausible), idle settings: it goes on
         print(f"pchute run: warning: {warning}", file=sys.stderr)
     progress = TerminalProgress(plan.duration) if TerminalProgress.wanted(args.quiet) else None
     steps = plan.duration / (plan.step if plan.control is None else ADAPTIVE_STEP_ESTIMATE)
@@ -149,7 +149,7 @@ def _run_case(args, figure) -> int:
     finally:
         if progress is not None:
             progress.close()
-    for warning in result.summary.warnings[len(case.warnings):]:   # the run's own: a trigger that never fired
+    for warning in result.summary.warnings[len(case.warnings + plan.warnings):]:   # the run's own: a trigger unfired
         print(f"pchute run: warning: {warning}", file=sys.stderr)
     result.save(out, plot=not args.no_plot, overwrite=args.overwrite, draw=figure.draw if figure else None)
     print(run_line(result.summary, out, plan.stability_limit))

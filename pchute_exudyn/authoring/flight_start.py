@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 
+from ..case.start import SPEED_KEY, mach_refusal
 from ..errors import InputError, short_repr
 from ..physics.conditions import ConditionsError, altitude_and_speed
 from .choice_checks import check_number, check_positive
@@ -27,8 +28,6 @@ EXCLUDED = {"speed": "a start at flight conditions moves at M a(h) along its fli
             "release_airspeed": "a start at flight conditions is at line stretch, not a release from an aircraft",
             "dual_deploy": "a dual deploy starts from a state over the ground (--velocity-east, ...)"}
 """NewCase fields (None or False when not given) that a start at flight conditions refuses: field -> why."""
-SPEED_KEY = "bodies.vehicle.initial.velocity_east"
-"""The case key whose range (``case.plausible.RANGES``) the start's airspeed must be within."""
 
 
 def check_conditions(c) -> None:
@@ -67,6 +66,9 @@ def start_state(c) -> tuple:
     if c.mach is None:
         return c.altitude, None
     atmosphere = PLANETS[c.planet][3]()
+    refusal = mach_refusal(atmosphere, c.mach)
+    if refusal is not None:
+        raise InputError(f"mach = {short_repr(c.mach)}: {refusal}")
     try:
         altitude, speed = altitude_and_speed(atmosphere, c.mach, c.dynamic_pressure)
     except ConditionsError as exc:

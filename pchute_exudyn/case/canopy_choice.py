@@ -17,6 +17,11 @@ LIGHT_CANOPY_TIME = 0.05
 its riser settles faster than the steps its descent needs, so it may fly as a reduced canopy (SP: a massless drag
 point at the riser's end), without its fast modes."""
 
+HEAVY_CANOPY_TIME = 2.0 * LIGHT_CANOPY_TIME
+"""The drag time constant (s) above which a canopy the case names reduced is warned (``heavy_reduced_warnings``): twice
+the choice's LIGHT_CANOPY_TIME, which keeps that margin. Between the two (a fit's calibrated main of the synthetic
+rocket logs: 0.063 s) the model is still close; a 40 kg canopy under the 20 kg rocket is at 0.3 to 1 s."""
+
 
 def drag_time_constant(mass: float, density: float, drag_coefficient: float, reference_area: float,
                        speed: float) -> float:
@@ -40,9 +45,7 @@ def with_canopy_models(systems: dict, bodies: dict, vehicle: str, atmosphere, pl
     """``systems`` with each ``"auto"`` canopy model resolved (``canopy_model_chosen`` set True): reduced where valid
     and light (``canopy_drag_time`` below LIGHT_CANOPY_TIME), rigid otherwise and in a ``release`` from an aircraft
     (as ``pchute new`` writes it: the canopy opens at the aircraft's airspeed, its motion before it fills kept)."""
-    suspended = sum(b.mass for b in bodies.values() if not b.fixed and b.mass is not None) \
-        + sum(s.confluence.mass for s in systems.values())
-    tethered = {body for tether in tethers.values() for body, _ in tether.ends}
+    suspended, tethered = _suspended_and_tethered(systems, bodies, tethers)
     resolved = {}
     for name, system in systems.items():
         if system.canopy_model == "auto":
@@ -51,6 +54,32 @@ def with_canopy_models(systems: dict, bodies: dict, vehicle: str, atmosphere, pl
             system = replace(system, canopy_model="reduced" if light else "rigid", canopy_model_chosen=True)
         resolved[name] = system
     return resolved
+
+
+def heavy_reduced_warnings(systems: dict, bodies: dict, vehicle: str, atmosphere, planet, start,
+                           tethers: dict) -> tuple:
+    """One line per system the case names ``canopy_model = "reduced"`` whose canopy is heavy (its
+    ``canopy_drag_time`` above HEAVY_CANOPY_TIME, twice the rule ``"auto"`` and ``pchute new`` choose by): its speed
+    along the riser then lags the descent by a time the massless drag point leaves out."""
+    suspended, tethered = _suspended_and_tethered(systems, bodies, tethers)
+    warned = []
+    for name, system in systems.items():
+        if system.canopy_model != "reduced" or system.canopy_model_chosen:
+            continue
+        time = canopy_drag_time(system, bodies, vehicle, atmosphere, planet, start, tethered, suspended)
+        if HEAVY_CANOPY_TIME < time < math.inf:
+            warned.append(f"systems.{name}.canopy_model = 'reduced': canopy '{system.canopies[0]}' has a drag time "
+                          f"constant m / (rho C_D0 S0 V) of {time:.3g} s, above the {HEAVY_CANOPY_TIME:g} s a reduced "
+                          f"canopy is valid to (auto chooses it below {LIGHT_CANOPY_TIME:g} s): it flies as a massless "
+                          "drag point and its own inertia is lost (use canopy_model = \"rigid\" or \"auto\")")
+    return tuple(warned)
+
+
+def _suspended_and_tethered(systems: dict, bodies: dict, tethers: dict) -> tuple:
+    """(every free body's and confluence's mass (kg), the bodies at a tether's end)."""
+    suspended = sum(b.mass for b in bodies.values() if not b.fixed and b.mass is not None) \
+        + sum(s.confluence.mass for s in systems.values())
+    return suspended, {body for tether in tethers.values() for body, _ in tether.ends}
 
 
 def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, start, tethered: set,

@@ -17,7 +17,7 @@ from typing import Any
 
 from ..physics.conditions import ConditionsError
 from ..registries.columns import UNNAMED_VEHICLE
-from .canopy_choice import with_canopy_models
+from .canopy_choice import heavy_reduced_warnings, with_canopy_models
 from .carried import own_vehicle, packed_by_default
 from .checks import (
     check_connections,
@@ -39,8 +39,8 @@ from .read_bodies import read_body
 from .read_systems import read_failures, read_system
 from .read_tethers import check_ejections, check_tethers, read_tethers
 from .read_triggers import check_triggers, read_separations
-from .read_world import read_atmosphere, read_planet, read_simulation, read_start
-from .start import Release, at_conditions, ground_relative, with_bag_anchors
+from .read_world import idle_spin, read_atmosphere, read_planet, read_simulation, read_start
+from .start import Release, at_conditions, ground_relative, mach_refusal, with_bag_anchors
 from .trigger_reach import unreachable_triggers
 from .unit_slips import unit_slips
 
@@ -88,7 +88,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     description = info.string("description", "")
     vehicle = info.string("vehicle", UNNAMED_VEHICLE)
     info.finish()
-    planet = read_planet(top.table("planet"))
+    planet_table = top.table("planet")
+    planet = read_planet(planet_table)
     start, frame, release, site = read_start(top.table("start", {}), planet)
     atmosphere_table = top.table("atmosphere", None)
     body_tables = top.named_tables("bodies")
@@ -130,7 +131,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     warnings = check_plausible(data, ctx) + unit_slips(bodies[vehicle]) + unreachable_triggers(
         triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude,
         simulation.stop_at_ground) \
-        + tether_warnings
+        + tether_warnings + heavy_reduced_warnings(systems, bodies, vehicle, atmosphere, planet, start, tethers) \
+        + idle_spin(planet_table, planet)
     check_escape(body_tables, bodies, planet)
     case = Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
@@ -172,11 +174,14 @@ def _at_conditions(body_tables, bodies, vehicle, atmosphere, wind, frame, releas
         if atmosphere is None:
             raise table.error("initial.mach", "needs an [atmosphere] to find the altitude and speed of the flight "
                                               "conditions (mach, dynamic_pressure)", conditions.mach)
+        refusal = mach_refusal(atmosphere, conditions.mach)
+        if refusal is not None:
+            raise table.error("initial.mach", refusal, conditions.mach)
         try:
             initial = at_conditions(body.initial, atmosphere, wind, frame)
         except ConditionsError as exc:
-            raise table.error("initial.dynamic_pressure", f"with initial.mach = {conditions.mach:g}: {exc}",
-                              conditions.dynamic_pressure) from None
+            raise table.error(f"initial.{exc.field}", f"with initial.mach = {conditions.mach:g}: {exc}",
+                              getattr(conditions, exc.field)) from None
         bodies = {**bodies, name: replace(body, initial=initial)}
     return bodies
 

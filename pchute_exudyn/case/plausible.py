@@ -131,6 +131,16 @@ RANGES: tuple = (
 """Every plausibility range; the first whose pattern matches a key applies."""
 
 
+IMPLAUSIBLE = " is implausible: "
+"""What joins a key and its value to the range in an implausibility warning (``check_value``; ``implausible_settings``
+reads it back)."""
+
+
+def implausible_settings(warnings) -> list:
+    """The "key = value" of each implausibility warning among ``warnings`` (one-line texts)."""
+    return [line.partition(IMPLAUSIBLE)[0] for line in warnings if IMPLAUSIBLE in line]
+
+
 @functools.lru_cache(maxsize=4096)
 def range_of(key: str) -> Range | None:
     """The range of the full dotted ``key`` (gusts indexed: ``atmosphere.gusts[0].amplitude``), None for none;
@@ -196,7 +206,7 @@ def check_value(key: str, value) -> tuple:
     for number in numbers(value):
         if not _within(float(number), entry.plausible):
             unit = f" ({entry.unit})" if entry.unit else ""
-            return None, (f"{key} = {short_repr(value)} is implausible: outside {entry.plausible[0]:g}.."
+            return None, (f"{key} = {short_repr(value)}{IMPLAUSIBLE}outside {entry.plausible[0]:g}.."
                           f"{entry.plausible[1]:g}{unit}")
     return None, None
 

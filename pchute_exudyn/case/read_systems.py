@@ -45,6 +45,10 @@ def reduced_refusal(canopies: tuple, lines, bodies: dict, bag_anchor=None) -> st
     body = bodies[canopies[0]]
     if body.aerodynamics is None or not body.aerodynamics.enabled:
         return f"reduced needs canopy '{canopies[0]}' to have aerodynamics, enabled (its drag is what holds it)"
+    drag = body.aerodynamics.axial_coefficient(0.0)
+    if not drag > 0.0:
+        return (f"reduced needs canopy '{canopies[0]}' to have drag (its axial_coefficient at Mach 0 is {drag:g}, "
+                "must be > 0): a massless drag point without drag holds nothing up")
     if body.apparent_mass is not None:
         return (f"reduced drops canopy '{canopies[0]}''s inertia to first order, so it takes no apparent_mass; use "
                 "rigid to keep the air it carries")

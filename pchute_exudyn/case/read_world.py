@@ -51,6 +51,16 @@ def read_planet(p: Table):
     return planet
 
 
+def idle_spin(p: Table, planet) -> tuple:
+    """A warning when ``[planet] spin_rate`` is given but nothing reads it: only normal gravity's centrifugal term
+    does, and a rotating frame (whose rate it must equal)."""
+    if "spin_rate" not in p.data or planet.gravity_model != "spherical" or planet.rotation_rate != 0.0:
+        return ()
+    return (f"planet.spin_rate = {planet.spin_rate:g}: has no effect in this case: only normal gravity's centrifugal "
+            "term reads the planet's spin, and the case has spherical gravity in a frame that does not rotate "
+            "(rotation_rate = 0); set gravity_model = \"normal\" to feel it",)
+
+
 def _spin_rate(p: Table, planet: Planet) -> float:
     """``[planet] spin_rate`` (rad/s): the planet's own rotation, which normal gravity's centrifugal term needs even
     when the frame does not rotate. Defaults to |rotation_rate| when that is not 0, else to the published planet's

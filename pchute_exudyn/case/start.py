@@ -20,9 +20,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..physics.conditions import altitude_and_speed
+from ..physics.conditions import altitude_and_speed, slowest_sound
 from ..physics.deployment import bag_reach
 from ..triggers.definition import LineStretch, Sensor, Trigger
+from .plausible import range_of
 
 VELOCITY_FRAMES = ("ground", "air")
 """What the ``velocity_*`` keys of the ``initial`` tables are relative to (``[start] velocities_relative_to``)."""
@@ -109,6 +110,24 @@ class FlightConditions:
     dynamic_pressure: float
     flight_path_deg: float
     heading_deg: float
+
+
+SPEED_KEY = "bodies.vehicle.initial.velocity_east"
+"""The case key whose range (``case.plausible.RANGES``) a start's speed through the air must be within."""
+
+
+def mach_refusal(atmosphere, mach: float) -> str | None:
+    """What is allowed for a start's Mach number ``mach`` (-), when no altitude of ``atmosphere`` gives a speed M a(h)
+    within the range of SPEED_KEY (faster than its limit over the slowest speed of sound: no flight-condition solve,
+    no overflow), else None."""
+    if not atmosphere.has_speed_of_sound:
+        return None   # the solve's own refusal says so
+    fastest = range_of(SPEED_KEY).impossible[1]
+    ceiling = fastest / slowest_sound(atmosphere)
+    if mach <= ceiling:
+        return None
+    return (f"must be <= {ceiling:.4g}: a faster start moves at more than {fastest:g} m/s (the range of "
+            f"initial.velocity_*) at every altitude of the {atmosphere.name} atmosphere")
 
 
 def at_conditions(initial, atmosphere, wind, frame: str):

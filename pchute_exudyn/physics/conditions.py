@@ -21,7 +21,19 @@ SCAN_POINTS = 2001
 
 
 class ConditionsError(ValueError):
-    """No altitude of the atmosphere gives the Mach number and dynamic pressure, or it has no speed of sound."""
+    """No altitude of the atmosphere gives the Mach number and dynamic pressure, or it has no speed of sound;
+    ``field`` names the input at fault ("mach" or "dynamic_pressure")."""
+
+    def __init__(self, message: str, field: str = "dynamic_pressure"):
+        super().__init__(message)
+        self.field = field
+
+
+def slowest_sound(atmosphere) -> float:
+    """The smallest speed of sound (m/s) of ``atmosphere`` over its altitude range (``altitude_range``, at the
+    SCAN_POINTS altitudes the solve scans): a Mach number M gives at least M times it."""
+    low, high = altitude_range(atmosphere)
+    return float(np.nanmin(atmosphere.states(np.linspace(low, high, SCAN_POINTS))[1]))
 
 
 def altitude_range(atmosphere) -> tuple:
@@ -49,7 +61,15 @@ def altitude_and_speed(atmosphere, mach: float, dynamic_pressure: float) -> tupl
     low, high = altitude_range(atmosphere)
     heights = np.linspace(low, high, SCAN_POINTS)
     density, sound = atmosphere.states(heights)
-    pressures = 0.5 * density * sound ** 2 * mach ** 2
+    try:
+        square = mach ** 2
+    except OverflowError:   # a float past 1e154
+        square = np.inf
+    with np.errstate(over="ignore"):
+        pressures = 0.5 * density * sound ** 2 * square
+    if not np.isfinite(pressures).any():
+        raise ConditionsError(f"Mach {mach:g} overflows the dynamic pressure rho a^2 M^2 / 2 at every altitude of "
+                              f"the {atmosphere.name} atmosphere", "mach")
     excess = np.where(np.isfinite(pressures), pressures - dynamic_pressure, np.nan)
     crossings = np.flatnonzero((excess[:-1] >= 0.0) & (excess[1:] <= 0.0) | (excess[:-1] <= 0.0) & (excess[1:] >= 0.0))
     if crossings.size == 0:

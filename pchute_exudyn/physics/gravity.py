@@ -13,8 +13,9 @@ left out, as in NIMA TR8350.2 eq. 4-3).
   NIMA TR8350.2 section 4 (eqs. 3-7/3-8 of its predecessor)): E = sqrt(a^2 - b^2), e' = E/b, m = omega^2 a^2 b/GM,
   q0 = 1/2 [(1 + 3/e'^2) atan e' - 3/e'], q0' = 3 (1 + 1/e'^2)(1 - atan(e')/e') - 1,
   gamma_e = GM/(a b) (1 - m - m e' q0' / (6 q0)), gamma_p = GM/a^2 (1 + m e' q0' / (3 q0)).
-  q0 and q0' lose six digits to cancellation in this form for e' ~ 0.1: they are summed from their series
-  (``_q0_series``), exact to the last bit.
+  q0 and q0' lose six digits to cancellation in this form for e' ~ 0.1: up to SERIES_LIMIT they are summed from
+  their series (``_q0_series``, within 7 ulps of 60-digit values), beyond it taken in this closed form (within 35
+  ulps; the series diverges for e' >= 1): ``q0_pair``.
 * Above the ellipsoid, the height correction (NIMA TR8350.2 eq. 4-3), h the geodetic height (m):
   gamma_h = gamma [1 - 2/a (1 + f + m - 2 f sin^2 phi) h + 3 h^2/a^2].
 
@@ -97,6 +98,26 @@ def _q0_series(e_prime: float) -> tuple:
     return q0, q0p
 
 
+SERIES_LIMIT = 0.9
+"""The second eccentricity e' (-) up to which ``q0_pair`` sums the series (Earth 0.082, Mars 0.109). Measured
+against 60-digit values (mpmath) at 50 random e' per 0.02 wide bin: the series is within 7 ulps up to 0.92 (its 200
+terms fall short beyond: 1.4e3 ulps at 0.93), the closed form within 35 ulps from 0.8 on (75 ulps at 0.5, 2e5 at
+0.08)."""
+
+
+def _q0_closed(e_prime: float) -> tuple:
+    """(q0, q0') of Heiskanen & Moritz eqs. 2-58/2-146 in their closed (atan) forms, e' (-) > 0."""
+    arctangent = math.atan(e_prime)
+    return (0.5 * ((1.0 + 3.0 / e_prime ** 2) * arctangent - 3.0 / e_prime),
+            3.0 * (1.0 + 1.0 / e_prime ** 2) * (1.0 - arctangent / e_prime) - 1.0)
+
+
+def q0_pair(e_prime: float) -> tuple:
+    """(q0, q0') (-) at the second eccentricity ``e_prime`` (-) > 0, within 35 ulps for any e': the series up to
+    SERIES_LIMIT (where the shipped planets' e' lie, bit for bit as before), the closed forms beyond."""
+    return _q0_series(e_prime) if e_prime <= SERIES_LIMIT else _q0_closed(e_prime)
+
+
 @dataclass(frozen=True)
 class NormalGravity:
     """The normal gravity field of a level ellipsoid.
@@ -134,7 +155,7 @@ class NormalGravity:
         """(gamma_e, gamma_p) (m/s^2): Heiskanen & Moritz eqs. 2-141/2-142."""
         gm, a, b, m = self.gravitational_parameter, self.equatorial_radius, self.polar_radius, self.m
         e_prime = math.sqrt(a * a - b * b) / b
-        q0, q0p = _q0_series(e_prime)
+        q0, q0p = q0_pair(e_prime)
         ratio = m * e_prime * q0p / q0
         return gm / (a * b) * (1.0 - m - ratio / 6.0), gm / (a * a) * (1.0 + ratio / 3.0)
 

@@ -105,12 +105,17 @@ class SupersonicOpening:
             _check(all(n > 0.0 for n in self.fill_constant.value), "fill_constant",
                    list(self.fill_constant.value), "each must be > 0")
 
-    def load_factor_at(self, mach: float, nominal_diameter: float) -> float:
-        """C_k (-) at line-stretch Mach number ``mach`` for a canopy of nominal diameter D_0 (m); never below 1."""
+    def law_at(self, mach: float, nominal_diameter: float) -> float:
+        """The law's C_k (-) at line-stretch Mach number ``mach`` (clamped to ``mach_range``) for a canopy of nominal
+        diameter D_0 (m), before ``load_factor_at`` holds it at 1 (below 1 the law is outside its validity)."""
         low, high = self.mach_range
         clamped = min(max(mach, low), high)
         wake = 1.0 - self.wake_coefficient * self.forebody_diameter / nominal_diameter
-        return max((self.load_factor + self.mach_slope * (clamped - self.reference_mach)) * wake, 1.0)
+        return (self.load_factor + self.mach_slope * (clamped - self.reference_mach)) * wake
+
+    def load_factor_at(self, mach: float, nominal_diameter: float) -> float:
+        """C_k (-) at line-stretch Mach number ``mach`` for a canopy of nominal diameter D_0 (m); never below 1."""
+        return max(self.law_at(mach, nominal_diameter), 1.0)
 
     def fill_constant_at(self, mach: float, stage_value: float) -> float:
         """n (-) at line-stretch Mach number ``mach``: the table's, or ``stage_value`` without one."""

@@ -215,6 +215,21 @@ def descent_metrics(a: Result, b: Result, vehicle: str = UNNAMED_VEHICLE, altitu
             "b": descent_side(b, vehicle, altitudes, ground)}
 
 
+def _check_altitudes(sides, vehicle: str, altitudes) -> None:
+    """Refuse an altitude (m) of ``altitudes`` that a side's vehicle never descends through: its rate of descent
+    there would be no number (``sides``: (result, label) pairs)."""
+    name = column("{owner}_altitude", vehicle)
+    for result, label in sides:
+        if name not in result:
+            return
+        time, altitude, _ = descent_profile(result, vehicle)
+        for level in altitudes:
+            if first_fall_through(time, altitude, level) is None:
+                raise InputError(f"altitudes (--altitudes) = {level:g}: {label} never descends through {level:g} m "
+                                 f"(its {name} spans {np.nanmin(altitude):.6g} to {np.nanmax(altitude):.6g} m): "
+                                 "each must be an altitude both sides descend through")
+
+
 def _missing_descent(a: Result, b: Result, vehicle: str) -> str:
     """Why a comparison has no descent figures when a side has the vehicle's height but not its altitude (a log's
     height mapped to ``<vehicle>_height``): say so rather than drop the table silently."""
@@ -260,6 +275,8 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     if ground is None:   # a summary's ground that is not a finite number (a file edited by hand) is not used
         grounds = (getattr(r.summary, "ground_altitude", None) for r in (a, b))
         ground = next((float(value) for value in grounds if _finite_number(value)), 0.0)
+    if altitudes is not None:
+        _check_altitudes(((a, label_a), (b, label_b)), vehicle, altitudes)
     comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)
     comparison.missing_descent = _missing_descent(a, b, vehicle) if not comparison.descent else ""
     for template, suffix in (("{owner}_altitude", "altitude"), ("{owner}_east", "east"), ("{owner}_north", "north")):

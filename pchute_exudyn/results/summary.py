@@ -193,10 +193,19 @@ def opening_events(case, openings: dict, end: float) -> list:
     return events
 
 
-def opening_warnings(case, events) -> tuple:
+def opening_warnings(case, events, openings: dict | None = None) -> tuple:
     """A supersonic opening whose line stretch fell outside its ``mach_range``: its load factor was held at the
-    range's end (the constants were not fitted there)."""
+    range's end (the constants were not fitted there); one (of ``openings``, by (system, canopy)) whose load-factor
+    law gave C_k below 1 there: held at 1, the law outside its validity (no peak above the filled drag area)."""
     warned = []
+    for (system, _), progress in (openings or {}).items():
+        law = None if progress.load_factor is None else progress.supersonic.law_at(progress.stretch_mach,
+                                                                                    progress.diameter)
+        if law is not None and law < 1.0:
+            warned.append(f"systems.{system}.inflation.supersonic: its load-factor law gives C_k = {law:.4g} at the "
+                          f"line-stretch Mach {progress.stretch_mach:.3g}, below 1 (no peak above the filled drag "
+                          "area: load_factor, mach_slope and wake_coefficient outside the law's validity): the run "
+                          "held it at 1")
     for event in events:
         if isinstance(event, StageStartEvent) and event.mach is not None:
             low, high = case.systems[event.system].inflation.supersonic.mach_range

@@ -16,7 +16,7 @@ from ..boundary import check_callable, check_case, check_flag
 from ..case.canopy_choice import canopy_models_flown
 from ..case.carried import case_at
 from ..case.model import Case
-from ..case.plausible import check_time_scales
+from ..case.plausible import check_time_scales, implausible_settings
 from ..engine.bodies import Touchdown
 from ..engine.solver import integrate, versions
 from ..engine.state import BODY_VALUES, CONFLUENCE_VALUES
@@ -73,6 +73,7 @@ class RunPlan:
     duration: float
     stability_limit: float | None = None   # s: set when the step was chosen from it (``stability_step``)
     control: StepRule | None = None        # adaptive steps (``run.step_control``): ``step`` is then the largest
+    warnings: tuple = ()                   # one line each: a case setting this plan leaves without effect
 
 
 def option_error(exc: OptionError, method_class=None) -> InputError:
@@ -155,7 +156,16 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     if control is None and INTEGRATORS[integrator].explicit:
         resolved.check_step(case, step)
     check_time_scales(case, step)
-    return RunPlan(resolved, integrator, step, duration, limit, control)
+    return RunPlan(resolved, integrator, step, duration, limit, control, _idle_step_control(case, control, step))
+
+
+def _idle_step_control(case: Case, control: StepRule | None, step: float) -> tuple:
+    """A warning when the case sets ``[simulation.step_control]`` but the run takes a fixed ``step`` (s)."""
+    if control is not None or case.simulation.step_rule == StepRule():
+        return ()
+    return (f"simulation.step_control: has no effect in this run: its step is fixed ({step:g} s, from --dt, "
+            "[simulation.steps] or the stability limit); the adaptive steps it tunes are RK4's with --dt auto or no "
+            "step set",)
 
 
 def _check_size(case: Case, step: float, duration: float) -> None:
@@ -298,9 +308,10 @@ def _final_values(case: Case, columns: dict) -> FinalState:
 
 
 def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns: dict, units: dict,
-              openings: dict | None = None, sequence: Sequence | None = None, deployments: tuple = ()
-              ) -> RunSummary:
-    """The typed summary of a finished run."""
+              openings: dict | None = None, sequence: Sequence | None = None, deployments: tuple = (),
+              progress: dict | None = None) -> RunSummary:
+    """The typed summary of a finished run (``progress``: each opening's ``InflationProgress``, by (system,
+    canopy))."""
     last_deployment = max([e.time for e in events if e.kind == "deploy"], default=0.0)
     events = sorted(events + descent_rate_events(case.simulation.descent_rate_events, columns["time"],
                                                  columns[column("{owner}_velocity_down", case.vehicle)],
@@ -321,7 +332,7 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         deployments=deployments,
         cluster=cluster_summary(case, columns, events), pendulum=pendulum_summary(case, columns, events),
         descent=descent_summary(case, columns), failures=failures_flown(case.failures),
-        warnings=case.warnings + opening_warnings(case, events) + load_warnings(deployments)
+        warnings=case.warnings + plan.warnings + opening_warnings(case, events, progress) + load_warnings(deployments)
         + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
         separations=separation_summary(case, raw, events),
@@ -409,11 +420,29 @@ def simulate(case: Case, method=None, integrator: str | None = None, step: float
     _check_arguments(case, progress, engine_solution, history)
     plan = _plan(case, plan, method, integrator, step, duration, options, option_values)
     if not engine_solution:   # no folder: a process killed mid-run (a study's worker on Ctrl-C) leaves none behind
-        return _result(plan, *run(case, plan, progress), history, {})
+        return _result(plan, *_flown(case, plan, progress, None), history, {})
     with tempfile.TemporaryDirectory() as folder:
-        flown = run(case, plan, progress, folder)
+        flown = _flown(case, plan, progress, folder)
         attachments = {path.name: path.read_text() for path in sorted(Path(folder).glob("*.txt"))}
     return _result(plan, *flown, history, attachments)
+
+
+def _flown(case: Case, plan: RunPlan, progress, folder):
+    """``run``, with a stop that follows a plausibility warning naming the warned settings."""
+    try:
+        return run(case, plan, progress, folder)
+    except SimulationError as error:
+        raise _naming_implausible(error, case) from None
+
+
+def _naming_implausible(error: SimulationError, case: Case) -> SimulationError:
+    """``error`` with the case's implausible settings named (``case.plausible``): a run stopped by what such a value
+    caused (out of the atmosphere, a line stretch below the ground) says which warned setting to look at first."""
+    settings = implausible_settings(case.warnings)
+    if not settings:
+        return error
+    return SimulationError(f"{error} (the case has implausible settings, warned before the run: "
+                           f"{', '.join(settings)})", error.time)
 
 
 def _result(plan: RunPlan, raw, facts, events, openings, sequence, traces, history, attachments) -> Result:
@@ -426,6 +455,6 @@ def _result(plan: RunPlan, raw, facts, events, openings, sequence, traces, histo
     loads: dict = {}   # each deployment's load history, for the loads figure
     summary = summarize(flown, plan, raw, facts, events + contacts, columns, units,
                         opening_loads(flown, openings, columns), sequence,
-                        deployment_loads(flown, traces, openings, columns, raw, loads))
+                        deployment_loads(flown, traces, openings, columns, raw, loads), openings)
     return Result(columns, units, summary, scene=scene(flown, raw) if history else None, attachments=attachments,
                   loads=loads)

@@ -42,6 +42,36 @@ def test_mars_against_its_closed_form():
     assert 3.70 < ours[0] < ours[1] < 3.74
 
 
+def test_q0_is_the_series_up_to_its_limit_and_the_closed_form_beyond():
+    """The shipped planets' e' (Earth 0.082, Mars 0.109) keep the series, bit for bit; beyond SERIES_LIMIT (the
+    series diverges from e' = 1) the closed forms; the two agree at the switch and e' = 1 gives pi/2 - 3/2 and
+    5 - 3 pi/2 exactly."""
+    for planet in (WGS84, MARS):
+        a, b = planet.equatorial_radius, planet.polar_radius
+        e1 = math.sqrt(a * a - b * b) / b
+        assert gr.q0_pair(e1) == gr._q0_series(e1)
+    limit = gr.SERIES_LIMIT
+    for series, closed in zip(gr.q0_pair(limit), gr.q0_pair(math.nextafter(limit, 2.0))):
+        assert closed == pytest.approx(series, rel=1e-13)
+    assert gr.q0_pair(1.0) == pytest.approx((math.pi / 2 - 1.5, 5.0 - 1.5 * math.pi), rel=4e-15)
+    for e1 in (0.95, 1.333, 2.0, 6.25, 50.0):
+        q0, q0p = gr.q0_pair(e1)
+        atan = math.atan(e1)
+        assert q0 == pytest.approx(0.5 * ((1 + 3 / e1**2) * atan - 3 / e1), rel=1e-15)
+        assert q0p == pytest.approx(3 * (1 + 1 / e1**2) * (1 - atan / e1) - 1, rel=1e-15)
+
+
+@pytest.mark.parametrize("ratio", [0.6, 1e6 / gr.WGS84_A])
+def test_a_strongly_flattened_ellipsoid_has_its_closed_form_gravity(ratio):
+    """b = 0.6 a (e' = 1.33; the series' value was 0.16 % off in gamma_e) and b = 1e6 m (e' = 6.3; the series gave
+    NaN): gamma_e and gamma_p are the closed forms', and Somigliana at the pole is gamma_p."""
+    flat = gr.NormalGravity(gr.WGS84_GM, gr.WGS84_A, ratio * gr.WGS84_A, gr.WGS84_OMEGA)
+    for value, reference in zip(flat.equator_and_pole, closed_form(flat)):
+        assert value == pytest.approx(reference, rel=1e-14)
+    assert flat.on_ellipsoid(math.pi / 2) == pytest.approx(flat.equator_and_pole[1], rel=1e-14)
+    assert math.isfinite(flat.magnitude(0.5, 1000.0))
+
+
 def test_kernel_on_the_ellipsoid_and_above():
     planet = Planet(gr.WGS84_GM, gr.WGS84_A, gr.WGS84_B, 0.0, "Earth", gr.WGS84_OMEGA, "normal")
     for latitude in (0.0, 33.0, -60.0, 90.0):

@@ -1,0 +1,118 @@
+"""Model limits stated, settings that do nothing warned, and a stop after a warning that names it (issue 59, items 4
+and 5): each simplified model checks its own validity in one line (the reduced canopy's drag time constant and drag,
+the supersonic load-factor law, a flight-condition start's Mach number; normal gravity's q0 in
+tests/unit/test_normal_gravity.py), a setting without effect is warned, and a run stopped after an implausibility
+warning names the warned setting."""
+
+import io
+import json
+from contextlib import redirect_stderr
+from pathlib import Path
+
+import pytest
+
+from pchute_exudyn.case.loader import load_case
+from pchute_exudyn.cli import main
+from pchute_exudyn.run.simulation import resolve_run
+from tests.bad_input_harness import assert_one_line, run_bad_input
+from tests.helpers import ROOT
+
+ROCKET = str(ROOT / "cases" / "rocket" / "dual_deploy.toml")
+MSL = str(ROOT / "cases" / "edl" / "msl.toml")
+DROP = str(ROOT / "tests" / "cases" / "vacuum_drop.toml")
+DESCENT = "time,vehicle_altitude\n0,100\n1,90\n2,80\n"
+
+
+def _file(tmp: Path, name: str, text: str) -> str:
+    path = tmp / name
+    path.write_text(text)
+    return str(path)
+
+
+@pytest.mark.parametrize("mass, drogue, main_time", [(40.0, "0.993", "0.314"), (60.0, "1.26", "0.398")])
+def test_a_heavy_reduced_canopy_is_warned_with_its_drag_time_constant_and_the_limit(mass, drogue, main_time):
+    case = load_case(ROCKET, [f"bodies.drogue_canopy.mass={mass}", f"bodies.main_canopy.mass={mass}"])
+    for system, canopy, time in (("drogue", "drogue_canopy", drogue), ("main", "main_canopy", main_time)):
+        assert (f"systems.{system}.canopy_model = 'reduced': canopy '{canopy}' has a drag time constant m / (rho C_D0 "
+                f"S0 V) of {time} s, above the 0.1 s a reduced canopy is valid to (auto chooses it below 0.05 s)") in "\n".join(case.warnings)
+    assert not [w for w in load_case(ROCKET).warnings if "reduced" in w]   # the shipped light canopies: no word
+
+
+BAD = [
+    ("reduced canopy without drag",
+     lambda t: ["run", ROCKET, "--set", "bodies.main_canopy.aerodynamics.axial_coefficient=0"],
+     "systems.main.canopy_model = 'reduced': reduced needs canopy 'main_canopy' to have drag (its axial_coefficient "
+     "at Mach 0 is 0, must be > 0)"),
+    ("case mach 1e200", lambda t: ["run", MSL, "--set", "bodies.vehicle.initial.mach=1e200"],
+     "bodies.vehicle.initial.mach = 1e+200: must be <= 237.7: a faster start moves at more than 20000 m/s"),
+    ("pchute new --mach 1e200", lambda t: ["new", str(t / "n.toml"), "--planet", "mars", "--mach", "1e200",
+                                           "--dynamic-pressure", "500"],
+     "mach = 1e+200: must be <= 237.7: a faster start moves at more than 20000 m/s"),
+    ("compare --altitudes 1e6", lambda t: ["compare", _file(t, "a.csv", DESCENT), _file(t, "b.csv", DESCENT),
+                                           "--altitudes", "95,1e6"],
+     "altitudes (--altitudes) = 1e+06: "),
+    # warned as implausible, then stopped by what the value caused: the stop names the warned setting
+    ("spin_rate 0.05 stops below the ground", lambda t: ["run", ROCKET, "--set", "planet.spin_rate=0.05", "--quiet",
+                                                         "--no-plot"],
+     "(the case has implausible settings, warned before the run: planet.spin_rate = 0.05)"),
+    ("rotation_rate 1 leaves the atmosphere", lambda t: ["run", ROCKET, "--set", "planet.rotation_rate=1", "--quiet",
+                                                         "--no-plot"],
+     "(the case has implausible settings, warned before the run: planet.rotation_rate = 1)"),
+    ("first step 1e6 s", lambda t: ["run", ROCKET, "--set", "simulation.step_control={first=1e6,largest=1e6}",
+                                    "--quiet", "--no-plot"],
+     "(the case has implausible settings, warned before the run: simulation.step_control.first = 1000000.0, "
+     "simulation.step_control.largest = 1000000.0)"),
+]
+
+
+@pytest.mark.parametrize("name, make_args, expected", BAD, ids=[b[0] for b in BAD])
+def test_a_model_outside_its_limits_is_refused_in_one_line(tmp_path, name, make_args, expected):
+    code, err, seconds, touched = run_bad_input(make_args, tmp_path)
+    lines = [line for line in err.splitlines() if "warning:" not in line]   # the implausibility warnings come first
+    assert_one_line(code, "\n".join(lines), expected, touched, seconds)
+
+
+def test_a_supersonic_law_below_1_at_line_stretch_is_warned():
+    """MSL's main at Mach 1.685 (its last stage's start) with s_M = 16.75: C_k = 1.726 + 16.75 (1.685 - 1.8) = -0.2,
+    held at 1."""
+    case = load_case(MSL, {"systems.main.inflation.supersonic.mach_slope": 16.75})
+    from pchute_exudyn.run.simulation import simulate
+
+    summary = simulate(case, duration=1.2).summary
+    start = summary.events_of("stage_start")[0]
+    assert start.load_factor == 1.0
+    law = 1.726 + 16.75 * (start.mach - 1.8)
+    assert law == pytest.approx(-0.2, abs=0.01)
+    assert (f"systems.main.inflation.supersonic: its load-factor law gives C_k = {law:.4g} at the line-stretch Mach "
+            f"{start.mach:.3g}, below 1") in "\n".join(summary.warnings)
+
+
+def test_step_control_with_a_fixed_step_is_warned(tmp_path):
+    case = load_case(DROP, {"simulation.step_control": {"relative": 1e-4}})
+    err = io.StringIO()
+    with redirect_stderr(err):
+        assert main(["run", DROP, "--set", "simulation.step_control={relative=1e-4}", "--dt", "0.01", "--t-end",
+                     "0.1", "--quiet", "--no-plot", "--out", str(tmp_path / "run")]) == 0
+    line = ("pchute run: warning: simulation.step_control: has no effect in this run: its step is fixed (0.01 s, "
+            "from --dt, [simulation.steps] or the stability limit)")
+    assert err.getvalue().count(line) == 1   # once, before the run
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert any(w.startswith(line[len("pchute run: warning: "):]) for w in summary["warnings"])
+    assert resolve_run(case).warnings == ()                       # adaptive steps (RK4, no step): it acts
+    assert resolve_run(load_case(DROP), step=0.01).warnings == ()   # no step_control table: nothing to say
+
+
+def test_spin_rate_with_spherical_gravity_in_a_frame_that_does_not_turn_is_warned():
+    case = load_case(DROP, {"planet.gravity_model": "spherical", "planet.spin_rate": 7.292115e-5})
+    assert ("planet.spin_rate = 7.29211e-05: has no effect in this case: only normal gravity's centrifugal term reads "
+            "the planet's spin") in "\n".join(case.warnings)
+    assert not load_case(DROP, {"planet.spin_rate": 7.292115e-5}).warnings   # normal gravity reads it
+
+
+def test_a_flattened_normal_gravity_planet_flies(tmp_path):
+    """polar_radius = 1e6 m (e' = 6.3; the q0 series diverges there): gravity a number, the drop reaches the
+    ground."""
+    assert main(["run", DROP, "--set", "planet.polar_radius=1e6", "--set", "planet.spin_rate=7.292115e-5", "--dt",
+                 "0.05", "--quiet", "--no-plot", "--out", str(tmp_path / "run")]) == 0
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert summary["end"] == "touchdown"
