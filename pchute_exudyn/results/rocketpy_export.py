@@ -14,7 +14,7 @@ launch frame; body z is the rocket's axis, nose forward), ``Latitude (°)``, ``L
 
 A file is RocketPy's when its header holds ``Time (s)``, ``Z (m)`` and ``Vz (m/s)`` (``is_rocketpy``), or the
 solver-state header. ``pchute compare`` then reads it without a column map (``column_map``); ``pchute new
---from-rocketpy`` starts a descent from its apogee (``apogee_state``).
+--from-rocketpy`` starts a descent from its apogee (``apogee_state``), once every row is checked (``check_rows``).
 """
 
 from __future__ import annotations
@@ -173,10 +173,10 @@ def check_rows(path, columns: dict, texts: dict, lines: list) -> None:
             error, _ = check_value(key, float(value))
             if error is not None:
                 refuse(row, name, f"{error} (the case reader's range of {key.rpartition('.')[2]})")
-    for name, low, high, unit in SITE_RANGES[:2]:
-        bad = np.flatnonzero(np.abs(columns.get(name.capitalize(), np.zeros(0))) > high)
+    for name, (_, low, high, unit) in zip(("Latitude", "Longitude"), SITE_RANGES):
+        bad = np.flatnonzero((columns[name] < low) | (columns[name] > high)) if name in columns else ()
         if len(bad):
-            refuse(int(bad[0]), name.capitalize(), f"must be from {low:g} to {high:g} ({unit})")
+            refuse(int(bad[0]), name, f"must be from {low:g} to {high:g} ({unit})")
     if all(f"e{k}" in columns for k in range(4)):
         norm = np.sqrt(sum(columns[f"e{k}"] ** 2 for k in range(4)))
         bad = np.flatnonzero(np.abs(norm - 1.0) > QUATERNION_TOLERANCE)
@@ -204,7 +204,8 @@ def apogee_index(path, time, vertical) -> tuple[int, float]:
 def apogee_state(path) -> RocketPyStart:
     """The start state of a RocketPy export (module docstring): its apogee, interpolated between the two rows
     where Vz changes sign (every column linearly, the altitude by the trapezoid of that Vz), or its first row if it
-    never climbs. InputError, naming the field, for a missing column, a NaN or a file that never reaches apogee."""
+    never climbs. InputError, naming the field, for a missing column, a bad row (``check_rows``: its line named) or a
+    file that never reaches apogee."""
     if not Path(path).is_file():
         raise InputError(f"from_rocketpy = {str(path)!r}: no such file (a RocketPy flight export, CSV)")
     columns, _, texts, lines = read_rows(path)

@@ -47,14 +47,19 @@ def _first_deployment(c) -> float | None:
     start: a dual deploy's drogue one lag after apogee (the climb in vacuum, v / g, is the longest), a release's
     canopies after its static line time (with a static line, twice the time its length and the canopy's reach take
     to fall at the planet's g), a start at flight conditions at once."""
-    g = gravity_at(c.planet, c.latitude or 0.0, ground(c))
     if c.dual_deploy:
-        return max(c.velocity_up or 0.0, 0.0) / g + c.apogee_lag + 0.1   # + the trigger's first samples
+        return _climb_time(c) + c.apogee_lag + 0.1   # + the trigger's first samples
     if c.static_line_length is not None:   # the static line and the canopy's reach fallen at g; twice that (drag)
+        g = gravity_at(c.planet, c.latitude or 0.0, ground(c))
         return 2.0 * (2.0 * (c.static_line_length + layout(c).canopy_height) / g) ** 0.5 + 1.0
     if c.released:
         return float(c.static_line_time)
     return 0.0 if c.mach is not None else None
+
+
+def _climb_time(c) -> float:
+    """The longest a dual deploy's rocket climbs (s): v / g in vacuum (drag only shortens it)."""
+    return max(c.velocity_up or 0.0, 0.0) / gravity_at(c.planet, c.latitude or 0.0, ground(c))
 
 
 def _fly(c, case, plan, deployment: float) -> None:
@@ -64,8 +69,7 @@ def _fly(c, case, plan, deployment: float) -> None:
         _, _, events, _, _, _ = run(case, plan)
     except SimulationError as exc:
         when = exc.time if exc.time is not None else deployment
-        climbing = c.dual_deploy and when <= max(c.velocity_up or 0.0, 0.0) / gravity_at(c.planet, c.latitude
-                                                                                          or 0.0, ground(c))
+        climbing = c.dual_deploy and when <= _climb_time(c)
         raise InputError(f"{_option(c, _shaping(c, climbing))}: the written case's run would fail "
                          f"{when:.4g} s into its flight: {exc}") from None
     landed = [e.time for e in events if e.kind == "touchdown"]
