@@ -193,8 +193,9 @@ def _new_arguments(new) -> None:
 
 def _new(args) -> int:
     from .authoring.layout import layout
-    from .authoring.write import checked_case_text, new_choices
+    from .authoring.write import new_choices
     from .results.io import atomic_write_text
+    from .run.dry_run import dry_run
 
     given = {key.removeprefix("new_"): value for key, value in vars(args).items()
              if key.startswith("new_") and value is not None}
@@ -215,7 +216,10 @@ def _new(args) -> int:
         raise InputError(f"{path} exists; pass --overwrite to replace it")
     if not path.parent.is_dir():
         raise InputError(f"{path}: the folder {path.parent} does not exist")
-    atomic_write_text(path, checked_case_text(choices))
+    text, warnings = dry_run(choices)
+    for warning in warnings:
+        print(f"pchute new: warning: {warning}", file=sys.stderr)
+    atomic_write_text(path, text)
     if choices.dual_deploy:
         from .authoring.rocket_start import start_height
         print(f"wrote {path}: {choices.mass:g} kg rocket, dual deploy from {start_height(choices):.1f} m above the "

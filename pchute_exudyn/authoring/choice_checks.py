@@ -50,7 +50,8 @@ READER_KEYS = {"mass": "bodies.vehicle.mass", "canopy_mass": "bodies.canopy.mass
                "release_airspeed": "start.release.airspeed",
                "velocity_east": "bodies.vehicle.initial.velocity_east",
                "velocity_north": "bodies.vehicle.initial.velocity_north",
-               "velocity_up": "bodies.vehicle.initial.velocity_down"}
+               "velocity_up": "bodies.vehicle.initial.velocity_down",
+               "apogee_lag": "systems.drogue.deploy_trigger.lag", "main_lag": "systems.main.deploy_trigger.lag"}
 """A NewCase field -> the case key it becomes, whose range (``case.plausible.RANGES``) the case reader checks."""
 NEEDS = {"static_line_time": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),
          "static_line_length": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),
@@ -60,10 +61,26 @@ NEEDS = {"static_line_time": ("release_airspeed", "a static line deploys the can
          "flight_path_deg": ("mach", "the flight path is the start's at flight conditions"),
          "heading_deg": ("mach", "the heading is the start's at flight conditions")}
 """A NewCase field that means something only with another: field -> (that field, what the first is)."""
-EXCLUDES = {"altitude": ("mach", "the flight conditions give the start altitude (authoring.flight_start)"),
-            "static_line_time": ("static_line_length", "the static line's length places line stretch where the flight "
-                                                       "reaches it")}
-"""A NewCase field given (even at its default) that another, when set, refuses: field -> (that field, why)."""
+EXCLUDES = (("altitude", "mach", "the flight conditions give the start altitude (authoring.flight_start)"),
+            ("altitude", "height", "the start is the ground's altitude plus the height; give one of them"),
+            ("static_line_time", "static_line_length", "the static line's length places line stretch where the "
+                                                       "flight reaches it"))
+"""A NewCase field given (even at its default) that another, when set, refuses: (field, that field, why)."""
+
+
+def implausible_choices(c) -> tuple:
+    """One warning line per NewCase field outside the plausible range the case reader warns of for the key it
+    becomes (READER_KEYS; ``case.plausible.RANGES``): an apogee lag of 100 s, naming the option."""
+    from ..case.plausible import check_value
+
+    lines = []
+    for field, key in READER_KEYS.items():
+        value = getattr(c, field, None)
+        _, warning = check_value(key, value) if is_finite(value) else (None, None)
+        if warning is not None:
+            lines.append(f"{field} = {short_repr(value)} (--{field.replace('_', '-')}) is implausible: "
+                         f"{warning.partition(' is implausible: ')[2]}, the case reader's range of {key}")
+    return tuple(lines)
 
 
 def check_reader_ranges(c) -> None:
@@ -102,10 +119,10 @@ def check_needs(c, given) -> None:
     (``--static-line-time`` without ``--release-airspeed`` would be dropped from the file); or that another field
     set refuses (EXCLUDES: ``--altitude`` beside ``--mach``)."""
     for field in given:
-        if field in EXCLUDES and getattr(c, EXCLUDES[field][0]) is not None:
-            other, why = EXCLUDES[field]
-            raise InputError(f"{field} = {short_repr(getattr(c, field))}: not with {other} "
-                             f"(--{other.replace('_', '-')}): {why}")
+        for excluded, other, why in EXCLUDES:
+            if field == excluded and getattr(c, other) is not None:
+                raise InputError(f"{field} = {short_repr(getattr(c, field))}: not with {other} "
+                                 f"(--{other.replace('_', '-')}): {why}")
         if field in NEEDS and not getattr(c, NEEDS[field][0]):
             needed, what = NEEDS[field]
             raise InputError(f"{field} = {short_repr(getattr(c, field))}: only with {needed} "

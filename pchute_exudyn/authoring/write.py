@@ -53,16 +53,16 @@ def new_choices(given: dict) -> NewCase:
     return choices
 
 
-def checked_case_text(choices: NewCase) -> str:
-    """``new_case_text(choices)``, read back by the case reader first: a file ``pchute run`` would refuse is an
-    InputError naming the reader's complaint, never written."""
+def checked_case(choices: NewCase) -> tuple:
+    """(``new_case_text(choices)``, the Case it loads as), read back by the case reader first: a file ``pchute run``
+    would refuse is an InputError naming the reader's complaint, never written."""
     from ..case.files import tomllib
     from ..case.loader import build_case
     from ..errors import CaseError
 
     text = new_case_text(choices)
     try:
-        build_case(tomllib.loads(text), {}, f"the case `pchute new` would write for {choices.name!r}")
+        case = build_case(tomllib.loads(text), {}, f"the case `pchute new` would write for {choices.name!r}")
     except CaseError as exc:
         raise InputError(f"these choices make a case `pchute run` refuses: {exc}") from None
-    return text
+    return text, case

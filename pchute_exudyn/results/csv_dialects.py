@@ -69,8 +69,16 @@ def _is_comment(line: str) -> bool:
 
 def read_csv_columns(path) -> tuple[dict, dict, dict]:
     """Columns of a CSV file in any dialect above: (columns by name, units by name, header text by name)."""
+    return read_csv_rows(path)[:3]
+
+
+def read_csv_rows(path) -> tuple[dict, dict, dict, list]:
+    """``read_csv_columns``, and the file's line number (from 1) of each data row: what a check of the rows names."""
     path = Path(path)
-    lines = [line for line in path.read_text(encoding="utf-8-sig", errors="replace").splitlines() if line.strip()]
+    numbered = [(number, line) for number, line in
+                enumerate(path.read_text(encoding="utf-8-sig", errors="replace").splitlines(), start=1)
+                if line.strip()]
+    lines = [line for _, line in numbered]
     plain = next((line for line in lines if not _is_comment(line)), "")
     delimiter = next((d for d in (",", ";", "\t") if d in plain), ",")
     first = next((i for i, line in enumerate(lines) if not _is_comment(line) and _numeric(_cells(line, delimiter))),
@@ -83,7 +91,7 @@ def read_csv_columns(path) -> tuple[dict, dict, dict]:
     if width != len(names):
         raise InputError(f"{path}: the header (the last line before the data: {header_text[:50]!r}) names "
                          f"{len(names)} columns but the first data row has {width} values")
-    data = []
+    data, line_numbers = [], []
     for number, line in enumerate(lines[first:], start=first + 1):
         if _is_comment(line):   # OpenRocket's event lines between the rows
             continue
@@ -94,8 +102,9 @@ def read_csv_columns(path) -> tuple[dict, dict, dict]:
         if len(row) != len(names):
             raise InputError(f"{path}: row {number} has {len(row)} values but the header names {len(names)} columns")
         data.append([float(cell) for cell in row])
+        line_numbers.append(numbered[number - 1][0])
     array = np.array(data)
-    return {name: array[:, i] * scales[name] for i, name in enumerate(names)}, units, texts
+    return {name: array[:, i] * scales[name] for i, name in enumerate(names)}, units, texts, line_numbers
 
 
 def _header(path, headers) -> tuple[list, dict, dict, dict]:
@@ -189,15 +198,22 @@ def map_columns(columns: dict, mapping: dict, source="", headers: dict | None = 
     return mapped, mapped_units
 
 
-def time_problem(time) -> str | None:
-    """What is wrong with a time column (s), or None: every sample's time finite and strictly increasing."""
+def time_fault(time) -> tuple[int, str, str] | None:
+    """The first sample of a time column (s) that is not finite or does not come strictly after the one before:
+    (its index, what is wrong, its value in words), or None."""
     time = np.asarray(time, dtype=float)
     bad = np.flatnonzero(~np.isfinite(time))
     if len(bad):
-        return f"time is not a finite number at sample {bad[0] + 1} ({float(time[bad[0]])})"
+        return int(bad[0]), "time is not a finite number", f"({float(time[bad[0]])})"
     steps = np.flatnonzero(np.diff(time) <= 0.0)
     if len(steps):
         i = steps[0]
         kind = "repeats" if time[i + 1] == time[i] else "goes back"
-        return f"time {kind} at sample {i + 2} ({time[i + 1]:g} s after {time[i]:g} s); times must increase strictly"
+        return int(i + 1), f"time {kind}", f"({time[i + 1]:g} s after {time[i]:g} s); times must increase strictly"
     return None
+
+
+def time_problem(time) -> str | None:
+    """What is wrong with a time column (s), or None: every sample's time finite and strictly increasing."""
+    fault = time_fault(time)
+    return None if fault is None else f"{fault[1]} at sample {fault[0] + 1} {fault[2]}"

@@ -14,7 +14,7 @@ launch frame; body z is the rocket's axis, nose forward), ``Latitude (°)``, ``L
 
 A file is RocketPy's when its header holds ``Time (s)``, ``Z (m)`` and ``Vz (m/s)`` (``is_rocketpy``), or the
 solver-state header. ``pchute compare`` then reads it without a column map (``column_map``); ``pchute new
---from-rocketpy`` starts a descent from its apogee (``apogee_state``).
+--from-rocketpy`` starts a descent from its apogee (``apogee_state``), once every row is checked (``check_rows``).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..registries.columns import UNNAMED_VEHICLE, column
-from .csv_dialects import read_csv_columns
+from .csv_dialects import read_csv_rows, time_fault
 
 SOLVER_HEADER = ("Time (s),X (m),Y (m),Z (m),E0,E1,E2,E3,W1 (rad/s),W2 (rad/s),W3 (rad/s)")
 """The header ``export_data(path)`` writes over its 14-value rows (the velocities unnamed)."""
@@ -51,6 +51,17 @@ def _header_line(path: Path) -> str:
 def read_columns(path) -> tuple[dict, dict, dict]:
     """Columns of any CSV ``csv_dialects`` reads, and of RocketPy's solver-state export: (columns by name, units
     by name, header text by name); a RocketPy export's ``e0`` to ``e3`` are named in lower case either way."""
+    return read_rows(path)[:3]
+
+
+def _data_lines(path: Path) -> list:
+    """The line numbers (from 1) of the rows ``numpy.loadtxt`` reads: every line with a value before any ``#``."""
+    return [number for number, line in enumerate(path.read_text(encoding="utf-8-sig", errors="replace")
+                                                 .splitlines(), start=1) if line.split("#", 1)[0].strip()]
+
+
+def read_rows(path) -> tuple[dict, dict, dict, list]:
+    """``read_columns``, and the file's line number (from 1) of each data row."""
     path = Path(path)
     if path.is_file() and _header_line(path) == SOLVER_HEADER:
         try:
@@ -65,14 +76,14 @@ def read_columns(path) -> tuple[dict, dict, dict]:
         units = dict(zip(SOLVER_COLUMNS, ("s", "m", "m", "m", "m/s", "m/s", "m/s", "", "", "", "", "rad/s", "rad/s",
                                           "rad/s")))
         return ({name: data[:, i] for i, name in enumerate(SOLVER_COLUMNS)}, units,
-                {name: name for name in SOLVER_COLUMNS})
-    columns, units, texts = read_csv_columns(path)
+                {name: name for name in SOLVER_COLUMNS}, _data_lines(path))
+    columns, units, texts, lines = read_csv_rows(path)
     if is_rocketpy(texts):
         rename = {name: name.lower() for name in columns if name in ("E0", "E1", "E2", "E3")}
         columns = {rename.get(n, n): v for n, v in columns.items()}
         units = {rename.get(n, n): u for n, u in units.items()}
         texts = {rename.get(n, n): t for n, t in texts.items()}
-    return columns, units, texts
+    return columns, units, texts, lines
 
 
 def is_rocketpy(texts: dict) -> bool:
@@ -129,6 +140,51 @@ class RocketPyStart:
     at_apogee: bool
 
 
+ROW_KEYS = {"Z": "bodies.rocket.initial.altitude", "Altitude AGL": "bodies.rocket.initial.altitude",
+            "Vx": "bodies.rocket.initial.velocity_east", "Vy": "bodies.rocket.initial.velocity_north",
+            "Vz": "bodies.rocket.initial.velocity_down"}
+"""An export's column -> the case key whose range (``case.plausible.RANGES``, the error bounds) each row's value must
+keep: the state a start takes from a row becomes that key."""
+QUATERNION_TOLERANCE = 0.01
+"""How far (-) the norm of a row's e0..e3 may be from 1: RocketPy's are unit quaternions, written to 6 decimals; a
+norm farther off (an all-zero row) is no attitude."""
+
+
+def check_rows(path, columns: dict, texts: dict, lines: list) -> None:
+    """InputError, one line naming the file, the row's line number and the column, for the first row of a RocketPy
+    export that is not a state: a value that is not finite, a time not strictly after the row before, a position or
+    velocity outside the case reader's range for it (ROW_KEYS), a latitude or longitude outside the start's, an
+    attitude quaternion not of unit norm (QUATERNION_TOLERANCE)."""
+    from ..authoring.choice_checks import SITE_RANGES
+    from ..case.plausible import check_value
+
+    def refuse(row: int, name: str, what: str) -> None:
+        raise InputError(f"{path}: line {lines[row]}, {texts.get(name, name)} = {columns[name][row]:g}: {what}")
+
+    for name, values in columns.items():
+        bad = np.flatnonzero(~np.isfinite(values))
+        if len(bad):
+            refuse(int(bad[0]), name, "must be a finite number")
+    fault = time_fault(columns["time"])
+    if fault is not None:
+        refuse(fault[0], "time", f"{fault[1]} {fault[2]}")
+    for name, key in ROW_KEYS.items():
+        for row, value in enumerate(columns.get(name, ())):
+            error, _ = check_value(key, float(value))
+            if error is not None:
+                refuse(row, name, f"{error} (the case reader's range of {key.rpartition('.')[2]})")
+    for name, (_, low, high, unit) in zip(("Latitude", "Longitude"), SITE_RANGES):
+        bad = np.flatnonzero((columns[name] < low) | (columns[name] > high)) if name in columns else ()
+        if len(bad):
+            refuse(int(bad[0]), name, f"must be from {low:g} to {high:g} ({unit})")
+    if all(f"e{k}" in columns for k in range(4)):
+        norm = np.sqrt(sum(columns[f"e{k}"] ** 2 for k in range(4)))
+        bad = np.flatnonzero(np.abs(norm - 1.0) > QUATERNION_TOLERANCE)
+        if len(bad):
+            refuse(int(bad[0]), "e0", f"with e1..e3 a quaternion of norm {norm[bad[0]]:.4g}: an attitude needs norm 1 "
+                   f"(within {QUATERNION_TOLERANCE:g})")
+
+
 def apogee_index(path, time, vertical) -> tuple[int, float]:
     """(row i, fraction f in [0, 1]) of the apogee between rows i and i + 1: the first row where the vertical
     velocity (m/s, up) goes from > 0 to <= 0, interpolated linearly to its zero; (0, 0.0) when it never climbs;
@@ -148,22 +204,19 @@ def apogee_index(path, time, vertical) -> tuple[int, float]:
 def apogee_state(path) -> RocketPyStart:
     """The start state of a RocketPy export (module docstring): its apogee, interpolated between the two rows
     where Vz changes sign (every column linearly, the altitude by the trapezoid of that Vz), or its first row if it
-    never climbs. InputError, naming the field, for a missing column, a NaN or a file that never reaches apogee."""
+    never climbs. InputError, naming the field, for a missing column, a bad row (``check_rows``: its line named) or a
+    file that never reaches apogee."""
     if not Path(path).is_file():
         raise InputError(f"from_rocketpy = {str(path)!r}: no such file (a RocketPy flight export, CSV)")
-    columns, _, texts = read_columns(path)
+    columns, _, texts, lines = read_rows(path)
     missing = [name for name in REQUIRED if name not in columns]
     if missing:
         raise InputError(f"{path}: a RocketPy export needs the columns Time (s), Z (m) and Vz (m/s); missing: "
                          f"{', '.join(missing)} (export them: FlightDataExporter(flight).export_data(path, 'z', "
                          "'vz', 'vx', 'vy', 'e0', 'e1', 'e2', 'e3', 'latitude', 'longitude', 'altitude'))")
-    for name, values in columns.items():
-        bad = np.flatnonzero(~np.isfinite(values))
-        if len(bad):
-            raise InputError(f"{path}: {texts.get(name, name)} = {values[bad[0]]} at data row {bad[0] + 1}: must be a "
-                             "finite number")
     if len(columns["time"]) < 1:
         raise InputError(f"{path}: no data rows")
+    check_rows(path, columns, texts, lines)
     i, f = apogee_index(path, columns["time"], columns["Vz"])
     at = {name: float(values[i] + f * (values[min(i + 1, len(values) - 1)] - values[i]))
           for name, values in columns.items()}

@@ -118,7 +118,7 @@ BATTERY = [
      "Vz = 40 m/s at its last row (t = 1 s): no apogee"),
     ("an export with a NaN", lambda t: ["new", t / "r.toml", *ROCKET, "--from-rocketpy",
                                         _export(t, "e.csv", NAN_ROW)],
-     "Z (m) = nan at data row 2: must be a finite number"),
+     "e.csv: line 3, Z (m) = nan: must be a finite number"),
     ("no such export", lambda t: ["new", t / "r.toml", *ROCKET, "--from-rocketpy", t / "none.csv"],
      "none.csv': no such file"),
     ("an export and a start height", lambda t: ["new", t / "r.toml", *ROCKET, "--height", "900", "--from-rocketpy",
