@@ -20,7 +20,7 @@ point at the riser's end), without its fast modes."""
 HEAVY_CANOPY_TIME = 2.0 * LIGHT_CANOPY_TIME
 """The drag time constant (s) above which a canopy the case names reduced is warned (``heavy_reduced_warnings``): twice
 the choice's LIGHT_CANOPY_TIME, which keeps that margin. Between the two (a fit's calibrated main of the synthetic
-rocket logs: 0.063 s) the model is still close; a 40 kg canopy under the 20 kg rocket is at 0.3 to 1 s."""
+rocket logs: 0.063 s) the model is still close; a 40 kg canopy under the 20 kg rocket is at 0.28 to 0.87 s."""
 
 
 def drag_time_constant(mass: float, density: float, drag_coefficient: float, reference_area: float,
@@ -57,16 +57,19 @@ def with_canopy_models(systems: dict, bodies: dict, vehicle: str, atmosphere, pl
 
 
 def heavy_reduced_warnings(systems: dict, bodies: dict, vehicle: str, atmosphere, planet, start,
-                           tethers: dict) -> tuple:
+                           tethers: dict, ground_altitude: float) -> tuple:
     """One line per system the case names ``canopy_model = "reduced"`` whose canopy is heavy (its
     ``canopy_drag_time`` above HEAVY_CANOPY_TIME, twice the rule ``"auto"`` and ``pchute new`` choose by): its speed
-    along the riser then lags the descent by a time the massless drag point leaves out."""
+    along the riser then lags the descent by a time the massless drag point leaves out. Judged in the densest air
+    the descent reaches (the start or ``ground_altitude`` (m), the lower), where the time constant is shortest: a
+    canopy deployed far below a high start is not warned for the thin air it never opens in."""
     suspended, tethered = _suspended_and_tethered(systems, bodies, tethers)
     warned = []
     for name, system in systems.items():
         if system.canopy_model != "reduced" or system.canopy_model_chosen:
             continue
-        time = canopy_drag_time(system, bodies, vehicle, atmosphere, planet, start, tethered, suspended)
+        time = canopy_drag_time(system, bodies, vehicle, atmosphere, planet, start, tethered, suspended,
+                                ground_altitude)
         if HEAVY_CANOPY_TIME < time < math.inf:
             warned.append(f"systems.{name}.canopy_model = 'reduced': canopy '{system.canopies[0]}' has a drag time "
                           f"constant m / (rho C_D0 S0 V) of {time:.3g} s, above the {HEAVY_CANOPY_TIME:g} s a reduced "
@@ -83,9 +86,10 @@ def _suspended_and_tethered(systems: dict, bodies: dict, tethers: dict) -> tuple
 
 
 def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, start, tethered: set,
-                     suspended_mass: float) -> float:
+                     suspended_mass: float, lowest_altitude: float = math.inf) -> float:
     """The drag time constant (s, ``steady_drag_time``) of ``system``'s canopy at the vehicle's start: rho at its
-    altitude, g the planet's at the start point's surface, C_D0 the canopy's C_A at zero angle (Mach 0),
+    altitude (or at ``lowest_altitude`` (m) where that is lower),
+    g the planet's at the start point's surface, C_D0 the canopy's C_A at zero angle (Mach 0),
     ``suspended_mass`` (kg) every free body's and confluence's; inf where a reduced canopy is not valid (its layout,
     a bag anchor, a canopy among the ``tethered`` bodies) or there is no air or start to judge by."""
     if reduced_refusal(system.canopies, system.lines, bodies, system.bag_anchor) is not None \
@@ -96,7 +100,7 @@ def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, sta
         return math.inf
     drag_coefficient = canopy.aerodynamics.axial_coefficient(0.0)
     gravity = float(np.linalg.norm(planet.gravity(start.origin)))
-    density = atmosphere.density(bodies[vehicle].initial.altitude)
+    density = atmosphere.density(min(bodies[vehicle].initial.altitude, lowest_altitude))
     if not (drag_coefficient > 0.0 and density > 0.0 and gravity > 0.0):
         return math.inf
     return steady_drag_time(canopy.mass, suspended_mass, gravity, density, drag_coefficient,

@@ -131,7 +131,8 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     warnings = check_plausible(data, ctx) + unit_slips(bodies[vehicle]) + unreachable_triggers(
         triggers, None if release is not None else bodies[vehicle].initial, simulation.ground_altitude,
         simulation.stop_at_ground) \
-        + tether_warnings + heavy_reduced_warnings(systems, bodies, vehicle, atmosphere, planet, start, tethers) \
+        + tether_warnings + heavy_reduced_warnings(systems, bodies, vehicle, atmosphere, planet, start, tethers,
+                                                   simulation.ground_altitude) \
         + idle_spin(planet_table, planet)
     check_escape(body_tables, bodies, planet)
     case = Case(name=name, description=description, source=source, planet=planet, start=start,

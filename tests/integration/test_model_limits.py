@@ -29,7 +29,7 @@ def _file(tmp: Path, name: str, text: str) -> str:
     return str(path)
 
 
-@pytest.mark.parametrize("mass, drogue, main_time", [(40.0, "0.993", "0.314"), (60.0, "1.26", "0.398")])
+@pytest.mark.parametrize("mass, drogue, main_time", [(40.0, "0.874", "0.276"), (60.0, "1.11", "0.35")])
 def test_a_heavy_reduced_canopy_is_warned_with_its_drag_time_constant_and_the_limit(mass, drogue, main_time):
     case = load_case(ROCKET, [f"bodies.drogue_canopy.mass={mass}", f"bodies.main_canopy.mass={mass}"])
     for system, canopy, time in (("drogue", "drogue_canopy", drogue), ("main", "main_canopy", main_time)):
