@@ -47,6 +47,7 @@ from ..results.summary import (
 from .analysis import cluster_columns, cluster_summary, descent_summary, pendulum_columns, pendulum_summary
 from .deployment_watch import watch_deployments
 from .outputs import check_history, concatenate, derive_columns, places_last, scene
+from .phase_step import check_phase_step
 from .phases import boundaries, inflation_progress, initial_states, next_phase, retime_openings
 from .sequence import Sequence
 from .step_control import AdaptiveSteps, add_step_monitor, stability_step
@@ -204,6 +205,12 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
     model = plan.method.build(case, phase)
     if traces is not None:
         watch_deployments(model, case, traces, phase.inflation)
+    if plan.control is None and INTEGRATORS[plan.integrator].explicit:
+        try:
+            check_phase_step(model, case, plan.method, plan.step)
+        except SimulationError:
+            model.release()
+            raise
     if plan.control is None and INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
     touchdown = monitor = None

@@ -393,7 +393,7 @@ class AdaptiveSteps:
         self.cap, self.cause = cap
         steady = abs(self.cap - previous) <= CAP_STEADY * self.cap
         self.interval = min(2.0 * self.interval, CAP_INTERVAL_LONGEST) if steady and not self._schedules_moving() \
-            else CAP_INTERVAL   # a schedule's fraction counts for two intervals (``_drag_fraction``)
+            else CAP_INTERVAL   # a schedule's fraction counts for two intervals (``drag_area_fraction``)
         self.next_check, self.steps_since_check = t + self.interval, 0
         if CAP_FRACTION * self.cap < self.rule.smallest:
             what = f"at t = {t:.3f} s {self.cause} limits RK4 to {self.cap:.3g} s, below the smallest adaptive step " \
@@ -407,30 +407,14 @@ class AdaptiveSteps:
         """Each moving body's translational mode on all its lines (their stiffness and damping summed, as if they
         pulled along one direction, the damping as the method relaxes it at ``step``, s) with its drag's damping
         (``_drag_damping``): ``body_line_step_limit``."""
-        sums: dict = {}
+        lines = []
         for system in self.model.systems:
             stiffness, damping = self._constants[system.name]
             tau = self.method.relaxation(step, system)
             if tau > 0.0:   # the lines as the method damps them at that step
                 stiffness, damping = self._relaxed_system(system, tau)[1]
-            for line, k, c in zip(system.lines, stiffness, damping):
-                if line.body in self.model.massless:   # a reduced canopy: its own limit (``_confluence_limits``)
-                    continue
-                total = sums.setdefault(line.body, [0.0, 0.0])
-                total[0] += k
-                total[1] += c
-        for body, k, c in self._tethers:
-            total = sums.setdefault(body, [0.0, 0.0])
-            total[0] += k
-            total[1] += c
-        limits = []
-        for body, (mass, damping) in drag.items():
-            k, c = sums.get(body, (0.0, 0.0))
-            limit = body_line_step_limit(mass, [k], [c + damping])
-            what = "its lines and its drag" if body in sums and damping > 0.0 else "its lines" if body in sums \
-                else "its drag"
-            limits.append((limit, f"body {body} on {what}"))
-        return limits
+            lines.append((system, stiffness, damping))
+        return body_limits(line_sums(lines, self.model.massless, self._tethers), drag)
 
     def _rotation_limits(self) -> list:
         """Each moving body's pitching on its lines: the tension T of each line at its attach point p (from the centre
@@ -523,45 +507,14 @@ class AdaptiveSteps:
         return limits
 
     def _drag_damping(self) -> dict:
-        """Each moving body's mass (kg; with the air it carries along its axis when it has an apparent mass) and its
-        drag's damping rho V S C_A (N s/m, the derivative of the drag 0.5 rho V^2 S C_A by the air speed V, S the
-        drag area open until the next checks: a reefed canopy's fraction of it, ``_drag_fraction``; 0 without
-        aerodynamics)."""
-        case, stage = self.case, self.model.stage
+        """``drag_damping`` at the end of the last step."""
+        stage = self.model.stage
         rows = stage.settled_rows() if stage is not None else None
-        air = case.air_motion()
-        found = {}
-        for name in self.model.phase.bodies:
-            if name in self.model.massless:
-                continue
-            body = case.bodies[name]
-            mass, damping = body.mass, 0.0
-            aerodynamics = body.aerodynamics
-            if rows is not None and case.atmosphere is not None and aerodynamics is not None and aerodynamics.enabled:
-                row = rows[stage.row[name]]
-                x, y, z = row[ROW_POSITION]
-                altitude = case.start.altitude_scalar(x, y, z)
-                speed = math.dist(row[ROW_VELOCITY], air(x, y, z, altitude, self.last_end))
-                density = case.atmosphere.density(altitude)
-                if body.apparent_mass is not None:
-                    mass += body.apparent_mass.masses(density)[0][0]
-                fraction = self._drag_fraction(name)
-                damping = density * speed * fraction * aerodynamics.reference_area * largest_coefficient(aerodynamics)
-            found[name] = (mass, damping)
-        return found
 
-    def _drag_fraction(self, body: str) -> float:
-        """The largest drag-area fraction (-) of ``body`` until two check intervals from now: a drag-area schedule's
-        (reefed, disreefing), 1 for an opening whose fill is measured as it goes (``InflationProgress``: its future
-        is unknown) and a body without a schedule."""
-        member = self.model.aerodynamic_loads.get(body)
-        schedule = None if member is None else member.schedule
-        if schedule is None or not hasattr(schedule, "fraction"):
-            return 1.0
-        since = self.last_end - member.deployed_at
-        until = since + 2.0 * CAP_INTERVAL
-        return max([schedule(since), schedule(until)]
-                   + [f for time, f in zip(schedule.time, schedule.fraction) if since < time < until])
+        def state(name):
+            row = rows[stage.row[name]]
+            return row[ROW_POSITION], row[ROW_VELOCITY]
+        return drag_damping(self.model, self.case, self.last_end, None if rows is None else state)
 
     def _schedules_moving(self) -> bool:
         """Whether a drag-area schedule still changes (the caps are then checked every CAP_INTERVAL)."""
@@ -575,6 +528,82 @@ class AdaptiveSteps:
             return {}
         return {"smallest": self.smallest, "largest": self.largest, "mean": self.total / self.steps,
                 "count": self.steps}
+
+
+def drag_damping(model: Model, case: Case, t: float, state, fraction=None) -> dict:
+    """Each moving body of ``model``'s phase (a reduced canopy is none) at time ``t`` (s): its mass (kg; with the air
+    it carries along its axis when it has an apparent mass) and its drag's damping rho V S C_A (N s/m, the derivative
+    of the drag 0.5 rho V^2 S C_A by the air speed V, S the drag area open now and for two check intervals: a reefed
+    canopy's fraction of it, ``drag_area_fraction``), from ``state(name)``: its position (m) and velocity (m/s) in
+    the start frame; 0 without aerodynamics, and for every body when ``state`` is None (no state known).
+    ``fraction(model, name, t)``: the drag-area fraction (-) to take instead of ``drag_area_fraction``'s."""
+    fraction = drag_area_fraction if fraction is None else fraction
+    air = case.air_motion()
+    found = {}
+    for name in model.phase.bodies:
+        if name in model.massless:
+            continue
+        body = case.bodies[name]
+        mass, damping = body.mass, 0.0
+        aerodynamics = body.aerodynamics
+        if state is not None and case.atmosphere is not None and aerodynamics is not None and aerodynamics.enabled:
+            position, velocity = state(name)
+            x, y, z = position
+            altitude = case.start.altitude_scalar(x, y, z)
+            speed = math.dist(velocity, air(x, y, z, altitude, t))
+            density = case.atmosphere.density(altitude)
+            if body.apparent_mass is not None:
+                mass += body.apparent_mass.masses(density)[0][0]
+            open_share = fraction(model, name, t)
+            damping = density * speed * open_share * aerodynamics.reference_area * largest_coefficient(aerodynamics)
+        found[name] = (mass, damping)
+    return found
+
+
+def drag_area_fraction(model: Model, body: str, t: float) -> float:
+    """The largest drag-area fraction (-) of ``body`` from ``t`` (s) until two check intervals later: a drag-area
+    schedule's (reefed, disreefing), 1 for an opening whose fill is measured as it goes (``InflationProgress``: its
+    future is unknown) and a body without a schedule."""
+    member = model.aerodynamic_loads.get(body)
+    schedule = None if member is None else member.schedule
+    if schedule is None or not hasattr(schedule, "fraction"):
+        return 1.0
+    since = t - member.deployed_at
+    until = since + 2.0 * CAP_INTERVAL
+    return max([schedule(since), schedule(until)]
+               + [f for time, f in zip(schedule.time, schedule.fraction) if since < time < until])
+
+
+def line_sums(lines, massless, tethers) -> dict:
+    """Body -> [sum K (N/m), sum C (N s/m)] of the lines on it, as if they pulled along one direction: ``lines`` is
+    (system, stiffness, damping) per system, the line constants as the run flies them; a reduced canopy (in
+    ``massless``) has its own limit (``Method.state_limits``); ``tethers``: ``tether_constants``."""
+    sums: dict = {}
+    for system, stiffness, damping in lines:
+        for line, k, c in zip(system.lines, stiffness, damping):
+            if line.body in massless:
+                continue
+            total = sums.setdefault(line.body, [0.0, 0.0])
+            total[0] += k
+            total[1] += c
+    for body, k, c in tethers:
+        total = sums.setdefault(body, [0.0, 0.0])
+        total[0] += k
+        total[1] += c
+    return sums
+
+
+def body_limits(sums, drag: dict) -> list:
+    """(limit in s, cause) of each body in ``drag`` (``drag_damping``) on the lines summed in ``sums``
+    (``line_sums``) and its drag: ``body_line_step_limit``."""
+    limits = []
+    for body, (mass, damping) in drag.items():
+        k, c = sums.get(body, (0.0, 0.0))
+        limit = body_line_step_limit(mass, [k], [c + damping])
+        what = "its lines and its drag" if body in sums and damping > 0.0 else "its lines" if body in sums \
+            else "its drag"
+        limits.append((limit, f"body {body} on {what}"))
+    return limits
 
 
 def crosswise_inertia(inertia, lever) -> float:
