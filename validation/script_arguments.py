@@ -1,6 +1,6 @@
 """The validation scripts' command lines and endings, under the package's own rule for bad input: every argument is
 checked before anything is computed or written; an error is one line '<script>: <message>' with exit status 1 (never
-a traceback); Ctrl-C ends with status 130.
+a traceback); Ctrl-C ends with status 130, SIGTERM with 143.
 
 A script reads its command line (``arguments``) before its heavy imports, so ``--help`` and a bad value cost no
 import of numpy, Exudyn or the package; its ``__main__`` block hands ``main`` to ``run_script``."""
@@ -10,10 +10,12 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import signal
 import sys
 from pathlib import Path
 
 EXIT_INTERRUPTED = 130   # 128 + SIGINT, as the package's command line and shells report it
+EXIT_TERMINATED = 143    # 128 + SIGTERM
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -111,17 +113,41 @@ def no_arguments(script: str, doc: str, argv=None) -> None:
     OneLineParser(script, doc).parse_args(argv)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM to a script: the same clean stop as Ctrl-C, every ``finally`` run (a staged folder removed), exit
+    status 143. (The package's own handler is not used: importing the package first would choose the kernels before
+    a script that sets them.)"""
+
+
+_TERMINATED = []
+"""Set when SIGTERM came: a solve it landed in may turn it into an error of its own (Exudyn stops the integration)."""
+
+
+def _terminate(signum, frame) -> None:
+    _TERMINATED.append(signum)
+    raise Terminated("terminated (SIGTERM)")
+
+
 def run_script(main, *args) -> None:
-    """Run ``main(*args)`` as the script and exit with its status: an error as one line (status 1), Ctrl-C as 130."""
+    """Run ``main(*args)`` as the script and exit with its status: an error as one line (status 1), Ctrl-C as 130,
+    SIGTERM as 143."""
+    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, _terminate)
     prog = Path(sys.argv[0]).name
     try:
         status = main(*args)
-    except KeyboardInterrupt:
-        print(f"{prog}: interrupted", file=sys.stderr)
-        status = EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:   # (a run's solve raises the package's own Terminated, or one marked so)
+        terminated = _TERMINATED or getattr(exc, "terminated", False) or any(c.__name__ == "Terminated"
+                                                                             for c in type(exc).__mro__)
+        status = _stopped(prog, bool(terminated))
     except Exception as exc:   # every error of a script ends as one line (SystemExit passes: it is one already)
-        status = f"{prog}: {one_line(exc)}"
+        status = _stopped(prog, True) if _TERMINATED else f"{prog}: {one_line(exc)}"
     sys.exit(status)
+
+
+def _stopped(prog: str, terminated: bool) -> int:
+    print(f"{prog}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+    return EXIT_TERMINATED if terminated else EXIT_INTERRUPTED
 
 
 def one_line(exc: BaseException, limit: int = 300) -> str:

@@ -138,6 +138,25 @@ def test_an_error_while_a_script_runs_is_one_line(tmp_path, raised, status, line
     assert (done.returncode, done.stderr) == (status, line + "\n")
 
 
+def test_a_terminated_script_leaves_its_staged_folder_nowhere(tmp_path):
+    """SIGTERM while a study's folder is being built: exit status 143, one line, the old folder as it was and no
+    temporary folder beside it."""
+    (tmp_path / "study").mkdir()
+    (tmp_path / "study" / "runs.csv").write_text("kept\n")
+    probe = tmp_path / "probe.py"
+    probe.write_text("import os, signal, time\nfrom pathlib import Path\n\nfrom script_arguments import run_script\n"
+                     "from script_files import staged_folder\n\n\ndef main():\n"
+                     f"    with staged_folder(Path({str(tmp_path / 'study')!r}), copy=True) as staging:\n"
+                     "        (staging / 'runs.csv').write_text('half')\n        os.kill(os.getpid(), signal.SIGTERM)\n"
+                     "        time.sleep(30)\n\n\nrun_script(main)\n")
+    environment = cli_environment()
+    environment["PYTHONPATH"] += f"{os.pathsep}{VALIDATION}"
+    done = subprocess.run([sys.executable, str(probe)], capture_output=True, text=True, timeout=60, env=environment)
+    assert (done.returncode, done.stderr) == (143, "probe.py: terminated\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["probe.py", "study"]
+    assert (tmp_path / "study" / "runs.csv").read_text() == "kept\n"
+
+
 def test_a_staged_folder_replaces_the_old_one_only_when_complete(tmp_path):
     """A study's or fit's folder built beside its place: an error leaves the old folder byte for byte; success puts
     the new one in place without the lock file a study or fit leaves, and nothing else beside it."""
