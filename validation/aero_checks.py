@@ -20,8 +20,12 @@ d = 1.5 m, I = 10 kg m^2 (transverse), I_xx = 5 kg m^2. Writes validation/output
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import numpy as np
 
@@ -146,4 +150,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

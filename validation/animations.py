@@ -14,15 +14,19 @@ drawn slack.
 
 from __future__ import annotations
 
-import sys
 import tempfile
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.physics.rotations import attitude_matrix
-from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.results.io import atomic_write_text, atomic_writer
 from pchute_exudyn.results.result import Result
 from pchute_exudyn.views.animation import SLACK, Animation, Run
 
@@ -90,7 +94,8 @@ def main() -> int:
             animation.save(OUT / f"{name}.gif")
             for t in stills:
                 from PIL import Image
-                Image.fromarray(animation.frame(t)).save(OUT / f"{name}_frame_{t:g}s.png")
+                with atomic_writer(OUT / f"{name}_frame_{t:g}s.png", "wb") as handle:
+                    Image.fromarray(animation.frame(t)).save(handle, format="PNG")
             times = (stills[0], 0.5 * (stills[0] + stills[1]), stills[1])
             report += [f"## {name}: {len(animation.times)} frames, {start:g} s to {end:g} s at {speed:g}x", "",
                        "| t (s) | body | drawn body x axis | from the attitude columns | angle (deg) |",
@@ -102,4 +107,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -12,6 +12,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
+
 from pchute_exudyn import load_case, simulate
 from pchute_exudyn.errors import PchuteError
 from pchute_exudyn.results.io import atomic_write_text
@@ -92,4 +97,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

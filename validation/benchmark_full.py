@@ -10,24 +10,36 @@ All runs happen in one process, one after the other, so the ratios compare like 
 
 from __future__ import annotations
 
-import argparse
 import platform
 from pathlib import Path
+
+from script_arguments import OneLineParser, output_path, positive, run_script
+
+HERE = Path(__file__).resolve().parent
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--duration", type=positive, default=60.0, help="simulated time in s (default 60)")
+    parser.add_argument("--out", type=output_path, default=str(HERE / "output" / "benchmark_full.md"), help="table file")
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 import pchute_exudyn as pc
 from pchute_exudyn.results.compare import compare_results
 from pchute_exudyn.results.io import atomic_write_text
 
-HERE = Path(__file__).resolve().parent
 RUNS = [("rk4", 1e-4, "symbolic"), ("rk4", 2e-4, "symbolic"), ("rk4", 3e-4, "symbolic"),
         ("implicit", 1e-3, "symbolic"), ("implicit", 1e-2, "symbolic"), ("rk4", 1e-4, "python")]
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=60.0, help="simulated time in s (default 60)")
-    parser.add_argument("--out", default=str(HERE / "output" / "benchmark_full.md"), help="table file")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     case = pc.load_case(HERE.parent / "cases" / "mer" / "case1.toml")
     results = []
     for integrator, step, law in RUNS:
@@ -62,4 +74,4 @@ def main(argv=None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

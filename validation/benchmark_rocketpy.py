@@ -24,7 +24,6 @@ Writes validation/output/rocketpy/benchmark.md and benchmark.json. Needs RocketP
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import importlib.util
 import json
@@ -32,22 +31,38 @@ import math
 import os
 import platform
 import statistics
-import sys
 import time
 import warnings
 from importlib.metadata import version
 from pathlib import Path
 
-import numpy as np
+from script_arguments import OneLineParser, count, output_path, run_script
 
 HERE = Path(__file__).resolve().parent
+OUT = HERE / "output" / "rocketpy"
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--repeat", type=count, default=5, help="interleaved rounds; medians are kept (default 5)")
+    parser.add_argument("--out", type=output_path, default=OUT, help="output folder (default validation/output/rocketpy)")
+    args = parser.parse_args(argv)
+    if importlib.util.find_spec("rocketpy") is None:
+        parser.refuse('rocketpy is not installed: pip install -e ".[bench]"')
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
+import numpy as np
+
 ROOT = HERE.parent
 CASE = ROOT / "cases" / "rocket" / "dual_deploy.toml"
-OUT = HERE / "output" / "rocketpy"
 ROCKET_RADIUS = 0.075                  # m: the case's cylinder, 0.15 m across (no drag: it only sizes RocketPy's rocket)
 DROGUE_ALTITUDES = (3500.0, 3000.0, 2500.0, 2000.0)   # m above sea level, steady under the drogue
 MAIN_ALTITUDES = (1550.0, 1450.0)                     # m above sea level, steady under the main (and the drogue)
-MISSING = 'benchmark_rocketpy: rocketpy is not installed: pip install -e ".[bench]"'
 
 
 # -- the case, as RocketPy takes it -----------------------------------------------------------------------------------
@@ -562,14 +577,7 @@ def finite(value):
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=5, help="interleaved rounds; medians are kept (default 5)")
-    parser.add_argument("--out", type=Path, default=OUT, help="output folder (default validation/output/rocketpy)")
-    args = parser.parse_args(argv)
-    if importlib.util.find_spec("rocketpy") is None:
-        print(MISSING)
-        return 2
-    args.repeat = max(1, args.repeat)
+    args = arguments(argv)
     import pchute_exudyn as pc
     from pchute_exudyn.results.io import atomic_write_text
     case = pc.load_case(CASE)
@@ -587,4 +595,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

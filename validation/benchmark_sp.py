@@ -22,7 +22,6 @@ Writes validation/output/benchmark_sp.md (the budget section only with --budget)
 
 from __future__ import annotations
 
-import argparse
 import collections
 import math
 import os
@@ -34,6 +33,28 @@ import tempfile
 import time
 from pathlib import Path
 
+from script_arguments import OneLineParser, count, existing_folder, output_path, positive, run_script
+
+HERE = Path(__file__).resolve().parent
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--duration", type=positive, default=60.0, help="MER simulated time in s (default 60)")
+    parser.add_argument("--repeat", type=count, default=3, help="interleaved rounds; the median is kept (default 3)")
+    parser.add_argument("--budget", action="store_true", help="add the per-stage budget (needs py-spy)")
+    parser.add_argument("--before", type=existing_folder, default=None, help="a checkout of the code before, for the budget")
+    parser.add_argument("--out", type=output_path, default=str(HERE / "output" / "benchmark_sp.md"))
+    args = parser.parse_args(argv)
+    if args.budget and shutil.which("py-spy") is None:
+        parser.refuse("--budget: py-spy is not installed (pip install py-spy)")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
 import numpy as np
 
 import pchute_exudyn as pc
@@ -41,7 +62,6 @@ from pchute_exudyn.results.compare import compare_results
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.run.simulation import versions
 
-HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 MER = ROOT / "cases" / "mer" / "case1.toml"
 PA1 = ROOT / "cases" / "cev_pa1.toml"
@@ -369,13 +389,7 @@ def commit_of(checkout: Path) -> str:
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=60.0, help="MER simulated time in s (default 60)")
-    parser.add_argument("--repeat", type=int, default=3, help="interleaved rounds; the median is kept (default 3)")
-    parser.add_argument("--budget", action="store_true", help="add the per-stage budget (needs py-spy)")
-    parser.add_argument("--before", type=Path, default=None, help="a checkout of the code before, for the budget")
-    parser.add_argument("--out", default=str(HERE / "output" / "benchmark_sp.md"))
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     cases = {"mer": pc.load_case(MER), "pa1": pc.load_case(PA1)}
     budget_rows = []
     if args.budget:   # first: it needs py-spy, and should fail before the long timings
@@ -417,4 +431,4 @@ def main(argv=None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -14,7 +14,6 @@ validation/output/benchmark_steps.md.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import statistics
@@ -22,6 +21,21 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from script_arguments import OneLineParser, count, existing_folder, run_script
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--before", type=existing_folder, required=True, help="a checkout of the code before")
+    parser.add_argument("--repeat", type=count, default=5)
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 from pchute_exudyn.results.io import atomic_write_text
 
@@ -93,10 +107,7 @@ def table(runs: dict, reference: str) -> list:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", type=Path, required=True, help="a checkout of the code before")
-    parser.add_argument("--repeat", type=int, default=5)
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     before = args.before.resolve()
     descent = interleaved({"before: fixed 1e-2 s (its default)": (before, DESCENT, "none"),
                            "now: adaptive steps (the default)": (ROOT, DESCENT, "none")}, args.repeat)
@@ -130,4 +141,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

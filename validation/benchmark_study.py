@@ -11,7 +11,6 @@ Writes validation/output/benchmark_study.md.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import dataclasses
 import os
@@ -19,12 +18,31 @@ import tempfile
 import time
 from pathlib import Path
 
+from script_arguments import OneLineParser, count, output_path, positive, run_script
+
+HERE = Path(__file__).resolve().parent
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--runs", type=count, default=40, help="Monte Carlo runs (default 40)")
+    parser.add_argument("--duration", type=positive, default=60.0, help="simulated time per run in s (default 60)")
+    parser.add_argument("--repeat", type=count, default=1, help="alternate the worker counts this many times")
+    parser.add_argument("--dask", action="store_true", help="also time a Dask LocalCluster of 2 workers")
+    parser.add_argument("--out", type=output_path, default=str(HERE / "output" / "benchmark_study.md"))
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.run.simulation import versions
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.runner import dask_executor
 
-HERE = Path(__file__).resolve().parent
 # per-run columns that legitimately differ between two executions of the same run
 VOLATILE = {"wall_time", "run_time"}   # the solve, and the run as a whole in its worker
 
@@ -52,13 +70,7 @@ def timed(spec, label: str, root: Path, workers: int | None = None, dask: bool =
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=40, help="Monte Carlo runs (default 40)")
-    parser.add_argument("--duration", type=float, default=60.0, help="simulated time per run in s (default 60)")
-    parser.add_argument("--repeat", type=int, default=1, help="alternate the worker counts this many times")
-    parser.add_argument("--dask", action="store_true", help="also time a Dask LocalCluster of 2 workers")
-    parser.add_argument("--out", default=str(HERE / "output" / "benchmark_study.md"))
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     spec = dataclasses.replace(load_study(HERE / "studies" / "mer_monte_carlo.toml"), runs=args.runs,
                                duration=args.duration, histories=False)
     configurations = [("1 worker (process pool)", dict(workers=1)), ("2 workers (process pool)", dict(workers=2))]
@@ -98,4 +110,4 @@ def main(argv=None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

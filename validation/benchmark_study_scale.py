@@ -25,14 +25,43 @@ import sys
 import tempfile
 from pathlib import Path
 
-from script_arguments import OneLineParser
-
-from pchute_exudyn.results.io import atomic_write_text
-from pchute_exudyn.study.statistics import percentile_table
+from script_arguments import OneLineParser, existing_folder, run_script
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 STUDIES = {"pa1": HERE / "studies" / "pa1_footprint.toml", "airdrop": HERE / "studies" / "airdrop_footprint.toml"}
+
+
+def check_arguments(parser: OneLineParser, args) -> None:
+    """Every argument, before anything runs or is written: one line naming the bad one (exit status 1)."""
+    parser.check_counts(args)
+    before = args.before
+    if before is not None:
+        if not (before / "pchute_exudyn" / "__init__.py").is_file():
+            parser.refuse(f"--before {before}: not a checkout of pchute-exudyn (no pchute_exudyn/__init__.py); make "
+                          "one with git worktree add DIR main")
+        if before.resolve() == ROOT:
+            parser.refuse(f"--before {before}: is this checkout; give the code before")
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--study", choices=sorted(STUDIES), default="pa1", help="which footprint study (default pa1)")
+    parser.add_argument("--runs", type=int, default=2000, help="draws of the study (default 2000)")
+    parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
+    parser.add_argument("--before", type=existing_folder, default=None, help="checkout of the code before")
+    args = parser.parse_args(argv)
+    check_arguments(parser, args)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
+from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.study.statistics import percentile_table
+
 TARGET = {"pa1": 60.0}
 """s: the issue's wall-time target of the 2000-run study on 2 workers."""
 OUTCOMES = ("final_east", "final_north", "touchdown_time", "touchdown_speed")
@@ -67,18 +96,6 @@ print(json.dumps({
     "outcomes": {key: [r[key] for r in ok if r.get("touchdown_time") is not None] for key in outcomes},
     "package": str(Path(pchute_exudyn.__file__).parent)}))
 """
-
-
-def check_arguments(parser: OneLineParser, args) -> None:
-    """Every argument, before anything runs or is written: one line naming the bad one (exit status 1)."""
-    parser.check_counts(args)
-    before = args.before
-    if before is not None:
-        if not (before / "pchute_exudyn" / "__init__.py").is_file():
-            parser.refuse(f"--before {before}: not a checkout of pchute-exudyn (no pchute_exudyn/__init__.py); make "
-                          "one with git worktree add DIR main")
-        if before.resolve() == ROOT:
-            parser.refuse(f"--before {before}: is this checkout; give the code before")
 
 
 def side(code: Path, study: Path, runs: int, workers: int) -> dict:
@@ -151,13 +168,7 @@ def report(args, now: dict, before: dict | None) -> list:
 
 
 def main(argv=None) -> int:
-    parser = OneLineParser(__file__, __doc__.splitlines()[0])
-    parser.add_argument("--study", choices=sorted(STUDIES), default="pa1", help="which footprint study (default pa1)")
-    parser.add_argument("--runs", type=int, default=2000, help="draws of the study (default 2000)")
-    parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
-    parser.add_argument("--before", type=Path, default=None, help="checkout of the code before")
-    args = parser.parse_args(argv)
-    check_arguments(parser, args)
+    args = arguments(argv)
     study = STUDIES[args.study]
     before = side(args.before, study, args.runs, args.workers) if args.before is not None else None
     now = side(ROOT, study, args.runs, args.workers)
@@ -168,4 +179,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -11,10 +11,15 @@ fits side by side and checks the calibrated case file by running it.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
+
 import numpy as np
+from script_files import staged_folder
 
 import pchute_exudyn as pc
 from pchute_exudyn.case.files import tomllib
@@ -108,8 +113,9 @@ def main() -> int:
     fitted = {}
     for name in FITS:
         spec = load_fit(HERE / "fits" / f"{name}.toml")
-        result = run_fit(spec, OUT / name)
-        write_report(spec, result, OUT / name)
+        with staged_folder(OUT / name, copy=True) as folder:   # resumes from the committed records; moved in whole
+            result = run_fit(spec, folder)
+            write_report(spec, result, folder)
         fitted[name] = (spec, result)
         descent, touchdown = result.predictions_fitted
         for i, key in enumerate(result.keys):
@@ -141,4 +147,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

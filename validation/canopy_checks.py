@@ -24,15 +24,20 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 import tempfile
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from pchute_exudyn import load_case, simulate
 from pchute_exudyn.physics.inflation import Inflation, InflationStage, nominal_diameter
+from pchute_exudyn.results.io import atomic_write_text
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "tests" / "cases"
@@ -299,11 +304,11 @@ def main() -> int:
     OUT.mkdir(parents=True, exist_ok=True)
     text = ("# Canopy physics: closed forms through the engine\n\nWritten by `python validation/canopy_checks.py` "
             "(see its docstring for each check).\n\n" + table(rows) + "\n")
-    (OUT / "closed_forms.md").write_text(text)
-    (OUT / "closed_forms.json").write_text(json.dumps(rows, indent=1, allow_nan=False) + "\n")
+    atomic_write_text(OUT / "closed_forms.md", text)
+    atomic_write_text(OUT / "closed_forms.json", json.dumps(rows, indent=1, allow_nan=False) + "\n")
     print(text)
     return 0 if all(r["relative_error"] <= r["tolerance"] for r in rows) else 1
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

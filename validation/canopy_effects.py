@@ -16,8 +16,12 @@ Run:  python validation/canopy_effects.py        # about 3 minutes; writes valid
 from __future__ import annotations
 
 import statistics
-import sys
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import matplotlib
 
@@ -26,7 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from pchute_exudyn import load_case, simulate  # noqa: E402
-from pchute_exudyn.results.io import atomic_write_text  # noqa: E402
+from pchute_exudyn.results.io import atomic_write_text, atomic_writer  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "validation" / "output" / "canopy"
@@ -104,7 +108,8 @@ def plot_openings(runs: dict) -> None:
         ax.legend(loc="upper right")
     fig.suptitle("PA1 with fill-constant openings: drag-area fraction and riser loads (peak of each stage marked)")
     fig.tight_layout()
-    fig.savefig(OUT / "opening_loads.png", dpi=110)
+    with atomic_writer(OUT / "opening_loads.png", "wb") as handle:
+        fig.savefig(handle, format="png", dpi=110)
     plt.close(fig)
 
 
@@ -151,7 +156,8 @@ def mer_apparent_mass(lines: list) -> None:
     ax.grid(True, alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(OUT / "apparent_mass_mer.png", dpi=110)
+    with atomic_writer(OUT / "apparent_mass_mer.png", "wb") as handle:
+        fig.savefig(handle, format="png", dpi=110)
     plt.close(fig)
 
 
@@ -214,4 +220,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

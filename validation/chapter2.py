@@ -11,9 +11,13 @@ against Exudyn's own linearisation), ``fig2_2_analytic_position.png`` and ``fig2
 from __future__ import annotations
 
 import math
-import sys
 import time
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import numpy as np
 
@@ -215,4 +219,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -16,12 +16,42 @@ Writes validation/output/cluster/speed.md.
 
 from __future__ import annotations
 
-import argparse
 import csv
-import sys
 import tempfile
 import time
 from pathlib import Path
+
+from script_arguments import OneLineParser, run_script, workers
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+AIRDROP = ROOT / "cases" / "airdrop" / "cluster_600m.toml"
+STUDY = HERE / "studies" / "airdrop_footprint.toml"
+REFERENCE_STEP = 1e-3
+"""s: the reference's fixed step."""
+
+
+def arguments(argv=None):
+    """The command line, checked before anything is imported, run or written (one line and exit status 1)."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--runs", type=int, default=200, help="draws of each study (at least 20)")
+    parser.add_argument("--workers", type=workers, default=2, help="local worker processes of each study (at least 1)")
+    parser.add_argument("--fixed-step", type=float, default=1e-2,
+                        help="s: the fixed step of the coarser run and of the fixed-step study, in (1e-3, 0.05]")
+    args = parser.parse_args(argv)
+    if args.runs < 20:
+        parser.refuse(f"--runs {args.runs}: at least 20 draws (bootstrap intervals of 1st and "
+                      "99th percentiles need them)")
+    if not REFERENCE_STEP < args.fixed_step <= 0.05:
+        parser.refuse(f"--fixed-step {args.fixed_step:g}: must be in ({REFERENCE_STEP:g}, 0.05] s")
+    for path in (AIRDROP, STUDY):
+        if not path.is_file():
+            parser.refuse(f"{path}: missing")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 import numpy as np
 
@@ -30,13 +60,7 @@ from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.study import load_study, run_study
 from pchute_exudyn.study.statistics import percentile_table
 
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
 OUT = HERE / "output" / "cluster" / "speed.md"
-AIRDROP = ROOT / "cases" / "airdrop" / "cluster_600m.toml"
-STUDY = HERE / "studies" / "airdrop_footprint.toml"
-REFERENCE_STEP = 1e-3
-"""s: the reference's fixed step."""
 LOAD_TOLERANCE = 0.02
 """Largest relative difference (-) of a peak load from the reference's (the issue's 2 %)."""
 SHARE_WINDOW = 5.0
@@ -61,25 +85,6 @@ LOAD_SHARE = (
     "of step shifts: the largest pointwise share difference is shown beside it, for every run.")
 
 
-def arguments(argv) -> argparse.Namespace:
-    """The command line, checked before anything is run or written (one line and exit status 2 on bad input)."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=200, help="draws of each study (at least 20)")
-    parser.add_argument("--workers", type=int, default=2, help="local worker processes of each study (at least 1)")
-    parser.add_argument("--fixed-step", type=float, default=1e-2,
-                        help="s: the fixed step of the coarser run and of the fixed-step study, in (1e-3, 0.05]")
-    args = parser.parse_args(argv)
-    if args.runs < 20:
-        raise SystemExit(f"cluster_speed: --runs {args.runs}: at least 20 draws (bootstrap intervals of 1st and "
-                         "99th percentiles need them)")
-    if args.workers < 1:
-        raise SystemExit(f"cluster_speed: --workers {args.workers}: at least 1")
-    if not REFERENCE_STEP < args.fixed_step <= 0.05:
-        raise SystemExit(f"cluster_speed: --fixed-step {args.fixed_step:g}: must be in ({REFERENCE_STEP:g}, 0.05] s")
-    for path in (AIRDROP, STUDY):
-        if not path.is_file():
-            raise SystemExit(f"cluster_speed: {path}: missing")
-    return args
 
 
 def riser_shares(result) -> tuple:
@@ -238,4 +243,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -11,10 +11,15 @@ per-run solve times and whether the tables agree.
 from __future__ import annotations
 
 import csv
-import shutil
-import sys
 import tempfile
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
+
+from script_files import staged_folder
 
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.run.simulation import versions
@@ -40,18 +45,17 @@ def solve_time(folder: Path) -> float:
 
 def main(argv=None) -> int:
     spec = load_study(STUDY)
-    if OUT.exists():
-        shutil.rmtree(OUT)
-    pool = run_study(spec, OUT, workers=2)
-    with tempfile.TemporaryDirectory() as scratch:
-        executor, close = dask_executor(local_workers=2)
-        try:
-            dask = run_study(spec, Path(scratch) / "dask", executor=executor)
-        finally:
-            close()
-        same = table(Path(scratch) / "dask") == table(OUT)
-        dask_solve = solve_time(Path(scratch) / "dask")
-    paths = study_report(OUT)
+    with staged_folder(OUT) as staging:   # a fresh study, moved over the committed one only when complete
+        pool = run_study(spec, staging, workers=2)
+        with tempfile.TemporaryDirectory() as scratch:
+            executor, close = dask_executor(local_workers=2)
+            try:
+                dask = run_study(spec, Path(scratch) / "dask", executor=executor)
+            finally:
+                close()
+            same = table(Path(scratch) / "dask") == table(staging)
+            dask_solve = solve_time(Path(scratch) / "dask")
+        paths = {name: OUT / Path(path).relative_to(staging) for name, path in study_report(staging).items()}
     rows = table(OUT)
     failed = sum(row["status"] != "ok" for row in rows)
     v = versions()
@@ -80,4 +84,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -28,22 +28,52 @@ docs/validation/flight_logs.md.
 
 from __future__ import annotations
 
-import argparse
 import hashlib
+import importlib.util
 import json
 import math
 import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
+import tomllib
+from script_arguments import OneLineParser, existing_folder, output_path, run_script, workers
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
+OUT = HERE / "output" / "flight_logs"
+FLIGHTS = HERE / "flights" / "flights.toml"
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--logs", type=existing_folder, required=True, help="folder of the published logs")
+    parser.add_argument("--flight", action="append", help="a flights.toml table (default: all)")
+    parser.add_argument("--no-fit", action="store_true", help="skip the fits")
+    parser.add_argument("--workers", type=workers, default=3, help="each fit's worker processes (default 3)")
+    parser.add_argument("--out", type=output_path, default=OUT)
+    args = parser.parse_args(argv)
+    with FLIGHTS.open("rb") as handle:
+        flights = tomllib.load(handle)["flights"]
+    for name in args.flight or list(flights):
+        if name not in flights:
+            parser.refuse(f"--flight {name}: no such flight in {FLIGHTS.relative_to(ROOT)} (it has {', '.join(flights)})")
+        if not (args.logs / flights[name]["log"]).is_file():
+            parser.refuse(f"--logs {args.logs}: has no {flights[name]['log']} (the log of flight {name})")
+    if importlib.util.find_spec("rocketpy") is None:
+        parser.refuse('rocketpy is not installed: pip install -e ".[bench]"')
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
+import numpy as np
+
 sys.path.insert(0, str(HERE))
 from flight_rocketpy import drag_area, fly_rocketpy, load_flights  # noqa: E402
 
-OUT = HERE / "output" / "flight_logs"
 PAGE = ROOT / "docs" / "validation" / "flight_logs.md"
 AIR_STEP = 20.0
 """m: the day's air table's spacing (the density changes 0.2 % over it; the table interpolates log-linearly)."""
@@ -75,9 +105,11 @@ def day_air(log, flight: dict) -> dict:
 
 
 def write_air(air: dict, path: Path) -> None:
+    from pchute_exudyn.results.io import atomic_write_text
+
     rows = ["altitude,density,temperature"]   # m, kg/m^3, K (case-format.md)
     rows += [f"{a:.3f},{d:.9g},{t:.6g}" for a, d, t in zip(air["altitude"], air["density"], air["temperature"])]
-    path.write_text("\n".join(rows) + "\n")
+    atomic_write_text(path, "\n".join(rows) + "\n")
 
 
 def write_case(name: str, flight: dict, start_height: float, main_height: float, folder: Path) -> Path:
@@ -95,8 +127,10 @@ def write_case(name: str, flight: dict, start_height: float, main_height: float,
     subprocess.run([sys.executable, "-m", "pchute_exudyn", "new", "--dual-deploy", str(path), "--overwrite",
                     "--body-drag", "on", "--drogue-after-main", "attached", *arguments], check=True,
                    capture_output=True)
+    from pchute_exudyn.results.io import atomic_write_text
+
     text = path.read_text()
-    path.write_text(text.replace('[atmosphere]\nmodel = "us76"', '[atmosphere]\nmodel = "table"   # the day\'s air, '
+    atomic_write_text(path, text.replace('[atmosphere]\nmodel = "us76"', '[atmosphere]\nmodel = "table"   # the day\'s air, '
                                  'from the log (validation/flight_logs.py)\nfile = "air.csv"'))
     return path
 
@@ -113,7 +147,9 @@ def fit(folder: Path, case: Path, log_path: Path, flight: dict, workers: int) ->
         rows += [f'[free."{key}"]', f"low = {FIT_RANGE[0] * area:.6g}", f"high = {FIT_RANGE[1] * area:.6g}", ""]
     rows += ['[free."main.deploy_trigger.lag"]', "low = 0.0", f"high = {LAG_RANGE:g}", "initial = 0.5", ""]
     rows += ["[[targets]]", f'log = "{log_path.resolve()}"', f"std = {FIT_STD}"]
-    (folder / "fit.toml").write_text("\n".join(rows) + "\n")
+    from pchute_exudyn.results.io import atomic_write_text
+
+    atomic_write_text(folder / "fit.toml", "\n".join(rows) + "\n")
     subprocess.run([sys.executable, "-m", "pchute_exudyn", "fit", str(folder / "fit.toml"), "--out",
                     str(folder / "fit"), "--workers", str(workers)], check=True, capture_output=True)
     outcome = json.loads((folder / "fit" / "fit.json").read_text())
@@ -127,6 +163,7 @@ def one_flight(name: str, flight: dict, logs: Path, out: Path, do_fit: bool, wor
     from pchute_exudyn import load_case, simulate
     from pchute_exudyn.physics.barometric import geometric_heights
     from pchute_exudyn.results.flight_log import read_flight_log
+    from pchute_exudyn.results.io import atomic_write_text
     from pchute_exudyn.results.log_compare import compare_with_log
 
     log_path = logs / flight["log"]
@@ -144,7 +181,7 @@ def one_flight(name: str, flight: dict, logs: Path, out: Path, do_fit: bool, wor
     result = simulate(load_case(case), "sp")
     comparison = compare_with_log(result, log, str(case), str(log_path), air["density_at"], "the day's, from the log",
                                   flight["pad_gps_altitude"])
-    (folder / "comparison.md").write_text(comparison.table())
+    atomic_write_text(folder / "comparison.md", comparison.table())
     flown = dict(flight, apogee_height=float(apogee), main_height=float(main), bands=comparison.bands)
     rocketpy = fly_rocketpy(flown, {"height": air["altitude"], "pressure": air["pressure"],
                                     "temperature": air["temperature"]})
@@ -261,13 +298,7 @@ def rms_error(row: dict, side: str) -> float:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--logs", type=Path, required=True, help="folder of the published logs")
-    parser.add_argument("--flight", action="append", help="a flights.toml table (default: all)")
-    parser.add_argument("--no-fit", action="store_true", help="skip the fits")
-    parser.add_argument("--workers", type=int, default=3, help="each fit's worker processes (default 3)")
-    parser.add_argument("--out", type=Path, default=OUT)
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     flights = load_flights()
     rows = []
     for name in args.flight or list(flights):
@@ -280,10 +311,12 @@ def main(argv=None) -> int:
     text = page(rows, command)
     print(text)
     if args.flight is None:
-        PAGE.write_text(text)
-        (args.out / "summary.json").write_text(json.dumps(rows, indent=1, default=float, allow_nan=False) + "\n")
+        from pchute_exudyn.results.io import atomic_write_text
+
+        atomic_write_text(PAGE, text)
+        atomic_write_text(args.out / "summary.json", json.dumps(rows, indent=1, default=float, allow_nan=False) + "\n")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -25,9 +25,40 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from script_arguments import OneLineParser, run_script
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+OUT = HERE / "output" / "flown_loads"
+
+
+def check_arguments(parser: OneLineParser, args) -> None:
+    """Every argument, before anything is computed or written: one line naming the bad one (exit status 1)."""
+    parser.check_counts(args)
+    if args.compare:
+        missing = [name for name in ("calibration.json", "predictions.json") if not (OUT / name).is_file()]
+        if missing:
+            parser.refuse(f"--compare: {OUT.relative_to(ROOT) / missing[0]} is missing: run without --compare first "
+                          "(it calibrates and predicts)")
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--runs", type=int, default=400, help="Monte Carlo runs per flight (default 400)")
+    parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument("--check", action="store_true", help="only check that msl.toml holds the calibration")
+    parser.add_argument("--compare", action="store_true", help="only write the page from predictions.json")
+    args = parser.parse_args(argv)
+    check_arguments(parser, args)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
 import numpy as np
 from flown_loads_page import page
-from script_arguments import OneLineParser
 
 from pchute_exudyn import load_case, simulate
 from pchute_exudyn.case.files import load_merged
@@ -38,9 +69,6 @@ from pchute_exudyn.results.io import atomic_write_text, atomic_writer
 from pchute_exudyn.study import load as load_runs
 from pchute_exudyn.study import load_study, run_study
 
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
-OUT = HERE / "output" / "flown_loads"
 HELD_OUT = HERE / "flown_loads" / "held_out.json"
 PAGE = ROOT / "docs" / "validation" / "flown_loads.md"
 WINDOW = 1.5          # s after line stretch: the first peak (fill about 0.5 s, overinflation decay 0.3 s)
@@ -216,24 +244,8 @@ def flight_inputs(key: str, spread: float) -> dict:
             "nominal": first_peak(key), "unit": "N"}
 
 
-def check_arguments(parser: OneLineParser, args) -> None:
-    """Every argument, before anything is computed or written: one line naming the bad one (exit status 1)."""
-    parser.check_counts(args)
-    if args.compare:
-        missing = [name for name in ("calibration.json", "predictions.json") if not (OUT / name).is_file()]
-        if missing:
-            parser.refuse(f"--compare: {OUT.relative_to(ROOT) / missing[0]} is missing: run without --compare first "
-                          "(it calibrates and predicts)")
-
-
 def main(argv=None) -> int:
-    parser = OneLineParser(__file__, __doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=400, help="Monte Carlo runs per flight (default 400)")
-    parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
-    parser.add_argument("--check", action="store_true", help="only check that msl.toml holds the calibration")
-    parser.add_argument("--compare", action="store_true", help="only write the page from predictions.json")
-    args = parser.parse_args(argv)
-    check_arguments(parser, args)
+    args = arguments(argv)
     try:
         return _main(args)
     except (PchuteError, OSError, ValueError) as exc:
@@ -278,4 +290,4 @@ def write_page() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

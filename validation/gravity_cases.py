@@ -11,8 +11,12 @@ MER's ellipsoid (thesis Table 3.3) is not the published IAU one, so its spin can
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import numpy as np
 
@@ -73,4 +77,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

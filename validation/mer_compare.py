@@ -20,10 +20,23 @@ instead of recomputed (their wall times are those measured when they ran).
 
 from __future__ import annotations
 
-import argparse
-import sys
 import time
 from pathlib import Path
+
+from script_arguments import OneLineParser, run_script
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--cases", type=int, nargs="+", default=[1, 2, 3, 4, 5, 6], choices=range(1, 7))
+    parser.add_argument("--reuse", action="store_true", help="read runs already saved instead of recomputing")
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 import numpy as np
 
@@ -157,10 +170,7 @@ NOTES = """Notes (measured with this script and `validation/output/mer/case*_ten
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", type=int, nargs="+", default=[1, 2, 3, 4, 5, 6], choices=range(1, 7))
-    parser.add_argument("--reuse", action="store_true", help="read runs already saved instead of recomputing")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     OUT.mkdir(parents=True, exist_ok=True)
     rows = []
     for number in args.cases:
@@ -176,4 +186,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

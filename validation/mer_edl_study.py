@@ -10,14 +10,27 @@ deployment box figure); the Dask study to a temporary folder. Writes validation/
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
-import shutil
 import tempfile
 import time
 from pathlib import Path
 
+from script_arguments import OneLineParser, count, run_script
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--runs", type=count, default=200, help="Monte Carlo runs (default 200)")
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
 from benchmark_study import outputs
+from script_files import staged_folder
 
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.run.simulation import versions
@@ -30,26 +43,24 @@ OUT = HERE / "output" / "studies" / "mer_edl"
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=200, help="Monte Carlo runs (default 200)")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     spec = load_study(HERE / "studies" / "mer_edl.toml")
     if args.runs != spec.runs:
         spec = dataclasses.replace(spec, runs=args.runs)
-    shutil.rmtree(OUT, ignore_errors=True)
-    started = time.perf_counter()
-    pool = run_study(spec, OUT, workers=2, progress=False)
-    pool_wall = time.perf_counter() - started
-    with tempfile.TemporaryDirectory(prefix="pchute_mer_edl_dask_") as root:
-        executor, close = dask_executor(local_workers=2)
+    with staged_folder(OUT) as staging:   # a fresh study, moved over the committed one only when complete
         started = time.perf_counter()
-        try:
-            dask = run_study(spec, Path(root) / "dask", executor=executor, progress=False)
-        finally:
-            close()
-        dask_wall = time.perf_counter() - started
-        identical = outputs(OUT) == outputs(Path(root) / "dask")
-    paths = study_report(OUT)
+        pool = run_study(spec, staging, workers=2, progress=False)
+        pool_wall = time.perf_counter() - started
+        with tempfile.TemporaryDirectory(prefix="pchute_mer_edl_dask_") as root:
+            executor, close = dask_executor(local_workers=2)
+            started = time.perf_counter()
+            try:
+                dask = run_study(spec, Path(root) / "dask", executor=executor, progress=False)
+            finally:
+                close()
+            dask_wall = time.perf_counter() - started
+            identical = outputs(staging) == outputs(Path(root) / "dask")
+        paths = {name: OUT / Path(path).relative_to(staging) for name, path in study_report(staging).items()}
     v = versions()
     text = "\n".join([
         f"# MER EDL Monte Carlo: {spec.runs} runs on 2 workers and on a Dask LocalCluster", "",
@@ -67,4 +78,4 @@ def main(argv=None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -15,10 +15,14 @@ Writes validation/output/new_case/: payload.toml (the file `pchute new` wrote) a
 from __future__ import annotations
 
 import math
-import sys
 import tempfile
 import time
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import numpy as np
 
@@ -125,4 +129,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

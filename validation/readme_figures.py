@@ -27,11 +27,27 @@ the check (tests/acceptance/test_architecture.py), so a page that disagrees with
 
 from __future__ import annotations
 
-import argparse
 import re
 import subprocess
 import sys
 from pathlib import Path
+
+from script_arguments import OneLineParser, run_script
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--check", action="store_true", help="exit 1 when no page holds one of the lines")
+    parser.add_argument("--write", action="store_true", help="put the lines into README.md and the docs/ pages")
+    args = parser.parse_args(argv)
+    if args.check and args.write:
+        parser.refuse("--check and --write: choose one (--check reads the pages, --write changes them)")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -499,19 +515,18 @@ def write(lines: list) -> int:
             continue
         path, found = places[0]
         texts[path] = texts[path][:found.start()] + line + texts[path][found.end():]
+    from pchute_exudyn.results.io import atomic_write_text
+
     for path, text in texts.items():
         if text != path.read_text():
-            path.write_text(text)
+            atomic_write_text(path, text)
     for line in homeless:
         print(f"no single place in README.md or docs/ for: {line}", file=sys.stderr)
     return 1 if homeless else 0
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true", help="exit 1 when no page holds one of the lines")
-    parser.add_argument("--write", action="store_true", help="put the lines into README.md and the docs/ pages")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     lines = figures()
     if args.write:
         return write(lines)
@@ -526,4 +541,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

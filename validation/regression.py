@@ -15,16 +15,37 @@ altitudes, positions and tensions, and whether the event logs agree; it exits 1 
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
+from script_arguments import OneLineParser, existing_folder, non_negative, output_path, run_script
 
 HERE = Path(__file__).resolve().parent
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    commands = parser.add_subparsers(dest="command", required=True)
+    run_command = commands.add_parser("run", help="run every configuration into OUT")
+    run_command.add_argument("out", type=output_path)
+    run_command.add_argument("--source", type=existing_folder, default=HERE.parent, help="source tree to run (default: this one)")
+    compare = commands.add_parser("compare", help="compare two OUT folders")
+    compare.add_argument("a", type=existing_folder)
+    compare.add_argument("b", type=existing_folder)
+    compare.add_argument("--tolerance", type=non_negative, default=1e-9)
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
+import numpy as np
+
 SP_VARIANTS = {"sp0": ["--method", "sp"], "sp1": ["--method", "sp", "--sp-order", "1"],
                "spforce": ["--method", "sp", "--slack-rule", "force", "--kappa-max", "10"],
                "eq": ["--method", "equilibrium"], "imp": ["--method", "full", "--integrator", "implicit"]}
@@ -84,20 +105,11 @@ def compare_all(a_root: Path, b_root: Path, tolerance: float) -> int:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    commands = parser.add_subparsers(dest="command", required=True)
-    run = commands.add_parser("run", help="run every configuration into OUT")
-    run.add_argument("out", type=Path)
-    run.add_argument("--source", type=Path, default=HERE.parent, help="source tree to run (default: this one)")
-    compare = commands.add_parser("compare", help="compare two OUT folders")
-    compare.add_argument("a", type=Path)
-    compare.add_argument("b", type=Path)
-    compare.add_argument("--tolerance", type=float, default=1e-9)
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     if args.command == "run":
         return run_all(args.out.resolve(), args.source.resolve())
     return compare_all(args.a, args.b, args.tolerance)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

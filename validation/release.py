@@ -13,16 +13,20 @@ air speed, riser tensions and the payload's pendulum angle).
 
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import numpy as np
 
 import pchute_exudyn as pc
 from pchute_exudyn.authoring.choices import NewCase
 from pchute_exudyn.authoring.layout import layout
-from pchute_exudyn.results.io import atomic_write_text
+from pchute_exudyn.results.io import atomic_write_text, atomic_writer
 from pchute_exudyn.run.simulation import versions
 
 HERE = Path(__file__).resolve().parent
@@ -76,7 +80,8 @@ def figure(results: dict, path: Path) -> None:
     axes[3].set_xlim(0.0, 90.0)
     fig.suptitle("2000 kg under three 30.5 m flat circular canopies, released at 65 m/s from 1500 m (still air)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic_writer(path, "wb") as handle:
+        fig.savefig(handle, format="png", dpi=110)
 
 
 def main(argv=None) -> int:
@@ -153,4 +158,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

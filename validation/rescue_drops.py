@@ -23,11 +23,24 @@ fails when the committed page differs.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
 from pathlib import Path
+
+from script_arguments import OneLineParser, run_script
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--check", action="store_true", help="fail when the committed page differs")
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 import numpy as np
 
@@ -37,6 +50,7 @@ sys.path.insert(0, str(ROOT))
 
 import pchute_exudyn as pc  # noqa: E402
 from pchute_exudyn.case.files import tomllib  # noqa: E402  (tomli on Python 3.10)
+from pchute_exudyn.results.io import atomic_write_text  # noqa: E402
 
 DATA = HERE / "data" / "deployment_loads.toml"
 OUT = HERE / "output" / "rescue_drops"
@@ -103,7 +117,7 @@ def evaluate(work: Path) -> list:
     rows = []
     for drop in drops():
         path = work / f"{drop['key']}.toml"
-        path.write_text(case_text(drop))
+        atomic_write_text(path, case_text(drop))
         measured = drop["measured_opening_load"]
         catalogue = fly(path, None)
         row = {"drop": drop["key"], "mass": drop["payload_mass"], "measured": measured,
@@ -173,9 +187,7 @@ def page(rows: list) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true", help="fail when the committed page differs")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     OUT.mkdir(parents=True, exist_ok=True)
     rows = evaluate(OUT)
     text = page(rows)
@@ -184,11 +196,11 @@ def main(argv=None) -> int:
             print("rescue_drops: docs/validation/rescue_drops.md differs from a fresh run", file=sys.stderr)
             return 1
         return 0
-    (OUT / "drops.json").write_text(json.dumps(rows, indent=1, allow_nan=False) + "\n")
-    PAGE.write_text(text)
+    atomic_write_text(OUT / "drops.json", json.dumps(rows, indent=1, allow_nan=False) + "\n")
+    atomic_write_text(PAGE, text)
     print(f"wrote {PAGE.relative_to(ROOT)}")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -8,22 +8,35 @@ measured inside the runs, with the workers running side by side.
 
 from __future__ import annotations
 
-import argparse
-import sys
 from pathlib import Path
 
-from pchute_exudyn.study import load_study, run_study
-from pchute_exudyn.study.report import study_report
+from script_arguments import OneLineParser, run_script, workers
 
 HERE = Path(__file__).resolve().parent
 STUDIES = ["step_method", "sp_presets", "kappa_max", "confluence_mass", "mer_monte_carlo", "pa1_footprint"]
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
     parser.add_argument("names", nargs="*", default=STUDIES, help=f"studies to run (default: {' '.join(STUDIES)})")
-    parser.add_argument("--workers", type=int, default=None, help="worker processes (default: every core)")
+    parser.add_argument("--workers", type=workers, default=None, help="worker processes (default: every core)")
     args = parser.parse_args(argv)
+    for name in args.names:
+        if not (HERE / "studies" / f"{name}.toml").is_file():
+            parser.refuse(f"study {name!r}: no validation/studies/{name}.toml (studies: {', '.join(STUDIES)})")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
+from pchute_exudyn.study import load_study, run_study
+from pchute_exudyn.study.report import study_report
+
+
+def main(argv=None) -> int:
+    args = arguments(argv)
     for name in args.names:
         spec = load_study(HERE / "studies" / f"{name}.toml")
         out = HERE / "output" / "studies" / name
@@ -35,4 +48,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -24,7 +24,6 @@ Writes validation/output/startup_budget.md.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import shutil
@@ -34,6 +33,22 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from script_arguments import OneLineParser, count, existing_folder, run_script
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--repeat", type=count, default=5)
+    parser.add_argument("--before", type=existing_folder, default=None, help="checkout of the code before")
+    parser.add_argument("--no-install", action="store_true", help="skip the fresh-install section")
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -265,11 +280,7 @@ def commit_of(code: Path | None) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=5)
-    parser.add_argument("--before", type=Path, default=None, help="checkout of the code before")
-    parser.add_argument("--no-install", action="store_true", help="skip the fresh-install section")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     earlier = OUT.read_text() if OUT.is_file() else ""
     readme = (ROOT / "README.md").read_text()
     if INSTALL not in readme:
@@ -313,7 +324,9 @@ def main(argv=None) -> int:
                   *install_section(results), ""]
     else:
         lines += kept_install_section(earlier)
-    OUT.write_text("\n".join(lines))
+    from pchute_exudyn.results.io import atomic_write_text
+
+    atomic_write_text(OUT, "\n".join(lines))
     print("\n".join(lines))
     return 0
 
@@ -327,4 +340,4 @@ def _long_case(folder: Path) -> Path:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -24,11 +24,30 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from script_arguments import OneLineParser
+from script_arguments import OneLineParser, run_script
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 STUDIES = {"pa1": HERE / "studies" / "pa1_footprint.toml", "airdrop": HERE / "studies" / "airdrop_footprint.toml"}
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--study", choices=sorted(STUDIES), default="pa1", help="which footprint study (default pa1)")
+    parser.add_argument("--runs", type=int, default=20, help="draws run (default 20)")
+    parser.add_argument("--workers", type=int, default=2, help="workers of the projection (default 2)")
+    args = parser.parse_args(argv)
+    if not 1 <= args.runs <= 2000:
+        parser.refuse(f"--runs = {args.runs}: must be from 1 to 2000")
+    if args.workers < 1:
+        parser.refuse(f"--workers = {args.workers}: must be >= 1")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
 PROJECTED_RUNS = 2000
 TARGET = 60.0
 """s: issue 58's wall-time target of the 2000-run PA1 study on 2 workers."""
@@ -133,15 +152,7 @@ def report(args, found: dict) -> list:
 
 
 def main(argv=None) -> int:
-    parser = OneLineParser(__file__, __doc__.splitlines()[0])
-    parser.add_argument("--study", choices=sorted(STUDIES), default="pa1", help="which footprint study (default pa1)")
-    parser.add_argument("--runs", type=int, default=20, help="draws run (default 20)")
-    parser.add_argument("--workers", type=int, default=2, help="workers of the projection (default 2)")
-    args = parser.parse_args(argv)
-    if not 1 <= args.runs <= 2000:
-        parser.refuse(f"--runs = {args.runs}: must be from 1 to 2000")
-    if args.workers < 1:
-        parser.refuse(f"--workers = {args.workers}: must be >= 1")
+    args = arguments(argv)
     os.environ.setdefault("PCHUTE_KERNELS", "compiled")
     sys.path.insert(0, str(ROOT))
     from pchute_exudyn.results.io import atomic_write_text
@@ -156,4 +167,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

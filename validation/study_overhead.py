@@ -12,13 +12,34 @@ validation/output/study_overhead.md.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from script_arguments import OneLineParser, count, existing_folder, run_script, workers
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--before", type=existing_folder, default=None, help="checkout of the code before")
+    parser.add_argument("--runs", type=count, default=200)
+    parser.add_argument("--large", type=count, default=None, help="also a study of this many draws (this code)")
+    parser.add_argument("--workers", type=workers, default=2)
+    parser.add_argument("--compare-fixed", action="store_true",
+                        help="with --large: the same draws at SP's fixed 1e-2 s too, and the footprint's percentiles "
+                             "of the adaptive study against the fixed-step study's bootstrap intervals")
+    args = parser.parse_args(argv)
+    if args.compare_fixed and args.large is None:
+        parser.refuse("--compare-fixed: only with --large N (it compares the large study's two step choices)")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 from pchute_exudyn.results.io import atomic_write_text
 from pchute_exudyn.study.statistics import percentile_table
@@ -103,15 +124,7 @@ def percentile_comparison(adaptive: dict, fixed: dict) -> list:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", type=Path, default=None, help="checkout of the code before")
-    parser.add_argument("--runs", type=int, default=200)
-    parser.add_argument("--large", type=int, default=None, help="also a study of this many draws (this code)")
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--compare-fixed", action="store_true",
-                        help="with --large: the same draws at SP's fixed 1e-2 s too, and the footprint's percentiles "
-                             "of the adaptive study against the fixed-step study's bootstrap intervals")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     rows, comparison = [], []
     if args.before is not None:
         rows.append(row(f"before ({commit_of(args.before)}), 1e-2 s", side(args.before, args.runs, args.workers,
@@ -145,4 +158,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -14,11 +14,30 @@ test_log_fit.py fits one log and asserts C_D S within 2 %, the lag within 0.2 s,
 
 from __future__ import annotations
 
-import argparse
 import json
 import subprocess
 import sys
 from pathlib import Path
+
+from script_arguments import OneLineParser, output_path, run_script
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--out", default="validation/output/synthetic_log_fit", type=output_path)
+    parser.add_argument("--seeds", default="56,1,2,3,4,5", help="the logs' noise seeds, comma separated")
+    parser.add_argument("--page", type=output_path, default=None, help="also write the Markdown page here")
+    args = parser.parse_args(argv)
+    try:
+        args.seeds = [int(seed) for seed in args.seeds.split(",")]
+    except ValueError:
+        parser.refuse(f"--seeds {args.seeds!r}: must be whole numbers separated by commas")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 import numpy as np
 
@@ -66,7 +85,9 @@ def write_log(path: Path, time, height, seed: int) -> None:
     h = np.where(t < 0.0, height[0] * (1.0 - (1.0 - up / climb) ** 2), np.interp(t, time, height, right=0.0))
     h += rng.normal(0.0, NOISE, len(t))
     lines = ["time (s),height (m)"] + [f"{a + climb + 5.0:.3f},{b:.3f}" for a, b in zip(t, h)]
-    path.write_text("\n".join(lines) + "\n")
+    from pchute_exudyn.results.io import atomic_write_text
+
+    atomic_write_text(path, "\n".join(lines) + "\n")
 
 
 def write_fit(folder: Path, case: Path, log: Path) -> Path:
@@ -77,7 +98,9 @@ def write_fit(folder: Path, case: Path, log: Path) -> Path:
         rows += [f'[free."{key}"]', f"low = {low}", f"high = {high}", f"initial = {start[key]:.6g}", ""]
     rows += ["[[targets]]", f'log = "{log.name}"', f"std = {NOISE}"]
     path = folder / "fit.toml"
-    path.write_text("\n".join(rows) + "\n")
+    from pchute_exudyn.results.io import atomic_write_text
+
+    atomic_write_text(path, "\n".join(rows) + "\n")
     return path
 
 
@@ -125,22 +148,20 @@ def page(results: dict) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="validation/output/synthetic_log_fit", type=Path)
-    parser.add_argument("--seeds", default="56,1,2,3,4,5", help="the logs' noise seeds, comma separated")
-    parser.add_argument("--page", type=Path, default=None, help="also write the Markdown page here")
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     results = {}
-    for seed in (int(s) for s in args.seeds.split(",")):
+    for seed in args.seeds:
         results[seed] = fit_seed(args.out / f"seed_{seed}", seed)
         for r in results[seed]:
             print(f"seed {seed}: {r['key']}: truth {r['truth']:g}, fitted {r['fitted']:.5g} +- "
                   f"{r['standard_error']:.2g} ({r['relative_error']:+.2%}, {r['errors_in_se']:+.2f} SE)", flush=True)
-    (args.out / "synthetic_log_fit.json").write_text(json.dumps(results, indent=2) + "\n")
+    from pchute_exudyn.results.io import atomic_write_text
+
+    atomic_write_text(args.out / "synthetic_log_fit.json", json.dumps(results, indent=2) + "\n")
     if args.page is not None:
-        args.page.write_text(page(results))
+        atomic_write_text(args.page, page(results))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -18,6 +18,11 @@ import sys
 import tempfile
 from pathlib import Path
 
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
+
 import numpy as np
 
 from pchute_exudyn import load_case, simulate
@@ -150,4 +155,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -19,9 +19,28 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
+from script_arguments import OneLineParser, existing_folder, output_path, run_script
 
 HERE = Path(__file__).resolve().parent
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--before", type=existing_folder, help="checkout of the code to compare against")
+    parser.add_argument("--out", type=output_path, default=HERE / "output" / "cluster" / "bitwise.md")
+    parser.add_argument("--record", type=Path, help=argparse.SUPPRESS)   # one side, in its own process
+    args = parser.parse_args(argv)
+    if args.record is None and args.before is None:
+        parser.error("--before DIR is required")
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
+
+import numpy as np
+
 ROOT = HERE.parent
 RUNS = [
     ("MER 1, SP accurate, 10 s", "cases/mer/case1.toml", dict(method="sp", duration=10.0)),
@@ -128,16 +147,10 @@ def _leaves(value, path: str = "") -> dict:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", type=Path, help="checkout of the code to compare against")
-    parser.add_argument("--out", type=Path, default=HERE / "output" / "cluster" / "bitwise.md")
-    parser.add_argument("--record", type=Path, help=argparse.SUPPRESS)   # one side, in its own process
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     if args.record is not None:
         record(args.record)
         return 0
-    if args.before is None:
-        parser.error("--before DIR is required")
     commits = {}
     with tempfile.TemporaryDirectory() as scratch:
         for side, checkout in (("before", args.before.resolve()), ("after", ROOT)):
@@ -177,4 +190,4 @@ def _dirty() -> bool:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

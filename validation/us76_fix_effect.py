@@ -9,8 +9,12 @@ The earlier formula is reproduced here only to measure the difference; the packa
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
+
+from script_arguments import no_arguments, run_script
+
+if __name__ == "__main__":
+    no_arguments(__file__, __doc__)   # --help and any argument end here, before the imports below
 
 import pchute_exudyn as pc
 from pchute_exudyn.physics import atmosphere
@@ -63,4 +67,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)

@@ -20,12 +20,25 @@ validation/output/winds/envelope.md.
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+
+from script_arguments import OneLineParser, run_script, workers
+
+
+def arguments(argv=None):
+    """The command line, every value checked before anything is imported, run or written."""
+    parser = OneLineParser(__file__, __doc__)
+    parser.add_argument("--workers", type=workers, default=2)
+    args = parser.parse_args(argv)
+    return args
+
+
+if __name__ == "__main__":
+    arguments()   # --help and bad arguments end here, before the imports below
 
 import numpy as np
 
@@ -161,9 +174,7 @@ def write_cargo() -> None:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--workers", type=int, default=2)
-    args = parser.parse_args(argv)
+    args = arguments(argv)
     write_cargo()
     todo = jobs()
     started = time.perf_counter()
@@ -212,4 +223,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_script(main)
