@@ -69,26 +69,25 @@ def workers(text: str) -> int:
     return value
 
 
-def positive(text: str) -> float:
-    """argparse type: a finite number > 0 (a duration in s, a step in s, a tolerance)."""
+def _number(text: str, allowed: str, holds) -> float:
+    """``text`` as a finite float for which ``holds`` is true, else an argparse error saying what is ``allowed``."""
     try:
         value = float(text)
     except ValueError:
         value = math.nan
-    if not (math.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, not {text!r}")
+    if not (math.isfinite(value) and holds(value)):
+        raise argparse.ArgumentTypeError(f"must be a finite number {allowed}, not {text!r}")
     return value
+
+
+def positive(text: str) -> float:
+    """argparse type: a finite number > 0 (a duration in s, a step in s, a tolerance)."""
+    return _number(text, "> 0", lambda value: value > 0.0)
 
 
 def non_negative(text: str) -> float:
     """argparse type: a finite number >= 0 (a tolerance)."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and value >= 0.0):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, not {text!r}")
-    return value
+    return _number(text, ">= 0", lambda value: value >= 0.0)
 
 
 def existing_folder(text: str) -> Path:
