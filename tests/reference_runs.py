@@ -84,6 +84,8 @@ def _leaves(value, path=""):
 ADDED_SINCE = ("descent_rate", "horizontal_speed_over_ground")
 """Entries the code added after the recording (issue 48: the touchdown event's split along the local vertical): a
 new record's leaf so named is left out where the recording has none; every recorded entry is still compared."""
+ADDED_SINCE += ("altitude", "east", "north")
+"""Issue 59: the touchdown event's interpolated place (the ground's altitude, east and north), left out alike."""
 ADDED_SUFFIXES = ("_latitude", "_longitude")
 """Endings of entries added after the recording (issue 57: each body's latitude and longitude), left out alike."""
 

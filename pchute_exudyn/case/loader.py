@@ -79,15 +79,21 @@ def load_case(path, overrides: Mapping[str, Any] | Iterable[str] = ()) -> Case:
     return _with_source(case, source)
 
 
-def build_case(data: dict, origins: dict, source: str) -> Case:
-    """Validate merged case ``data`` and build the Case (``origins`` maps key paths to the file they came from)."""
-    ctx = Context(source, origins)
-    top = Table(data, (), ctx)
+def _read_info(top: Table, source: str) -> tuple:
+    """(the ``[case]`` table, the case's name (default: its file's stem), description and vehicle body's name)."""
     info = top.table("case", {})
     name = info.string("name", Path(source.split(" ")[0]).stem)
     description = info.string("description", "")
     vehicle = info.string("vehicle", UNNAMED_VEHICLE)
     info.finish()
+    return info, name, description, vehicle
+
+
+def build_case(data: dict, origins: dict, source: str) -> Case:
+    """Validate merged case ``data`` and build the Case (``origins`` maps key paths to the file they came from)."""
+    ctx = Context(source, origins)
+    top = Table(data, (), ctx)
+    info, name, description, vehicle = _read_info(top, source)
     planet_table = top.table("planet")
     planet = read_planet(planet_table)
     start, frame, release, site = read_start(top.table("start", {}), planet)

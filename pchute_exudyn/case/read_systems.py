@@ -55,6 +55,16 @@ def reduced_refusal(canopies: tuple, lines, bodies: dict, bag_anchor=None) -> st
     return None
 
 
+def _check_cutaway_time(t: Table, deploy_time: float | None, cutaway_time: float | None) -> None:
+    """A fixed cut-away (s) after a fixed deployment (s; None: at the start). A deployment a trigger (or a bag's line
+    stretch) places, pending here (inf), is checked when it fires (run.sequence)."""
+    placed = deploy_time is None or math.isfinite(deploy_time)
+    if placed and cutaway_time is not None and math.isfinite(cutaway_time) and cutaway_time <= (deploy_time or 0.0):
+        raise t.error("cutaway_trigger.time" if "cutaway_trigger" in t.data else "cutaway_time",
+                      f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
+                      cutaway_time)
+
+
 def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None) -> ParachuteSystem:
     """``[systems.<name>]``; the triggers of its events go into ``triggers`` (event name -> Trigger)."""
     triggers = {} if triggers is None else triggers
@@ -90,13 +100,7 @@ def read_system(name: str, t: Table, bodies: dict, triggers: dict | None = None)
         raise t.error("deploy_point", f"is on the system's own canopy '{deploy_point[0]}': a system deploys from "
                                       "the body it hangs from (e.g. \"vehicle.line_stretch\")",
                       ".".join(deploy_point))
-    # a deployment a trigger (or a bag's line stretch) places, pending here (inf), is checked when it fires
-    # (run.sequence): a fixed cut-away must come after it then
-    placed = deploy_time is None or math.isfinite(deploy_time)
-    if placed and cutaway_time is not None and math.isfinite(cutaway_time) and cutaway_time <= (deploy_time or 0.0):
-        raise t.error("cutaway_trigger.time" if "cutaway_trigger" in t.data else "cutaway_time",
-                      f"must be after the deployment (deploy_time = {deploy_time or 0.0:g} s)",
-                      cutaway_time)
+    _check_cutaway_time(t, deploy_time, cutaway_time)
     for key, value in (("drag_area_schedule", schedule), ("inflation", inflation)):
         if value is not None and (not canopies or any(bodies[c].aerodynamics is None for c in canopies)):
             raise t.error(key, "needs canopy bodies with aerodynamics (canopy = \"<body>\")")

@@ -242,6 +242,20 @@ def _missing_descent(a: Result, b: Result, vehicle: str) -> str:
             "compare a flight log with a run folder without a map (docs/flight-logs.md)")
 
 
+def _final_differences(a: Result, b: Result, vehicle: str, common: list, end) -> dict:
+    """The vehicle's altitude, east and north differences (m, b - a) at ``end`` (the common span's last time, as a
+    one-element array), and its lateral position difference where both east and north are compared."""
+    final = {}
+    for template, suffix in (("{owner}_altitude", "altitude"), ("{owner}_east", "east"), ("{owner}_north", "north")):
+        name = column(template, vehicle)
+        if name in common:
+            va, vb = aligned(a, b, name, end)
+            final[f"{vehicle} {suffix}"] = float(vb[0] - va[0])
+    if f"{vehicle} east" in final and f"{vehicle} north" in final:
+        final[f"{vehicle} lateral position"] = math.hypot(final[f"{vehicle} east"], final[f"{vehicle} north"])
+    return final
+
+
 def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B", settle_time: float = 2.0,
                     vehicle: str = UNNAMED_VEHICLE, confluence: str = "confluence", columns=None, altitudes=None,
                     ground: float | None = None) -> Comparison:
@@ -279,14 +293,7 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
         _check_altitudes(((a, label_a), (b, label_b)), vehicle, altitudes)
     comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)
     comparison.missing_descent = _missing_descent(a, b, vehicle) if not comparison.descent else ""
-    for template, suffix in (("{owner}_altitude", "altitude"), ("{owner}_east", "east"), ("{owner}_north", "north")):
-        name = column(template, vehicle)
-        if name in common:
-            va, vb = aligned(a, b, name, time[-1:])   # at the end of the common span
-            comparison.final[f"{vehicle} {suffix}"] = float(vb[0] - va[0])
-    if f"{vehicle} east" in comparison.final and f"{vehicle} north" in comparison.final:
-        comparison.final[f"{vehicle} lateral position"] = math.hypot(comparison.final[f"{vehicle} east"],
-                                                                     comparison.final[f"{vehicle} north"])
+    comparison.final = _final_differences(a, b, vehicle, common, time[-1:])
     settled = time >= settle_time
     for name in common:
         line = owner(name, "tension_{owner}")

@@ -28,6 +28,7 @@ from ..physics.step_rule import StepRule
 from ..registries.columns import column, owner
 from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError
 from ..results.deployments import deployment_loads, load_warnings
+from ..results.openings import opening_events, opening_loads, opening_warnings
 from ..results.result import Result
 from ..results.summary import (
     FinalState,
@@ -38,9 +39,6 @@ from ..results.summary import (
     events_planned,
     failures_flown,
     merge_facts,
-    opening_events,
-    opening_loads,
-    opening_warnings,
     separation_summary,
     site_of,
 )

@@ -466,8 +466,7 @@ def load_study(path) -> StudySpec:
         raise s.error("configurations", "must be a non-empty array of tables ([[study.configurations]])", outer)
     read = [(table, read_configuration(table, False))
             for table in (Table(entry, ("study", "configurations", i), ctx) for i, entry in enumerate(outer))]
-    for _, entries in read:
-        configurations.extend(entries)
+    configurations.extend(entry for _, entries in read for entry in entries)
     reference_table = s.table("reference", None)
     reference, reference_per = None, "sample"
     if reference_table is not None:

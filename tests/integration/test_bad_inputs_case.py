@@ -245,7 +245,7 @@ BATTERY = [
      "fit.max_runs = 1000000000.0: must be an integer from 1 to 1000000"),
     ("fit whose trial run fails", lambda t: _fit(t, HISTORY, free='[free."vehicle.mass"]\nlow = 1e-5\nhigh = 2e-5\n'
                                                                   'initial = 1.5e-5\n'),
-     "the run at the starting values failed: body parachute ran away"),
+     "the run at the starting values failed: the fixed RK4 step 0.01 s is too long for body vehicle on its lines"),
 ]
 
 
