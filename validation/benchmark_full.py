@@ -13,7 +13,7 @@ from __future__ import annotations
 import platform
 from pathlib import Path
 
-from script_arguments import OneLineParser, output_path, positive, run_script
+from script_arguments import OneLineParser, output_file, positive, run_script
 
 HERE = Path(__file__).resolve().parent
 
@@ -22,7 +22,7 @@ def arguments(argv=None):
     """The command line, every value checked before anything is imported, run or written."""
     parser = OneLineParser(__file__, __doc__)
     parser.add_argument("--duration", type=positive, default=60.0, help="simulated time in s (default 60)")
-    parser.add_argument("--out", type=output_path, default=str(HERE / "output" / "benchmark_full.md"), help="table file")
+    parser.add_argument("--out", type=output_file, default=str(HERE / "output" / "benchmark_full.md"), help="table file")
     args = parser.parse_args(argv)
     return args
 

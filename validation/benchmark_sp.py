@@ -33,7 +33,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from script_arguments import OneLineParser, count, existing_folder, output_path, positive, run_script
+from script_arguments import OneLineParser, count, existing_folder, output_file, positive, run_script
 
 HERE = Path(__file__).resolve().parent
 
@@ -45,7 +45,7 @@ def arguments(argv=None):
     parser.add_argument("--repeat", type=count, default=3, help="interleaved rounds; the median is kept (default 3)")
     parser.add_argument("--budget", action="store_true", help="add the per-stage budget (needs py-spy)")
     parser.add_argument("--before", type=existing_folder, default=None, help="a checkout of the code before, for the budget")
-    parser.add_argument("--out", type=output_path, default=str(HERE / "output" / "benchmark_sp.md"))
+    parser.add_argument("--out", type=output_file, default=str(HERE / "output" / "benchmark_sp.md"))
     args = parser.parse_args(argv)
     if args.budget and shutil.which("py-spy") is None:
         parser.refuse("--budget: py-spy is not installed (pip install py-spy)")

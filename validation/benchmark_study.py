@@ -18,7 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from script_arguments import OneLineParser, count, output_path, positive, run_script
+from script_arguments import OneLineParser, count, output_file, positive, run_script
 
 HERE = Path(__file__).resolve().parent
 
@@ -30,7 +30,7 @@ def arguments(argv=None):
     parser.add_argument("--duration", type=positive, default=60.0, help="simulated time per run in s (default 60)")
     parser.add_argument("--repeat", type=count, default=1, help="alternate the worker counts this many times")
     parser.add_argument("--dask", action="store_true", help="also time a Dask LocalCluster of 2 workers")
-    parser.add_argument("--out", type=output_path, default=str(HERE / "output" / "benchmark_study.md"))
+    parser.add_argument("--out", type=output_file, default=str(HERE / "output" / "benchmark_study.md"))
     args = parser.parse_args(argv)
     return args
 

@@ -107,6 +107,14 @@ def output_path(text: str) -> Path:
     return path
 
 
+def output_file(text: str) -> Path:
+    """argparse type: a file to write (``output_path``), not an existing folder."""
+    path = output_path(text)
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is a folder (must be a file to write, e.g. a .md table)")
+    return path
+
+
 def no_arguments(script: str, doc: str, argv=None) -> None:
     """The command line of a script that takes none: ``--help`` (before anything runs) and nothing else."""
     OneLineParser(script, doc).parse_args(argv)

@@ -19,7 +19,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from script_arguments import OneLineParser, output_path, run_script
+from script_arguments import OneLineParser, output_file, output_path, run_script
 
 
 def arguments(argv=None):
@@ -27,12 +27,14 @@ def arguments(argv=None):
     parser = OneLineParser(__file__, __doc__)
     parser.add_argument("--out", default="validation/output/synthetic_log_fit", type=output_path)
     parser.add_argument("--seeds", default="56,1,2,3,4,5", help="the logs' noise seeds, comma separated")
-    parser.add_argument("--page", type=output_path, default=None, help="also write the Markdown page here")
+    parser.add_argument("--page", type=output_file, default=None, help="also write the Markdown page here")
     args = parser.parse_args(argv)
     try:
         args.seeds = [int(seed) for seed in args.seeds.split(",")]
     except ValueError:
         parser.refuse(f"--seeds {args.seeds!r}: must be whole numbers separated by commas")
+    if any(not 0 <= seed < 2**32 for seed in args.seeds):
+        parser.refuse(f"--seeds {','.join(map(str, args.seeds))}: each must be from 0 to 2^32 - 1 (a noise seed)")
     return args
 
 

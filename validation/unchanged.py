@@ -19,7 +19,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from script_arguments import OneLineParser, existing_folder, output_path, run_script
+from script_arguments import OneLineParser, existing_folder, output_file, run_script
 
 HERE = Path(__file__).resolve().parent
 
@@ -28,7 +28,7 @@ def arguments(argv=None):
     """The command line, every value checked before anything is imported, run or written."""
     parser = OneLineParser(__file__, __doc__)
     parser.add_argument("--before", type=existing_folder, help="checkout of the code to compare against")
-    parser.add_argument("--out", type=output_path, default=HERE / "output" / "cluster" / "bitwise.md")
+    parser.add_argument("--out", type=output_file, default=HERE / "output" / "cluster" / "bitwise.md")
     parser.add_argument("--record", type=Path, help=argparse.SUPPRESS)   # one side, in its own process
     args = parser.parse_args(argv)
     if args.record is None and args.before is None:

@@ -87,13 +87,17 @@ RANGES: tuple = (
     Range("simulation.descent_rate_events", "m/s", (0.0, 2e4), (0.0, 1e3)),
     Range("simulation.step_control.relative", "", (1e-15, 1.0), (1e-8, 0.1)),
     Range("simulation.step_control.absolute", "m/s", (1e-15, 1e4), (1e-9, 10.0)),
-    *(Range(f"simulation.step_control.{key}", "s", (1e-12, 1e6), (1e-9, 100.0))
+    # a step over 1 s skips a trigger's samples and a deployment's snatch (the default largest is 0.25 s)
+    *(Range(f"simulation.step_control.{key}", "s", (1e-12, 1e6), (1e-9, 1.0))
       for key in ("first", "largest", "smallest")),
     # inflation
     Range("systems.*.inflation.fill_constant", "", (1e-6, 1e4), (1e-2, 100.0)),
     Range("systems.*.inflation.exponent", "", (0.0, 100.0), (0.1, 10.0)),
     Range("systems.*.inflation.overinflation", "", (1.0, 100.0), (1.0, 5.0)),
     Range("systems.*.inflation.overinflation_decay", "s", (0.0, 1e5), (0.0, 100.0)),
+    # a supersonic opening's law: C_ref fitted from 1.3 to 2 (SR01, SR02, MSL); the largest entry forebodies ~ 10 m
+    Range("systems.*.inflation.supersonic.load_factor", "", (1.0, 1e6), (1.0, 5.0)),
+    Range("systems.*.inflation.supersonic.forebody_diameter", "m", (0.0, 1e6), (0.0, 30.0)),
     # planet and atmosphere
     Range("planet.gravity", "m/s^2", (0.0, 1e3), (0.0, 100.0)),
     Range("planet.gravitational_parameter", "m^3/s^2", (1.0, 1e22), (1e9, 1e18)),

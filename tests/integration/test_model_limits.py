@@ -116,3 +116,17 @@ def test_a_flattened_normal_gravity_planet_flies(tmp_path):
                  "0.05", "--quiet", "--no-plot", "--out", str(tmp_path / "run")]) == 0
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     assert summary["end"] == "touchdown"
+
+
+@pytest.mark.parametrize("case_file, key, value", [
+    (ROCKET, "simulation.step_control.largest", 5.0),   # the battery's: apogee sensed 5 s late, 4x the drogue's load
+    (ROCKET, "simulation.step_control.first", 100.0),   # with largest 100: one step to 20 s, the drogue never fired
+    (MSL, "systems.main.inflation.supersonic.forebody_diameter", 1e4),
+    (MSL, "systems.main.inflation.supersonic.load_factor", 1e6)])
+def test_a_step_or_an_opening_law_out_of_its_plausible_range_is_warned(case_file, key, value):
+    from pchute_exudyn.case.plausible import range_of
+
+    low, high = range_of(key).plausible
+    assert not low <= value <= high
+    assert any(w.startswith(f"{key} = {value}") for w in load_case(case_file, {key: value}).warnings)
+    assert not [w for w in load_case(case_file).warnings if key in w]   # the shipped case: no word
