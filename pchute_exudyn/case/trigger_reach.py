@@ -3,7 +3,8 @@
 
 Only what the start state decides is judged here (a threshold whose quantity depends on the flight to come, such
 as a speed that grows in free fall, is not): an altitude threshold below the ground the run ends on, and one above
-the start that a vehicle not climbing never reaches. An apogee trigger is never in doubt: its first sample fires
+the start that a vehicle not climbing never reaches; a level to fall below that the start is already below fires at
+its first sample (a main that opens with the drogue). An apogee trigger is never in doubt: its first sample fires
 when the vehicle already descends or hangs at apogee (``triggers.definition.Apogee``).
 """
 
@@ -32,12 +33,20 @@ def unreachable_triggers(triggers: dict, initial, ground_altitude: float, stop_a
         if condition.below and stop_at_ground and level <= ground_altitude:
             lines.append(f"{trigger.key} cannot fire: the run ends at touchdown on the ground at "
                          f"{ground_altitude:g} m before the altitude falls to {level:g} m")
+        elif condition.below and initial is not None and initial.altitude <= level:
+            lines.append(f"{trigger.key} is met from the start: the vehicle starts at {initial.altitude:g} m, already "
+                         f"below {level:g} m{_above_ground(condition)}, so it fires at its first sample (a level "
+                         "below the start is what waits for the descent)")
         elif not condition.below and initial is not None and initial.altitude < level \
                 and initial.velocity_down >= 0.0:
             lines.append(f"{trigger.key} cannot fire from the start state: the vehicle starts at "
                          f"{initial.altitude:g} m, below {level:g} m, and does not climb (vertical speed "
                          f"{0.0 - initial.velocity_down + 0.0:g} m/s)")
     return tuple(lines)
+
+
+def _above_ground(condition) -> str:
+    return f" ({condition.value:g} m above the ground)" if condition.reference == "ground" else ""
 
 
 def errors_reaching(condition) -> set:

@@ -155,7 +155,8 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
     if control is None and INTEGRATORS[integrator].explicit:
         resolved.check_step(case, step)
     check_time_scales(case, step)
-    return RunPlan(resolved, integrator, step, duration, limit, control, _idle_step_control(case, control, step))
+    return RunPlan(resolved, integrator, step, duration, limit, control,
+                   _idle_step_control(case, control, step) + _rigid_instead(case, resolved))
 
 
 def _idle_step_control(case: Case, control: StepRule | None, step: float) -> tuple:
@@ -165,6 +166,17 @@ def _idle_step_control(case: Case, control: StepRule | None, step: float) -> tup
     return (f"simulation.step_control: has no effect in this run: its step is fixed ({step:g} s, from --dt, "
             "[simulation.steps] or the stability limit); the adaptive steps it tunes are RK4's with --dt auto or no "
             "step set",)
+
+
+def _rigid_instead(case: Case, method) -> tuple:
+    """A warning per system the case names reduced when ``method`` flies every canopy rigid (only SP has a reduced
+    canopy, ``Method.flies_reduced_canopies``); a reduced canopy "auto" chose is the method's to fly as it can."""
+    if method.flies_reduced_canopies:
+        return ()
+    return tuple(f"systems.{name}.canopy_model = 'reduced': has no effect in this run: the {method.name} method "
+                 "flies every canopy rigid (a reduced canopy is SP's, --method sp)"
+                 for name, system in case.systems.items() if system.canopy_model == "reduced"
+                 and not system.canopy_model_chosen)
 
 
 def _check_size(case: Case, step: float, duration: float) -> None:

@@ -130,3 +130,19 @@ def test_a_step_or_an_opening_law_out_of_its_plausible_range_is_warned(case_file
     assert not low <= value <= high
     assert any(w.startswith(f"{key} = {value}") for w in load_case(case_file, {key: value}).warnings)
     assert not [w for w in load_case(case_file).warnings if key in w]   # the shipped case: no word
+
+
+def test_a_reduced_canopy_under_a_method_that_flies_it_rigid_is_warned():
+    case = load_case(ROCKET)   # both systems named reduced
+    assert resolve_run(case, "sp").warnings == ()
+    assert resolve_run(case, "full").warnings == tuple(
+        f"systems.{name}.canopy_model = 'reduced': has no effect in this run: the full method flies every canopy "
+        "rigid (a reduced canopy is SP's, --method sp)" for name in ("drogue", "main"))
+
+
+def test_a_level_to_fall_below_that_the_start_is_already_below_is_warned():
+    """The battery's main at 5000 m above a 2500 m start: it opened with the drogue at apogee, without a word."""
+    case = load_case(ROCKET, ["main.deploy_trigger.below=5000"])
+    assert ("systems.main.deploy_trigger is met from the start: the vehicle starts at 3900 m, already below 6400 m "
+            "(5000 m above the ground), so it fires at its first sample") in "\n".join(case.warnings)
+    assert not [w for w in load_case(ROCKET).warnings if "met from the start" in w]
