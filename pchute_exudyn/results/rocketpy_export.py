@@ -150,17 +150,31 @@ QUATERNION_TOLERANCE = 0.01
 norm farther off (an all-zero row) is no attitude."""
 
 
+GROUND_TOLERANCE = 1.0
+"""How far (m) a row's Z - Altitude AGL (the launch site's elevation) may be from the first row's; also how far below
+the ground (Altitude AGL < 0) a row may be: RocketPy writes both to 6 decimals from one state."""
+STEP_TOLERANCE = (10.0, 0.2)
+"""(m, -): a step's altitude change ΔZ may differ from the trapezoid of its Vz, (Vz_i + Vz_i+1) Δt / 2, by at most
+10 m + 0.2 |ΔZ|; RocketPy's own exports (0.5 s rows) stay within 0.6 m, a twentieth of that."""
+
+
 def check_rows(path, columns: dict, texts: dict, lines: list) -> None:
     """InputError, one line naming the file, the row's line number and the column, for the first row of a RocketPy
     export that is not a state: a value that is not finite, a time not strictly after the row before, a position or
-    velocity outside the case reader's range for it (ROW_KEYS), a latitude or longitude outside the start's, an
-    attitude quaternion not of unit norm (QUATERNION_TOLERANCE)."""
+    velocity outside the case reader's range for it (ROW_KEYS), a latitude or longitude outside the start's (or one
+    without the other), an attitude quaternion not of unit norm (QUATERNION_TOLERANCE), an altitude change its
+    vertical velocity does not give (STEP_TOLERANCE), a ground elevation (Z - AGL) that changes or an AGL below 0
+    (GROUND_TOLERANCE)."""
     from ..authoring.choice_checks import SITE_RANGES
     from ..case.plausible import check_value
 
     def refuse(row: int, name: str, what: str) -> None:
         raise InputError(f"{path}: line {lines[row]}, {texts.get(name, name)} = {columns[name][row]:g}: {what}")
 
+    if ("Latitude" in columns) != ("Longitude" in columns):
+        given, absent = ("Latitude", "Longitude") if "Latitude" in columns else ("Longitude", "Latitude")
+        raise InputError(f"{path}: {texts[given]} without {absent}: a position needs both columns or neither (export "
+                         "'latitude' and 'longitude' together)")
     for name, values in columns.items():
         bad = np.flatnonzero(~np.isfinite(values))
         if len(bad):
@@ -183,6 +197,34 @@ def check_rows(path, columns: dict, texts: dict, lines: list) -> None:
         if len(bad):
             refuse(int(bad[0]), "e0", f"with e1..e3 a quaternion of norm {norm[bad[0]]:.4g}: an attitude needs norm 1 "
                    f"(within {QUATERNION_TOLERANCE:g})")
+    _check_altitudes(columns, texts, lines, refuse)
+
+
+def _check_altitudes(columns: dict, texts: dict, lines: list, refuse) -> None:
+    """``check_rows``'s altitudes: each step's Z change against its Vz (STEP_TOLERANCE), then Altitude AGL against
+    Z (GROUND_TOLERANCE); ``refuse(row, column, what)`` raises."""
+    step = np.diff(columns["time"])
+    rise = np.diff(columns["Z"])
+    by_speed = 0.5 * (columns["Vz"][:-1] + columns["Vz"][1:]) * step
+    absolute, relative = STEP_TOLERANCE
+    bad = np.flatnonzero(np.abs(rise - by_speed) > absolute + relative * np.abs(rise))
+    if len(bad):
+        i = int(bad[0])
+        refuse(i + 1, "Z", f"{rise[i]:+.6g} m from line {lines[i]} in {step[i]:g} s, where {texts.get('Vz', 'Vz')} "
+               f"gives {by_speed[i]:+.6g} m (its trapezoid); allowed: within {absolute:g} m + {relative:.0%} of the "
+               "change")
+    if "Altitude AGL" not in columns:
+        return
+    agl, name = columns["Altitude AGL"], texts.get("Altitude AGL", "Altitude AGL")
+    ground = columns["Z"] - agl
+    bad = np.flatnonzero(np.abs(ground - ground[0]) > GROUND_TOLERANCE)
+    if len(bad):
+        refuse(int(bad[0]), "Altitude AGL", f"{texts.get('Z', 'Z')} - {name} = {ground[bad[0]]:g} m here, "
+               f"{ground[0]:g} m on line {lines[0]}: the launch site's elevation must be the same on every row (within "
+               f"{GROUND_TOLERANCE:g} m)")
+    bad = np.flatnonzero(agl < -GROUND_TOLERANCE)
+    if len(bad):
+        refuse(int(bad[0]), "Altitude AGL", f"below the ground; allowed: >= 0 m (within {GROUND_TOLERANCE:g} m)")
 
 
 def apogee_index(path, time, vertical) -> tuple[int, float]:
