@@ -51,7 +51,8 @@ READER_KEYS = {"mass": "bodies.vehicle.mass", "canopy_mass": "bodies.canopy.mass
                "velocity_east": "bodies.vehicle.initial.velocity_east",
                "velocity_north": "bodies.vehicle.initial.velocity_north",
                "velocity_up": "bodies.vehicle.initial.velocity_down",
-               "apogee_lag": "systems.drogue.deploy_trigger.lag", "main_lag": "systems.main.deploy_trigger.lag"}
+               "apogee_lag": "systems.drogue.deploy_trigger.lag", "main_lag": "systems.main.deploy_trigger.lag",
+               "main_opening_time": "systems.main.drag_area_schedule.time"}
 """A NewCase field -> the case key it becomes, whose range (``case.plausible.RANGES``) the case reader checks."""
 NEEDS = {"static_line_time": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),
          "static_line_length": ("release_airspeed", "a static line deploys the canopies of a release from an aircraft"),

@@ -95,6 +95,8 @@ RANGES: tuple = (
     Range("systems.*.inflation.exponent", "", (0.0, 100.0), (0.1, 10.0)),
     Range("systems.*.inflation.overinflation", "", (1.0, 100.0), (1.0, 5.0)),
     Range("systems.*.inflation.overinflation_decay", "s", (0.0, 1e5), (0.0, 100.0)),
+    # a drag area schedule: a canopy fills in seconds (PA1's reefed main: 18 s); minutes are a typo or a unit slip
+    Range("systems.*.drag_area_schedule.time", "s", (0.0, 1e8), (0.0, 100.0)),
     # a supersonic opening's law: C_ref fitted from 1.3 to 2 (SR01, SR02, MSL); the largest entry forebodies ~ 10 m
     Range("systems.*.inflation.supersonic.load_factor", "", (1.0, 1e6), (1.0, 5.0)),
     Range("systems.*.inflation.supersonic.forebody_diameter", "m", (0.0, 1e6), (0.0, 30.0)),

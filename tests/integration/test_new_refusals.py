@@ -155,3 +155,12 @@ def test_an_implausible_option_is_warned_with_the_case_readers_range(tmp_path, c
     assert err == (f"pchute new: warning: apogee_lag = 65.0 (--apogee-lag) is implausible: outside {low:g}..{high:g} "
                    f"(s), the case reader's range of {key}\n")
     assert "lag = 65.0" in path.read_text()
+
+
+def test_a_main_opening_over_hours_is_warned_with_the_case_readers_range(tmp_path, capsys):
+    """The battery's --main-opening-time 1e4: the main never opened before touchdown (17.8 m/s instead of 5.4 m/s)."""
+    key = "systems.main.drag_area_schedule.time"
+    low, high = range_of(key).plausible
+    assert main(["new", str(tmp_path / "slow.toml"), *ROCKET, "--main-opening-time", "1e4"]) == 0
+    assert capsys.readouterr().err == (f"pchute new: warning: main_opening_time = 10000.0 (--main-opening-time) is "
+                                       f"implausible: outside {low:g}..{high:g} (s), the case reader's range of {key}\n")
