@@ -520,6 +520,7 @@ def _check_parameters(spec: StudySpec, source: str) -> None:
     recorded as that run's failure instead. Every value of a choice must apply (a misspelt canopy fails here)."""
     extra = {"simulation.duration": spec.duration} if spec.duration else {}
     for case in spec.cases:
+        _check_duration(case, extra, source)
         for p in spec.parameters:
             every = p.distribution == "choice"
             candidates = p.values or ((0,) if p.distribution == "seed" else p.arguments["values"] if every else
@@ -547,6 +548,19 @@ def _check_parameters(spec: StudySpec, source: str) -> None:
             if first is not None and (every or not applied):
                 raise CaseError(source, f'parameters."{p.key}"',
                                 f"does not apply to case {case.name}: {first.detail}") from None
+
+
+def _check_duration(case: Path, extra: dict, source: str) -> None:
+    """The study's own ``duration`` (``extra``) on ``case`` alone, so that a case it cannot apply to (a deployment
+    after the end) names the study's key, not the first parameter tried with it."""
+    if not extra:
+        return
+    try:
+        load_case(case, extra)
+    except CaseError as exc:
+        theirs = str(exc).removeprefix(f"{exc.source}: ")   # "key = value: what is allowed"
+        raise CaseError(source, "study.duration", f"does not apply to case {case.name}: {theirs}",
+                        extra["simulation.duration"]) from None
 
 
 def _note_idle_key(spec: StudySpec, case: Path, key: str, loaded) -> None:

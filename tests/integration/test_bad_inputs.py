@@ -224,6 +224,13 @@ BATTERY = [
                                                                   'distribution = "choice"\n'
                                                                   'values = ["main1", "main4"]\n')],
      "parameters.\"failures.not_inflated\": does not apply to case cev_pa1_cluster.toml: unknown canopy 'main4'"),
+    ("study duration before a fixed event", lambda t: ["study", _file(t, "s.toml", STUDY.format(
+        case=CLUSTER, extra="seed = 1\nruns = 2\nduration = 5.0") + '[parameters."capsule.mass"]\n'
+                                                                     'distribution = "normal"\nmean = 7500.0\n'
+                                                                     'std = 10.0\n')],
+     # the study's own key named, not the parameter first tried with it (the battery's)
+     "study.duration = 5.0: does not apply to case cev_pa1_cluster.toml: systems.drogue.cutaway_time = 9.5: must be "
+     "before the end of the run (simulation.duration = 5 s)"),
     # aerodynamic databases (docs/models/aerodatabase.md)
     ("angles not increasing", lambda t: ["run", CASE1, "--set", "parachute.aerodynamics.normal_coefficient.alpha_deg="
                                                                  "[0.0, 45.0, 40.0, 90.0]"],
