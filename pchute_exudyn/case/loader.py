@@ -39,7 +39,7 @@ from .read_bodies import read_body
 from .read_systems import read_failures, read_system
 from .read_tethers import check_ejections, check_tethers, read_tethers
 from .read_triggers import check_triggers, read_separations
-from .read_world import idle_spin, read_atmosphere, read_planet, read_simulation, read_start
+from .read_world import planet_warnings, read_atmosphere, read_planet, read_simulation, read_start
 from .start import Release, at_conditions, ground_relative, mach_refusal, with_bag_anchors
 from .trigger_reach import unreachable_triggers
 from .unit_slips import unit_slips
@@ -139,7 +139,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
         simulation.stop_at_ground) \
         + tether_warnings + heavy_reduced_warnings(systems, bodies, vehicle, atmosphere, planet, start, tethers,
                                                    simulation.ground_altitude) \
-        + idle_spin(planet_table, planet)
+        + planet_warnings(planet_table, planet)
     check_escape(body_tables, bodies, planet)
     case = Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,

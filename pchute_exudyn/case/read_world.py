@@ -17,6 +17,7 @@ from ..physics.wind import DrydenTurbulence, Gust, PowerLawWind, wind_from_direc
 from ..registries.methods import ADAPTIVE_STEP, INTEGRATORS, METHODS, OptionError, make_options
 from .fields import REQUIRED, Table, check_number, default_of
 from .model import Case, SimulationSettings
+from .plausible import IMPLAUSIBLE
 from .soundings import sounding_air
 from .start import VELOCITY_FRAMES, Release
 from .tables import AIR_GAMMA, AIR_GAS_CONSTANT, read_atmosphere_table
@@ -49,6 +50,24 @@ def read_planet(p: Table):
         planet = replace(planet, spin_rate=_spin_rate(p, planet))
     p.finish()
     return planet
+
+
+MOST_FLATTENING = 0.1
+"""The largest flattening (a - b) / a (-) of a planet's ellipsoid that is not warned: Saturn's is 0.098, Jupiter's
+0.065, Earth's 0.0034 and Mars's 0.0059; beyond it a typo in polar_radius is likelier than a planet."""
+
+
+def planet_warnings(p: Table, planet) -> tuple:
+    """A spin nothing reads (``idle_spin``) and an ellipsoid flatter than any planet's (MOST_FLATTENING)."""
+    polar = getattr(planet, "polar_radius", None)
+    if polar is None or "polar_radius" not in p.data:
+        return idle_spin(p, planet)
+    flattening = 1.0 - polar / planet.equatorial_radius
+    flat = () if abs(flattening) <= MOST_FLATTENING else (
+        f"planet.polar_radius = {polar:g}{IMPLAUSIBLE}a flattening (a - b) / a of {flattening:.3g} against "
+        f"equatorial_radius = {planet.equatorial_radius:g} m, beyond the {MOST_FLATTENING:g} of the flattest "
+        "planet (Saturn 0.098); gravity and altitudes on it are far from any planet's",)
+    return idle_spin(p, planet) + flat
 
 
 def idle_spin(p: Table, planet) -> tuple:

@@ -146,3 +146,11 @@ def test_a_level_to_fall_below_that_the_start_is_already_below_is_warned():
     assert ("systems.main.deploy_trigger is met from the start: the vehicle starts at 3900 m, already below 6400 m "
             "(5000 m above the ground), so it fires at its first sample") in "\n".join(case.warnings)
     assert not [w for w in load_case(ROCKET).warnings if "met from the start" in w]
+
+
+def test_an_ellipsoid_flatter_than_any_planet_is_warned():
+    """The battery's polar_radius = 1e5 m under Earth's equator (flattening 0.98): 522 m/s^2 of gravity, no word."""
+    assert ("planet.polar_radius = 100000 is implausible: a flattening (a - b) / a of 0.984 against equatorial_radius "
+            "= 6.37814e+06 m") in "\n".join(load_case(ROCKET, ["planet.polar_radius=1e5", "planet.spin_rate=7.292115e-5"]).warnings)
+    saturn = load_case(ROCKET, ["planet.polar_radius=5753860.0", "planet.spin_rate=7.292115e-5"])   # Earth's a with Saturn's 0.098: a planet's
+    assert not [w for w in saturn.warnings if "polar_radius" in w]
