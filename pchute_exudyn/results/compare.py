@@ -139,9 +139,15 @@ def check_times(result: Result, label: str) -> None:
         raise InputError(f"{label}: {problem}")
 
 
+# Largest magnitude a compared value may have (m, m/s, N, Pa, kg, ...): far beyond any quantity of a descent (the
+# Earth's radius is 6.4e6 m, a line load above 1e9 N breaks any line), so a larger one is a broken file, and below
+# it every difference squared (< 4e30) and its mean stay far from the float overflow at 1.8e308.
+LARGEST_VALUE = 1e15
+
+
 def check_values(result: Result, label: str, columns) -> None:
-    """Refuse infinite values in ``columns``, and NaN unless the result is this package's own (a summary), where
-    NaN marks a system not present."""
+    """Refuse infinite values in ``columns`` and magnitudes beyond ``LARGEST_VALUE``, and NaN unless the result is
+    this package's own (a summary), where NaN marks a system not present."""
     for name in columns:
         values = result[name]
         wrong = np.isinf(values) if result.summary is not None else ~np.isfinite(values)
@@ -149,6 +155,11 @@ def check_values(result: Result, label: str, columns) -> None:
             i = int(np.argmax(wrong))
             raise InputError(f"{label}: column {name} is {float(values[i])} at t = {result.time[i]:g} s; compared "
                              "values must be finite numbers")
+        huge = np.abs(np.where(np.isnan(values), 0.0, values)) > LARGEST_VALUE
+        if huge.any():
+            i = int(np.argmax(huge))
+            raise InputError(f"{label}: column {name} is {float(values[i]):g} at t = {result.time[i]:g} s (sample "
+                             f"{i + 1}); compared values must be within +-{LARGEST_VALUE:g}")
 
 
 def column_differences(a: Result, b: Result, names, time) -> dict:
@@ -173,8 +184,25 @@ def descent_profile(result: Result, vehicle: str = UNNAMED_VEHICLE) -> tuple[np.
     time, altitude = result.time, result[column("{owner}_altitude", vehicle)]
     keep = np.isfinite(altitude)
     velocity = column("{owner}_velocity_down", vehicle)
-    rate = result[velocity][keep] if velocity in result else -np.gradient(altitude[keep], time[keep])
+    with np.errstate(all="ignore"):   # times too close for the altitude's change: refused by _check_rates
+        rate = result[velocity][keep] if velocity in result else -np.gradient(altitude[keep], time[keep])
     return time[keep], altitude[keep], rate
+
+
+def _check_rates(sides, vehicle: str) -> None:
+    """Refuse a side whose rate of descent (m/s, ``descent_profile``) is no number or beyond ``LARGEST_VALUE``: its
+    ``<vehicle>_velocity_down`` as ``check_values`` does, else -d(altitude)/dt (``sides``: (result, label) pairs)."""
+    altitude, velocity = column("{owner}_altitude", vehicle), column("{owner}_velocity_down", vehicle)
+    for result, label in sides:
+        if altitude in result and velocity in result:
+            check_values(result, label, [velocity])
+        elif altitude in result:
+            time, _, rate = descent_profile(result, vehicle)
+            wrong = ~(np.abs(rate) <= LARGEST_VALUE)   # NaN and inf too
+            if wrong.any():
+                i = int(np.argmax(wrong))
+                raise InputError(f"{label}: rate of descent -d({altitude})/dt is {float(rate[i]):g} m/s at t = "
+                                 f"{time[i]:g} s; it must be within +-{LARGEST_VALUE:g} (are the times too close?)")
 
 
 def descent_side(result: Result, vehicle: str, altitudes, ground: float) -> dict:
@@ -187,8 +215,10 @@ def descent_side(result: Result, vehicle: str, altitudes, ground: float) -> dict
         when = first_fall_through(time, altitude, level)
         rates.append(float(np.interp(when, time, rate)) if when is not None else math.nan)
     when, note = first_fall_through(time, altitude, ground), ""
-    if when is None and altitude[-1] > ground and rate[-1] > 0.0:
-        when = float(time[-1] + (altitude[-1] - ground) / rate[-1])
+    with np.errstate(over="ignore"):   # a last rate near 0: no time to extrapolate to
+        remaining = (altitude[-1] - ground) / rate[-1] if rate[-1] > 0.0 else math.inf
+    if when is None and altitude[-1] > ground and math.isfinite(remaining):
+        when = float(time[-1] + remaining)
         note = (f"ends {altitude[-1] - ground:.3g} m above the ground at {time[-1]:g} s; time to ground extrapolated "
                 f"at its last rate, {rate[-1]:.4g} m/s")
     elif when is None:
@@ -228,6 +258,26 @@ def _check_altitudes(sides, vehicle: str, altitudes) -> None:
                 raise InputError(f"altitudes (--altitudes) = {level:g}: {label} never descends through {level:g} m "
                                  f"(its {name} spans {np.nanmin(altitude):.6g} to {np.nanmax(altitude):.6g} m): "
                                  "each must be an altitude both sides descend through")
+
+
+def _ground(sides, vehicle: str, ground: float | None) -> float:
+    """The ground altitude (m): ``ground`` when given, refused when not finite or not below a side's highest vehicle
+    altitude (its time to the ground would be no number); else the first side's summary's, else 0 (``sides``:
+    (result, label) pairs)."""
+    if ground is None:   # a summary's ground that is not a finite number (a file edited by hand) is not used
+        grounds = (getattr(result.summary, "ground_altitude", None) for result, _ in sides)
+        return next((float(value) for value in grounds if _finite_number(value)), 0.0)
+    if not (_finite_number(ground) and abs(ground) <= LARGEST_VALUE):
+        raise InputError(f"ground (--ground) = {ground!r}: must be a finite altitude (m) within +-{LARGEST_VALUE:g}")
+    name = column("{owner}_altitude", vehicle)
+    if not all(name in result and np.isfinite(result[name]).any() for result, _ in sides):
+        return ground   # no descent figures: no time to the ground to refuse
+    for result, label in sides:
+        top = np.nanmax(result[name])
+        if not ground < top:   # at the top itself there is no fall to it either
+            raise InputError(f"ground (--ground) = {ground:g}: {label} never descends to {ground:g} m (its {name} "
+                             f"is at most {top:.6g} m): must be below the highest altitude of both sides")
+    return ground
 
 
 def _missing_descent(a: Result, b: Result, vehicle: str) -> str:
@@ -286,9 +336,8 @@ def compare_results(a: Result, b: Result, label_a: str = "A", label_b: str = "B"
     time = a.time[inside]
     comparison = Comparison(label_a, label_b, time, settle_time, common=common)
     comparison.columns = column_differences(a, b, common if columns is None else columns, time)
-    if ground is None:   # a summary's ground that is not a finite number (a file edited by hand) is not used
-        grounds = (getattr(r.summary, "ground_altitude", None) for r in (a, b))
-        ground = next((float(value) for value in grounds if _finite_number(value)), 0.0)
+    _check_rates(((a, label_a), (b, label_b)), vehicle)
+    ground = _ground(((a, label_a), (b, label_b)), vehicle, ground)
     if altitudes is not None:
         _check_altitudes(((a, label_a), (b, label_b)), vehicle, altitudes)
     comparison.descent = descent_metrics(a, b, vehicle, altitudes, ground)

@@ -105,6 +105,15 @@ def _set(column, index, value):
     (_set("time", 7, np.nan), [], "time is not a finite number at sample 8"),
     (_set("tension_riser", 20, np.nan), [], "column tension_riser is nan at t = 2 s"),
     (_set("vehicle_altitude", 30, np.inf), [], "column vehicle_altitude is inf at t = 3 s"),
+    (_set("vehicle_altitude", 30, 1e300), [], "bad.csv: column vehicle_altitude is 1e+300 at t = 3 s (sample 31); "
+                                              "compared values must be within +-1e+15"),
+    (_set("tension_riser", 30, -2e15), [], "column tension_riser is -2e+15 at t = 3 s (sample 31)"),
+    (lambda c: c["time"].__setitem__(1, 1e-320), [], "bad.csv: rate of descent -d(vehicle_altitude)/dt is inf m/s at "
+                                                     "t = 0 s; it must be within +-1e+15 (are the times too close?)"),
+    (lambda c: None, ["--ground", "1e9"], "a.csv never descends to 1e+09 m (its vehicle_altitude is at most 1000 "
+                                          "m): must be below the highest altitude of both sides"),
+    (lambda c: c.update(vehicle_altitude=c["vehicle_altitude"] - 1.0), ["--ground", "999"],
+     "bad.csv never descends to 999 m (its vehicle_altitude is at most 999 m)"),
     (lambda c: None, ["--map", "tension_riser=tension_riser*nan"], "the factor must be a finite, non-zero number"),
     (lambda c: None, ["--map", "tension_riser=tension_riser*inf"], "the factor must be a finite, non-zero number"),
     (lambda c: None, ["--map", "tension_riser=tension_riser*0"], "the factor must be a finite, non-zero number"),
@@ -113,8 +122,25 @@ def _set(column, index, value):
     (lambda c: None, ["--map-a", "vehicle_altitude=altitude"], "--map-a vehicle_altitude=altitude: B has no column "
                                                                "'altitude'"),
 ])
+@pytest.mark.filterwarnings("error")   # no numpy warning on the way to the one line
 def test_compare_refuses_bad_input(pair, tmp_path, capsys, change, extra, expected):
     bad = _bad_copy(tmp_path, "bad.csv", change)
     assert main(["compare", pair[0], bad, *extra]) == 1
     err = capsys.readouterr().err
     assert expected in err and len(err.strip().splitlines()) == 1, err
+
+
+@pytest.mark.filterwarnings("error")
+def test_compare_ground_checked_in_the_api_and_no_overflow(pair, tmp_path):
+    """compare_results refuses a ground above a side as the CLI does; a last rate of descent near 0 (1e-307 m/s)
+    gives no time to the ground (noted) rather than an overflow warning and an infinite time."""
+    a = Result.load(pair[0])
+    with pytest.raises(InputError, match=r"^ground \(--ground\) = 2000: A never descends to 2000 m"):
+        compare_results(a, a, ground=2000.0)
+    t = np.linspace(0.0, 10.0, 101)
+    rate = np.full_like(t, 1.0)
+    rate[-1] = 1e-307   # 990 m / 1e-307 m/s overflows
+    slow = Result.load(write_csv(tmp_path / "slow.csv", {"time": t, "vehicle_altitude": 1000.0 - t,
+                                                         "vehicle_velocity_down": rate}))
+    side = compare_results(a, slow, ground=0.0).descent["b"]
+    assert np.isnan(side["ground_time"]) and side["note"] == "does not reach the ground (lowest 990 m)"
