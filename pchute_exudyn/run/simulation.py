@@ -349,8 +349,9 @@ def summarize(case: Case, plan: RunPlan, raw, facts: dict, events: list, columns
         deployments=deployments,
         cluster=cluster_summary(case, columns, events), pendulum=pendulum_summary(case, columns, events),
         descent=descent_summary(case, columns), failures=failures_flown(case.failures),
-        warnings=case.warnings + plan.warnings + opening_warnings(case, events, progress) + load_warnings(deployments)
-        + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()),
+        # the plan's (settings without effect in this run) last: every earlier warning keeps its place in the list
+        warnings=case.warnings + opening_warnings(case, events, progress) + load_warnings(deployments)
+        + tuple(sequence.warnings(float(raw.time[-1])) if sequence is not None else ()) + plan.warnings,
         events_planned=events_planned(case.systems, None if sequence is None else sequence.base.triggers),
         separations=separation_summary(case, raw, events),
         step_control=None if plan.control is None else {"rule": "adaptive", **(raw.step_control or {})},
