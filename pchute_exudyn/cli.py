@@ -211,6 +211,10 @@ def _new(args) -> int:
         print(f"{source}: start at t = {state.time:.3f} s, "
               + ("its apogee" if state.at_apogee else "its first row (it only descends)")
               + f", {state.altitude:.2f} m")
+        if choices.ground_elevation is None:   # neither the export (no AGL column) nor the command line gave one
+            print(f"pchute new: warning: from_rocketpy = {source}: the export has no 'Altitude AGL' column, so the "
+                  "ground is put at 0 m (the ellipsoid); give the launch site's with --ground-elevation",
+                  file=sys.stderr)
     path = Path(args.file)
     if path.exists() and not args.overwrite:
         raise InputError(f"{path} exists; pass --overwrite to replace it")

@@ -57,12 +57,13 @@ def with_canopy_models(systems: dict, bodies: dict, vehicle: str, atmosphere, pl
 
 
 def heavy_reduced_warnings(systems: dict, bodies: dict, vehicle: str, atmosphere, planet, start,
-                           tethers: dict, ground_altitude: float) -> tuple:
+                           tethers: dict, simulation) -> tuple:
     """One line per system the case names ``canopy_model = "reduced"`` whose canopy is heavy (its
     ``canopy_drag_time`` above HEAVY_CANOPY_TIME, twice the rule ``"auto"`` and ``pchute new`` choose by): its speed
     along the riser then lags the descent by a time the massless drag point leaves out. Judged in the densest air
-    the descent reaches (the start or ``ground_altitude`` (m), the lower), where the time constant is shortest: a
-    canopy deployed far below a high start is not warned for the thin air it never opens in."""
+    the descent reaches (the start or the ground it stops on (``simulation``'s), the lower), where the time constant
+    is shortest: a canopy deployed far below a high start is not warned for the thin air it never opens in."""
+    ground_altitude = simulation.ground_altitude if simulation.stop_at_ground else math.inf
     suspended, tethered = _suspended_and_tethered(systems, bodies, tethers)
     warned = []
     for name, system in systems.items():

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from ..errors import CaseError
+from ..physics.atmosphere import OutsideAtmosphereError
 from ..physics.inflation import nominal_diameter
 from ..physics.planet import Planet
 from .fields import Context, Table
@@ -43,6 +44,19 @@ def check_grounds(atmosphere_table: Table, wind, turbulence, start_altitude: flo
         if ground is not None and ground >= start_altitude:
             raise atmosphere_table.error(key, f"must be below the vehicle's start altitude ({start_altitude:g} m): "
                                               "above the flight it does nothing", ground)
+
+
+def check_ground_air(simulation_table, simulation, atmosphere) -> None:
+    """A ground the run stops on inside the atmosphere: touchdown reads the air there (a US76 ground below -5 km
+    otherwise stops the run with the atmosphere's error instead of naming the key)."""
+    if atmosphere is None or not simulation.stop_at_ground:
+        return
+    try:
+        atmosphere.density(simulation.ground_altitude)
+    except OutsideAtmosphereError as exc:
+        raise simulation_table.error("ground_altitude", f"must be inside the atmosphere the descent flies through "
+                                     f"({exc.low:g} to {exc.high:g} m, {exc.model})",
+                                     simulation.ground_altitude) from None
 
 
 def check_mach(body_tables, bodies, atmosphere) -> None:

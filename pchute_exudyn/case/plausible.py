@@ -100,6 +100,7 @@ RANGES: tuple = (
     # a supersonic opening's law: C_ref fitted from 1.3 to 2 (SR01, SR02, MSL); the largest entry forebodies ~ 10 m
     Range("systems.*.inflation.supersonic.load_factor", "", (1.0, 1e6), (1.0, 5.0)),
     Range("systems.*.inflation.supersonic.forebody_diameter", "m", (0.0, 1e6), (0.0, 30.0)),
+    Range("systems.*.inflation.supersonic.mach_slope", "", (-1e6, 1e6), (-10.0, 10.0)),   # MSL's: 1.254
     # planet and atmosphere
     Range("planet.gravity", "m/s^2", (0.0, 1e3), (0.0, 100.0)),
     Range("planet.gravitational_parameter", "m^3/s^2", (1.0, 1e22), (1e9, 1e18)),

@@ -290,6 +290,8 @@ def _read_step_rule(t: Table | None) -> StepRule:
     for key, value in (("first", rule.first), ("largest", rule.largest)):
         if value < rule.smallest:
             raise t.error(key, f"must not be below the smallest step ({rule.smallest:g} s)", value)
+    if rule.first > rule.largest:   # the first step would be cut to the largest without a word
+        raise t.error("first", f"must not exceed the largest step ({rule.largest:g} s)", rule.first)
     t.finish()
     return rule
 

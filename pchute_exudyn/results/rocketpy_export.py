@@ -162,9 +162,9 @@ def check_rows(path, columns: dict, texts: dict, lines: list) -> None:
     """InputError, one line naming the file, the row's line number and the column, for the first row of a RocketPy
     export that is not a state: a value that is not finite, a time not strictly after the row before, a position or
     velocity outside the case reader's range for it (ROW_KEYS), a latitude or longitude outside the start's (or one
-    without the other), an attitude quaternion not of unit norm (QUATERNION_TOLERANCE), an altitude change its
-    vertical velocity does not give (STEP_TOLERANCE), a ground elevation (Z - AGL) that changes or an AGL below 0
-    (GROUND_TOLERANCE)."""
+    without the other), an attitude quaternion missing a component or not of unit norm (QUATERNION_TOLERANCE), an
+    altitude change its vertical velocity does not give (STEP_TOLERANCE), a ground elevation (Z - AGL) that changes
+    or an AGL below 0 (GROUND_TOLERANCE)."""
     from ..authoring.choice_checks import SITE_RANGES
     from ..case.plausible import check_value
 
@@ -191,7 +191,12 @@ def check_rows(path, columns: dict, texts: dict, lines: list) -> None:
         bad = np.flatnonzero((columns[name] < low) | (columns[name] > high)) if name in columns else ()
         if len(bad):
             refuse(int(bad[0]), name, f"must be from {low:g} to {high:g} ({unit})")
-    if all(f"e{k}" in columns for k in range(4)):
+    present = [f"e{k}" for k in range(4) if f"e{k}" in columns]
+    if 0 < len(present) < 4:
+        absent = ", ".join(f"e{k}" for k in range(4) if f"e{k}" not in columns)
+        raise InputError(f"{path}: {', '.join(present)} without {absent}: an attitude quaternion needs all four "
+                         "columns or none")
+    if len(present) == 4:
         norm = np.sqrt(sum(columns[f"e{k}"] ** 2 for k in range(4)))
         bad = np.flatnonzero(np.abs(norm - 1.0) > QUATERNION_TOLERANCE)
         if len(bad):

@@ -156,7 +156,8 @@ def resolve_run(case: Case, method=None, integrator: str | None = None, step: fl
         resolved.check_step(case, step)
     check_time_scales(case, step)
     return RunPlan(resolved, integrator, step, duration, limit, control,
-                   _idle_step_control(case, control, step) + _rigid_instead(case, resolved))
+                   _idle_step_control(case, control, step) + _rigid_instead(case, resolved)
+                   + _output_below_step(case, control, step))
 
 
 def _idle_step_control(case: Case, control: StepRule | None, step: float) -> tuple:
@@ -166,6 +167,17 @@ def _idle_step_control(case: Case, control: StepRule | None, step: float) -> tup
     return (f"simulation.step_control: has no effect in this run: its step is fixed ({step:g} s, from --dt, "
             "[simulation.steps] or the stability limit); the adaptive steps it tunes are RK4's with --dt auto or no "
             "step set",)
+
+
+def _output_below_step(case: Case, control: StepRule | None, step: float) -> tuple:
+    """A warning when ``simulation.output_step`` (s) is shorter than any step the run takes (a fixed ``step``, s, or
+    adaptive steps' smallest): the output then holds a row per step, not per output step."""
+    shortest = step if control is None else control.smallest
+    if not case.simulation.output_step < shortest:
+        return ()
+    return (f"simulation.output_step = {case.simulation.output_step:g} s: has no effect below the run's "
+            f"{'step' if control is None else 'smallest adaptive step'} ({shortest:g} s): the output holds one row "
+            "per step",)
 
 
 def _rigid_instead(case: Case, method) -> tuple:

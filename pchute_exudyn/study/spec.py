@@ -331,6 +331,8 @@ def read_configuration(t: Table, single_step: bool) -> list:
     if single_step:
         steps = [_step(t, "step")]
     else:
+        if "steps" in t.data and "step" in t.data:   # one would be dropped without a word
+            raise t.error("step", "give step or steps, not both (steps = [...] lists every step)", t.data["step"])
         steps = _steps(t) if "steps" in t.data else [_step(t, "step")]
         t.allowed.extend(["step", "steps"])
     options = _read_options(t, method)

@@ -224,6 +224,9 @@ BATTERY = [
                                                                   'distribution = "choice"\n'
                                                                   'values = ["main1", "main4"]\n')],
      "parameters.\"failures.not_inflated\": does not apply to case cev_pa1_cluster.toml: unknown canopy 'main4'"),
+    ("study configuration with step and steps", lambda t: ["study", _file(t, "s.toml", STUDY.format(
+        case=CLUSTER, extra="").replace("steps = [1e-2]", "steps = [1e-2]\nstep = 0.02"))],
+     "study.configurations[0].step = 0.02: give step or steps, not both (steps = [...] lists every step)"),
     ("study duration before a fixed event", lambda t: ["study", _file(t, "s.toml", STUDY.format(
         case=CLUSTER, extra="seed = 1\nruns = 2\nduration = 5.0") + '[parameters."capsule.mass"]\n'
                                                                      'distribution = "normal"\nmean = 7500.0\n'

@@ -51,6 +51,13 @@ BAD = [
     ("compare --altitudes 1e6", lambda t: ["compare", _file(t, "a.csv", DESCENT), _file(t, "b.csv", DESCENT),
                                            "--altitudes", "95,1e6"],
      "altitudes (--altitudes) = 1e+06: "),
+    # the second battery's
+    ("a ground below the atmosphere", lambda t: ["run", ROCKET, "--set", "simulation.ground_altitude=-6000"],
+     "simulation.ground_altitude = -6000.0: must be inside the atmosphere the descent flies through (-5000 to 86000 "
+     "m, US76 atmosphere)"),
+    ("a first step above the largest", lambda t: ["run", ROCKET, "--set", "simulation.step_control.first=1",
+                                                  "--set", "simulation.step_control.largest=0.5"],
+     "simulation.step_control.first = 1.0: must not exceed the largest step (0.5 s)"),
     # warned as implausible, then stopped by what the value caused: the stop names the warned setting
     ("spin_rate 0.05 stops below the ground", lambda t: ["run", ROCKET, "--set", "planet.spin_rate=0.05", "--quiet",
                                                          "--no-plot"],
@@ -120,9 +127,9 @@ def test_a_flattened_normal_gravity_planet_flies(tmp_path):
 
 @pytest.mark.parametrize("case_file, key, value", [
     (ROCKET, "simulation.step_control.largest", 5.0),   # the battery's: apogee sensed 5 s late, 4x the drogue's load
-    (ROCKET, "simulation.step_control.first", 100.0),   # with largest 100: one step to 20 s, the drogue never fired
     (MSL, "systems.main.inflation.supersonic.forebody_diameter", 1e4),
-    (MSL, "systems.main.inflation.supersonic.load_factor", 1e6)])
+    (MSL, "systems.main.inflation.supersonic.load_factor", 1e6),
+    (MSL, "systems.main.inflation.supersonic.mach_slope", 1e6)])
 def test_a_step_or_an_opening_law_out_of_its_plausible_range_is_warned(case_file, key, value):
     from pchute_exudyn.case.plausible import range_of
 
@@ -154,3 +161,12 @@ def test_an_ellipsoid_flatter_than_any_planet_is_warned():
             "= 6.37814e+06 m") in "\n".join(load_case(ROCKET, ["planet.polar_radius=1e5", "planet.spin_rate=7.292115e-5"]).warnings)
     saturn = load_case(ROCKET, ["planet.polar_radius=5753860.0", "planet.spin_rate=7.292115e-5"])   # Earth's a with Saturn's 0.098: a planet's
     assert not [w for w in saturn.warnings if "polar_radius" in w]
+
+
+def test_an_output_step_below_every_step_is_warned():
+    """The second battery's output_step = 1e-7 s: summary.json recorded it, the output held one row per step."""
+    case = load_case(DROP, {"simulation.output_step": 1e-4})
+    assert resolve_run(case, step=0.01).warnings == (
+        "simulation.output_step = 0.0001 s: has no effect below the run's step (0.01 s): the output holds one row per "
+        "step",)
+    assert resolve_run(case, step=1e-4).warnings == ()   # a row per step is what it asks for

@@ -68,6 +68,16 @@ def _without_latitude(rows) -> None:
         del row[11]
 
 
+def _without_e3(rows) -> None:
+    for row in rows:
+        del row[10]
+
+
+def _without_agl(rows) -> None:
+    for row in rows:
+        del row[13]
+
+
 def _ground_at_6400_m(rows) -> None:   # every Altitude AGL 5000 m lower: Z - AGL the same on each row, AGL < 0
     for row in rows[1:]:
         row[13] = f"{float(row[13]) - 5000.0:.6f}"
@@ -110,6 +120,8 @@ REFUSED = [
      "broken.csv: line 2, Altitude AGL (m) = -4000: below the ground; allowed: >= 0 m (within 1 m)"),
     ("a longitude without latitude", lambda t: [*ROCKET, "--from-rocketpy", _edited(t, _without_latitude)],
      "broken.csv: Longitude (°) without Latitude: a position needs both columns or neither"),
+    ("a quaternion without e3", lambda t: [*ROCKET, "--from-rocketpy", _edited(t, _without_e3)],
+     "broken.csv: e0, e1, e2 without e3: an attitude quaternion needs all four columns or none"),
 ]
 
 
@@ -164,3 +176,11 @@ def test_a_main_opening_over_hours_is_warned_with_the_case_readers_range(tmp_pat
     assert main(["new", str(tmp_path / "slow.toml"), *ROCKET, "--main-opening-time", "1e4"]) == 0
     assert capsys.readouterr().err == (f"pchute new: warning: main_opening_time = 10000.0 (--main-opening-time) is "
                                        f"implausible: outside {low:g}..{high:g} (s), the case reader's range of {key}\n")
+
+
+def test_an_export_without_its_ground_says_where_the_ground_is_put(tmp_path, capsys):
+    """The battery's export without Altitude AGL: the ground went to 0 m without a word (1400 m too low)."""
+    arguments = [a for a in ROCKET if a not in ("--ground-elevation", "1400")]
+    assert main(["new", str(tmp_path / "g.toml"), *arguments, "--from-rocketpy", _edited(tmp_path, _without_agl)]) == 0
+    assert ("the export has no 'Altitude AGL' column, so the ground is put at 0 m (the ellipsoid); give the launch "
+            "site's with --ground-elevation") in capsys.readouterr().err
