@@ -288,7 +288,7 @@ def _compare(args) -> int:
     from .results.result import Result, parse_column_map
     from .views.comparison_files import write_comparison
 
-    if args.out is not None and not args.out.strip():   # Path("") is the working folder: never meant
+    if args.out is not None and (not args.out.strip() or Path(args.out).is_file()):   # "": the working folder
         raise InputError(f"--out = {args.out!r}: must name a folder for the report (or leave --out out to print it)")
     settle = DEFAULT_SETTLE if args.settle is None else args.settle
     if not (math.isfinite(settle) and settle >= 0.0):

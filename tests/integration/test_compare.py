@@ -121,13 +121,16 @@ def _set(column, index, value):
                                                               "'tension_risr'"),
     (lambda c: None, ["--map-a", "vehicle_altitude=altitude"], "--map-a vehicle_altitude=altitude: B has no column "
                                                                "'altitude'"),
+    # the second battery's: a report folder that is a file was refused only after the report was printed
+    (lambda c: None, ["--out", __file__], "must name a folder for the report"),
 ])
 @pytest.mark.filterwarnings("error")   # no numpy warning on the way to the one line
 def test_compare_refuses_bad_input(pair, tmp_path, capsys, change, extra, expected):
     bad = _bad_copy(tmp_path, "bad.csv", change)
     assert main(["compare", pair[0], bad, *extra]) == 1
-    err = capsys.readouterr().err
+    out, err = capsys.readouterr()
     assert expected in err and len(err.strip().splitlines()) == 1, err
+    assert out == ""   # refused before any of the report is printed
 
 
 @pytest.mark.filterwarnings("error")
