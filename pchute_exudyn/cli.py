@@ -202,19 +202,16 @@ def _new(args) -> int:
     given.setdefault("name", Path(args.file).stem)
     choices = new_choices(given)
     if choices.from_rocketpy is not None:
-        from .authoring.rocket_start import started_from
+        from .authoring.rocket_start import no_ground_warning, started_from
         from .results.rocketpy_export import apogee_state
 
         source = choices.from_rocketpy
         state = apogee_state(source)
         choices = started_from(replace(choices, from_rocketpy=None), state, source)
         print(f"{source}: start at t = {state.time:.3f} s, "
-              + ("its apogee" if state.at_apogee else "its first row (it only descends)")
-              + f", {state.altitude:.2f} m")
+              + ("its apogee" if state.at_apogee else "its first row (it only descends)") + f", {state.altitude:.2f} m")
         if choices.ground_elevation is None:   # neither the export (no AGL column) nor the command line gave one
-            print(f"pchute new: warning: from_rocketpy = {source}: the export has no 'Altitude AGL' column, so the "
-                  "ground is put at 0 m (the ellipsoid); give the launch site's with --ground-elevation",
-                  file=sys.stderr)
+            print(f"pchute new: warning: {no_ground_warning(source)}", file=sys.stderr)
     path = Path(args.file)
     if path.exists() and not args.overwrite:
         raise InputError(f"{path} exists; pass --overwrite to replace it")

@@ -197,6 +197,12 @@ def started_from(c, state, source: str):
     return replace(c, **start)
 
 
+def no_ground_warning(source: str) -> str:
+    """The warning for a RocketPy export (``source``) without Altitude AGL read with no ground given."""
+    return (f"from_rocketpy = {source}: the export has no 'Altitude AGL' column, so the ground is put at 0 m (the "
+            "ellipsoid); give the launch site's with --ground-elevation")
+
+
 def nose_direction(c) -> np.ndarray:
     """The nose (body +x) as (east, north, up) (-): ``nose_pitch_deg`` above the horizontal (0 if not given),
     ``nose_heading_deg`` clockwise from north (if not given: along the horizontal velocity, north at none)."""

@@ -10,6 +10,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..physics.atmosphere import OutsideAtmosphereError
 from .read_systems import reduced_refusal
 
 LIGHT_CANOPY_TIME = 0.05
@@ -86,6 +87,15 @@ def _suspended_and_tethered(systems: dict, bodies: dict, tethers: dict) -> tuple
     return suspended, {body for tether in tethers.values() for body, _ in tether.ends}
 
 
+def _densest(atmosphere, start_altitude: float, lowest_altitude: float) -> float:
+    """The air's density (kg/m^3) at the lower of the two altitudes (m), the start's where the atmosphere ends above
+    the other (the run then stops there; ``checks.ground_air_warnings`` says so)."""
+    try:
+        return atmosphere.density(min(start_altitude, lowest_altitude))
+    except OutsideAtmosphereError:
+        return atmosphere.density(start_altitude)
+
+
 def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, start, tethered: set,
                      suspended_mass: float, lowest_altitude: float = math.inf) -> float:
     """The drag time constant (s, ``steady_drag_time``) of ``system``'s canopy at the vehicle's start: rho at its
@@ -101,7 +111,7 @@ def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, sta
         return math.inf
     drag_coefficient = canopy.aerodynamics.axial_coefficient(0.0)
     gravity = float(np.linalg.norm(planet.gravity(start.origin)))
-    density = atmosphere.density(min(bodies[vehicle].initial.altitude, lowest_altitude))
+    density = _densest(atmosphere, bodies[vehicle].initial.altitude, lowest_altitude)
     if not (drag_coefficient > 0.0 and density > 0.0 and gravity > 0.0):
         return math.inf
     return steady_drag_time(canopy.mass, suspended_mass, gravity, density, drag_coefficient,

@@ -12,7 +12,7 @@ from ..physics.atmosphere import OutsideAtmosphereError
 from ..physics.inflation import nominal_diameter
 from ..physics.planet import Planet
 from .fields import Context, Table
-from .plausible import check_value
+from .plausible import IMPLAUSIBLE, check_value
 from .read_bodies import MOMENTS
 from .read_systems import canopy_key_of
 
@@ -46,17 +46,18 @@ def check_grounds(atmosphere_table: Table, wind, turbulence, start_altitude: flo
                                               "above the flight it does nothing", ground)
 
 
-def check_ground_air(simulation_table, simulation, atmosphere) -> None:
-    """A ground the run stops on inside the atmosphere: touchdown reads the air there (a US76 ground below -5 km
-    otherwise stops the run with the atmosphere's error instead of naming the key)."""
+def ground_air_warnings(simulation, atmosphere) -> tuple:
+    """A ground the run stops on outside the atmosphere: the run stops where the air ends, before touchdown (a table
+    that covers only the altitudes a short run flies is fine; its run is then not meant to land)."""
     if atmosphere is None or not simulation.stop_at_ground:
-        return
+        return ()
     try:
         atmosphere.density(simulation.ground_altitude)
     except OutsideAtmosphereError as exc:
-        raise simulation_table.error("ground_altitude", f"must be inside the atmosphere the descent flies through "
-                                     f"({exc.low:g} to {exc.high:g} m, {exc.model})",
-                                     simulation.ground_altitude) from None
+        return (f"simulation.ground_altitude = {simulation.ground_altitude:g}{IMPLAUSIBLE}outside the atmosphere the "
+                f"descent flies through ({exc.low:g} to {exc.high:g} m, {exc.model}): the run stops where the air "
+                "ends, before touchdown",)
+    return ()
 
 
 def check_mach(body_tables, bodies, atmosphere) -> None:

@@ -23,7 +23,6 @@ from .checks import (
     check_connections,
     check_escape,
     check_events,
-    check_ground_air,
     check_grounds,
     check_mach,
     check_packed_mass,
@@ -31,6 +30,7 @@ from .checks import (
     check_release,
     check_supersonic_openings,
     check_vehicle,
+    ground_air_warnings,
 )
 from .fields import Context, Table
 from .files import display_path, load_merged
@@ -118,7 +118,6 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
     simulation = read_simulation(simulation_table)
     bodies, atmosphere, wind, turbulence, gusts = _with_air(atmosphere_table, simulation, body_tables, bodies,
                                                             vehicle, frame, release, site)
-    check_ground_air(simulation_table, simulation, atmosphere)
     check_mach(body_tables, bodies, atmosphere)
     check_supersonic_openings(system_tables, systems, bodies, atmosphere)
     check_release(body_tables, system_tables, bodies, systems, vehicle, release)
@@ -141,7 +140,7 @@ def build_case(data: dict, origins: dict, source: str) -> Case:
         simulation.stop_at_ground) \
         + tether_warnings + heavy_reduced_warnings(systems, bodies, vehicle, atmosphere, planet, start, tethers,
                                                    simulation) \
-        + planet_warnings(planet_table, planet)
+        + planet_warnings(planet_table, planet) + ground_air_warnings(simulation, atmosphere)
     check_escape(body_tables, bodies, planet)
     case = Case(name=name, description=description, source=source, planet=planet, start=start,
                 atmosphere=atmosphere, bodies=bodies, systems=systems, simulation=simulation, vehicle=vehicle,
