@@ -18,6 +18,11 @@ splines that ring at a deployment).
 
 from __future__ import annotations
 
+from script_arguments import module_of
+
+if __name__ == "__main__":
+    module_of(__file__, __doc__, "flight_logs.py")   # --help says what it is; a run does nothing, so it says so
+
 import math
 import sys
 import warnings

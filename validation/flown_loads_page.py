@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+from script_arguments import module_of
+
+if __name__ == "__main__":
+    module_of(__file__, __doc__, "flown_loads.py")   # --help says what it is; a run does nothing, so it says so
+
 KN = 1e3
 
 

@@ -120,6 +120,14 @@ def no_arguments(script: str, doc: str, argv=None) -> None:
     OneLineParser(script, doc).parse_args(argv)
 
 
+def module_of(module: str, doc: str, script: str, argv=None) -> None:
+    """The command line of a module a script imports (``script``, its name): ``--help`` says what it is, anything
+    else (even nothing) stops in one line pointing at the script, rather than exit 0 having done nothing."""
+    parser = OneLineParser(module, doc)
+    parser.parse_args(argv)
+    parser.refuse(f"a module that validation/{script} imports, not a script: run python validation/{script}")
+
+
 class Terminated(KeyboardInterrupt):
     """SIGTERM to a script: the same clean stop as Ctrl-C, every ``finally`` run (a staged folder removed), exit
     status 143. (The package's own handler is not used: importing the package first would choose the kernels before

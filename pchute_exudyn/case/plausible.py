@@ -114,6 +114,7 @@ RANGES: tuple = (
     # wind, turbulence, gusts
     *(_speeds(f"atmosphere.wind.{key}", 1e3, 150.0) for key in ("east", "north", "speed")),
     Range("atmosphere.wind.altitude", "m", (-5e4, 1e7), (-1.2e4, 2e5)),
+    Range("atmosphere.wind.from_deg", "deg", (-1e6, 1e6), (-360.0, 360.0)),   # a direction: one turn either way
     Range("atmosphere.wind.reference_height", "m", (1e-3, 1e5), (0.1, 1e3)),
     Range("atmosphere.wind.ground_altitude", "m", (-5e4, 1e7), (-1.2e4, 2e4)),
     *(Range(f"atmosphere.turbulence.sigma_{c}", "m/s", (0.0, 1e3), (0.0, 30.0)) for c in "uvw"),

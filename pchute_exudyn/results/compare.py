@@ -267,8 +267,13 @@ def _ground(sides, vehicle: str, ground: float | None) -> float:
     if ground is None:   # a summary's ground that is not a finite number (a file edited by hand) is not used
         grounds = (getattr(result.summary, "ground_altitude", None) for result, _ in sides)
         return next((float(value) for value in grounds if _finite_number(value)), 0.0)
+    from ..case.plausible import check_value
+
     if not (_finite_number(ground) and abs(ground) <= LARGEST_VALUE):
         raise InputError(f"ground (--ground) = {ground!r}: must be a finite altitude (m) within +-{LARGEST_VALUE:g}")
+    refusal, _ = check_value("simulation.ground_altitude", float(ground))   # a case's ground: the same range
+    if refusal is not None:
+        raise InputError(f"ground (--ground) = {ground:g}: {refusal}")
     name = column("{owner}_altitude", vehicle)
     if not all(name in result and np.isfinite(result[name]).any() for result, _ in sides):
         return ground   # no descent figures: no time to the ground to refuse

@@ -384,6 +384,8 @@ def _read_parameter(key: str, t: Table, source: str) -> Parameter:
             raise t.error("values", "must be a non-empty list", raw)
         if any(isinstance(v, float) and not math.isfinite(v) for v in raw):   # no case key takes NaN or inf
             raise t.error("values", "must be finite numbers (or strings, booleans, lists)", raw)
+        if relative and not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in raw):
+            raise t.error("relative", "scales numbers: every value must be a number (a factor on the case's)", True)
         values = tuple(raw)
     elif given[0] == "range":
         r = t.table("range")
@@ -491,7 +493,20 @@ def load_study(path) -> StudySpec:
                      duration, histories, path.read_text(), sampling=sampling)
     _check_run_count(spec, s)
     _check_parameters(spec, source)
+    spec.warnings.extend(_idle_study_settings(spec))
     return spec
+
+
+def _idle_study_settings(spec: StudySpec) -> list:
+    """Warnings for a study setting another one overrides: a parameter on ``simulation.duration`` beside the study's
+    own ``duration`` (which every run takes), and Sobol sampling of a run count that is not a power of 2 (its
+    balance needs one)."""
+    lines = [f'parameters."{p.key}": has no effect: the study\'s duration ({spec.duration:g} s) is every run\'s'
+             for p in spec.parameters if spec.duration and p.key == "simulation.duration"]
+    if spec.sampling == "sobol" and spec.runs & (spec.runs - 1):
+        lines.append(f"sampling = 'sobol' with runs = {spec.runs}: a Sobol sequence keeps its balance only at a "
+                     "power of 2 runs (e.g. 4 or 8)")
+    return lines
 
 
 def _check_case_integrators(read: list, cases: tuple) -> None:

@@ -227,6 +227,11 @@ BATTERY = [
     ("study configuration with step and steps", lambda t: ["study", _file(t, "s.toml", STUDY.format(
         case=CLUSTER, extra="").replace("steps = [1e-2]", "steps = [1e-2]\nstep = 0.02"))],
      "study.configurations[0].step = 0.02: give step or steps, not both (steps = [...] lists every step)"),
+    ("study scales a text key", lambda t: ["study", _file(t, "s.toml", STUDY.format(case=CLUSTER, extra="")
+                                                       + '[parameters."systems.drogue.canopy_model"]\n'
+                                                         'values = ["reduced"]\nrelative = true\n')],
+     # the third battery's: an internal error (ValueError) in the first run
+     "relative = True: scales numbers: every value must be a number (a factor on the case's)"),
     ("study duration before a fixed event", lambda t: ["study", _file(t, "s.toml", STUDY.format(
         case=CLUSTER, extra="seed = 1\nruns = 2\nduration = 5.0") + '[parameters."capsule.mass"]\n'
                                                                      'distribution = "normal"\nmean = 7500.0\n'

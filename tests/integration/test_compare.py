@@ -110,8 +110,9 @@ def _set(column, index, value):
     (_set("tension_riser", 30, -2e15), [], "column tension_riser is -2e+15 at t = 3 s (sample 31)"),
     (lambda c: c["time"].__setitem__(1, 1e-320), [], "bad.csv: rate of descent -d(vehicle_altitude)/dt is inf m/s at "
                                                      "t = 0 s; it must be within +-1e+15 (are the times too close?)"),
-    (lambda c: None, ["--ground", "1e9"], "a.csv never descends to 1e+09 m (its vehicle_altitude is at most 1000 "
+    (lambda c: None, ["--ground", "5e6"], "a.csv never descends to 5e+06 m (its vehicle_altitude is at most 1000 "
                                           "m): must be below the highest altitude of both sides"),
+    (lambda c: None, ["--ground=-1e9"], "ground (--ground) = -1e+09: must be within -50000..1e+07 (m) for this tool"),
     (lambda c: c.update(vehicle_altitude=c["vehicle_altitude"] - 1.0), ["--ground", "999"],
      "bad.csv never descends to 999 m (its vehicle_altitude is at most 999 m)"),
     (lambda c: None, ["--map", "tension_riser=tension_riser*nan"], "the factor must be a finite, non-zero number"),

@@ -174,3 +174,10 @@ def test_a_ground_below_the_atmosphere_is_warned():
     assert ("simulation.ground_altitude = -6000 is implausible: outside the atmosphere the descent flies through "
             "(-5000 to 86000 m, US76 atmosphere): the run stops where the air ends, before touchdown") in \
         "\n".join(load_case(ROCKET, ["simulation.ground_altitude=-6000"]).warnings)
+
+
+def test_a_wind_direction_of_many_turns_is_warned():
+    """The third battery's from_deg = 1e9 ran without a word."""
+    case = load_case(str(ROOT / "cases" / "airdrop" / "static_line.toml"),
+                     {"atmosphere.wind.speed": 5.0, "atmosphere.wind.from_deg": 7200.0})
+    assert any(w.startswith("atmosphere.wind.from_deg = 7200.0 is implausible") for w in case.warnings)

@@ -325,3 +325,15 @@ def test_a_run_leaves_no_engine_model_behind():
     for _ in range(2):
         pc.simulate(case, "sp", duration=12.0)   # three phases: drogues, mains
     assert models() <= already
+
+
+def test_a_study_setting_another_overrides_is_warned(tmp_path):
+    """The third battery's: a grid on simulation.duration beside the study's duration (every run flew 2 s), and Sobol
+    sampling of 3 runs, both without a word."""
+    text = MC.format(runs=3, duration=2.0).replace('seed = 20261122', 'seed = 20261122\nsampling = "sobol"') \
+        + '\n[parameters."simulation.duration"]\nvalues = [1.0, 3.0]\n'
+    warnings = load_study(write_study(tmp_path, text=text)).warnings
+    assert warnings == ["parameters.\"simulation.duration\": has no effect: the study's duration (2 s) is every run's",
+                        "sampling = 'sobol' with runs = 3: a Sobol sequence keeps its balance only at a power of 2 "
+                        "runs (e.g. 4 or 8)"]
+    assert load_study(write_study(tmp_path, runs=4)).warnings == []
