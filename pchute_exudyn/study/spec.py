@@ -384,8 +384,7 @@ def _read_parameter(key: str, t: Table, source: str) -> Parameter:
             raise t.error("values", "must be a non-empty list", raw)
         if any(isinstance(v, float) and not math.isfinite(v) for v in raw):   # no case key takes NaN or inf
             raise t.error("values", "must be finite numbers (or strings, booleans, lists)", raw)
-        if relative and not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in raw):
-            raise t.error("relative", "scales numbers: every value must be a number (a factor on the case's)", True)
+        _check_relative_numbers(t, raw, relative)
         values = tuple(raw)
     elif given[0] == "range":
         r = t.table("range")
@@ -418,6 +417,12 @@ def _normal_mass(low: float, high: float, mean: float, std: float) -> float:
     def cdf(x):
         return 0.5 * math.erfc(-(x - mean) / (std * math.sqrt(2.0)))
     return cdf(high) - cdf(low)
+
+
+def _check_relative_numbers(t: Table, values: list, relative: bool) -> None:
+    """A relative grid scales the case's value: every value a number (a canopy model's name scales nothing)."""
+    if relative and not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
+        raise t.error("relative", "scales numbers: every value must be a number (a factor on the case's)", True)
 
 
 def _read_choice(key: str, t: Table, relative: bool) -> Parameter:
@@ -491,6 +496,11 @@ def load_study(path) -> StudySpec:
         raise s.error("sampling", f"{sampling} needs a parameter with a distribution to spread", sampling)
     spec = StudySpec(name, path, cases, tuple(configurations), reference, reference_per, tuple(parameters), runs, seed,
                      duration, histories, path.read_text(), sampling=sampling)
+    return _checked(spec, s, source)
+
+
+def _checked(spec: StudySpec, s: Table, source: str) -> StudySpec:
+    """``spec`` with its run count and parameters checked (refusals), and the settings another overrides warned."""
     _check_run_count(spec, s)
     _check_parameters(spec, source)
     spec.warnings.extend(_idle_study_settings(spec))
