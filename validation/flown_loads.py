@@ -47,8 +47,9 @@ def arguments(argv=None):
     parser = OneLineParser(__file__, __doc__)
     parser.add_argument("--runs", type=int, default=400, help="Monte Carlo runs per flight (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
-    parser.add_argument("--check", action="store_true", help="only check that msl.toml holds the calibration")
-    parser.add_argument("--compare", action="store_true", help="only write the page from predictions.json")
+    only = parser.add_mutually_exclusive_group()   # each is a whole mode of its own: both would drop one
+    only.add_argument("--check", action="store_true", help="only check that msl.toml holds the calibration")
+    only.add_argument("--compare", action="store_true", help="only write the page from predictions.json")
     args = parser.parse_args(argv)
     check_arguments(parser, args)
     return args

@@ -41,7 +41,8 @@ def invocations() -> list:
     table = [("flown_loads.py", ["--runs", "0"], 1), ("flown_loads.py", ["--runs", "-5"], 1),
              ("flown_loads.py", ["--workers", "0"], 1), ("study_overhead.py", ["--workers", "100000"], 1),
              ("benchmark_study.py", ["--duration", "inf"], 1), ("regression.py", ["compare", ".", ".", "--tolerance", "nan"], 1),
-             ("synthetic_log_fit.py", ["--seeds", "-1"], 1)]   # the battery's: a seed numpy refuses, after writing
+             ("synthetic_log_fit.py", ["--seeds", "-1"], 1),
+             ("flown_loads.py", ["--check", "--compare"], 1)]   # the fourth battery's: --check was dropped   # the battery's: a seed numpy refuses, after writing
     for script in SCRIPTS:
         table += [(script, ["--help"], 0), (script, ["--no-such-option"], 1)]
         for option, kind in CHECKED_OPTION.findall((VALIDATION / script).read_text()):
