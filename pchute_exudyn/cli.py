@@ -149,8 +149,8 @@ def _run_case(args, figure) -> int:
     finally:
         if progress is not None:
             progress.close()
-    for warning in result.summary.warnings[len(case.warnings + plan.warnings):]:   # the run's own: a trigger unfired
-        print(f"pchute run: warning: {warning}", file=sys.stderr)
+    for warning in result.summary.warnings[len(case.warnings):len(result.summary.warnings) - len(plan.warnings)]:
+        print(f"pchute run: warning: {warning}", file=sys.stderr)   # the run's own (a trigger unfired), not again
     result.save(out, plot=not args.no_plot, overwrite=args.overwrite, draw=figure.draw if figure else None)
     print(run_line(result.summary, out, plan.stability_limit))
     return 0

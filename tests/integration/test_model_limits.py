@@ -181,3 +181,16 @@ def test_a_wind_direction_of_many_turns_is_warned():
     case = load_case(str(ROOT / "cases" / "airdrop" / "static_line.toml"),
                      {"atmosphere.wind.speed": 5.0, "atmosphere.wind.from_deg": 7200.0})
     assert any(w.startswith("atmosphere.wind.from_deg = 7200.0 is implausible") for w in case.warnings)
+
+
+def test_each_warning_is_printed_once_and_the_runs_own_is_not_lost(tmp_path):
+    """The fourth battery's: with a warning of the plan and one of the run (a trigger unfired), the plan's was
+    printed twice and the run's not at all."""
+    err = io.StringIO()
+    with redirect_stderr(err):
+        assert main(["run", ROCKET, "--t-end", "3", "--dt", "0.01", "--set", "simulation.step_control.relative=1e-6",
+                     "--quiet", "--no-plot", "--out", str(tmp_path / "run")]) == 0
+    lines = [line for line in err.getvalue().splitlines() if line.startswith("pchute run: warning: ")]
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert sorted(lines) == sorted(f"pchute run: warning: {w}" for w in summary["warnings"])
+    assert any("never fired" in line for line in lines) and len(lines) == len(set(lines)) == 2
