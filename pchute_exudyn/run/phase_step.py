@@ -47,7 +47,7 @@ def phase_limit(model: Model, case: Case) -> tuple:
                         _open_at_start)
     lines = [(system, *line_constants(system)) for system in model.systems]
     sums = line_sums(lines, model.massless, tether_constants(case, model.bodies))
-    found = [(*body_limits(sums, {name: value})[0], name) for name, value in drag.items()]
+    found = [(*limit, name) for limit, name in zip(body_limits(sums, drag), drag)]
     return min(found, default=(math.inf, "", ""), key=lambda item: item[0])
 
 

@@ -227,13 +227,14 @@ def _run_phase(case: Case, plan: RunPlan, phase, output_step: float, report=None
     model = plan.method.build(case, phase)
     if traces is not None:
         watch_deployments(model, case, traces, phase.inflation)
-    if plan.control is None and INTEGRATORS[plan.integrator].explicit:
+    fixed_rk4 = plan.control is None and INTEGRATORS[plan.integrator].explicit
+    if fixed_rk4:
         try:
             check_phase_step(model, case, plan.method, plan.step)
         except SimulationError:
             model.release()
             raise
-    if plan.control is None and INTEGRATORS[plan.integrator].explicit and model.systems and plan.method.step_limited:
+    if fixed_rk4 and model.systems and plan.method.step_limited:
         add_step_monitor(model, plan.method, plan.step)
     touchdown = monitor = None
     if case.simulation.stop_at_ground and not case.bodies[case.vehicle].fixed:
