@@ -261,16 +261,16 @@ def _check_altitudes(sides, vehicle: str, altitudes) -> None:
 
 
 def _ground(sides, vehicle: str, ground: float | None) -> float:
-    """The ground altitude (m): ``ground`` when given, refused when not finite or not below a side's highest vehicle
-    altitude (its time to the ground would be no number); else the first side's summary's, else 0 (``sides``:
-    (result, label) pairs)."""
+    """The ground altitude (m): ``ground`` when given, refused when not finite, outside a case's ground range or not
+    below a side's highest vehicle altitude (its time to the ground would be no number); else the first side's
+    summary's, else 0 (``sides``: (result, label) pairs)."""
     if ground is None:   # a summary's ground that is not a finite number (a file edited by hand) is not used
         grounds = (getattr(result.summary, "ground_altitude", None) for result, _ in sides)
         return next((float(value) for value in grounds if _finite_number(value)), 0.0)
     from ..case.plausible import check_value
 
-    if not (_finite_number(ground) and abs(ground) <= LARGEST_VALUE):
-        raise InputError(f"ground (--ground) = {ground!r}: must be a finite altitude (m) within +-{LARGEST_VALUE:g}")
+    if not _finite_number(ground):
+        raise InputError(f"ground (--ground) = {ground!r}: must be a finite altitude (m)")
     refusal, _ = check_value("simulation.ground_altitude", float(ground))   # a case's ground: the same range
     if refusal is not None:
         raise InputError(f"ground (--ground) = {ground:g}: {refusal}")
