@@ -99,10 +99,10 @@ def _densest(atmosphere, start_altitude: float, lowest_altitude: float) -> float
 def canopy_drag_time(system, bodies: dict, vehicle: str, atmosphere, planet, start, tethered: set,
                      suspended_mass: float, lowest_altitude: float = math.inf) -> float:
     """The drag time constant (s, ``steady_drag_time``) of ``system``'s canopy at the vehicle's start: rho at its
-    altitude (or at ``lowest_altitude`` (m) where that is lower),
-    g the planet's at the start point's surface, C_D0 the canopy's C_A at zero angle (Mach 0),
-    ``suspended_mass`` (kg) every free body's and confluence's; inf where a reduced canopy is not valid (its layout,
-    a bag anchor, a canopy among the ``tethered`` bodies) or there is no air or start to judge by."""
+    altitude (or at ``lowest_altitude`` (m) where that is lower, ``_densest``), g the planet's at the start point's
+    surface, C_D0 the canopy's C_A at zero angle (Mach 0), ``suspended_mass`` (kg) every free body's and
+    confluence's; inf where a reduced canopy is not valid (its layout, a bag anchor, a canopy among the ``tethered``
+    bodies) or there is no air or start to judge by."""
     if reduced_refusal(system.canopies, system.lines, bodies, system.bag_anchor) is not None \
             or system.canopies[0] in tethered or atmosphere is None or bodies[vehicle].initial is None:
         return math.inf

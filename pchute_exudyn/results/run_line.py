@@ -11,9 +11,9 @@ def run_line(summary: RunSummary, out, stability_limit: float | None = None) -> 
     deployment loads; a run that touched down ends at the interpolated touchdown, not at its last step past it."""
     s, f = summary, summary.final
     ending = "touchdown at" if s.end == "touchdown" else "ended at"
-    landed = s.touchdown if s.touchdown is not None and getattr(s.touchdown, "altitude", None) is not None else None
-    time, altitude, east, north = (f.time, f.altitude, f.east, f.north) if landed is None else \
-        (landed.time, landed.altitude, landed.east, landed.north)
+    landed = s.touchdown   # its place is None in a summary written before it was kept
+    time, altitude, east, north = (f.time, f.altitude, f.east, f.north) if landed is None or landed.altitude is None \
+        else (landed.time, landed.altitude, landed.east, landed.north)
     control = s.step_control
     if control and control.get("count"):
         step = (f"adaptive steps {control['smallest']:.3g} to {control['largest']:.3g} s (mean "
