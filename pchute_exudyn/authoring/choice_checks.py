@@ -72,7 +72,7 @@ EXCLUDES = (("altitude", "mach", "the flight conditions give the start altitude 
 def implausible_choices(c) -> tuple:
     """One warning line per NewCase field outside the plausible range the case reader warns of for the key it
     becomes (READER_KEYS; ``case.plausible.RANGES``): an apogee lag of 100 s, naming the option."""
-    from ..case.plausible import check_value
+    from ..case.plausible import IMPLAUSIBLE, check_value
 
     lines = []
     for field, key in READER_KEYS.items():
@@ -80,7 +80,7 @@ def implausible_choices(c) -> tuple:
         _, warning = check_value(key, value) if is_finite(value) else (None, None)
         if warning is not None:
             lines.append(f"{field} = {short_repr(value)} (--{field.replace('_', '-')}) is implausible: "
-                         f"{warning.partition(' is implausible: ')[2]}, the case reader's range of {key}")
+                         f"{warning.partition(IMPLAUSIBLE)[2]}, the case reader's range of {key}")
     return tuple(lines)
 
 
